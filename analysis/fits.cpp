@@ -1,0 +1,172 @@
+#include "analysis/fits.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rotleak {
+
+namespace {
+
+struct LinearFit {
+  double slope = 0, intercept = 0;
+  double var_intercept = 0, var_slope = 0, cov = 0;
+  bool ok = false;
+};
+
+// Greenwood variance of sum_i u_i ln P(t_i) for increasing grid indices idx:
+// Var = sum_k (g_k - g_{k-1}) (sum_{i>=k} u_i)^2 with g = (1 - P) / (N P).
+double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
+  const std::size_t n = idx.size();
+  std::vector<double> tail(n + 1, 0.0);
+  for (std::size_t k = n; k-- > 0;) tail[k] = tail[k + 1] + u[k];
+  double var = 0, g_prev = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double P = c.P(idx[k]);
+    const double g = (1 - P) / (static_cast<double>(c.particles) * P);
+    var += (g - g_prev) * tail[k] * tail[k];
+    g_prev = g;
+  }
+  return var;
+}
+
+// Least squares of y = ln P against x over the chosen grid points, errors from greenwood_variance.
+LinearFit fit_line(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& x) {
+  LinearFit f;
+  const std::size_t n = idx.size();
+  if (n < 3) return f;
+  double xm = 0, ym = 0;
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    y[i] = std::log(c.P(idx[i]));
+    xm += x[i];
+    ym += y[i];
+  }
+  xm /= static_cast<double>(n);
+  ym /= static_cast<double>(n);
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxx += (x[i] - xm) * (x[i] - xm);
+    sxy += (x[i] - xm) * (y[i] - ym);
+  }
+  if (!(sxx > 0)) return f;
+  f.slope = sxy / sxx;
+  f.intercept = ym - f.slope * xm;
+  // slope = sum w_i y_i, intercept = sum v_i y_i
+  std::vector<double> w(n), v(n), both(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    w[i] = (x[i] - xm) / sxx;
+    v[i] = 1.0 / static_cast<double>(n) - xm * w[i];
+    both[i] = v[i] + w[i];
+  }
+  f.var_slope = greenwood_variance(c, idx, w);
+  f.var_intercept = greenwood_variance(c, idx, v);
+  f.cov = 0.5 * (greenwood_variance(c, idx, both) - f.var_slope - f.var_intercept);
+  f.ok = true;
+  return f;
+}
+
+double log_slope_at(const SurvivalCurve& c, std::size_t i) {
+  // d ln P / dt from a symmetric difference over about 10% of t.
+  const double t = c.t[i];
+  std::size_t a = i, b = i;
+  while (a > 0 && c.t[a] > 0.95 * t) --a;
+  while (b + 1 < c.t.size() && c.t[b] < 1.05 * t && c.survivors[b + 1] > 0) ++b;
+  if (b == a || c.survivors[a] == 0 || c.survivors[b] == 0) return 0;
+  return (std::log(c.P(b)) - std::log(c.P(a))) / (c.t[b] - c.t[a]);
+}
+
+}  // namespace
+
+double KappaFit::log_se_at(double t) const { return std::sqrt(std::max(0.0, var_a + t * t * var_b + 2 * t * cov_ab)); }
+
+KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
+  KappaFit k;
+  k.from = from;
+  k.to = to;
+  std::vector<std::size_t> idx;
+  std::vector<double> x;
+  for (std::size_t i = 0; i < c.t.size(); ++i)
+    if (c.t[i] >= from && c.t[i] <= to && c.survivors[i] > 0) {
+      idx.push_back(i);
+      x.push_back(c.t[i]);
+    }
+  const LinearFit f = fit_line(c, idx, x);
+  k.points = idx.size();
+  if (!f.ok) return k;
+  k.ok = true;
+  k.value = -f.slope;
+  k.std_error = std::sqrt(f.var_slope);
+  k.log_amplitude = f.intercept;
+  k.var_a = f.var_intercept;
+  k.var_b = f.var_slope;
+  k.cov_ab = f.cov;
+  return k;
+}
+
+AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor, std::uint64_t min_survivors) {
+  AlphaResult a;
+  a.factor = factor;
+  a.min_survivors = min_survivors;
+  if (!k.ok) {
+    a.note = "no kappa fit";
+    return a;
+  }
+  const double lf = std::log(factor);
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.survivors[i] < min_survivors) break;
+    last = i;
+    if (c.t[i] < k.from) continue;
+    const double excess = std::log(c.P(i)) - (k.log_amplitude - k.value * c.t[i]);
+    if (excess > lf) {
+      const double P = c.P(i);
+      a.value = P;
+      a.crossing_time = c.t[i];
+      a.resolved_until = c.t[i];
+      // Fit error: the extrapolated line moves by log_se; the crossing moves by that over the
+      // relative slope (kappa + dlnP/dt), and ln P by the curve's own slope times that.
+      const double s = log_slope_at(c, i);
+      const double rel = k.value + s;
+      const double dln_fit = rel > 0 ? std::abs(s) * k.log_se_at(c.t[i]) / rel : 0.0;
+      const double binom = std::sqrt(P * (1 - P) / static_cast<double>(c.particles)) / P;
+      a.std_error = P * std::sqrt(binom * binom + dln_fit * dln_fit);
+      a.note = "first grid time where P exceeds the extrapolated exponential fit by the factor";
+      return a;
+    }
+  }
+  a.resolved_until = c.t[last];
+  a.upper_bound = c.P(last);
+  a.note = "no crossing while at least min_survivors survive; P there bounds alpha from above";
+  return a;
+}
+
+TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
+  TailFit f;
+  if (!a.value) return f;
+  // resolved end of the tail
+  std::size_t end = 0, start = c.t.size();
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] >= a.crossing_time && start == c.t.size()) start = i;
+    if (c.survivors[i] >= a.min_survivors) end = i;
+  }
+  if (start >= end || c.t[end] < 2 * c.t[start]) return f;  // less than a factor 2 in time: no exponent
+  std::vector<std::size_t> idx;
+  std::vector<double> x;
+  double next = c.t[start];
+  for (std::size_t i = start; i <= end; ++i) {
+    if (c.t[i] + 1e-12 < next) continue;
+    idx.push_back(i);
+    x.push_back(std::log(c.t[i]));
+    next = c.t[i] * std::pow(10.0, 1.0 / 50);  // 50 points per decade
+  }
+  const LinearFit lf = fit_line(c, idx, x);
+  if (!lf.ok) return f;
+  f.z = -lf.slope;
+  f.std_error = std::sqrt(lf.var_slope);
+  f.from = c.t[start];
+  f.to = c.t[end];
+  f.points = idx.size();
+  return f;
+}
+
+}  // namespace rotleak

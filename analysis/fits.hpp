@@ -1,0 +1,59 @@
+// Fits to a survival curve: kappa (exponential rate), alpha (algebraic-tail weight, SPEC 4), z (tail
+// exponent). Error model: the survivor counts S(t) of N independent particles; ln P(t) then has
+// Greenwood's covariance Cov(ln P(a), ln P(b)) = (1 - P(a)) / (N P(a)) for a <= b, which every
+// standard error below is propagated through (least squares on a cumulative curve is correlated, so
+// the residual scatter would understate the error).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rotleak {
+
+struct SurvivalCurve {
+  std::vector<double> t;                 ///< grid times, increasing
+  std::vector<std::uint64_t> survivors;  ///< survivors at each time
+  std::uint64_t particles = 0;
+
+  double P(std::size_t i) const { return static_cast<double>(survivors[i]) / static_cast<double>(particles); }
+};
+
+struct KappaFit {
+  bool ok = false;
+  double value = 0, std_error = 0;  ///< kappa and its standard error
+  double log_amplitude = 0;         ///< ln A in P ~ A exp(-kappa t)
+  double from = 0, to = 0;          ///< window actually used
+  std::size_t points = 0;
+  std::string method = "least squares of ln P(t) on the grid points in the window; standard error from the binomial (Greenwood) covariance of ln P";
+  /// Standard error of the fitted ln P at time t (extrapolation uncertainty).
+  double log_se_at(double t) const;
+  double var_a = 0, var_b = 0, cov_ab = 0;  ///< covariance of (ln A, -kappa)
+};
+
+struct AlphaResult {
+  std::optional<double> value;        ///< P at the first crossing of 10x the exponential fit
+  double std_error = 0;               ///< binomial and fit-extrapolation errors combined
+  double crossing_time = 0;           ///< t of that crossing (when resolved)
+  std::optional<double> upper_bound;  ///< when no crossing before statistics run out
+  double resolved_until = 0;          ///< last t with at least min_survivors survivors
+  double factor = 10;
+  std::uint64_t min_survivors = 100;
+  std::string note;
+};
+
+struct TailFit {
+  std::optional<double> z;  ///< P ~ t^-z
+  double std_error = 0;
+  double from = 0, to = 0;
+  std::size_t points = 0;
+  std::string method = "least squares of ln P against ln t on log-spaced grid points from the alpha crossing to the last resolved time";
+};
+
+KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
+AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10,
+                       std::uint64_t min_survivors = 100);
+TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a);
+
+}  // namespace rotleak

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the Debian packages rotleak builds and runs with. Idempotent and quick when all are present:
+# apt-get is only called for packages that dpkg does not already report as installed.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libgmp-dev libmpfr-dev libmpfi-dev libboost-dev libcgal-dev
+  libgtest-dev libbenchmark-dev librandom123-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
+  python3 python3-matplotlib python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,23 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace rotleak::cli {
+
+/// A subcommand: its CLI11 node and the function that runs it once parsed (returns the exit status).
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+Command add_simulate(CLI::App& app);
+Command add_plot(CLI::App& app);
+
+/// Exit statuses: 0 done, 1 failed while running, 2 bad input.
+inline constexpr int kExitBadInput = 2;
+
+/// Runs the plotting script on a run directory; returns its exit status.
+int draw_plots(const std::string& run_dir);
+
+}  // namespace rotleak::cli

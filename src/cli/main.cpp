@@ -1,0 +1,33 @@
+// rotleak <command>: a thin shell over the library. Bad input: one line on stderr, exit status 2.
+#include <iostream>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "sim/scene.hpp"
+#include "version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rotleak: open chaotic billiards with a rotating leak"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + ")");
+  const std::vector<rotleak::cli::Command> commands{rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "rotleak: error: " << e.what() << " (see rotleak --help)\n";
+    return rotleak::cli::kExitBadInput;
+  }
+  try {
+    for (const auto& c : commands)
+      if (c.app->parsed()) return c.run();
+  } catch (const rotleak::InputError& e) {
+    std::cerr << "rotleak: error: " << e.what() << "\n";
+    return rotleak::cli::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "rotleak: failed: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}

@@ -1,0 +1,45 @@
+// rotleak plot DIR: draws survival.png (log-log and semi-log with the kappa fit) and fc.png.
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "sim/scene.hpp"
+#include "version.hpp"
+
+extern char** environ;
+
+namespace rotleak::cli {
+
+int draw_plots(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(fs::path(run_dir) / "summary.json"))
+    throw InputError("DIR", "\"" + run_dir + "\"", "must be a complete run directory (with summary.json)");
+  std::string script = std::string(kSourceDir) + "/scripts/plot_run.py";
+  if (const char* s = std::getenv("ROTLEAK_PLOT_SCRIPT")) script = s;
+  // Debian's interpreter has python3-matplotlib; another python3 first on PATH may not.
+  std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  if (const char* p = std::getenv("ROTLEAK_PYTHON")) python = p;
+  std::vector<std::string> argv_s{python, script, run_dir};
+  std::vector<char*> argv;
+  for (auto& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid;
+  if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return 127;
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) return 127;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+Command add_plot(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  CLI::App* sub = app.add_subcommand("plot", "Draw P(t) (log-log and semi-log, with the fit) and f_c(s) as PNG");
+  sub->add_option("dir", *dir, "Run directory written by rotleak simulate")->required();
+  return {sub, [dir] { return draw_plots(*dir); }};
+}
+
+}  // namespace rotleak::cli

@@ -1,0 +1,206 @@
+// The Bunimovich stadium, written once for any number type R (double, long double, MPFR, ...).
+// Conventions (SPEC section 2): straight edges at y = +-r for |x| <= d/2, arc centres (+-d/2, 0);
+// s in [0,1) is arc length / L, clockwise from the midpoint of the top edge.
+#pragma once
+
+#include <boost/math/constants/constants.hpp>
+#include <cmath>
+
+#include "geometry/vec2.hpp"
+#include "numeric/exact.hpp"
+#include "numeric/num_traits.hpp"
+
+namespace rotleak {
+
+/// The four smooth pieces of the boundary, in the order s meets them (top is split by s = 0).
+enum class Piece : int { top = 0, right_arc = 1, bottom = 2, left_arc = 3 };
+
+template <class R>
+struct Hit {
+  R t{0};           ///< flight time (= length: speed 1)
+  Piece piece{Piece::top};
+  Vec2<R> q;        ///< collision point
+};
+
+/// A point of the boundary with its frame.
+template <class R>
+struct BoundaryPoint {
+  Piece piece{Piece::top};
+  Vec2<R> q;        ///< position
+  Vec2<R> tangent;  ///< unit tangent towards increasing s
+  Vec2<R> normal;   ///< unit inward normal
+};
+
+template <class R>
+class Stadium {
+ public:
+  /// Every derived constant (L, the junctions) is rounded once from its exact value.
+  Stadium(const ExactReal& d, const ExactReal& r)
+      : d_(round_exact<R>(d)),
+        r_(round_exact<R>(r)),
+        half_d_(round_exact<R>(d / ExactReal::parse("2"))),
+        inv_r_(round_exact<R>(ExactReal::parse("1") / r)) {
+    const ExactReal pr = ExactReal::pi() * r;
+    const ExactReal L = ExactReal::parse("2") * d + ExactReal::parse("2") * pr;
+    const ExactReal hd = d / ExactReal::parse("2");
+    L_ = round_exact<R>(L);
+    inv_L_ = round_exact<R>(ExactReal::parse("1") / L);
+    r_over_L_ = round_exact<R>(r / L);
+    L_over_r_ = round_exact<R>(L / r);
+    junction_[0] = round_exact<R>(hd / L);
+    junction_[1] = round_exact<R>((hd + pr) / L);
+    junction_[2] = round_exact<R>((ExactReal::parse("3") * hd + pr) / L);
+    junction_[3] = round_exact<R>((ExactReal::parse("3") * hd + ExactReal::parse("2") * pr) / L);
+    area_ = round_exact<R>(ExactReal::parse("2") * r * d + pr * r);
+  }
+
+  const R& d() const { return d_; }
+  const R& r() const { return r_; }
+  const R& half_d() const { return half_d_; }
+  const R& perimeter() const { return L_; }
+  const R& area() const { return area_; }
+  /// s of the start of piece k+1: right arc, bottom, left arc, top-left half of the top edge.
+  const R& junction(int k) const { return junction_[k]; }
+
+  /// Centre x of an arc piece.
+  R arc_centre_x(Piece p) const { return p == Piece::right_arc ? half_d_ : R(-half_d_); }
+
+  /// Point and frame at boundary coordinate s in [0,1).
+  BoundaryPoint<R> at(const R& s) const {
+    using std::cos;
+    using std::sin;
+    BoundaryPoint<R> b;
+    if (s < junction_[0] || s >= junction_[3]) {
+      b.piece = Piece::top;
+      b.q = {s < junction_[0] ? R(s * L_) : R((s - 1) * L_), r_};
+      b.tangent = {R(1), R(0)};
+      b.normal = {R(0), R(-1)};
+    } else if (s < junction_[1]) {
+      const R th = (s - junction_[0]) * L_over_r_;  // angle from the top of the right arc
+      const R sn = sin(th), cs = cos(th);
+      b.piece = Piece::right_arc;
+      b.q = {half_d_ + r_ * sn, r_ * cs};
+      b.tangent = {cs, R(-sn)};
+      b.normal = {R(-sn), R(-cs)};
+    } else if (s < junction_[2]) {
+      b.piece = Piece::bottom;
+      b.q = {half_d_ - (s - junction_[1]) * L_, R(-r_)};
+      b.tangent = {R(-1), R(0)};
+      b.normal = {R(0), R(1)};
+    } else {
+      const R th = (s - junction_[2]) * L_over_r_;  // angle from the bottom of the left arc
+      const R sn = sin(th), cs = cos(th);
+      b.piece = Piece::left_arc;
+      b.q = {R(-half_d_) - r_ * sn, R(-(r_ * cs))};
+      b.tangent = {R(-cs), sn};
+      b.normal = {sn, cs};
+    }
+    return b;
+  }
+
+  /// Boundary coordinate s in [0,1) of a point q on piece p.
+  R s_of(Piece p, const Vec2<R>& q) const {
+    using std::atan2;
+    switch (p) {
+      case Piece::top: {
+        R s = q.x * inv_L_;
+        if (s < 0) s += 1;
+        return s >= 1 ? R(0) : s;
+      }
+      case Piece::right_arc: {
+        R th = atan2(q.x - half_d_, q.y);
+        return junction_[0] + clamp_angle(th) * r_over_L_;
+      }
+      case Piece::bottom: return junction_[1] + (half_d_ - q.x) * inv_L_;
+      case Piece::left_arc: {
+        R th = atan2(-(q.x + half_d_), -q.y);
+        return junction_[2] + clamp_angle(th) * r_over_L_;
+      }
+    }
+    return R(0);
+  }
+
+  Vec2<R> tangent(Piece p, const Vec2<R>& q) const {
+    switch (p) {
+      case Piece::top: return {R(1), R(0)};
+      case Piece::bottom: return {R(-1), R(0)};
+      default: return {q.y * inv_r_, R(-(q.x - arc_centre_x(p)) * inv_r_)};
+    }
+  }
+  Vec2<R> inward_normal(Piece p, const Vec2<R>& q) const {
+    switch (p) {
+      case Piece::top: return {R(0), R(-1)};
+      case Piece::bottom: return {R(0), R(1)};
+      default: return {R((arc_centre_x(p) - q.x) * inv_r_), R(-q.y * inv_r_)};
+    }
+  }
+
+  /// Where the ray q + t v (|v| = 1, q inside or on the boundary) next meets the boundary.
+  /// The straight edges decide first: a ray that crosses the line y = +-r outside |x| <= d/2 must
+  /// leave through the arc on that side (convexity), so at most one quadratic is solved.
+  Hit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
+    using std::sqrt;
+    Hit<R> h;
+    Piece arc;
+    if (v.y != 0) {
+      const bool up = v.y > 0;
+      const R t = ((up ? r_ : R(-r_)) - q.y) / v.y;
+      const R x = q.x + v.x * t;
+      if (x <= half_d_ && x >= -half_d_) {
+        h.t = t;
+        h.piece = up ? Piece::top : Piece::bottom;
+        h.q = {x, up ? r_ : R(-r_)};
+        return h;
+      }
+      arc = x > 0 ? Piece::right_arc : Piece::left_arc;
+    } else {
+      arc = v.x > 0 ? Piece::right_arc : Piece::left_arc;
+    }
+    const R dx = q.x - arc_centre_x(arc);
+    const R b = dx * v.x + q.y * v.y;
+    const R c = (dx - r_) * (dx + r_) + q.y * q.y;
+    R disc = b * b - c;
+    if (disc < 0) disc = 0;  // grazing: rounding may push a tangent ray just outside
+    const R sq = sqrt(disc);
+    // Larger root of t^2 + 2bt + c, in the form without cancellation.
+    h.t = b <= 0 ? R(sq - b) : R(-c / (b + sq));
+    h.piece = arc;
+    h.q = {q.x + h.t * v.x, q.y + h.t * v.y};
+    return h;
+  }
+
+  /// Specular reflection of velocity v at point q of piece p.
+  Vec2<R> reflect(Piece p, const Vec2<R>& q, const Vec2<R>& v) const {
+    if (p == Piece::top || p == Piece::bottom) return {v.x, R(-v.y)};
+    // Reflect about the radius vector w as it is (not w / r): the result has |v'| = |v| whatever
+    // |w| is, so a collision point a few ulps off the circle cannot feed back into the speed
+    // (with w / r it does, and chaos amplifies it to a blow-up within a few dozen collisions).
+    const Vec2<R> w{R(q.x - arc_centre_x(p)), q.y};
+    const R k = 2 * dot(w, v) / dot(w, w);
+    return {v.x - k * w.x, v.y - k * w.y};
+  }
+
+  /// Birkhoff momentum p = sin(theta) = v_out . T of an outgoing velocity at a collision.
+  R birkhoff_p(Piece p, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(p, q)); }
+
+  /// Outgoing unit velocity for Birkhoff (s, p): sqrt(1-p^2) n_in + p T.
+  Vec2<R> velocity(const BoundaryPoint<R>& b, const R& p) const {
+    using std::sqrt;
+    const R c = sqrt((1 - p) * (1 + p));
+    return {c * b.normal.x + p * b.tangent.x, c * b.normal.y + p * b.tangent.y};
+  }
+
+ private:
+  R clamp_angle(R th) const {
+    const R pi = boost::math::constants::pi<R>();
+    if (th < 0) return R(0);
+    if (th > pi) return pi;
+    return th;
+  }
+
+  R d_, r_, half_d_, inv_r_;
+  R L_, inv_L_, r_over_L_, L_over_r_, area_;
+  R junction_[4];
+};
+
+}  // namespace rotleak

@@ -1,0 +1,175 @@
+// The leak: an arc of width lambda (in s) whose centre moves as s_L(t) = s_L(0) + omega t mod 1.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "geometry/stadium.hpp"
+#include "numeric/exact.hpp"
+#include "numeric/num_traits.hpp"
+
+namespace rotleak {
+
+/// Centre of the leak at time t: frac(s0 + omega t), with omega carried as hi + lo and the product
+/// hi*t split exactly by an FMA, so the phase keeps R's absolute precision however large omega*t
+/// grows (until t itself stops being representable to that precision).
+template <class R>
+class LeakSchedule {
+ public:
+  LeakSchedule(const ExactReal& start, const ExactReal& omega)
+      : omega_exact_(omega), omega_(split_exact<R>(omega)), rotating_(omega.sign() != 0) {
+    // s0 reduced exactly into [0,1) before rounding.
+    ExactReal s = start;
+    const mpfr_prec_t guard = 64;
+    mpfr_t f;
+    mpfr_init2(f, guard);
+    s.round(f, MPFR_RNDD);
+    mpz_class k;
+    mpfr_get_z(k.get_mpz_t(), f, MPFR_RNDD);
+    mpfr_clear(f);
+    s = s - ExactReal::rational(mpq_class(k));
+    start_ = round_exact<R>(s);
+    if (start_ >= 1) start_ -= 1;
+    if (start_ < 0) start_ += 1;
+  }
+
+  bool rotating() const { return rotating_; }
+  const ExactReal& omega() const { return omega_exact_; }
+  const two_term<R>& omega_split() const { return omega_; }
+  const R& start() const { return start_; }
+
+  R phase(const R& t) const {
+    using std::floor;
+    using std::fma;
+    if (!rotating_) return start_;
+    const R prod = omega_.hi * t;
+    const R err = fma(omega_.hi, t, R(-prod));  // exact: hi*t = prod + err
+    const R whole = floor(prod);
+    R c = (prod - whole) + (err + omega_.lo * t) + start_;
+    c -= floor(c);
+    return c;
+  }
+
+ private:
+  ExactReal omega_exact_;
+  two_term<R> omega_;
+  R start_{0};
+  bool rotating_;
+};
+
+/// Signed distance on the circle s mod 1, in [-1/2, 1/2).
+template <class R>
+inline R circular_offset(const R& s, const R& centre) {
+  using std::floor;
+  R delta = s - centre;
+  delta -= floor(delta + R(0.5));
+  return delta;
+}
+
+/// The leak on a given stadium: decides escape at a collision. Two paths that must agree (tests
+/// check it): a precomputed per-piece window test for a stationary leak (no transcendental calls),
+/// and the phase + s test for a moving one.
+template <class R>
+class Leak {
+ public:
+  Leak(const Stadium<R>& stadium, const ExactReal& width, const ExactReal& start, const ExactReal& omega)
+      : stadium_(stadium), schedule_(start, omega), half_width_(round_exact<R>(width / ExactReal::parse("2"))) {
+    // s-ranges of the pieces, with the top edge unwrapped to [j3 - 1, j0].
+    piece_lo_ = {stadium.junction(3) - 1, stadium.junction(0), stadium.junction(1), stadium.junction(2)};
+    piece_hi_ = {stadium.junction(0), stadium.junction(1), stadium.junction(2), stadium.junction(3)};
+    if (!schedule_.rotating()) build_windows();
+  }
+
+  const LeakSchedule<R>& schedule() const { return schedule_; }
+  const R& half_width() const { return half_width_; }
+
+  /// Is boundary coordinate s inside the leak at time t?
+  bool contains(const R& s, const R& t) const {
+    using std::abs;
+    return abs(circular_offset(s, schedule_.phase(t))) <= half_width_;
+  }
+
+  /// Escape test at a collision at point q of piece p at time t.
+  bool hit(Piece p, const Vec2<R>& q, const R& t) const {
+    if (!schedule_.rotating()) return in_windows(p, q);
+    const R c = schedule_.phase(t);
+    if (p == Piece::right_arc || p == Piece::left_arc) {
+      // Skip the atan2 unless the leak overlaps this arc now.
+      using std::abs;
+      const int k = static_cast<int>(p);
+      const R mid = (piece_lo_[k] + piece_hi_[k]) / 2;
+      const R half_len = (piece_hi_[k] - piece_lo_[k]) / 2;
+      if (abs(circular_offset(mid, c)) > half_len + half_width_) return false;
+    }
+    using std::abs;
+    return abs(circular_offset(stadium_.s_of(p, q), c)) <= half_width_;
+  }
+
+ private:
+  struct Window {
+    R lo{0}, hi{0};        // straight pieces: x range
+    Vec2<R> from, to;      // arcs: directions from the centre bounding the sub-arc (clockwise)
+  };
+  struct PieceWindows {
+    std::array<Window, 3> w;
+    int n = 0;
+  };
+
+  void build_windows() {
+    using std::cos;
+    using std::sin;
+    const R c = schedule_.start();
+    for (int k = 0; k < 4; ++k) {
+      for (int shift = -1; shift <= 1; ++shift) {
+        const R a = c - half_width_ + shift, b = c + half_width_ + shift;
+        const R lo = a > piece_lo_[k] ? a : piece_lo_[k];
+        const R hi = b < piece_hi_[k] ? b : piece_hi_[k];
+        if (lo > hi) continue;
+        Window w;
+        const R L = stadium_.perimeter();
+        switch (static_cast<Piece>(k)) {
+          case Piece::top:
+            w.lo = lo * L;
+            w.hi = hi * L;
+            break;
+          case Piece::bottom:
+            w.lo = stadium_.half_d() - (hi - piece_lo_[k]) * L;
+            w.hi = stadium_.half_d() - (lo - piece_lo_[k]) * L;
+            break;
+          case Piece::right_arc:
+          case Piece::left_arc: {
+            const R scale = L / stadium_.r();
+            const R ta = (lo - piece_lo_[k]) * scale, tb = (hi - piece_lo_[k]) * scale;
+            const R sign = static_cast<Piece>(k) == Piece::right_arc ? R(1) : R(-1);
+            w.from = {sign * sin(ta), sign * cos(ta)};
+            w.to = {sign * sin(tb), sign * cos(tb)};
+            break;
+          }
+        }
+        windows_[k].w[windows_[k].n++] = w;
+      }
+    }
+  }
+
+  bool in_windows(Piece p, const Vec2<R>& q) const {
+    const PieceWindows& pw = windows_[static_cast<int>(p)];
+    if (pw.n == 0) return false;
+    if (p == Piece::top || p == Piece::bottom) {
+      for (int i = 0; i < pw.n; ++i)
+        if (q.x >= pw.w[i].lo && q.x <= pw.w[i].hi) return true;
+      return false;
+    }
+    const Vec2<R> rel{q.x - stadium_.arc_centre_x(p), q.y};
+    for (int i = 0; i < pw.n; ++i)  // each sub-arc spans at most pi: two half-plane tests
+      if (cross(pw.w[i].from, rel) <= 0 && cross(rel, pw.w[i].to) <= 0) return true;
+    return false;
+  }
+
+  Stadium<R> stadium_;
+  LeakSchedule<R> schedule_;
+  R half_width_;
+  std::array<R, 4> piece_lo_{}, piece_hi_{};
+  std::array<PieceWindows, 4> windows_{};
+};
+
+}  // namespace rotleak

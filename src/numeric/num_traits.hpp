@@ -1,0 +1,96 @@
+// One traits struct per number type, after CAPD: name, bits, epsilon, and the one exact rounding
+// of an exact input into the type. Generic code asks these instead of spelling constants.
+#pragma once
+
+#include <boost/multiprecision/mpfr.hpp>
+#include <limits>
+#include <string>
+
+#include "numeric/exact.hpp"
+
+namespace rotleak {
+
+/// MPFR at a fixed number of decimal digits: the precision is part of the type, so no global
+/// (thread-shared) default precision is ever read or written.
+template <unsigned Digits10>
+using mpfr_fixed = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<Digits10>,
+                                                 boost::multiprecision::et_off>;
+/// The reference tier of the foundation: 77 decimal digits = 257 bits.
+using mpfr256 = mpfr_fixed<77>;
+
+template <class R>
+struct num_traits;
+
+namespace detail {
+template <class R, mpfr_prec_t Bits>
+struct ieee_traits {
+  static constexpr mpfr_prec_t bits = Bits;
+  static R epsilon() { return std::numeric_limits<R>::epsilon(); }
+  static double to_double(R x) { return static_cast<double>(x); }
+};
+}  // namespace detail
+
+template <>
+struct num_traits<float> : detail::ieee_traits<float, 24> {
+  static std::string name() { return "float"; }
+  static float from_mpfr(const mpfr_t x) { return mpfr_get_flt(x, MPFR_RNDN); }
+};
+template <>
+struct num_traits<double> : detail::ieee_traits<double, 53> {
+  static std::string name() { return "double"; }
+  static double from_mpfr(const mpfr_t x) { return mpfr_get_d(x, MPFR_RNDN); }
+};
+template <>
+struct num_traits<long double>
+    : detail::ieee_traits<long double, std::numeric_limits<long double>::digits> {
+  static std::string name() { return "long_double"; }
+  static long double from_mpfr(const mpfr_t x) { return mpfr_get_ld(x, MPFR_RNDN); }
+};
+template <unsigned D>
+struct num_traits<mpfr_fixed<D>> {
+  using R = mpfr_fixed<D>;
+  // Boost's digits10 -> bits rule (detail::digits10_2_2, not constexpr); a test checks they agree.
+  static constexpr mpfr_prec_t bits = (D * 1000L) / 301 + (((D * 1000L) % 301) ? 2 : 1);
+  static std::string name() { return "mpfr" + std::to_string(bits); }
+  static R epsilon() { return std::numeric_limits<R>::epsilon(); }
+  static double to_double(const R& x) { return mpfr_get_d(x.backend().data(), MPFR_RNDN); }
+  static R from_mpfr(const mpfr_t x) {
+    R r;
+    mpfr_set(r.backend().data(), x, MPFR_RNDN);
+    return r;
+  }
+};
+
+/// The exact value rounded once, correctly, into R.
+template <class R>
+R round_exact(const ExactReal& x) {
+  mpfr_t tmp;
+  mpfr_init2(tmp, num_traits<R>::bits);
+  x.round(tmp, MPFR_RNDN);
+  R r = num_traits<R>::from_mpfr(tmp);
+  mpfr_clear(tmp);
+  return r;
+}
+
+/// An exact value as an unevaluated sum hi + lo of two R (hi = fl(x), lo = fl(x - hi)): carries
+/// about twice R's precision, which the leak phase needs at large omega*t.
+template <class R>
+struct two_term {
+  R hi{0}, lo{0};
+};
+
+template <class R>
+two_term<R> split_exact(const ExactReal& x) {
+  two_term<R> out;
+  out.hi = round_exact<R>(x);
+  mpfr_t hi;
+  mpfr_init2(hi, num_traits<R>::bits);
+  x.round(hi, MPFR_RNDN);
+  mpq_class hq;
+  mpfr_get_q(hq.get_mpq_t(), hi);
+  mpfr_clear(hi);
+  out.lo = round_exact<R>(x - ExactReal::rational(hq));
+  return out;
+}
+
+}  // namespace rotleak

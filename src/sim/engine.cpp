@@ -1,0 +1,145 @@
+#include "sim/engine.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "io/progress.hpp"
+#include "sim/particle.hpp"
+
+namespace rotleak {
+
+void Tally::resize(const Scene& scene) {
+  escapes_per_bin.assign(scene.survival_bins(), 0);
+  if (scene.collision_density)
+    collision_density.assign(scene.collision_density->windows.size() *
+                                 static_cast<std::size_t>(scene.collision_density->bins),
+                             0);
+}
+
+void Tally::merge(const Tally& o) {
+  for (std::size_t i = 0; i < escapes_per_bin.size(); ++i) escapes_per_bin[i] += o.escapes_per_bin[i];
+  for (std::size_t i = 0; i < collision_density.size(); ++i) collision_density[i] += o.collision_density[i];
+  collisions += o.collisions;
+  escaped += o.escaped;
+  survived += o.survived;
+  stuck += o.stuck;
+}
+
+std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& tally) {
+  std::vector<std::uint64_t> out(tally.escapes_per_bin.size() + 1);
+  std::uint64_t alive = scene.particles;
+  out[0] = alive;
+  for (std::size_t k = 0; k < tally.escapes_per_bin.size(); ++k) {
+    alive -= tally.escapes_per_bin[k];
+    out[k + 1] = alive;
+  }
+  return out;
+}
+
+namespace {
+
+/// f_c(s): counts collision positions in each requested time window.
+template <class R>
+struct DensityObserver {
+  static constexpr bool active = true;
+  const Stadium<R>* stadium;
+  const std::vector<TimeWindow>* windows;
+  int bins;
+  std::uint64_t* counts;
+
+  void operator()(Piece p, const Vec2<R>& q, const R& t) {
+    const double tt = num_traits<R>::to_double(t);
+    bool any = false;
+    for (const auto& w : *windows) any |= (tt >= w.from && tt <= w.to);
+    if (!any) return;
+    const double s = num_traits<R>::to_double(stadium->s_of(p, q));
+    int b = static_cast<int>(s * bins);
+    if (b >= bins) b = bins - 1;
+    if (b < 0) b = 0;
+    for (std::size_t i = 0; i < windows->size(); ++i)
+      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) ++counts[i * static_cast<std::size_t>(bins) + b];
+  }
+};
+
+template <class R>
+RunResult run_tier(const Scene& scene, const RunOptions& opt) {
+  const Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
+  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
+                             round_exact<double>(scene.r));
+  RunResult result;
+  result.tally.resize(scene);
+  if (scene.escape_records) result.records.resize(scene.particles);
+
+  const std::uint64_t n = scene.particles;
+  constexpr std::uint64_t kBlock = 4096;
+  const std::uint64_t blocks = (n + kBlock - 1) / kBlock;
+  const double dt = scene.survival_dt;
+  const std::size_t nbins = result.tally.escapes_per_bin.size();
+  std::atomic<std::uint64_t> done{0}, collisions_done{0};
+  ProgressLine progress(opt.progress, n);
+  const auto t0 = std::chrono::steady_clock::now();
+
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp single
+    result.threads = omp_get_num_threads();
+    Tally local;
+    local.resize(scene);
+    DensityObserver<R> density{&model.stadium,
+                               scene.collision_density ? &scene.collision_density->windows : nullptr,
+                               scene.collision_density ? scene.collision_density->bins : 0,
+                               local.collision_density.data()};
+    NoCollisionObserver<R> none;
+#pragma omp for schedule(dynamic, 1)
+    for (std::uint64_t blk = 0; blk < blocks; ++blk) {
+      const std::uint64_t lo = blk * kBlock, hi = std::min(n, lo + kBlock);
+      std::uint64_t block_collisions = 0;
+      for (std::uint64_t i = lo; i < hi; ++i) {
+        const ParticleState<R> ps = initial_state(model.stadium, ic.draw(opt.first_id + i));
+        const ParticleEnd end = scene.collision_density ? run_particle(model, ps, density)
+                                                        : run_particle(model, ps, none);
+        block_collisions += end.collisions;
+        switch (end.fate) {
+          case Fate::escaped: {
+            std::size_t b = static_cast<std::size_t>(end.t / dt);
+            if (b >= nbins) b = nbins - 1;
+            ++local.escapes_per_bin[b];
+            ++local.escaped;
+            break;
+          }
+          case Fate::survived: ++local.survived; break;
+          case Fate::stuck: ++local.stuck; break;
+        }
+        if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
+      }
+      local.collisions += block_collisions;
+      const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
+      const std::uint64_t c = collisions_done.fetch_add(block_collisions) + block_collisions;
+      if (omp_get_thread_num() == 0) progress.update(d, c);
+    }
+#pragma omp critical
+    result.tally.merge(local);
+  }
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.finish(n, result.tally.collisions);
+  return result;
+}
+
+}  // namespace
+
+RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
+  switch (scene.tier) {
+    case Tier::float_: return run_tier<float>(scene, options);
+    case Tier::long_double: return run_tier<long double>(scene, options);
+    case Tier::double_: break;
+  }
+  return run_tier<double>(scene, options);
+}
+
+}  // namespace rotleak

@@ -1,0 +1,52 @@
+// The ensemble engine: OpenMP over particle ids, per-thread tallies merged as exact integers, so the
+// result does not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "sim/scene.hpp"
+
+namespace rotleak {
+
+enum class Fate : std::uint8_t { escaped = 0, survived = 1, stuck = 2 };
+
+/// One particle's end, kept only when escape records are asked for.
+struct EscapeRecord {
+  double t = 0;      ///< escape time (or t_max for survivors)
+  double s = 0;      ///< boundary coordinate of the escape collision
+  std::uint64_t collisions = 0;
+  Fate fate = Fate::survived;
+};
+
+/// Integer counts; merge() is exact and order-independent.
+struct Tally {
+  std::vector<std::uint64_t> escapes_per_bin;  ///< escapes with t in [k dt, (k+1) dt)
+  std::vector<std::uint64_t> collision_density;  ///< windows x bins, row-major
+  std::uint64_t collisions = 0, escaped = 0, survived = 0, stuck = 0;
+
+  void resize(const Scene& scene);
+  void merge(const Tally& other);
+};
+
+struct RunOptions {
+  int threads = 0;               ///< 0: OpenMP's default
+  std::uint64_t first_id = 0;    ///< particles are ids [first_id, first_id + scene.particles)
+  bool progress = false;         ///< progress line on stderr
+};
+
+struct RunResult {
+  Tally tally;
+  std::vector<EscapeRecord> records;  ///< by id - first_id, when scene.escape_records
+  double wall_seconds = 0;
+  int threads = 1;
+};
+
+/// Runs the scene's ensemble in its tier.
+RunResult run_ensemble(const Scene& scene, const RunOptions& options);
+
+/// Survivors at t_k = k dt (k = 0..bins, the last at t_max) from the escape histogram.
+std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& tally);
+
+}  // namespace rotleak

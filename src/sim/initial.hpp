@@ -1,0 +1,92 @@
+// Initial conditions from (seed, id) alone: Philox4x64-10, counter = (id, draw, 0, 0), key = (seed, stream).
+// The draws are binary doubles; every tier converts those same bits exactly, so a shadow run at any
+// precision starts from the identical point.
+#pragma once
+
+#include <Random123/philox.h>
+
+#include <cstdint>
+
+#include "geometry/stadium.hpp"
+#include "sim/scene.hpp"
+
+namespace rotleak {
+
+/// The binary initial data of one particle.
+struct InitialDraw {
+  double s = 0, p = 0;        ///< Birkhoff start (init = birkhoff)
+  double x = 0, y = 0, u = 0; ///< flow start: position and direction angle 2*pi*u (init = flow)
+  double tau = 0;             ///< creation time
+  bool flow = false;
+};
+
+class InitialConditions {
+ public:
+  static constexpr std::uint64_t kStreamInitial = 0;
+
+  InitialConditions(std::uint64_t seed, InitKind kind, double creation_window, double half_d, double r)
+      : seed_(seed), kind_(kind), window_(creation_window), half_d_(half_d), r_(r) {}
+
+  /// Uniform double in [0,1) from the top 53 bits.
+  static double unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
+  /// Uniform in the open interval (-1, 1), symmetric and exact: (2m + 1 - 2^53) / 2^53.
+  static double symmetric(std::uint64_t bits) {
+    const std::int64_t m = static_cast<std::int64_t>(bits >> 11);
+    return static_cast<double>(2 * m + 1 - (std::int64_t(1) << 53)) * 0x1p-53;
+  }
+
+  InitialDraw draw(std::uint64_t id) const {
+    r123::Philox4x64 gen;
+    r123::Philox4x64::key_type key = {{seed_, kStreamInitial}};
+    InitialDraw out;
+    for (std::uint64_t k = 0;; ++k) {
+      r123::Philox4x64::ctr_type ctr = {{id, k, 0, 0}};
+      const auto w = gen(ctr, key);
+      out.tau = window_ * unit(w[3]);
+      if (kind_ == InitKind::birkhoff) {
+        out.s = unit(w[0]);
+        out.p = symmetric(w[1]);
+        return out;
+      }
+      // Flow: rejection from the bounding box; each try uses the next counter.
+      out.flow = true;
+      out.x = (half_d_ + r_) * (2 * unit(w[0]) - 1);
+      out.y = r_ * (2 * unit(w[1]) - 1);
+      out.u = unit(w[2]);
+      const double ax = out.x < 0 ? -out.x : out.x;
+      if (ax <= half_d_ || (ax - half_d_) * (ax - half_d_) + out.y * out.y < r_ * r_) return out;
+    }
+  }
+
+ private:
+  std::uint64_t seed_;
+  InitKind kind_;
+  double window_, half_d_, r_;
+};
+
+/// Position, unit velocity and time of a particle at creation, in tier R.
+template <class R>
+struct ParticleState {
+  Vec2<R> q, v;
+  R t{0};
+};
+
+template <class R>
+ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
+  using std::cos;
+  using std::sin;
+  ParticleState<R> ps;
+  ps.t = R(dr.tau);
+  if (!dr.flow) {
+    const BoundaryPoint<R> b = st.at(R(dr.s));
+    ps.q = b.q;
+    ps.v = st.velocity(b, R(dr.p));
+  } else {
+    const R angle = 2 * boost::math::constants::pi<R>() * R(dr.u);
+    ps.q = {R(dr.x), R(dr.y)};
+    ps.v = {cos(angle), sin(angle)};
+  }
+  return ps;
+}
+
+}  // namespace rotleak
