@@ -39,36 +39,53 @@ struct ParticleEnd {
 /// that rounding cannot leave); counted and reported, never silently dropped.
 inline constexpr int kMaxZeroFlights = 64;
 
-template <class R, class Observer>
-ParticleEnd run_particle(const Model<R>& m, ParticleState<R> ps, Observer& observe) {
+/// A particle in flight: its state and, once it has ended, how.
+template <class R>
+struct Flight {
+  ParticleState<R> ps;
   ParticleEnd end;
   int zero_flights = 0;
-  for (;;) {
-    const Hit<R> h = m.stadium.next_hit(ps.q, ps.v);
-    ps.t += h.t;
-    if (ps.t > m.t_max) {
-      end.fate = Fate::survived;
-      end.t = static_cast<double>(num_traits<R>::to_double(m.t_max));
-      return end;
-    }
-    ++end.collisions;
-    if constexpr (Observer::active) observe(h.piece, h.q, ps.t);
-    if (m.leak.hit(h.piece, h.q, ps.t)) {
-      end.fate = Fate::escaped;
-      end.t = num_traits<R>::to_double(ps.t);
-      end.s = num_traits<R>::to_double(m.stadium.s_of(h.piece, h.q));
-      return end;
-    }
-    ps.v = m.stadium.reflect(h.piece, h.q, ps.v);
-    ps.q = h.q;
-    if (h.t > 0) {
-      zero_flights = 0;
-    } else if (++zero_flights > kMaxZeroFlights) {
-      end.fate = Fate::stuck;
-      end.t = num_traits<R>::to_double(ps.t);
-      return end;
-    }
+};
+
+/// One collision: next_hit, time check, leak test, reflect. Returns false once the particle has
+/// ended (f.end says how). The engine interleaves several flights per thread with this.
+template <class R, class Observer>
+inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
+  const Hit<R> h = m.stadium.next_hit(f.ps.q, f.ps.v);
+  f.ps.t += h.t;
+  if (f.ps.t > m.t_max) {
+    f.end.fate = Fate::survived;
+    f.end.t = num_traits<R>::to_double(m.t_max);
+    return false;
   }
+  ++f.end.collisions;
+  if constexpr (Observer::active) observe(h.piece, h.q, f.ps.t);
+  if (m.leak.hit(h.piece, h.q, f.ps.t)) {
+    f.end.fate = Fate::escaped;
+    f.end.t = num_traits<R>::to_double(f.ps.t);
+    f.end.s = num_traits<R>::to_double(m.stadium.s_of(h.piece, h.q));
+    return false;
+  }
+  f.ps.v = m.stadium.reflect(h.piece, h.q, f.ps.v);
+  f.ps.q = h.q;
+  if (h.t > 0) {
+    f.zero_flights = 0;
+  } else if (++f.zero_flights > kMaxZeroFlights) {
+    f.end.fate = Fate::stuck;
+    f.end.t = num_traits<R>::to_double(f.ps.t);
+    return false;
+  }
+  return true;
+}
+
+/// A whole life, one particle at a time (the reference loop; the engine's interleaved loop
+/// performs exactly these operations per particle).
+template <class R, class Observer>
+ParticleEnd run_particle(const Model<R>& m, const ParticleState<R>& ps, Observer& observe) {
+  Flight<R> f{ps, {}, 0};
+  while (advance(m, f, observe)) {
+  }
+  return f.end;
 }
 
 }  // namespace rotleak

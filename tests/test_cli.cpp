@@ -1,0 +1,130 @@
+// The command line as a user meets it: exit status 2 and one line naming the key on bad input,
+// no run directory left behind, JSON alone on stdout with --json.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+fs::path scratch() {
+  static const fs::path dir = [] {
+    fs::path p = fs::temp_directory_path() / ("rotleak_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(p);
+    return p;
+  }();
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+Outcome run(const std::string& args) {
+  const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
+  const std::string cmd = std::string(ROTLEAK_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int raw = std::system(cmd.c_str());
+  Outcome o;
+  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  o.out = slurp(out);
+  o.err = slurp(err);
+  return o;
+}
+
+fs::path write_scene(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+const char* kSmall =
+    "[ensemble]\nparticles = 2000\n[run]\nt_max = 400\n[fit]\nkappa_window = [0, 300]\n";
+
+}  // namespace
+
+class CliBadInput : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(CliBadInput, ExitsWithStatusTwoAndOneLineNamingTheKey) {
+  const auto& [extra, key] = GetParam();
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path outdir = scratch() / "bad_run";
+  fs::remove_all(outdir);
+  const Outcome o = run("simulate " + scene.string() + " --out " + outdir.string() + " " + extra);
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_NE(o.err.find(key), std::string::npos) << o.err;
+  EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+  EXPECT_FALSE(fs::exists(outdir)) << "a run directory was left behind";
+  EXPECT_TRUE(o.out.empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CliBadInput,
+    ::testing::Values(std::pair{std::string("--set leak.width=1"), std::string("leak.width")},
+                      std::pair{std::string("--set leak.omega=foo"), std::string("leak.omega")},
+                      std::pair{std::string("--set run.t_max=0"), std::string("run.t_max")},
+                      std::pair{std::string("--set run.t_max=nan"), std::string("run.t_max")},
+                      std::pair{std::string("--set stadium.r=-1"), std::string("stadium.r")},
+                      std::pair{std::string("--particles 0"), std::string("--particles")},
+                      std::pair{std::string("--set leak.colour=red"), std::string("leak.colour")},
+                      std::pair{std::string("--threads -1"), std::string("--threads")},
+                      std::pair{std::string("--bogus"), std::string("--bogus")}));
+
+TEST(Cli, MissingSceneFileIsBadInput) {
+  const Outcome o = run("simulate /nonexistent/scene.toml --out " + (scratch() / "x").string());
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("/nonexistent/scene.toml"), std::string::npos);
+}
+
+TEST(Cli, ExistingOutputNeedsForceAndJsonIsAloneOnStdout) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path outdir = scratch() / "run_ok";
+  fs::remove_all(outdir);
+  const Outcome first = run("simulate " + scene.string() + " --out " + outdir.string() + " --json --threads 2");
+  ASSERT_EQ(first.status, 0) << first.err;
+  const auto j = nlohmann::json::parse(first.out);  // throws if anything else is on stdout
+  for (const char* key : {"seed", "rotleak", "threads", "wall_seconds", "collisions", "collisions_per_second",
+                          "kappa", "alpha", "scene", "tier"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["kappa"].contains("value"));
+  EXPECT_TRUE(j["kappa"].contains("error"));
+  EXPECT_TRUE(j["alpha"].contains("value"));
+  EXPECT_EQ(j["particles"], 2000);
+  EXPECT_EQ(slurp(outdir / "survival.csv").substr(0, 14), "t,survivors,P\n");
+  EXPECT_EQ(nlohmann::json::parse(slurp(outdir / "summary.json")), j);
+
+  const Outcome again = run("simulate " + scene.string() + " --out " + outdir.string());
+  EXPECT_EQ(again.status, 2);
+  EXPECT_NE(again.err.find("--force"), std::string::npos);
+  EXPECT_TRUE(fs::exists(outdir / "summary.json")) << "the old run must survive a refused overwrite";
+
+  const Outcome forced = run("simulate " + scene.string() + " --out " + outdir.string() + " --force --set ensemble.seed=7");
+  EXPECT_EQ(forced.status, 0) << forced.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(outdir / "summary.json"))["seed"], 7);
+  for (const auto& e : fs::directory_iterator(scratch()))
+    EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+}
+
+TEST(Cli, RefusesToReplaceADirectoryThatIsNotARun) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path precious = scratch() / "precious";
+  fs::create_directories(precious);
+  std::ofstream(precious / "notes.txt") << "keep me";
+  const Outcome o = run("simulate " + scene.string() + " --out " + precious.string() + " --force");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(fs::exists(precious / "notes.txt"));
+}

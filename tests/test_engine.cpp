@@ -1,0 +1,118 @@
+// The ensemble engine: independence from the thread count, agreement with the reference loop,
+// and the mean free path identity as a statistical check of the whole geometry.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+
+#include "io/run_output.hpp"
+#include "sim/engine.hpp"
+#include "sim/particle.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+Scene small_scene(const std::string& omega, const std::string& init = "birkhoff") {
+  return parse_scene(
+      "[leak]\nwidth = \"0.02\"\nstart = \"0.1\"\nomega = \"" + omega +
+          "\"\n[ensemble]\nparticles = 20000\nseed = 42\ninit = \"" + init +
+          "\"\n[run]\nt_max = 3000\n[observe]\nsurvival_dt = 0.5\nescapes = true\n"
+          "collision_density = { bins = 64, windows = [[0, 3000], [100, 3000]] }\n[fit]\nkappa_window = [0, 200]\n");
+}
+
+}  // namespace
+
+class EngineThreads : public ::testing::TestWithParam<std::pair<const char*, const char*>> {};
+
+TEST_P(EngineThreads, OneAndTwoThreadsGiveIdenticalFiles) {
+  const Scene scene = small_scene(GetParam().first, GetParam().second);
+  RunOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const RunResult a = run_ensemble(scene, one), b = run_ensemble(scene, two);
+  EXPECT_EQ(a.threads, 1);
+  EXPECT_EQ(b.threads, 2);
+  EXPECT_EQ(survival_csv(scene, a.tally), survival_csv(scene, b.tally));
+  EXPECT_EQ(density_csv(scene, a.tally), density_csv(scene, b.tally));
+  EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, b.records));
+  EXPECT_EQ(a.tally.collisions, b.tally.collisions);
+  EXPECT_EQ(a.tally.escaped + a.tally.survived + a.tally.stuck, scene.particles);
+  EXPECT_GT(a.tally.escaped, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Leaks, EngineThreads,
+                         ::testing::Values(std::pair{"0", "birkhoff"}, std::pair{"2/3", "birkhoff"},
+                                           std::pair{"ln(19)", "flow"}));
+
+TEST(Engine, MatchesTheReferenceLoopParticleByParticle) {
+  const Scene scene = small_scene("1008/1009");
+  RunOptions opt;
+  opt.threads = 2;
+  const RunResult res = run_ensemble(scene, opt);
+  const Model<double> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
+  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, 1.0, 1.0);
+  NoCollisionObserver<double> none;
+  std::uint64_t total = 0;
+  for (std::uint64_t id = 0; id < scene.particles; ++id) {
+    const ParticleEnd e = run_particle(model, initial_state(model.stadium, ic.draw(id)), none);
+    total += e.collisions;
+    if (id < 500) {
+      EXPECT_EQ(e.fate, res.records[id].fate);
+      EXPECT_EQ(e.t, res.records[id].t);
+      EXPECT_EQ(e.collisions, res.records[id].collisions);
+    }
+  }
+  EXPECT_EQ(total, res.tally.collisions);
+  const auto alive = survivors_on_grid(scene, res.tally);
+  EXPECT_EQ(alive.back(), res.tally.survived + res.tally.stuck);
+}
+
+// Birkhoff-uniform (s, p) is the invariant measure of the billiard map, so the flight from a
+// uniform draw has mean pi * Area / Perimeter exactly. Error model: i.i.d. flights, CLT; the test
+// allows 4.5 standard errors (false alarm rate ~ 7e-6).
+TEST(Engine, MeanFreePathIsPiAreaOverPerimeter) {
+  const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const InitialConditions ic(2024, InitKind::birkhoff, 4, 1, 1);
+  const int m = 1000000;
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < m; ++i) {
+    const ParticleState<double> ps = initial_state(st, ic.draw(static_cast<std::uint64_t>(i)));
+    const double len = st.next_hit(ps.q, ps.v).t;
+    sum += len;
+    sum2 += len * len;
+  }
+  const double mean = sum / m, var = sum2 / m - mean * mean, se = std::sqrt(var / m);
+  const double expected = M_PI * (4 + M_PI) / (4 + 2 * M_PI);
+  EXPECT_NEAR(mean, expected, 4.5 * se) << "seed 2024, " << m << " flights";
+  EXPECT_LT(se / expected, 1e-3);  // the test has teeth: 0.1% resolution
+}
+
+// Flow initial conditions are uniform in the stadium: the share inside the rectangle is
+// 2rd / Area (binomial, 4.5 sigma).
+TEST(Engine, FlowInitIsUniformInTheStadium) {
+  const InitialConditions ic(5, InitKind::flow, 4, 1, 1);
+  const int m = 200000;
+  int in_rect = 0;
+  for (int i = 0; i < m; ++i) {
+    const InitialDraw d = ic.draw(static_cast<std::uint64_t>(i));
+    ASSERT_TRUE(std::abs(d.x) <= 1 || (std::abs(d.x) - 1) * (std::abs(d.x) - 1) + d.y * d.y < 1);
+    in_rect += std::abs(d.x) <= 1;
+  }
+  const double p = 4 / (4 + M_PI);
+  EXPECT_NEAR(static_cast<double>(in_rect) / m, p, 4.5 * std::sqrt(p * (1 - p) / m));
+}
+
+TEST(Engine, InitialDrawsDependOnlyOnSeedAndId) {
+  const InitialConditions a(9, InitKind::birkhoff, 4, 1, 1), b(9, InitKind::birkhoff, 4, 1, 1),
+      c(10, InitKind::birkhoff, 4, 1, 1);
+  for (std::uint64_t id : {0ull, 1ull, 123456789ull, 1ull << 40}) {
+    EXPECT_EQ(a.draw(id).s, b.draw(id).s);
+    EXPECT_EQ(a.draw(id).p, b.draw(id).p);
+    EXPECT_NE(a.draw(id).s, c.draw(id).s);
+    EXPECT_GT(a.draw(id).p, -1.0);
+    EXPECT_LT(a.draw(id).p, 1.0);
+    EXPECT_GE(a.draw(id).tau, 0.0);
+    EXPECT_LE(a.draw(id).tau, 4.0);
+  }
+}

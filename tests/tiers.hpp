@@ -1,0 +1,30 @@
+// The tiers every typed test runs over, and tolerances derived from each tier's epsilon.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "numeric/num_traits.hpp"
+
+namespace rotleak::test {
+
+using Tiers = ::testing::Types<float, double, long double, mpfr256>;
+
+struct TierNames {
+  template <class R>
+  static std::string GetName(int) {
+    return num_traits<R>::name();
+  }
+};
+
+/// k units of the tier's epsilon, as a double for comparisons.
+template <class R>
+double eps_times(double k) {
+  return k * num_traits<R>::to_double(num_traits<R>::epsilon());
+}
+
+template <class R>
+double as_double(const R& x) {
+  return num_traits<R>::to_double(x);
+}
+
+}  // namespace rotleak::test
