@@ -142,6 +142,7 @@ int run_simulate(const SimulateArgs& a) {
     std::printf("wrote %s/\n", dir.final_path().c_str());
   }
   if (a.plot) {
+    std::fflush(stdout);  // our lines first, then the plotter's
     const int rc = draw_plots(dir.final_path().string());
     if (rc != 0) {
       std::cerr << "rotleak: plotting failed (exit " << rc << "); the run itself is complete\n";

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Draw a rotleak run directory: survival.png (P(t) log-log and semi-log with the kappa fit and the
+alpha crossing) and, when fc.csv exists, fc.png (collision density per time window).
+
+Usage: plot_run.py RUN_DIR     (rotleak plot RUN_DIR calls this)
+Needs Debian's python3-matplotlib (run with /usr/bin/python3)."""
+import csv
+import json
+import math
+import os
+import sys
+from fractions import Fraction
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def save(fig, path):
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=120)
+    os.replace(tmp, path)  # written whole or not at all
+    plt.close(fig)
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def survival(run, summary):
+    _, rows = read_csv(os.path.join(run, "survival.csv"))
+    t = [float(r[0]) for r in rows if int(r[1]) > 0]
+    P = [float(r[2]) for r in rows if int(r[1]) > 0]
+    kappa, alpha = summary["kappa"], summary["alpha"]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
+    for ax, loglog in ((ax1, True), (ax2, False)):
+        ax.plot(t, P, lw=1.2, label="P(t), N = %g" % summary["particles"])
+        if kappa["value"] is not None:
+            k, lna = kappa["value"], kappa["log_amplitude"]
+            tt = [x for x in t if x <= min(t[-1], 6 / k)]
+            ax.plot(tt, [math.exp(lna - k * x) for x in tt], "--", lw=1,
+                    label="exp fit: kappa = %.4g +- %.1g on [%g, %g]" % (k, kappa["error"], *kappa["window"]))
+        if alpha["value"] is not None:
+            ax.plot([alpha["crossing_time"]], [alpha["value"]], "o", color="C3",
+                    label="alpha = %.3g (t = %g)" % (alpha["value"], alpha["crossing_time"]))
+        ax.set_yscale("log")
+        if loglog:
+            ax.set_xscale("log")
+            ax.set_xlim(left=1)
+        ax.set_xlabel("t")
+        ax.set_ylabel("P(t)")
+        ax.grid(True, which="both", alpha=0.3)
+    ax1.set_title("log-log")
+    ax2.set_title("semi-log")
+    ax2.legend(fontsize=8)
+    leak = summary["scene"]["leak"]
+    fig.suptitle("survival: s_L = %s, width = %s, omega = %s (%s tier)" %
+                 (leak["start"], leak["width"], leak["omega"], summary["tier"]))
+    fig.tight_layout()
+    save(fig, os.path.join(run, "survival.png"))
+
+
+def exact_text(text):
+    """A scene's exact value as a float for drawing only ("1/3", "0.1022"); None for irrationals."""
+    try:
+        return float(Fraction(text))
+    except (ValueError, ZeroDivisionError):
+        return None
+
+
+def density(run, summary):
+    path = os.path.join(run, "fc.csv")
+    if not os.path.exists(path):
+        return False
+    header, rows = read_csv(path)
+    s = [float(r[0]) for r in rows]
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for col in range(1, len(header), 2):
+        ax.plot(s, [float(r[col]) for r in rows], lw=1, label=header[col].replace("fc", "t in "))
+    leak = summary["scene"]["leak"]
+    start, width = exact_text(leak["start"]), exact_text(leak["width"])
+    if leak["omega"] == "0" and start is not None and width is not None:
+        for shift in (-1, 0, 1):  # the leak on the circle s mod 1
+            ax.axvspan(start - width / 2 + shift, start + width / 2 + shift, color="C3", alpha=0.25)
+        ax.set_xlim(0, 1)
+        ax.plot([], [], color="C3", alpha=0.4, lw=6, label="leak")
+    ax.set_xlabel("s")
+    ax.set_ylabel("f_c(s)")
+    ax.set_title("collision density")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    save(fig, os.path.join(run, "fc.png"))
+    return True
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: plot_run.py RUN_DIR")
+    run = sys.argv[1]
+    with open(os.path.join(run, "summary.json")) as f:
+        summary = json.load(f)
+    survival(run, summary)
+    drew = ["survival.png"] + (["fc.png"] if density(run, summary) else [])
+    print("drew " + ", ".join(os.path.join(run, d) for d in drew))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""Runs the six stationary-leak scenes of SPEC section 5 and prints our kappa and alpha beside the
+published ones (data/literature/stationary_leak_table.csv), as a Markdown table.
+
+Usage: scripts/stationary_table.py [--particles N] [--out DIR]   (default 10^7 particles, runs/table)"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--particles", type=int, default=10_000_000)
+    ap.add_argument("--out", default=os.path.join(root, "runs", "table"))
+    args = ap.parse_args()
+    with open(os.path.join(root, "data", "literature", "stationary_leak_table.csv")) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    print("| s_L | kappa (ours) | kappa (lit.) | diff | alpha (ours) | alpha (lit.) | diff | coll/s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for row in rows:
+        scene = os.path.join(root, "data", "scenes", "stationary_sL_%s.toml" % row["s_L"])
+        out = os.path.join(args.out, "sL_%s" % row["s_L"])
+        res = subprocess.run([os.path.join(root, "build", "rotleak"), "simulate", scene, "--particles",
+                              str(args.particles), "--out", out, "--force", "--json", "--no-progress"],
+                             capture_output=True, text=True)
+        if res.returncode != 0:
+            sys.exit(res.stderr)
+        s = json.loads(res.stdout)
+        k, a = s["kappa"], s["alpha"]
+        kl, al = float(row["kappa"]), float(row["alpha"])
+        alpha = "%.3g +- %.1g" % (a["value"], a["error"]) if a["value"] is not None else "< %.3g" % a["upper_bound"]
+        adiff = "%+.1f%%" % (100 * (a["value"] / al - 1)) if a["value"] is not None else "-"
+        print("| %s | %.5g +- %.1g | %.4g | %+.2f%% | %s | %.3g | %s | %.3g |" %
+              (row["s_L"], k["value"], k["error"], kl, 100 * (k["value"] / kl - 1), alpha, al, adiff,
+               s["collisions_per_second"]), flush=True)
+    print("\n%d particles per row, %d threads; fits: %s" % (args.particles, s["threads"], k["method"]))
+
+
+if __name__ == "__main__":
+    main()
