@@ -29,6 +29,22 @@ class Geometry : public ::testing::Test {
     using std::sqrt;
     return sqrt(dot(v, v));
   }
+
+  /// Follows a periodic orbit from Birkhoff (s, p) through the expected pieces; returns the total
+  /// time and leaves the final point and velocity in q, v.
+  R follow(const BoundaryPoint<R>& start, const R& p, const std::vector<Piece>& pieces, Vec2<R>& q) const {
+    Vec2<R> v = st.velocity(start, p);
+    q = start.q;
+    R t(0);
+    for (Piece expected : pieces) {
+      const Hit<R> h = st.next_hit(q, v);
+      EXPECT_EQ(h.piece, expected);
+      t += h.t;
+      v = st.reflect(h.piece, h.q, v);
+      q = h.q;
+    }
+    return t;
+  }
 };
 TYPED_TEST_SUITE(Geometry, rotleak::test::Tiers, rotleak::test::TierNames);
 
@@ -154,15 +170,8 @@ TYPED_TEST(Geometry, TimeReversalReturnsToTheStart) {
 TYPED_TEST(Geometry, BouncingBallOrbitHasPeriodFour) {
   using R = TypeParam;
   const BoundaryPoint<R> b = this->st.at(R(0));  // midpoint of the top edge, p = 0: straight down
-  Vec2<R> q = b.q, v = this->st.velocity(b, R(0));
-  R t(0);
-  for (int i = 0; i < 2; ++i) {
-    const Hit<R> h = this->st.next_hit(q, v);
-    EXPECT_EQ(h.piece, i == 0 ? Piece::bottom : Piece::top);
-    t += h.t;
-    v = this->st.reflect(h.piece, h.q, v);
-    q = h.q;
-  }
+  Vec2<R> q;
+  const R t = this->follow(b, R(0), {Piece::bottom, Piece::top}, q);
   EXPECT_LE(std::abs(as_double(t) - 4.0), eps_times<R>(8));
   EXPECT_LE(std::abs(as_double(q.x - b.q.x)), eps_times<R>(8));
   EXPECT_LE(std::abs(as_double(q.y - b.q.y)), eps_times<R>(8));
@@ -173,15 +182,8 @@ TYPED_TEST(Geometry, LongAxisOrbitHasPeriodTwiceTheLength) {
   // leftmost point: quarter of the left arc past its start; p = 0 sends the particle along +x
   const R s = this->st.junction(2) + (this->st.junction(3) - this->st.junction(2)) / 2;
   const BoundaryPoint<R> b = this->st.at(s);
-  Vec2<R> q = b.q, v = this->st.velocity(b, R(0));
-  R t(0);
-  for (int i = 0; i < 2; ++i) {
-    const Hit<R> h = this->st.next_hit(q, v);
-    EXPECT_EQ(h.piece, i == 0 ? Piece::right_arc : Piece::left_arc);
-    t += h.t;
-    v = this->st.reflect(h.piece, h.q, v);
-    q = h.q;
-  }
+  Vec2<R> q;
+  const R t = this->follow(b, R(0), {Piece::right_arc, Piece::left_arc}, q);
   EXPECT_LE(std::abs(as_double(t) - 8.0), eps_times<R>(16));  // 2 (d + 2r)
   // The orbit is unstable: each bounce multiplies a transverse error by at most 1 + 2 * 4 / r = 9
   // (flight 4, focusing arc of radius 1), so the start's few-eps error returns at most 81 times larger.
