@@ -13,11 +13,15 @@ struct Command {
 };
 Command add_simulate(CLI::App& app);
 Command add_plot(CLI::App& app);
+Command add_omega(CLI::App& app);
+Command add_covering(CLI::App& app);
 
 /// Exit statuses: 0 done, 1 failed while running, 2 bad input.
 inline constexpr int kExitBadInput = 2;
 
-/// Runs the plotting script on a run directory; returns its exit status.
+/// Runs scripts/<script> on a directory with Debian's python3 (matplotlib); returns its exit status.
+int run_plot_script(const std::string& script, const std::string& dir);
+/// Draws a simulate run directory (survival.png, fc.png).
 int draw_plots(const std::string& run_dir);
 
 }  // namespace rotleak::cli

@@ -15,16 +15,14 @@ extern char** environ;
 
 namespace rotleak::cli {
 
-int draw_plots(const std::string& run_dir) {
+int run_plot_script(const std::string& name, const std::string& dir) {
   namespace fs = std::filesystem;
-  if (!fs::exists(fs::path(run_dir) / "summary.json"))
-    throw InputError("DIR", "\"" + run_dir + "\"", "must be a complete run directory (with summary.json)");
-  std::string script = std::string(kSourceDir) + "/scripts/plot_run.py";
-  if (const char* s = std::getenv("ROTLEAK_PLOT_SCRIPT")) script = s;
+  std::string script = std::string(kSourceDir) + "/scripts/" + name;
+  if (const char* s = std::getenv("ROTLEAK_SCRIPTS")) script = std::string(s) + "/" + name;
   // Debian's interpreter has python3-matplotlib; another python3 first on PATH may not.
   std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   if (const char* p = std::getenv("ROTLEAK_PYTHON")) python = p;
-  std::vector<std::string> argv_s{python, script, run_dir};
+  std::vector<std::string> argv_s{python, script, dir};
   std::vector<char*> argv;
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -33,6 +31,13 @@ int draw_plots(const std::string& run_dir) {
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) return 127;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+int draw_plots(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(fs::path(run_dir) / "summary.json"))
+    throw InputError("DIR", "\"" + run_dir + "\"", "must be a complete run directory (with summary.json)");
+  return run_plot_script("plot_run.py", run_dir);
 }
 
 Command add_plot(CLI::App& app) {

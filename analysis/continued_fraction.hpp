@@ -1,0 +1,68 @@
+// Continued fractions of exact values: exact for rationals, certified for irrationals (the common
+// prefix of the expansions of both ends of an MPFI enclosure; the set of reals sharing a prefix is
+// an interval, so the prefix holds for every number inside). Convergents, semiconvergents, best
+// approximations of both kinds, and certified errors.
+#pragma once
+
+#include <gmpxx.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "numeric/exact.hpp"
+
+namespace rotleak {
+
+/// Partial quotients [a0; a1, a2, ...] of a rational by Euclid; at most max_terms (0: all).
+std::vector<mpz_class> cf_of_rational(const mpq_class& q, std::size_t max_terms = 0);
+
+/// The rational [a0; a1, ..., an].
+mpq_class rational_of_cf(const std::vector<mpz_class>& terms);
+
+struct CertifiedExpansion {
+  std::vector<mpz_class> terms;  ///< partial quotients, all certified
+  bool complete = false;         ///< the value is rational and this is its whole expansion
+  long precision_bits = 0;       ///< working precision that certified them (0 for rationals)
+};
+
+/// At least `terms` certified partial quotients of x (fewer only when x is a rational whose whole
+/// expansion is shorter). The working precision starts near what the terms need and doubles until
+/// enough are certified; throws std::domain_error beyond 2^22 bits.
+CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms);
+
+struct Fraction {
+  mpz_class p, q;
+  std::string text() const { return p.get_str() + "/" + q.get_str(); }
+  mpq_class value() const { return mpq_class(p, q); }
+};
+
+/// Convergents p_k / q_k of an expansion.
+std::vector<Fraction> convergents(const std::vector<mpz_class>& terms);
+
+/// Best approximations of the first kind with denominator <= max_den, increasing in q (each closer
+/// to x than every fraction with a smaller denominator). All are convergents or semiconvergents;
+/// runs of semiconvergents are bisected on the exact comparison, so huge partial quotients cost
+/// log(a) comparisons. At most `max_count` are listed (`truncated` says so).
+struct BestApproximations {
+  std::vector<Fraction> list;
+  bool truncated = false;
+  bool expansion_exhausted = false;  ///< x is rational and was reached before max_den
+};
+BestApproximations best_approximations(const ExactReal& x, const mpz_class& max_den, std::size_t max_count = 1000);
+
+/// Smallest q for which some p has |x - p/q| < eps (eps > 0), with that p; nullopt when x is
+/// rational and no such fraction other than x itself exists below the denominator of x (it is then x).
+std::optional<Fraction> smallest_denominator_within(const ExactReal& x, const ExactReal& eps);
+
+/// Certified enclosure of x - p/q, as two decimal strings with `digits` significant digits,
+/// rounded outward.
+struct Enclosure {
+  std::string lo, hi;
+  double approx = 0;
+};
+Enclosure signed_error(const ExactReal& x, const Fraction& f, int digits = 6);
+/// Certified enclosure of an exact value itself.
+Enclosure enclose_decimal(const ExactReal& x, int digits);
+
+}  // namespace rotleak
