@@ -40,6 +40,23 @@ std::vector<Fraction> convergents(const std::vector<mpz_class>& terms) {
   return out;
 }
 
+std::vector<Fraction> semiconvergents(const std::vector<mpz_class>& terms, std::size_t k, std::size_t max_count) {
+  std::vector<Fraction> out;
+  if (k == 0 || k >= terms.size()) return out;
+  const std::vector<Fraction> c = convergents(std::vector<mpz_class>(terms.begin(), terms.begin() + static_cast<long>(k)));
+  const Fraction prev = c[k - 1], prev2 = k >= 2 ? c[k - 2] : Fraction{1, 0};
+  for (mpz_class j = 1; j < terms[k] && out.size() < max_count; ++j) out.push_back({prev2.p + j * prev.p, prev2.q + j * prev.q});
+  return out;
+}
+
+std::vector<Fraction> best_second_kind(const std::vector<mpz_class>& terms, const mpz_class& max_den) {
+  std::vector<Fraction> out;
+  for (const Fraction& f : convergents(terms))
+    if (f.q <= max_den) out.push_back(f);
+  if (terms.size() > 1 && terms[1] == 1 && !out.empty()) out.erase(out.begin());
+  return out;
+}
+
 namespace {
 
 // Euclid on both ends of an enclosure in lockstep; a quotient is certified when both ends have it
@@ -69,7 +86,7 @@ mpq_class to_q(mpfr_srcptr x) {
 
 }  // namespace
 
-CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms) {
+CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms, long min_bits) {
   CertifiedExpansion out;
   if (x.is_rational()) {
     out.terms = cf_of_rational(x.as_rational(), terms);
@@ -77,7 +94,7 @@ CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms) {
     return out;
   }
   // Typical numbers need ~3.4 bits per quotient (Levy's constant); start a little above that.
-  long prec = 64 + 4 * static_cast<long>(terms);
+  long prec = std::max(min_bits, 64 + 4 * static_cast<long>(terms));
   mpfi_t box;
   mpfi_init2(box, prec);
   mpfr_t end;

@@ -28,8 +28,8 @@ struct CertifiedExpansion {
 
 /// At least `terms` certified partial quotients of x (fewer only when x is a rational whose whole
 /// expansion is shorter). The working precision starts near what the terms need and doubles until
-/// enough are certified; throws std::domain_error beyond 2^22 bits.
-CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms);
+/// enough are certified; throws std::domain_error beyond 2^22 bits. `min_bits` forces a higher start.
+CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms, long min_bits = 0);
 
 struct Fraction {
   mpz_class p, q;
@@ -39,6 +39,14 @@ struct Fraction {
 
 /// Convergents p_k / q_k of an expansion.
 std::vector<Fraction> convergents(const std::vector<mpz_class>& terms);
+
+/// Semiconvergents between convergents k-1 and k: (p_{k-2} + j p_{k-1}) / (q_{k-2} + j q_{k-1}) for
+/// j = 1..a_k - 1 (at most max_count of them, from j = 1).
+std::vector<Fraction> semiconvergents(const std::vector<mpz_class>& terms, std::size_t k, std::size_t max_count = 20);
+
+/// Best approximations of the second kind (|q x - p| smaller than for every smaller q) with q <= max_den:
+/// the convergents, less c_0 when a_1 = 1 (then c_1 = (a_0 + 1)/1 has the same q and is closer).
+std::vector<Fraction> best_second_kind(const std::vector<mpz_class>& terms, const mpz_class& max_den);
 
 /// Best approximations of the first kind with denominator <= max_den, increasing in q (each closer
 /// to x than every fraction with a smaller denominator). All are convergents or semiconvergents;

@@ -128,3 +128,44 @@ TEST(Cli, RefusesToReplaceADirectoryThatIsNotARun) {
   EXPECT_EQ(o.status, 2);
   EXPECT_TRUE(fs::exists(precious / "notes.txt"));
 }
+
+class CliOmegaBadInput : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(CliOmegaBadInput, ExitsWithStatusTwoNamingTheInput) {
+  const auto& [args, key] = GetParam();
+  const Outcome o = run(args);
+  EXPECT_EQ(o.status, 2) << args << ": " << o.err;
+  EXPECT_NE(o.err.find(key), std::string::npos) << o.err;
+  EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CliOmegaBadInput,
+    ::testing::Values(std::pair{std::string("omega 'two thirds'"), std::string("omega")},
+                      std::pair{std::string("omega 'ln(-2)'"), std::string("omega")},
+                      std::pair{std::string("omega 2/3 --terms 0"), std::string("--terms")},
+                      std::pair{std::string("omega 2/3 --max-den x"), std::string("--max-den")},
+                      std::pair{std::string("omega 2/3 --eps 0"), std::string("--eps")},
+                      std::pair{std::string("covering --omega foo"), std::string("--omega")},
+                      std::pair{std::string("covering --omega 2/3 --delta 0"), std::string("--delta")},
+                      std::pair{std::string("covering --omega 2/3 --delta 1"), std::string("--delta")},
+                      std::pair{std::string("covering --omega 2/3 --lambda 1.5"), std::string("--lambda")},
+                      std::pair{std::string("covering --omega 2/3 --lambda 0"), std::string("--lambda")},
+                      std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")}));
+
+TEST(Cli, OmegaAndCoveringJson) {
+  const Outcome o = run("omega 'ln(19)' --terms 40 --json");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const auto j = nlohmann::json::parse(o.out);
+  EXPECT_EQ(j["omega"]["cf"].size(), 40u);
+  EXPECT_EQ(j["omega"]["certified_terms"], 40);
+  EXPECT_EQ(j["omega"]["convergents"][2], nlohmann::json::array({"50", "17"}));
+  const Outcome c = run("covering --omega 2/3 --delta 1e-7 --lambda 0.01 --json");
+  ASSERT_EQ(c.status, 0) << c.err;
+  const auto k = nlohmann::json::parse(c.out)["covering"];
+  for (const char* key : {"zero_measure", "max_zero_gap", "gaps", "discrepancy", "clusters"}) EXPECT_TRUE(k.contains(key)) << key;
+  EXPECT_EQ(k["clusters"], 3);
+  const Outcome several = run("covering --omega 1 2/3 --json");
+  ASSERT_EQ(several.status, 0) << several.err;
+  EXPECT_EQ(nlohmann::json::parse(several.out)["covering"].size(), 2u);
+}

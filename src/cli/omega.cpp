@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "analysis/continued_fraction.hpp"
 #include "cli/commands.hpp"
@@ -75,6 +76,23 @@ int run_omega(const OmegaArgs& a) {
     ba.push_back({{"p", f.p.get_str()}, {"q", f.q.get_str()}, {"error_lo", e.lo}, {"error_hi", e.hi}});
   }
   o["best_approximations"] = {{"max_den", max_den.get_str()}, {"list", ba}, {"truncated", best.truncated}};
+  json second = json::array();
+  for (const auto& f : best_second_kind(cf.terms, max_den)) second.push_back({f.p.get_str(), f.q.get_str()});
+  o["best_approximations_second_kind"] = second;
+  json semis = json::array();
+  for (std::size_t k = 1; k < cf.terms.size() && k <= static_cast<std::size_t>(a.convergents); ++k) {
+    json list = json::array();
+    for (const auto& f : semiconvergents(cf.terms, k)) list.push_back({f.p.get_str(), f.q.get_str()});
+    if (!list.empty()) semis.push_back({{"between_convergents", {k - 1, k}}, {"list", list}, {"truncated", cf.terms[k] - 1 > 20}});
+  }
+  o["semiconvergents"] = semis;
+  std::smatch m;
+  static const std::regex liouville(R"(\s*liouville\(\s*(\d+)\s*\)\s*)");
+  if (std::regex_match(a.value, m, liouville)) {
+    json sums = json::array();
+    for (unsigned K = 1; K <= 4; ++K) sums.push_back(liouville_partial_sum(std::stoul(m[1]), K).get_str());
+    o["liouville_partial_sums"] = sums;  // S_K = sum_{k<=K} b^-(k!), exact
+  }
   std::optional<Fraction> within;
   if (eps) {
     within = smallest_denominator_within(x, *eps);
