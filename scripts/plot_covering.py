@@ -2,26 +2,16 @@
 """Draw f_L.png from a `rotleak covering --out DIR` directory: one panel per omega, f_L(s) against s.
 
 Usage: plot_covering.py DIR    (rotleak covering calls this). Needs Debian's python3-matplotlib."""
-import csv
-import json
 import os
-import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from plot_run import load_run, read_csv, save  # same folder: the shared helpers
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_covering.py DIR")
-    run = sys.argv[1]
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
-    with open(os.path.join(run, "f_L.csv"), newline="") as f:
-        rows = list(csv.reader(f))
-    header, rows = rows[0], rows[1:]
+    run, summary = load_run("plot_covering.py DIR")
+    header, rows = read_csv(os.path.join(run, "f_L.csv"))
     s = [float(r[0]) for r in rows]
     cov = summary["covering"]
     cov = cov if isinstance(cov, list) else [cov]
@@ -41,9 +31,7 @@ def main():
     inp = summary["input"]
     fig.suptitle("MUPO covering f_L(s): delta = %s, lambda = %s, N = %d reflections" % (inp["delta"], inp["lambda"], cov[0]["N"]))
     fig.tight_layout()
-    tmp = os.path.join(run, "f_L.png.tmp.png")
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, os.path.join(run, "f_L.png"))
+    save(fig, os.path.join(run, "f_L.png"))
     print("drew " + os.path.join(run, "f_L.png"))
 
 

@@ -24,6 +24,15 @@ def save(fig, path):
     plt.close(fig)
 
 
+def load_run(usage):
+    """The directory named on the command line and its summary.json."""
+    if len(sys.argv) != 2:
+        sys.exit("usage: " + usage)
+    run = sys.argv[1]
+    with open(os.path.join(run, "summary.json")) as f:
+        return run, json.load(f)
+
+
 def read_csv(path):
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
@@ -98,11 +107,7 @@ def density(run, summary):
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_run.py RUN_DIR")
-    run = sys.argv[1]
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
+    run, summary = load_run("plot_run.py RUN_DIR")
     survival(run, summary)
     drew = ["survival.png"] + (["fc.png"] if density(run, summary) else [])
     print("drew " + ", ".join(os.path.join(run, d) for d in drew))

@@ -22,14 +22,6 @@ struct CoveringArgs {
   bool json_out = false, force = false, segments = false, plot = true;
 };
 
-ExactReal parse_value(const std::string& key, const std::string& text) {
-  try {
-    return ExactReal::parse(text);
-  } catch (const ExactParseError& e) {
-    throw InputError(key, "\"" + text + "\"", e.what());
-  }
-}
-
 json covering_json(const std::string& omega, const Covering& c) {
   json gaps = json::array();
   for (const auto& g : c.gaps) {
@@ -61,12 +53,12 @@ int run_covering(const CoveringArgs& a) {
   if (a.resolution < 1 || a.resolution > 10000000)
     throw InputError("--resolution", std::to_string(a.resolution), "must be in [1, 10^7]");
   CoveringInput in;
-  in.delta = parse_value("--delta", a.delta);
-  in.lambda = parse_value("--lambda", a.lambda);
-  in.d = parse_value("--d", a.d);
-  in.r = parse_value("--r", a.r);
+  in.delta = parse_exact_input("--delta", a.delta);
+  in.lambda = parse_exact_input("--lambda", a.lambda);
+  in.d = parse_exact_input("--d", a.d);
+  in.r = parse_exact_input("--r", a.r);
   std::vector<ExactReal> omegas;
-  for (const auto& o : a.omegas) omegas.push_back(parse_value("--omega", o));
+  for (const auto& o : a.omegas) omegas.push_back(parse_exact_input("--omega", o));
   // validate everything (and stage the output) before computing
   auto check = [](const ExactReal& v, const std::string& key, const std::string& text, bool open_unit) {
     if (v.sign() <= 0 || (open_unit && (v - ExactReal::parse("1")).sign() >= 0))

@@ -24,16 +24,8 @@ struct OmegaArgs {
   bool json_out = false;
 };
 
-ExactReal parse_value(const std::string& key, const std::string& text) {
-  try {
-    return ExactReal::parse(text);
-  } catch (const ExactParseError& e) {
-    throw InputError(key, "\"" + text + "\"", e.what());
-  }
-}
-
 int run_omega(const OmegaArgs& a) {
-  const ExactReal x = parse_value("omega", a.value);
+  const ExactReal x = parse_exact_input("omega", a.value);
   if (a.terms < 1 || a.terms > 1000000) throw InputError("--terms", std::to_string(a.terms), "must be in [1, 10^6]");
   if (a.digits < 1 || a.digits > 100000) throw InputError("--digits", std::to_string(a.digits), "must be in [1, 10^5]");
   mpz_class max_den;
@@ -41,7 +33,7 @@ int run_omega(const OmegaArgs& a) {
     throw InputError("--max-den", a.max_den, "must be an integer >= 1");
   std::optional<ExactReal> eps;
   if (!a.eps.empty()) {
-    eps = parse_value("--eps", a.eps);
+    eps = parse_exact_input("--eps", a.eps);
     if (eps->sign() <= 0) throw InputError("--eps", a.eps, "must be > 0");
   }
 

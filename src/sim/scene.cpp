@@ -20,6 +20,14 @@ std::string to_string(Tier t) {
   return "?";
 }
 
+ExactReal parse_exact_input(const std::string& key, const std::string& text) {
+  try {
+    return ExactReal::parse(text);
+  } catch (const ExactParseError& e) {
+    throw InputError(key, "\"" + text + "\"", e.what());
+  }
+}
+
 std::size_t Scene::survival_bins() const {
   return static_cast<std::size_t>(std::ceil(t_max / survival_dt));
 }
@@ -72,11 +80,7 @@ struct Reader {
     if (auto i = n->as_integer()) text = std::to_string(i->get());
     else if (auto s = n->as_string()) text = s->get();
     else throw InputError(name, shown(*n), "must be an exact number given as a string or an integer");
-    try {
-      return ExactReal::parse(text);
-    } catch (const ExactParseError& e) {
-      throw InputError(name, "\"" + text + "\"", e.what());
-    }
+    return parse_exact_input(name, text);
   }
 
   double number(const std::string& section, const std::string& key, double fallback) const {

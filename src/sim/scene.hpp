@@ -23,6 +23,9 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
+/// An exact value read from user text; bad text is an InputError naming `key`.
+ExactReal parse_exact_input(const std::string& key, const std::string& text);
+
 enum class InitKind { birkhoff, flow };
 enum class Tier { float_, double_, long_double };
 
