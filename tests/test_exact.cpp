@@ -118,6 +118,6 @@ TEST(TwoTerm, SplitCarriesTwiceThePrecision) {
 
 TEST(NumTraits, MpfrBitsMatchTheType) {
   rotleak::mpfr256 x(1);
-  EXPECT_EQ(mpfr_get_prec(x.backend().data()), rotleak::num_traits<rotleak::mpfr256>::bits);
-  EXPECT_GE(rotleak::num_traits<rotleak::mpfr256>::bits, 256);
+  EXPECT_EQ(mpfr_get_prec(x.backend().data()), rotleak::num_traits<rotleak::mpfr256>::bits());
+  EXPECT_GE(rotleak::num_traits<rotleak::mpfr256>::bits(), 256);
 }

@@ -3,11 +3,12 @@
 
 #include <gtest/gtest.h>
 
-#include "numeric/num_traits.hpp"
+#include "numeric/tiers.hpp"
 
 namespace rotleak::test {
 
-using Tiers = ::testing::Types<float, double, long double, mpfr256>;
+/// Every point tier; Mpfr runs at the thread's default working precision (256 bits).
+using Tiers = ::testing::Types<float, double, long double, dd_real, float128, mpfr256, Mpfr>;
 
 struct TierNames {
   template <class R>

@@ -3,7 +3,6 @@
 // s in [0,1) is arc length / L, clockwise from the midpoint of the top edge.
 #pragma once
 
-#include <boost/math/constants/constants.hpp>
 #include <cmath>
 
 #include "geometry/vec2.hpp"
@@ -52,6 +51,7 @@ class Stadium {
     junction_[2] = round_exact<R>((ExactReal::parse("3") * hd + pr) / L);
     junction_[3] = round_exact<R>((ExactReal::parse("3") * hd + ExactReal::parse("2") * pr) / L);
     area_ = round_exact<R>(ExactReal::parse("2") * r * d + pr * r);
+    pi_ = num_traits<R>::pi();
   }
 
   const R& d() const { return d_; }
@@ -59,6 +59,7 @@ class Stadium {
   const R& half_d() const { return half_d_; }
   const R& perimeter() const { return L_; }
   const R& area() const { return area_; }
+  const R& pi() const { return pi_; }
   /// s of the start of piece k+1: right arc, bottom, left arc, top-left half of the top edge.
   const R& junction(int k) const { return junction_[k]; }
 
@@ -160,7 +161,7 @@ class Stadium {
     const R b = dx * v.x + q.y * v.y;
     const R c = (dx - r_) * (dx + r_) + q.y * q.y;
     R disc = b * b - c;
-    if (disc < 0) disc = 0;  // grazing: rounding may push a tangent ray just outside
+    if (disc < 0) disc = R(0);  // grazing: rounding may push a tangent ray just outside
     const R sq = sqrt(disc);
     // Larger root of t^2 + 2bt + c, in the form without cancellation.
     h.t = b <= 0 ? R(sq - b) : R(-c / (b + sq));
@@ -192,14 +193,13 @@ class Stadium {
 
  private:
   R clamp_angle(R th) const {
-    const R pi = boost::math::constants::pi<R>();
     if (th < 0) return R(0);
-    if (th > pi) return pi;
+    if (th > pi_) return pi_;
     return th;
   }
 
   R d_, r_, half_d_, inv_r_;
-  R L_, inv_L_, r_over_L_, L_over_r_, area_;
+  R L_, inv_L_, r_over_L_, L_over_r_, area_, pi_;
   R junction_[4];
 };
 

@@ -40,10 +40,9 @@ class LeakSchedule {
 
   R phase(const R& t) const {
     using std::floor;
-    using std::fma;
     if (!rotating_) return start_;
     const R prod = omega_.hi * t;
-    const R err = fma(omega_.hi, t, R(-prod));  // exact: hi*t = prod + err
+    const R err = num_traits<R>::product_error(omega_.hi, t, prod);  // exact: hi*t = prod + err
     const R whole = floor(prod);
     R c = (prod - whole) + (err + omega_.lo * t) + start_;
     c -= floor(c);

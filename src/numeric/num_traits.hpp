@@ -1,5 +1,6 @@
-// One traits struct per number type, after CAPD: name, bits, epsilon, and the one exact rounding
-// of an exact input into the type. Generic code asks these instead of spelling constants.
+// One traits struct per number type, after CAPD: name, bits, epsilon, the one correct rounding of an
+// exact input into the type, pi, and the exact error of a product (for the leak phase). Generic code
+// asks these instead of spelling constants.
 #pragma once
 
 #include <boost/multiprecision/mpfr.hpp>
@@ -22,36 +23,57 @@ template <class R>
 struct num_traits;
 
 namespace detail {
-template <class R, mpfr_prec_t Bits>
-struct ieee_traits {
-  static constexpr mpfr_prec_t bits = Bits;
+
+/// Rounding of exact values through MPFR at the type's bits, for every type that has from_mpfr.
+template <class R, class Traits>
+struct rounded_from_mpfr {
+  static R from_exact(const ExactReal& x) {
+    mpfr_t tmp;
+    mpfr_init2(tmp, Traits::bits());
+    x.round(tmp, MPFR_RNDN);
+    R r = Traits::from_mpfr(tmp);
+    mpfr_clear(tmp);
+    return r;
+  }
+  static R pi() { return from_exact(ExactReal::pi()); }
+};
+
+template <class R, mpfr_prec_t Bits, class Traits>
+struct ieee_traits : rounded_from_mpfr<R, Traits> {
+  static constexpr mpfr_prec_t bits() { return Bits; }
   static R epsilon() { return std::numeric_limits<R>::epsilon(); }
   static double to_double(R x) { return static_cast<double>(x); }
+  /// e with a*b = prod + e exactly (prod = fl(a*b)).
+  static R product_error(R a, R b, R prod) {
+    using std::fma;
+    return fma(a, b, -prod);
+  }
 };
+
 }  // namespace detail
 
 template <>
-struct num_traits<float> : detail::ieee_traits<float, 24> {
+struct num_traits<float> : detail::ieee_traits<float, 24, num_traits<float>> {
   static std::string name() { return "float"; }
   static float from_mpfr(const mpfr_t x) { return mpfr_get_flt(x, MPFR_RNDN); }
 };
 template <>
-struct num_traits<double> : detail::ieee_traits<double, 53> {
+struct num_traits<double> : detail::ieee_traits<double, 53, num_traits<double>> {
   static std::string name() { return "double"; }
   static double from_mpfr(const mpfr_t x) { return mpfr_get_d(x, MPFR_RNDN); }
 };
 template <>
 struct num_traits<long double>
-    : detail::ieee_traits<long double, std::numeric_limits<long double>::digits> {
+    : detail::ieee_traits<long double, std::numeric_limits<long double>::digits, num_traits<long double>> {
   static std::string name() { return "long_double"; }
   static long double from_mpfr(const mpfr_t x) { return mpfr_get_ld(x, MPFR_RNDN); }
 };
 template <unsigned D>
-struct num_traits<mpfr_fixed<D>> {
+struct num_traits<mpfr_fixed<D>> : detail::rounded_from_mpfr<mpfr_fixed<D>, num_traits<mpfr_fixed<D>>> {
   using R = mpfr_fixed<D>;
   // Boost's digits10 -> bits rule (detail::digits10_2_2, not constexpr); a test checks they agree.
-  static constexpr mpfr_prec_t bits = (D * 1000L) / 301 + (((D * 1000L) % 301) ? 2 : 1);
-  static std::string name() { return "mpfr" + std::to_string(bits); }
+  static constexpr mpfr_prec_t bits() { return (D * 1000L) / 301 + (((D * 1000L) % 301) ? 2 : 1); }
+  static std::string name() { return "mpfr" + std::to_string(bits()); }
   static R epsilon() { return std::numeric_limits<R>::epsilon(); }
   static double to_double(const R& x) { return mpfr_get_d(x.backend().data(), MPFR_RNDN); }
   static R from_mpfr(const mpfr_t x) {
@@ -59,17 +81,13 @@ struct num_traits<mpfr_fixed<D>> {
     mpfr_set(r.backend().data(), x, MPFR_RNDN);
     return r;
   }
+  static R product_error(const R& a, const R& b, const R& prod) { return fma(a, b, R(-prod)); }
 };
 
-/// The exact value rounded once, correctly, into R.
+/// The exact value rounded once, correctly, into R (for interval types: enclosed).
 template <class R>
 R round_exact(const ExactReal& x) {
-  mpfr_t tmp;
-  mpfr_init2(tmp, num_traits<R>::bits);
-  x.round(tmp, MPFR_RNDN);
-  R r = num_traits<R>::from_mpfr(tmp);
-  mpfr_clear(tmp);
-  return r;
+  return num_traits<R>::from_exact(x);
 }
 
 /// An exact value as an unevaluated sum hi + lo of two R (hi = fl(x), lo = fl(x - hi)): carries
@@ -82,13 +100,14 @@ struct two_term {
 template <class R>
 two_term<R> split_exact(const ExactReal& x) {
   two_term<R> out;
-  out.hi = round_exact<R>(x);
   mpfr_t hi;
-  mpfr_init2(hi, num_traits<R>::bits);
+  mpfr_init2(hi, num_traits<R>::bits());
   x.round(hi, MPFR_RNDN);
   mpq_class hq;
   mpfr_get_q(hq.get_mpq_t(), hi);
   mpfr_clear(hi);
+  // hi is the rounded value itself (exact in R; a point for interval types), lo encloses the rest
+  out.hi = round_exact<R>(ExactReal::rational(hq));
   out.lo = round_exact<R>(x - ExactReal::rational(hq));
   return out;
 }

@@ -82,7 +82,7 @@ ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
     ps.q = b.q;
     ps.v = st.velocity(b, R(dr.p));
   } else {
-    const R angle = 2 * boost::math::constants::pi<R>() * R(dr.u);
+    const R angle = 2 * st.pi() * R(dr.u);
     ps.q = {R(dr.x), R(dr.y)};
     ps.v = {cos(angle), sin(angle)};
   }
