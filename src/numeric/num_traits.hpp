@@ -55,17 +55,20 @@ struct ieee_traits : rounded_from_mpfr<R, Traits> {
 template <>
 struct num_traits<float> : detail::ieee_traits<float, 24, num_traits<float>> {
   static std::string name() { return "float"; }
+  static void to_mpfr(mpfr_ptr out, float x) { mpfr_set_flt(out, x, MPFR_RNDN); }
   static float from_mpfr(const mpfr_t x) { return mpfr_get_flt(x, MPFR_RNDN); }
 };
 template <>
 struct num_traits<double> : detail::ieee_traits<double, 53, num_traits<double>> {
   static std::string name() { return "double"; }
+  static void to_mpfr(mpfr_ptr out, double x) { mpfr_set_d(out, x, MPFR_RNDN); }
   static double from_mpfr(const mpfr_t x) { return mpfr_get_d(x, MPFR_RNDN); }
 };
 template <>
 struct num_traits<long double>
     : detail::ieee_traits<long double, std::numeric_limits<long double>::digits, num_traits<long double>> {
   static std::string name() { return "long_double"; }
+  static void to_mpfr(mpfr_ptr out, long double x) { mpfr_set_ld(out, x, MPFR_RNDN); }
   static long double from_mpfr(const mpfr_t x) { return mpfr_get_ld(x, MPFR_RNDN); }
 };
 template <unsigned D>
@@ -76,6 +79,7 @@ struct num_traits<mpfr_fixed<D>> : detail::rounded_from_mpfr<mpfr_fixed<D>, num_
   static std::string name() { return "mpfr" + std::to_string(bits()); }
   static R epsilon() { return std::numeric_limits<R>::epsilon(); }
   static double to_double(const R& x) { return mpfr_get_d(x.backend().data(), MPFR_RNDN); }
+  static void to_mpfr(mpfr_ptr out, const R& x) { mpfr_set(out, x.backend().data(), MPFR_RNDN); }
   static R from_mpfr(const mpfr_t x) {
     R r;
     mpfr_set(r.backend().data(), x, MPFR_RNDN);

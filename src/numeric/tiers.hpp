@@ -13,7 +13,9 @@
 #include "numeric/mpfr_real.hpp"
 #include "numeric/num_traits.hpp"
 
-extern "C" __float128 mpfr_get_float128(mpfr_srcptr, mpfr_rnd_t);  // MPFR 4 with float128 support
+// MPFR 4 built with float128 support (Debian's is); g++ 12 has no _Float128 in C++, __float128 is the same type.
+extern "C" __float128 mpfr_get_float128(mpfr_srcptr, mpfr_rnd_t);
+extern "C" int mpfr_set_float128(mpfr_ptr, __float128, mpfr_rnd_t);
 
 namespace rotleak {
 
@@ -25,6 +27,11 @@ struct num_traits<dd_real> : detail::rounded_from_mpfr<dd_real, num_traits<dd_re
   static std::string name() { return "dd"; }
   static dd_real epsilon() { return dd_real(std::numeric_limits<dd_real>::epsilon()); }
   static double to_double(const dd_real& x) { return x.x[0] + x.x[1]; }
+  /// Rounded at out's precision (exact when out has the bits to span hi and lo).
+  static void to_mpfr(mpfr_ptr out, const dd_real& x) {
+    mpfr_set_d(out, x.x[0], MPFR_RNDN);
+    mpfr_add_d(out, out, x.x[1], MPFR_RNDN);
+  }
   static dd_real from_mpfr(const mpfr_t x) {
     // hi + lo with hi = RN53(x) and lo = RN53(x - hi): exact for a 106-bit x
     mpfr_t rest;
@@ -46,6 +53,7 @@ struct num_traits<float128> : detail::rounded_from_mpfr<float128, num_traits<flo
   static std::string name() { return "float128"; }
   static float128 epsilon() { return std::numeric_limits<float128>::epsilon(); }
   static double to_double(const float128& x) { return x.convert_to<double>(); }
+  static void to_mpfr(mpfr_ptr out, const float128& x) { mpfr_set_float128(out, x.backend().value(), MPFR_RNDN); }
   static float128 from_mpfr(const mpfr_t x) { return float128(mpfr_get_float128(x, MPFR_RNDN)); }
   static float128 product_error(const float128& a, const float128& b, const float128& prod) {
     return fma(a, b, float128(-prod));
@@ -62,6 +70,7 @@ struct num_traits<Mpfr> : detail::rounded_from_mpfr<Mpfr, num_traits<Mpfr>> {
     return e;
   }
   static double to_double(const Mpfr& x) { return mpfr_get_d(x.data(), MPFR_RNDN); }
+  static void to_mpfr(mpfr_ptr out, const Mpfr& x) { mpfr_set(out, x.data(), MPFR_RNDN); }
   static Mpfr from_mpfr(const mpfr_t x) {
     Mpfr r;
     mpfr_set(r.data(), x, MPFR_RNDN);
@@ -88,6 +97,7 @@ struct num_traits<Mpfi> {
     mpfr_clear(m);
     return d;
   }
+  static void to_mpfr(mpfr_ptr out, const Mpfi& x) { mpfi_mid(out, x.data()); }
   /// An enclosure of the exact value.
   static Mpfi from_exact(const ExactReal& x) {
     Mpfi r;

@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""Draw shadow.png from a `rotleak shadow --out DIR` directory: divergence from the MPFR truth per
+collision for every tier (log scale), MUPO phases shaded, the tolerance and the truth's escape marked.
+
+Usage: plot_shadow.py DIR    (rotleak shadow calls this). Needs Debian's python3-matplotlib."""
+import os
+
+import matplotlib.pyplot as plt
+
+from plot_run import load_run, read_csv, save
+
+
+def main():
+    run, summary = load_run("plot_shadow.py DIR")
+    header, rows = read_csv(os.path.join(run, "shadow.csv"))
+    col = {name: i for i, name in enumerate(header)}
+    k = [int(r[0]) for r in rows]
+    fig, ax = plt.subplots(figsize=(10, 5))
+    for i, r in enumerate(rows):
+        if r[col["mupo"]] == "1":
+            ax.axvspan(k[i] - 0.5, k[i] + 0.5, color="0.85", lw=0)
+    for t in summary["tiers"]:
+        c = col["div_" + t["name"]]
+        pts = [(k[i], float(r[c])) for i, r in enumerate(rows) if r[c] not in ("", "0")]
+        if pts:
+            ax.semilogy([p[0] for p in pts], [p[1] for p in pts], lw=1,
+                        label="%s (horizon %s)" % (t["name"], t["horizon_collision"] or "-"))
+    ax.axhline(summary["tolerance"], color="k", ls="--", lw=0.8, label="tolerance")
+    esc = summary["truth"]["escape_collision"]
+    if esc:
+        ax.axvline(esc, color="C3", ls=":", lw=1, label="truth escapes")
+    ax.set_xlabel("collision")
+    ax.set_ylabel("divergence from the truth (max of |dt|, |dq|, |dv|)")
+    ax.set_title("particle %d: truth = MPFR %d bits; grey: MUPO phases" % (summary["particle"], summary["truth"]["bits"]))
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    save(fig, os.path.join(run, "shadow.png"))
+    print("drew " + os.path.join(run, "shadow.png"))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,234 @@
+#include "verify/shadow.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+#include "numeric/tiers.hpp"
+#include "verify/trace.hpp"
+
+namespace rotleak {
+
+namespace {
+
+/// (t, x, y, vx, vy) of one collision at the truth's precision.
+struct State {
+  Mpfr v[5];
+};
+
+template <class R>
+State to_state(const TraceStep<R>& st) {
+  State s;
+  num_traits<R>::to_mpfr(s.v[0].data(), st.t);
+  num_traits<R>::to_mpfr(s.v[1].data(), st.q.x);
+  num_traits<R>::to_mpfr(s.v[2].data(), st.q.y);
+  num_traits<R>::to_mpfr(s.v[3].data(), st.v.x);
+  num_traits<R>::to_mpfr(s.v[4].data(), st.v.y);
+  return s;
+}
+
+double divergence(const State& a, const State& b) {
+  double d = 0;
+  Mpfr diff;
+  for (int i = 0; i < 5; ++i) {
+    mpfr_sub(diff.data(), a.v[i].data(), b.v[i].data(), MPFR_RNDN);
+    d = std::max(d, std::abs(mpfr_get_d(diff.data(), MPFR_RNDU)));
+  }
+  return d;
+}
+
+struct Reported {
+  double t, s, p;
+  bool in_leak, straight;
+};
+
+template <class R>
+Reported report(const Stadium<double>& st, const TraceStep<R>& step) {
+  const Vec2<double> q{num_traits<R>::to_double(step.q.x), num_traits<R>::to_double(step.q.y)};
+  const Vec2<double> v{num_traits<R>::to_double(step.v.x), num_traits<R>::to_double(step.v.y)};
+  return {num_traits<R>::to_double(step.t), st.s_of(step.piece, q), st.birkhoff_p(step.piece, q, v), step.in_leak,
+          step.piece == Piece::top || step.piece == Piece::bottom};
+}
+
+struct TruthRun {
+  std::vector<State> states;
+  std::vector<Reported> reported;
+};
+
+// One MPFR run at `bits`; states are stored at `store_bits` (>= bits) for comparisons.
+TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long store_bits, std::size_t K, bool stop_at_escape,
+                  const Stadium<double>& st) {
+  TruthRun run;
+  MpfrPrecision work(bits);
+  const Model<Mpfr> model = model_of<Mpfr>(scene);
+  trace(model, draw, K, [&](const TraceStep<Mpfr>& step) {
+    {
+      MpfrPrecision store(store_bits);
+      run.states.push_back(to_state(step));
+    }
+    run.reported.push_back(report(st, step));
+    return !(stop_at_escape && step.in_leak);
+  });
+  return run;
+}
+
+double fit_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+  mx /= n;
+  my /= n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
+  return sxx > 0 ? sxy / sxx : 0;
+}
+
+template <class R>
+TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDraw& draw, const TruthRun& truth,
+                    long truth_bits, const ShadowOptions& opt, const Stadium<double>& st) {
+  TierShadow out;
+  out.name = name;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t K = truth.states.size();
+  try {
+    const Model<R> model = model_of<R>(scene);
+    trace(model, draw, K, [&](const TraceStep<R>& step) {
+      State s;
+      {
+        MpfrPrecision store(truth_bits);
+        s = to_state(step);
+      }
+      const std::size_t i = step.k - 1;
+      const double div = divergence(s, truth.states[i]);
+      const Reported r = report(st, step);
+      out.divergence.push_back(div);
+      out.s.push_back(r.s);
+      out.p.push_back(r.p);
+      if (!out.horizon && div > opt.tolerance) {
+        out.horizon = step.k;
+        out.horizon_time = truth.reported[i].t;
+      }
+      if (!out.decision && step.in_leak != truth.reported[i].in_leak) out.decision = step.k;
+      if (!out.escape && step.in_leak) {
+        out.escape = step.k;
+        out.escape_time = r.t;
+      }
+      return true;
+    });
+  } catch (const UncertainDecision&) {
+    out.stopped = "undecided branch at collision " + std::to_string(out.divergence.size() + 1);
+  }
+  out.collisions = out.divergence.size();
+  // growth of ln(divergence) between 1000 eps of the tier and 1e-4 (before saturation)
+  const double floor_div = 1e3 * num_traits<R>::to_double(num_traits<R>::epsilon());
+  std::vector<double> k, t, y;
+  for (std::size_t i = 0; i < out.divergence.size(); ++i) {
+    const double d = out.divergence[i];
+    if (d > floor_div && d < 1e-4) {
+      k.push_back(static_cast<double>(i + 1));
+      t.push_back(truth.reported[i].t);
+      y.push_back(std::log(d));
+    }
+  }
+  out.growth_points = y.size();
+  if (y.size() >= 3) {
+    out.growth_per_collision = fit_slope(k, y);
+    out.growth_per_time = fit_slope(t, y);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+long mpfr_bits_of(const std::string& name) {
+  const auto colon = name.find(':');
+  if (colon == std::string::npos) return 0;
+  try {
+    const long b = std::stol(name.substr(colon + 1));
+    return b >= 24 && b <= (1L << 20) ? b : 0;
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+}  // namespace
+
+bool valid_tier_name(const std::string& n) {
+  if (n == "float" || n == "double" || n == "long_double" || n == "dd" || n == "float128") return true;
+  return (n.rfind("mpfr:", 0) == 0 || n.rfind("mpfi:", 0) == 0) && mpfr_bits_of(n) > 0;
+}
+
+ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
+  for (const auto& n : opt.tiers)
+    if (!valid_tier_name(n)) throw std::invalid_argument(n);
+  ShadowResult res;
+  res.id = id;
+  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
+                             round_exact<double>(scene.r));
+  res.draw = ic.draw(id);
+  const Stadium<double> st(scene.d, scene.r);
+
+  // The truth: double the bits until the trace no longer changes beyond truth_tolerance.
+  const bool until_escape = opt.collisions == 0;
+  const std::size_t K0 = until_escape ? opt.max_collisions : std::min(opt.collisions, opt.max_collisions);
+  long bits = opt.start_bits;
+  TruthRun lower = run_mpfr(scene, res.draw, bits, 2 * bits, K0, until_escape, st);
+  const std::size_t K = lower.states.size();
+  TruthRun upper;
+  for (;;) {
+    res.truth.bits_tried.push_back(bits);
+    if (2 * bits > opt.max_bits)
+      throw std::runtime_error("no truth below " + std::to_string(opt.max_bits) + " bits for particle " + std::to_string(id));
+    upper = run_mpfr(scene, res.draw, 2 * bits, 2 * bits, K, false, st);
+    double agree = upper.states.size() == lower.states.size() ? 0 : std::numeric_limits<double>::infinity();
+    {
+      MpfrPrecision p(2 * bits);
+      for (std::size_t i = 0; i < std::min(upper.states.size(), lower.states.size()); ++i)
+        agree = std::max(agree, divergence(upper.states[i], lower.states[i]));
+    }
+    res.truth.agreement = agree;
+    if (agree <= opt.truth_tolerance) break;
+    bits *= 2;
+    lower = std::move(upper);  // the 2B run is the next lower run (stored exactly at its own bits)
+  }
+  res.truth.bits = 2 * bits;
+  res.truth.bits_tried.push_back(2 * bits);
+  res.horizon_collisions = upper.states.size();
+  for (std::size_t i = 0; i < upper.reported.size(); ++i) {
+    const Reported& r = upper.reported[i];
+    res.truth.t.push_back(r.t);
+    res.truth.s.push_back(r.s);
+    res.truth.p.push_back(r.p);
+    res.truth.in_leak.push_back(r.in_leak);
+    res.truth.straight.push_back(r.straight);
+    if (!res.truth.escape && r.in_leak) res.truth.escape = i + 1;
+  }
+  // MUPO phase: this and a neighbouring collision on the straight edges with |p| small
+  const std::size_t n = res.truth.t.size();
+  res.truth.mupo.assign(n, 0);
+  auto small = [&](std::size_t i) { return res.truth.straight[i] && std::abs(res.truth.p[i]) < opt.mupo_p; };
+  for (std::size_t i = 0; i < n; ++i)
+    res.truth.mupo[i] = small(i) && ((i > 0 && small(i - 1)) || (i + 1 < n && small(i + 1)));
+
+  const long truth_bits = res.truth.bits;
+  for (const std::string& name : opt.tiers) {
+    TierShadow ts;
+    if (name == "float") ts = run_tier<float>(name, scene, res.draw, upper, truth_bits, opt, st);
+    else if (name == "double") ts = run_tier<double>(name, scene, res.draw, upper, truth_bits, opt, st);
+    else if (name == "long_double") ts = run_tier<long double>(name, scene, res.draw, upper, truth_bits, opt, st);
+    else if (name == "dd") ts = run_tier<dd_real>(name, scene, res.draw, upper, truth_bits, opt, st);
+    else if (name == "float128") ts = run_tier<float128>(name, scene, res.draw, upper, truth_bits, opt, st);
+    else {
+      MpfrPrecision p(mpfr_bits_of(name));
+      ts = name[3] == 'r' ? run_tier<Mpfr>(name, scene, res.draw, upper, truth_bits, opt, st)
+                          : run_tier<Mpfi>(name, scene, res.draw, upper, truth_bits, opt, st);
+    }
+    if (res.truth.escape && ts.escape && *ts.escape == *res.truth.escape)
+      ts.escape_exact = std::abs(ts.escape_time - res.truth.t[*res.truth.escape - 1]) <= opt.tolerance;
+    res.tiers.push_back(std::move(ts));
+  }
+  return res;
+}
+
+}  // namespace rotleak
