@@ -160,13 +160,18 @@ bool valid_tier_name(const std::string& n) {
 }
 
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
+  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
+                             round_exact<double>(scene.r));
+  ShadowResult res = shadow_from(scene, ic.draw(id), opt);
+  res.id = id;
+  return res;
+}
+
+ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
   for (const auto& n : opt.tiers)
     if (!valid_tier_name(n)) throw std::invalid_argument(n);
   ShadowResult res;
-  res.id = id;
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
-  res.draw = ic.draw(id);
+  res.draw = draw;
   const Stadium<double> st(scene.d, scene.r);
 
   // The truth: double the bits until the trace no longer changes beyond truth_tolerance.
@@ -179,7 +184,7 @@ ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& o
   for (;;) {
     res.truth.bits_tried.push_back(bits);
     if (2 * bits > opt.max_bits)
-      throw std::runtime_error("no truth below " + std::to_string(opt.max_bits) + " bits for particle " + std::to_string(id));
+      throw std::runtime_error("no truth below " + std::to_string(opt.max_bits) + " bits (raise max_bits or shorten the horizon)");
     upper = run_mpfr(scene, res.draw, 2 * bits, 2 * bits, K, false, st);
     double agree = upper.states.size() == lower.states.size() ? 0 : std::numeric_limits<double>::infinity();
     {

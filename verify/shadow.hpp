@@ -63,5 +63,7 @@ bool valid_tier_name(const std::string& name);
 
 /// Throws std::invalid_argument for an unknown tier, std::runtime_error when no truth is found below max_bits.
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& options);
+/// The same from explicit binary initial data (a chosen orbit rather than an ensemble member).
+ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& options);
 
 }  // namespace rotleak

@@ -1,0 +1,188 @@
+#include "verify/lyapunov.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "verify/trace.hpp"
+
+namespace rotleak {
+
+namespace {
+
+struct MeanSd {
+  double mean = 0, se = 0;
+};
+
+MeanSd mean_se(const std::vector<double>& v) {
+  MeanSd m;
+  if (v.empty()) return m;
+  for (double x : v) m.mean += x;
+  m.mean /= static_cast<double>(v.size());
+  double ss = 0;
+  for (double x : v) ss += (x - m.mean) * (x - m.mean);
+  if (v.size() > 1) m.se = std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
+  return m;
+}
+
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+  mx /= static_cast<double>(x.size());
+  my /= static_cast<double>(x.size());
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
+  return sxx > 0 ? sxy / sxx : 0;
+}
+
+}  // namespace
+
+LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, std::size_t collisions) {
+  // the leak and t_max play no part: follow the flow for the requested collisions
+  Model<double> model = model_of<double>(scene);
+  model.t_max = std::numeric_limits<double>::infinity();
+  const Stadium<double>& st = model.stadium;
+  const double r = num_traits<double>::to_double(st.r());
+  constexpr std::size_t kBatches = 20;
+  const std::size_t per_batch = collisions / kBatches;
+  double J = 1, Jp = 0, t_prev = draw.tau, log_sum = 0, batch_log = 0, batch_t0 = draw.tau;
+  std::vector<double> rate_t, rate_k;
+  const std::size_t done = trace(model, draw, collisions, [&](const TraceStep<double>& s) {
+    const double tau = s.t - t_prev;
+    t_prev = s.t;
+    J += tau * Jp;
+    if (s.piece == Piece::right_arc || s.piece == Piece::left_arc) {
+      const Vec2<double> n = st.inward_normal(s.piece, s.q);
+      const double cos_phi = std::abs(dot(s.v, n));
+      Jp -= 2 * J / (r * cos_phi);
+    }
+    const double norm = std::hypot(J, Jp);
+    J /= norm;
+    Jp /= norm;
+    log_sum += std::log(norm);
+    batch_log += std::log(norm);
+    if (s.k % per_batch == 0 && rate_t.size() < kBatches) {
+      rate_t.push_back(batch_log / (s.t - batch_t0));
+      rate_k.push_back(batch_log / static_cast<double>(per_batch));
+      batch_log = 0;
+      batch_t0 = s.t;
+    }
+    return true;
+  });
+  LyapunovEstimate e;
+  e.collisions = done;
+  e.time = t_prev - draw.tau;
+  e.per_time = log_sum / e.time;
+  e.per_collision = log_sum / static_cast<double>(done);
+  e.per_time_error = mean_se(rate_t).se;
+  e.per_collision_error = mean_se(rate_k).se;
+  e.samples = rate_t.size();
+  return e;
+}
+
+LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from, double t_to) {
+  std::vector<double> per_t, per_k;
+  std::size_t used = 0;
+  for (const ShadowResult& r : runs) {
+    if (tier >= r.tiers.size()) continue;
+    const TierShadow& ts = r.tiers[tier];
+    std::vector<double> t, k, y;
+    for (std::size_t i = 0; i < ts.collisions; ++i) {
+      const double time = r.truth.t[i] - r.draw.tau;
+      if (time < t_from || time > t_to || !(ts.divergence[i] > 0) || ts.divergence[i] > 1e-3) continue;
+      t.push_back(time);
+      k.push_back(static_cast<double>(i + 1));
+      y.push_back(std::log(ts.divergence[i]));
+    }
+    if (y.size() < 10) continue;
+    per_t.push_back(slope(t, y));
+    per_k.push_back(slope(k, y));
+    used += y.size();
+  }
+  LyapunovEstimate e;
+  const MeanSd mt = mean_se(per_t), mk = mean_se(per_k);
+  e.per_time = mt.mean;
+  e.per_time_error = mt.se;
+  e.per_collision = mk.mean;
+  e.per_collision_error = mk.se;
+  e.samples = per_t.size();
+  e.collisions = used;
+  e.window_from = t_from;
+  e.window_to = t_to;
+  e.time = t_to - t_from;
+  return e;
+}
+
+ClassGrowth class_growth(const std::vector<ShadowResult>& runs, std::size_t tier) {
+  ClassGrowth g;
+  double mupo = 0, chaotic = 0;
+  for (const ShadowResult& r : runs) {
+    if (tier >= r.tiers.size()) continue;
+    const TierShadow& ts = r.tiers[tier];
+    for (std::size_t i = 1; i < ts.collisions; ++i) {
+      const double a = ts.divergence[i - 1], b = ts.divergence[i];
+      if (!(a > 0) || !(b > 0) || b > 1e-3) continue;
+      const double step = std::log(b) - std::log(a);
+      if (r.truth.mupo[i]) mupo += step, ++g.mupo_steps;
+      else chaotic += step, ++g.chaotic_steps;
+    }
+  }
+  if (g.mupo_steps) g.mupo_per_collision = mupo / static_cast<double>(g.mupo_steps);
+  if (g.chaotic_steps) g.chaotic_per_collision = chaotic / static_cast<double>(g.chaotic_steps);
+  return g;
+}
+
+namespace {
+
+struct LineFit {
+  double slope = 0, r2 = 0;
+};
+
+LineFit fit_r2(const std::vector<double>& x, const std::vector<double>& y) {
+  LineFit f;
+  f.slope = slope(x, y);
+  double my = 0, mx = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) my += y[i], mx += x[i];
+  my /= static_cast<double>(y.size());
+  mx /= static_cast<double>(x.size());
+  double ss_tot = 0, ss_res = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double pred = my + f.slope * (x[i] - mx);
+    ss_tot += (y[i] - my) * (y[i] - my);
+    ss_res += (y[i] - pred) * (y[i] - pred);
+  }
+  f.r2 = ss_tot > 0 ? 1 - ss_res / ss_tot : 0;
+  return f;
+}
+
+}  // namespace
+
+GrowthLaw growth_law(const std::vector<double>& div, std::size_t from) {
+  std::vector<double> k, lnk, y;
+  for (std::size_t i = from; i < div.size(); ++i) {
+    if (!(div[i] > 0) || div[i] > 1e-3) continue;
+    k.push_back(static_cast<double>(i + 1));
+    lnk.push_back(std::log(static_cast<double>(i + 1)));
+    y.push_back(std::log(div[i]));
+  }
+  GrowthLaw g;
+  g.points = y.size();
+  if (y.size() < 3) return g;
+  const LineFit p = fit_r2(lnk, y), e = fit_r2(k, y);
+  g.power = p.slope;
+  g.power_r2 = p.r2;
+  g.rate = e.slope;
+  g.rate_r2 = e.r2;
+  return g;
+}
+
+InitialDraw bouncing_ball_draw(const Scene& scene, double p0) {
+  // s of x = -0.9 d/2 on the top edge: 1 - 0.9 (d/2) / L, rounded once
+  InitialDraw d;
+  d.s = round_exact<double>(ExactReal::parse("1") - ExactReal::parse("0.9") * scene.d / ExactReal::parse("2") /
+                                                        (ExactReal::parse("2") * scene.d + ExactReal::parse("2") * ExactReal::pi() * scene.r));
+  d.p = p0;
+  d.tau = 0;
+  return d;
+}
+
+}  // namespace rotleak
