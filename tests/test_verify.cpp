@@ -1,0 +1,165 @@
+// The shadow integrator and the trust measurements built on it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "numeric/tiers.hpp"
+#include "verify/lyapunov.hpp"
+#include "verify/shadow.hpp"
+#include "verify/trace.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+Scene stationary() { return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml"); }
+
+}  // namespace
+
+TEST(Shadow, TruthIsSelfConsistentAndReproducedBitExactly) {
+  ShadowOptions opt;
+  opt.collisions = 200;
+  opt.tiers = {"double"};
+  const ShadowResult first = shadow(stationary(), 1, opt);
+  EXPECT_LE(first.truth.agreement, opt.truth_tolerance);
+  EXPECT_EQ(first.horizon_collisions, 200u);
+  // running the tier at exactly the truth's bits repeats the truth's arithmetic: zero divergence
+  opt.tiers = {"mpfr:" + std::to_string(first.truth.bits)};
+  const ShadowResult same = shadow(stationary(), 1, opt);
+  ASSERT_EQ(same.truth.bits, first.truth.bits);
+  for (double d : same.tiers[0].divergence) EXPECT_EQ(d, 0.0);
+}
+
+// Horizons follow the precision: k ~ ln(tolerance / eps) / lambda_collision, lambda ~ 0.94.
+TEST(Shadow, TrustHorizonsGrowWithPrecision) {
+  ShadowOptions opt;
+  opt.collisions = 400;
+  opt.tiers = {"double", "dd", "mpfr:256"};
+  std::vector<double> h_double, h_dd, h_256;
+  for (std::uint64_t id = 0; id < 20; ++id) {
+    const ShadowResult r = shadow(stationary(), id, opt);
+    h_double.push_back(r.tiers[0].horizon ? static_cast<double>(*r.tiers[0].horizon) : 400);
+    h_dd.push_back(r.tiers[1].horizon ? static_cast<double>(*r.tiers[1].horizon) : 400);
+    h_256.push_back(r.tiers[2].horizon ? static_cast<double>(*r.tiers[2].horizon) : 400);
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  const double md = median(h_double), mdd = median(h_dd), m256 = median(h_256);
+  EXPECT_LT(md, mdd);
+  EXPECT_LT(mdd, m256);
+  // expected ln(1e-6 / 1.1e-16) / 0.94 = 24; MUPO phases only lengthen it
+  EXPECT_GT(md, 12);
+  EXPECT_LT(md, 60);
+}
+
+TEST(Shadow, HighPrecisionTiersReproduceTheEscape) {
+  ShadowOptions opt;
+  opt.tiers = {"double", "mpfr:256"};
+  int within = 0;
+  for (std::uint64_t id = 0; id < 30; ++id) {
+    const ShadowResult r = shadow(stationary(), id, opt);
+    if (!r.truth.escape) continue;
+    // escapes well inside a tier's horizon (double ~24 collisions, 256 bits ~170) are reproduced
+    if (*r.truth.escape < 15) EXPECT_TRUE(r.tiers[0].escape_exact) << "id " << id;
+    if (*r.truth.escape < 120) {
+      EXPECT_TRUE(r.tiers[1].escape_exact) << "id " << id;
+      ++within;
+    }
+    // past the horizon the decision may differ, and then the tier says so
+    if (!r.tiers[0].escape_exact) EXPECT_TRUE(r.tiers[0].decision.has_value() || r.tiers[0].horizon.has_value());
+  }
+  EXPECT_GT(within, 10);
+}
+
+// CAPD's rule: an interval run encloses the true trajectory, no tolerance needed.
+TEST(Interval, EnclosuresContainTheTruthUntilABranchIsUndecided) {
+  const Scene scene = stationary();
+  const InitialConditions ic(scene.seed, scene.init, 4, 1, 1);
+  const InitialDraw draw = ic.draw(3);
+  std::vector<std::array<Mpfr, 2>> truth;
+  {
+    MpfrPrecision p(1024);
+    const Model<Mpfr> m = model_of<Mpfr>(scene);
+    trace(m, draw, 300, [&](const TraceStep<Mpfr>& s) {
+      truth.push_back({s.q.x, s.q.y});
+      return true;
+    });
+  }
+  MpfrPrecision p(128);
+  const Model<Mpfi> m = model_of<Mpfi>(scene);
+  std::size_t certified = 0;
+  try {
+    trace(m, draw, 300, [&](const TraceStep<Mpfi>& s) {
+      EXPECT_TRUE(s.q.x.contains(truth[s.k - 1][0].data())) << "collision " << s.k;
+      EXPECT_TRUE(s.q.y.contains(truth[s.k - 1][1].data())) << "collision " << s.k;
+      certified = s.k;
+      return true;
+    });
+  } catch (const UncertainDecision&) {
+  }
+  // 128 bits against a loss of ~1.35 bits per collision: tens of certified collisions, not hundreds
+  EXPECT_GT(certified, 20u);
+  EXPECT_LT(certified, 120u);
+}
+
+TEST(Reversal, MpfrReturnsFarCloserThanDouble) {
+  auto round_trip_error = [](auto zero) {
+    using R = decltype(zero);
+    const Stadium<R> st(ExactReal::parse("2"), ExactReal::parse("1"));
+    const BoundaryPoint<R> b = st.at(R(0.3));
+    Vec2<R> q = b.q, v = st.velocity(b, R(0.4));
+    for (int i = 0; i < 10; ++i) {
+      const Hit<R> h = st.next_hit(q, v);
+      q = h.q;
+      if (i < 9) v = st.reflect(h.piece, h.q, v);
+    }
+    v = Vec2<R>{R(-v.x), R(-v.y)};
+    for (int i = 0; i < 10; ++i) {
+      const Hit<R> h = st.next_hit(q, v);
+      q = h.q;
+      if (i < 9) v = st.reflect(h.piece, h.q, v);
+    }
+    using std::abs;
+    return num_traits<R>::to_double(R(abs(q.x - b.q.x) + abs(q.y - b.q.y)));
+  };
+  MpfrPrecision p(256);
+  const double e_double = round_trip_error(0.0), e_mpfr = round_trip_error(Mpfr(0));
+  EXPECT_GT(e_double, 0.0);
+  EXPECT_LT(e_mpfr, e_double * 1e-50);
+}
+
+// Both Lyapunov estimates: agreement within their combined statistical error (4 sigma), and the
+// errors small enough (< 1%) for that to mean something. Error models: batch means (tangent),
+// particle-to-particle spread of the fitted slopes (divergence).
+TEST(Lyapunov, TangentDynamicsAndShadowDivergenceAgree) {
+  const Scene scene = stationary();
+  const InitialConditions ic(scene.seed, scene.init, 4, 1, 1);
+  const LyapunovEstimate tangent = tangent_lyapunov(scene, ic.draw(0), 1000000);
+  ShadowOptions opt;
+  opt.tiers = {"float128"};
+  opt.collisions = 100;
+  std::vector<ShadowResult> runs;
+  for (std::uint64_t id = 0; id < 400; ++id) runs.push_back(shadow(scene, id, opt));
+  const LyapunovEstimate div = divergence_lyapunov(runs, 0, 10, 150);
+  const double se = std::hypot(tangent.per_time_error, div.per_time_error);
+  EXPECT_NEAR(div.per_time, tangent.per_time, 4 * se);
+  EXPECT_LT(se / tangent.per_time, 0.01);
+  EXPECT_LT(std::abs(div.per_time - tangent.per_time) / tangent.per_time, 0.03);
+  const ClassGrowth g = class_growth(runs, 0);
+  EXPECT_GT(g.chaotic_per_collision, 3 * g.mupo_per_collision);
+}
+
+TEST(Lyapunov, BouncingBallDivergenceIsPolynomial) {
+  ShadowOptions opt;
+  opt.tiers = {"double"};
+  opt.collisions = 8000;
+  const ShadowResult r = shadow_from(stationary(), bouncing_ball_draw(stationary(), 1e-4), opt);
+  EXPECT_EQ(std::count(r.truth.mupo.begin(), r.truth.mupo.end(), 1), 8000);
+  const GrowthLaw law = growth_law(r.tiers[0].divergence);
+  EXPECT_TRUE(law.polynomial());
+  EXPECT_GT(law.power, 0.5);
+  EXPECT_LT(law.power, 3.0);
+  EXPECT_LT(law.rate, 0.01);  // chaos: ~0.94 per collision
+}
