@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + ")");
   const std::vector<rotleak::cli::Command> commands{rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),
                                                     rotleak::cli::add_omega(app), rotleak::cli::add_covering(app),
-                                                    rotleak::cli::add_shadow(app), rotleak::cli::add_lyapunov(app)};
+                                                    rotleak::cli::add_shadow(app), rotleak::cli::add_lyapunov(app),
+                                                    rotleak::cli::add_audit(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

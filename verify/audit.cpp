@@ -1,0 +1,310 @@
+#include "verify/audit.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "analysis/fits.hpp"
+#include "io/run_output.hpp"
+#include "sim/engine.hpp"
+
+namespace rotleak {
+
+namespace {
+
+long tier_bits(const std::string& t) {
+  if (t == "float") return 24;
+  if (t == "double") return 53;
+  if (t == "long_double") return 64;
+  if (t == "dd") return 106;
+  if (t == "float128") return 113;
+  const auto c = t.find(':');
+  return c == std::string::npos ? 53 : std::stol(t.substr(c + 1));
+}
+
+Quantiles quantiles(std::vector<double> v) {
+  Quantiles q;
+  q.n = v.size();
+  if (v.empty()) return q;
+  std::sort(v.begin(), v.end());
+  auto at = [&](double f) { return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1) + 0.5)]; };
+  q.q10 = at(0.1);
+  q.q25 = at(0.25);
+  q.median = at(0.5);
+  q.q75 = at(0.75);
+  q.q90 = at(0.9);
+  return q;
+}
+
+double abs_enclosure_hi(const ExactReal& x) {
+  if (x.is_rational()) return std::abs(x.as_rational().get_d());
+  mpfi_t box;
+  mpfi_init2(box, 128);
+  x.enclose(box, 128);
+  mpfr_t m;
+  mpfr_init2(m, 128);
+  mpfi_mag(m, box);
+  const double d = mpfr_get_d(m, MPFR_RNDU);
+  mpfr_clear(m);
+  mpfi_clear(box);
+  return d;
+}
+
+struct Ensemble {
+  SurvivalCurve curve;
+  KappaFit kappa;
+  AlphaResult alpha;
+};
+
+Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int threads) {
+  Scene s = base;
+  s.tier = tier;
+  s.particles = n;
+  s.collision_density.reset();
+  s.escape_records = false;
+  RunOptions opt;
+  opt.threads = threads;
+  const RunResult r = run_ensemble(s, opt);
+  Ensemble e{{survival_times(s), survivors_on_grid(s, r.tally), s.particles}, {}, {}};
+  e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
+  e.alpha = find_alpha(e.curve, e.kappa);
+  return e;
+}
+
+std::uint64_t survivors_at(const SurvivalCurve& c, double t) {
+  const auto it = std::upper_bound(c.t.begin(), c.t.end(), t);
+  return c.survivors[static_cast<std::size_t>(it - c.t.begin()) - 1];
+}
+
+StatisticsCheck compare(const std::string& name, const Ensemble& tier, const Ensemble& ref, double t_max) {
+  StatisticsCheck c;
+  c.tier = name;
+  const double edges[] = {0, 100, 300, 1000, 3000, 10000, 1e300};
+  for (int i = 0; i + 1 < 7; ++i) {
+    const double from = edges[i], to = std::min(edges[i + 1], t_max);
+    if (from >= t_max) break;
+    WindowTest w{from, to, 0, 0, survivors_at(tier.curve, from), survivors_at(ref.curve, from), 0};
+    w.escapes_tier = w.at_risk_tier - survivors_at(tier.curve, to);
+    w.escapes_ref = w.at_risk_ref - survivors_at(ref.curve, to);
+    if (w.at_risk_tier > 0 && w.at_risk_ref > 0) {
+      const double n1 = static_cast<double>(w.at_risk_tier), n2 = static_cast<double>(w.at_risk_ref);
+      const double p1 = static_cast<double>(w.escapes_tier) / n1, p2 = static_cast<double>(w.escapes_ref) / n2;
+      const double p = (static_cast<double>(w.escapes_tier + w.escapes_ref)) / (n1 + n2);
+      const double se = std::sqrt(p * (1 - p) * (1 / n1 + 1 / n2));
+      w.z = se > 0 ? (p1 - p2) / se : 0;
+    }
+    c.max_abs_z = std::max(c.max_abs_z, std::abs(w.z));
+    c.windows.push_back(w);
+  }
+  c.kappa = tier.kappa.value;
+  c.kappa_error = tier.kappa.std_error;
+  c.kappa_diff = tier.kappa.value - ref.kappa.value;
+  c.kappa_diff_error = std::hypot(tier.kappa.std_error, ref.kappa.std_error);
+  c.alpha = tier.alpha.value;
+  c.alpha_error = tier.alpha.std_error;
+  bool alpha_ok = true;
+  if (tier.alpha.value && ref.alpha.value) {
+    c.alpha_diff = *tier.alpha.value - *ref.alpha.value;
+    c.alpha_diff_error = std::hypot(tier.alpha.std_error, ref.alpha.std_error);
+    alpha_ok = std::abs(*c.alpha_diff) <= 4 * c.alpha_diff_error;
+  } else {
+    alpha_ok = tier.alpha.value.has_value() == ref.alpha.value.has_value();
+  }
+  // 4 sigma per test: with ~6 windows and 2 fits the false-alarm rate stays below 1e-3
+  c.consistent = c.max_abs_z < 4 && std::abs(c.kappa_diff) <= 4 * c.kappa_diff_error && alpha_ok;
+  return c;
+}
+
+}  // namespace
+
+ScalarCheck scalar_check(const Scene& scene, const std::string& tier) {
+  ScalarCheck c;
+  c.tier = tier;
+  const long p = tier_bits(tier);
+  c.time_ulp_at_tmax = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(scene.t_max))) - static_cast<int>(p) + 1);
+  const double omega_abs = abs_enclosure_hi(scene.omega);
+  const bool stationary = scene.omega.sign() == 0;
+  const double lambda = scene.width.to_double();
+  // omega rounded once (single) and as hi + lo (what the engine carries)
+  mpfr_t hi;
+  mpfr_init2(hi, p);
+  scene.omega.round(hi, MPFR_RNDN);
+  mpq_class hq;
+  mpfr_get_q(hq.get_mpq_t(), hi);
+  const ExactReal rest = scene.omega - ExactReal::rational(hq);
+  mpfr_t lo;
+  mpfr_init2(lo, p);
+  rest.round(lo, MPFR_RNDN);
+  mpq_class lq;
+  mpfr_get_q(lq.get_mpq_t(), lo);
+  mpfr_clears(hi, lo, static_cast<mpfr_ptr>(nullptr));
+  c.omega_is_rounded = !stationary && rest.sign() != 0;
+  c.omega_single_drift = stationary ? 0 : abs_enclosure_hi(rest) * scene.t_max;
+  c.omega_split_drift = stationary ? 0 : abs_enclosure_hi(rest - ExactReal::rational(lq)) * scene.t_max;
+  // the phase of a time known to half an ulp, plus a few roundings of the phase itself
+  c.phase_error_at_tmax = stationary ? 0 : omega_abs * c.time_ulp_at_tmax / 2 + 4 * std::ldexp(1.0, 1 - static_cast<int>(p));
+  c.phase_resolved = c.phase_error_at_tmax + c.omega_split_drift < 1e-3 * lambda;
+  char buf[400];
+  if (stationary) {
+    std::snprintf(buf, sizeof buf, "stationary leak: no phase to resolve; time resolution at t_max %.2g", c.time_ulp_at_tmax);
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "omega*t_max = %.3g; phase error at t_max <= %.2g (%.2g of the leak width); omega held %s, drift over t_max "
+                  "%.2g rounded once, %.2g as hi+lo (%s)",
+                  omega_abs * scene.t_max, c.phase_error_at_tmax, c.phase_error_at_tmax / lambda,
+                  c.omega_is_rounded ? "as a nearby rational" : "exactly", c.omega_single_drift, c.omega_split_drift,
+                  c.omega_split_drift < 1e-3 * lambda ? "does not matter" : "matters");
+  }
+  c.note = buf;
+  return c;
+}
+
+AuditReport audit(const Scene& scene, const AuditOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  AuditReport rep;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+
+  // 1. Strata from a double run with escape records.
+  Scene strat = scene;
+  strat.particles = std::min<std::uint64_t>(opt.stratify_particles, scene.particles);
+  strat.escape_records = true;
+  strat.collision_density.reset();
+  strat.tier = Tier::double_;
+  RunOptions ro;
+  ro.threads = threads;
+  const RunResult sr = run_ensemble(strat, ro);
+  std::vector<std::vector<std::uint64_t>> strata(4);
+  const char* names[] = {"early (t < 100)", "middle (100 <= t < 1000)", "late (t >= 1000)", "survivor"};
+  for (std::uint64_t i = 0; i < sr.records.size(); ++i) {
+    const EscapeRecord& e = sr.records[i];
+    const int k = e.fate != Fate::escaped ? 3 : e.t < 100 ? 0 : e.t < 1000 ? 1 : 2;
+    strata[static_cast<std::size_t>(k)].push_back(i);
+  }
+  std::size_t want = opt.sample;
+  for (int k = 3; k >= 0; --k) {  // rare strata first, so the common ones fill what is left
+    const auto& ids = strata[static_cast<std::size_t>(k)];
+    const std::size_t take = std::min(ids.size(), k == 0 ? want : (want + static_cast<std::size_t>(k)) / static_cast<std::size_t>(k + 1));
+    for (std::size_t j = 0; j < take; ++j) {
+      rep.ids.push_back(ids[j * ids.size() / take]);
+      rep.strata.push_back(names[k]);
+    }
+    want -= take;
+  }
+  rep.sample = rep.ids.size();
+
+  // 2. Shadows in parallel.
+  ShadowOptions so;
+  so.tiers = opt.tiers;
+  so.max_collisions = opt.max_collisions;
+  so.tolerance = opt.tolerance;
+  std::vector<ShadowResult> runs(rep.sample);
+  std::atomic<std::size_t> done{0};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t i = 0; i < rep.sample; ++i) {
+    runs[i] = shadow(scene, rep.ids[i], so);
+    const std::size_t d = ++done;
+    if (opt.progress && omp_get_thread_num() == 0)
+      std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, rep.sample);
+  }
+  if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
+  for (const auto& r : runs) rep.max_truth_bits = std::max(rep.max_truth_bits, r.truth.bits);
+
+  // 3. Per tier: horizons, escape reproduction, growth by class.
+  for (std::size_t k = 0; k < opt.tiers.size(); ++k) {
+    TierAudit ta;
+    ta.name = opt.tiers[k];
+    std::vector<double> hc, ht, hm, hch;
+    std::size_t exact = 0;
+    for (const ShadowResult& r : runs) {
+      const TierShadow& ts = r.tiers[k];
+      if (r.truth.escape) {
+        ++ta.escapes_compared;
+        exact += ts.escape_exact;
+      }
+      // A particle that escapes (or reaches the cap) before its tier leaves tolerance says only that
+      // the horizon is longer than its life: censored, counted apart, not mixed into the quantiles.
+      if (!ts.horizon) {
+        ++ta.beyond_horizon;
+        continue;
+      }
+      const std::size_t h = *ts.horizon;
+      hc.push_back(static_cast<double>(h));
+      ht.push_back(ts.horizon_time - r.draw.tau);
+      std::size_t mupo = 0;
+      for (std::size_t i = 0; i < std::min(h, r.truth.mupo.size()); ++i) mupo += r.truth.mupo[i];
+      (4 * mupo >= h && h > 0 ? hm : hch).push_back(static_cast<double>(h));
+    }
+    ta.escape_time_exact_fraction = ta.escapes_compared ? static_cast<double>(exact) / static_cast<double>(ta.escapes_compared) : 0;
+    ta.horizon_collisions = quantiles(hc);
+    ta.horizon_time = quantiles(ht);
+    ta.horizon_collisions_mupo = quantiles(hm);
+    ta.horizon_collisions_chaotic = quantiles(hch);
+    ta.growth = class_growth(runs, k);
+    rep.tiers.push_back(ta);
+  }
+
+  // 4. Lyapunov exponent both ways (divergence from the most precise non-MPFR tier sampled).
+  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
+                             round_exact<double>(scene.r));
+  rep.lyapunov_tangent = tangent_lyapunov(scene, ic.draw(0), 1000000);
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < opt.tiers.size(); ++k)
+    if (tier_bits(opt.tiers[k]) <= 113 && tier_bits(opt.tiers[k]) >= tier_bits(opt.tiers[best])) best = k;
+  rep.lyapunov_divergence = divergence_lyapunov(runs, best, 10, 150);
+
+  // 5. Statistics: the same ids as full ensembles in float, double, long double.
+  const std::uint64_t n = std::min<std::uint64_t>(opt.stats_particles, scene.particles);
+  const Ensemble e_ld = run_tier_ensemble(scene, Tier::long_double, n, threads);
+  const Ensemble e_d = run_tier_ensemble(scene, Tier::double_, n, threads);
+  const Ensemble e_f = run_tier_ensemble(scene, Tier::float_, n, threads);
+  rep.statistics.push_back(compare("float", e_f, e_ld, scene.t_max));
+  rep.statistics.push_back(compare("double", e_d, e_ld, scene.t_max));
+  StatisticsCheck ld = compare("long_double", e_ld, e_d, scene.t_max);  // the reference against double
+  rep.statistics.push_back(ld);
+
+  // 6. Scalars and verdicts.
+  for (const TierAudit& ta : rep.tiers) {
+    const ScalarCheck sc = scalar_check(scene, ta.name);
+    rep.scalars.push_back(sc);
+    const bool trajectories = ta.escape_time_exact_fraction >= 0.99 && ta.escapes_compared > 0;
+    char why[300];
+    std::snprintf(why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
+                  100 * ta.escape_time_exact_fraction, ta.escapes_compared, ta.horizon_collisions.median, ta.horizon_time.median);
+    rep.verdicts.push_back({ta.name, "trajectories", trajectories ? "trusted" : "not trusted", why});
+    const StatisticsCheck* st = nullptr;
+    for (const auto& s : rep.statistics)
+      if (s.tier == ta.name) st = &s;
+    for (const char* stat : {"P(t)", "kappa", "alpha"}) {
+      Verdict v{ta.name, stat, "", ""};
+      if (!sc.phase_resolved && scene.omega.sign() != 0) {
+        v.verdict = "not trusted";
+        v.reason = "leak phase not resolved: " + sc.note;
+      } else if (trajectories) {
+        v.verdict = "trusted";
+        v.reason = "every sampled escape reproduced exactly";
+      } else if (st) {
+        char b[300];
+        std::snprintf(b, sizeof b, "%s (max |z| = %.2f over %zu windows, kappa diff %.2g +- %.1g) against %s",
+                      st->consistent ? "ensemble agrees" : "ensemble differs", st->max_abs_z, st->windows.size(), st->kappa_diff,
+                      st->kappa_diff_error, ta.name == "long_double" ? "double" : "long double");
+        v.verdict = st->consistent ? "trusted as a statistic" : "not trusted";
+        v.reason = std::string(b) + "; trajectories leave the truth after a median " +
+                   std::to_string(static_cast<long>(ta.horizon_collisions.median)) + " collisions";
+      } else {
+        const bool ld_ok = ld.consistent;
+        v.verdict = ld_ok ? "trusted as a statistic" : "not trusted";
+        v.reason = std::string("no ensemble at this tier; more precise than long double, whose ensemble ") +
+                   (ld_ok ? "agrees with double" : "disagrees with double");
+      }
+      rep.verdicts.push_back(v);
+    }
+  }
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+}  // namespace rotleak

@@ -1,0 +1,91 @@
+// The audit of a scene: which of its trajectories, statistics and scalars can be believed, per tier.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/scene.hpp"
+#include "verify/lyapunov.hpp"
+
+namespace rotleak {
+
+struct AuditOptions {
+  std::size_t sample = 1000;  ///< particles shadowed, stratified by their double escape time
+  std::vector<std::string> tiers{"float", "double", "long_double", "dd", "float128", "mpfr:256"};
+  std::uint64_t stratify_particles = 200000;  ///< ids scanned (double) to build the strata
+  std::size_t max_collisions = 1500;          ///< shadow horizon cap (long survivors)
+  double tolerance = 1e-6;
+  std::uint64_t stats_particles = 1000000;    ///< ensemble size of the statistics check (<= scene's)
+  int threads = 0;
+  bool progress = false;
+};
+
+struct Quantiles {
+  double q10 = 0, q25 = 0, median = 0, q75 = 0, q90 = 0;
+  std::size_t n = 0;
+};
+
+struct TierAudit {
+  std::string name;
+  double escape_time_exact_fraction = 0;  ///< over sampled particles whose truth escapes in the horizon
+  std::size_t escapes_compared = 0;
+  Quantiles horizon_collisions, horizon_time;  ///< over particles whose horizon was observed
+  Quantiles horizon_collisions_mupo, horizon_collisions_chaotic;  ///< by class of the particle
+  ClassGrowth growth;
+  std::size_t beyond_horizon = 0;  ///< censored: escaped or capped before leaving tolerance
+};
+
+/// Two-sample comparison of one tier's ensemble with the reference (long double) ensemble.
+struct WindowTest {
+  double from = 0, to = 0;
+  std::uint64_t escapes_tier = 0, escapes_ref = 0, at_risk_tier = 0, at_risk_ref = 0;
+  double z = 0;  ///< two-proportion z statistic of the escape fraction in the window
+};
+struct StatisticsCheck {
+  std::string tier;
+  std::vector<WindowTest> windows;
+  double max_abs_z = 0;
+  double kappa = 0, kappa_error = 0, kappa_diff = 0, kappa_diff_error = 0;
+  std::optional<double> alpha;
+  double alpha_error = 0;
+  std::optional<double> alpha_diff;
+  double alpha_diff_error = 0;
+  bool consistent = false;
+};
+
+struct ScalarCheck {
+  std::string tier;
+  double phase_error_at_tmax = 0;     ///< bound on |leak phase error| at t_max from t's own rounding
+  double omega_single_drift = 0;      ///< |omega - fl(omega)| * t_max
+  double omega_split_drift = 0;       ///< |omega - (hi + lo)| * t_max (what the engine uses)
+  double time_ulp_at_tmax = 0;
+  bool omega_is_rounded = false;      ///< the tier holds a nearby rational, not omega
+  bool phase_resolved = false;        ///< phase errors << leak width
+  std::string note;
+};
+
+struct Verdict {
+  std::string tier, statistic, verdict, reason;  ///< verdict: trusted | trusted as a statistic | not trusted
+};
+
+struct AuditReport {
+  std::size_t sample = 0;
+  std::vector<std::uint64_t> ids;
+  std::vector<std::string> strata;  ///< per sampled id
+  long max_truth_bits = 0;
+  LyapunovEstimate lyapunov_tangent, lyapunov_divergence;
+  std::vector<TierAudit> tiers;
+  std::vector<StatisticsCheck> statistics;
+  std::vector<ScalarCheck> scalars;
+  std::vector<Verdict> verdicts;
+  double seconds = 0;
+};
+
+AuditReport audit(const Scene& scene, const AuditOptions& options);
+
+/// The checks on the scene's scalars alone (no simulation): phase resolution and omega's representation.
+ScalarCheck scalar_check(const Scene& scene, const std::string& tier);
+
+}  // namespace rotleak
