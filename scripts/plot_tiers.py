@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""Draw the speed-accuracy trade from bench_tiers' CSV: cost per collision (ratio to double) against
+the median trust horizon in collisions, one point per tier.
+
+Usage: plot_tiers.py TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from plot_run import save  # noqa: E402
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: plot_tiers.py TIERS.csv OUT.png")
+    with open(sys.argv[1], newline="") as f:
+        rows = list(csv.DictReader(f))
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for r in rows:
+        x, y = float(r["median_horizon_collisions"]), float(r["ratio_to_double"])
+        ax.loglog([x], [y], "o", color="C0")
+        ax.annotate(r["tier"], (x, y), textcoords="offset points", xytext=(6, -3), fontsize=9)
+    ax.set_xlabel("median trust horizon (collisions within 1e-6 of the truth)")
+    ax.set_ylabel("cost per collision / double")
+    ax.set_title("what each precision tier buys (s_L = 0 scene)")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    save(fig, sys.argv[2])
+    print("drew " + sys.argv[2])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,33 @@
+// Escape certificates: the particle's trajectory in MPFI interval arithmetic. Every branch of the
+// core is a comparison, and an interval comparison answers only when the enclosures decide it, so a
+// trace that reaches a collision inside the leak has proven the escape: the enclosure of the hit
+// lies wholly inside the leak and every earlier one wholly outside.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "sim/initial.hpp"
+#include "sim/scene.hpp"
+
+namespace rotleak {
+
+struct Certificate {
+  long bits = 0;
+  std::size_t certified_collisions = 0;  ///< collisions whose every decision was proven
+  bool escape_certified = false;
+  std::size_t escape_collision = 0;
+  double escape_time_lo = 0, escape_time_hi = 0;  ///< enclosure of the escape time
+  double last_width = 0;                          ///< width of the last position enclosure
+};
+
+/// One attempt at `bits` bits, at most max_collisions collisions.
+Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, std::size_t max_collisions);
+
+/// Doubles the bits from start_bits until the escape is certified or max_bits is passed; returns
+/// every attempt (the last one is the answer).
+std::vector<Certificate> certify(const Scene& scene, const InitialDraw& draw, long start_bits, long max_bits,
+                                 std::size_t max_collisions);
+
+}  // namespace rotleak
