@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
@@ -144,7 +145,11 @@ ScalarCheck scalar_check(const Scene& scene, const std::string& tier) {
   mpfr_clears(hi, lo, static_cast<mpfr_ptr>(nullptr));
   c.omega_is_rounded = !stationary && rest.sign() != 0;
   c.omega_single_drift = stationary ? 0 : abs_enclosure_hi(rest) * scene.t_max;
-  c.omega_split_drift = stationary ? 0 : abs_enclosure_hi(rest - ExactReal::rational(lq)) * scene.t_max;
+  const double split_err = stationary ? 0 : abs_enclosure_hi(rest - ExactReal::rational(lq));
+  c.omega_split_drift = split_err * scene.t_max;
+  const double single_err = c.omega_single_drift / scene.t_max;
+  c.split_matters_after = split_err > 0 ? 1e-3 * scene.width.to_double() / split_err : std::numeric_limits<double>::infinity();
+  c.single_matters_after = single_err > 0 ? 1e-3 * scene.width.to_double() / single_err : std::numeric_limits<double>::infinity();
   // the phase of a time known to half an ulp, plus a few roundings of the phase itself
   c.phase_error_at_tmax = stationary ? 0 : omega_abs * c.time_ulp_at_tmax / 2 + 4 * std::ldexp(1.0, 1 - static_cast<int>(p));
   c.phase_resolved = c.phase_error_at_tmax + c.omega_split_drift < 1e-3 * lambda;
@@ -154,10 +159,10 @@ ScalarCheck scalar_check(const Scene& scene, const std::string& tier) {
   } else {
     std::snprintf(buf, sizeof buf,
                   "omega*t_max = %.3g; phase error at t_max <= %.2g (%.2g of the leak width); omega held %s, drift over t_max "
-                  "%.2g rounded once, %.2g as hi+lo (%s)",
+                  "%.2g rounded once, %.2g as hi+lo (%s; reaches 1e-3 of the leak width after t = %.2g)",
                   omega_abs * scene.t_max, c.phase_error_at_tmax, c.phase_error_at_tmax / lambda,
                   c.omega_is_rounded ? "as a nearby rational" : "exactly", c.omega_single_drift, c.omega_split_drift,
-                  c.omega_split_drift < 1e-3 * lambda ? "does not matter" : "matters");
+                  c.omega_split_drift < 1e-3 * lambda ? "does not matter" : "matters", c.split_matters_after);
   }
   c.note = buf;
   return c;

@@ -61,6 +61,8 @@ struct ScalarCheck {
   double omega_single_drift = 0;      ///< |omega - fl(omega)| * t_max
   double omega_split_drift = 0;       ///< |omega - (hi + lo)| * t_max (what the engine uses)
   double time_ulp_at_tmax = 0;
+  double split_matters_after = 0;     ///< time at which |omega - (hi + lo)| t reaches 1e-3 of the leak width
+  double single_matters_after = 0;    ///< the same for omega rounded once
   bool omega_is_rounded = false;      ///< the tier holds a nearby rational, not omega
   bool phase_resolved = false;        ///< phase errors << leak width
   std::string note;

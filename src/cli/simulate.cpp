@@ -11,6 +11,7 @@
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
 #include "sim/scene.hpp"
+#include "verify/auto_tier.hpp"
 #include "version.hpp"
 
 namespace rotleak::cli {
@@ -54,8 +55,14 @@ int run_simulate(const SimulateArgs& a) {
   if (a.particles == 0) throw InputError("--particles", "0", "must be an integer >= 1");
   if (a.particles > 0) sets.push_back("ensemble.particles=" + std::to_string(a.particles));
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
-  const Scene scene = load_scene(a.scene, sets);
+  Scene scene = load_scene(a.scene, sets);
   RunDirectory dir(a.out, a.force);  // validated and staged before any work
+  std::optional<TierChoice> choice;
+  if (scene.tier == Tier::auto_) {
+    if (!a.json_out) std::fprintf(stderr, "[rotleak] run.tier = auto: auditing float, double, long double on this scene...\n");
+    choice = choose_tier(scene, a.threads);
+    scene.tier = choice->tier;
+  }
 
   RunOptions opt;
   opt.threads = a.threads;
@@ -86,6 +93,7 @@ int run_simulate(const SimulateArgs& a) {
   s["scene"] = scene_json(scene);
   s["seed"] = scene.seed;
   s["tier"] = to_string(scene.tier);
+  if (choice) s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(choice->tier)}, {"reason", choice->reason}};
   s["engine"] = "scalar";
   s["threads"] = res.threads;
   s["particles"] = scene.particles;

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "io/progress.hpp"
 #include "sim/particle.hpp"
@@ -144,6 +145,7 @@ RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
   switch (scene.tier) {
     case Tier::float_: return run_tier<float>(scene, options);
     case Tier::long_double: return run_tier<long double>(scene, options);
+    case Tier::auto_: throw std::logic_error("run.tier = \"auto\" must be resolved (verify/auto_tier) before running");
     case Tier::double_: break;
   }
   return run_tier<double>(scene, options);

@@ -16,6 +16,7 @@ std::string to_string(Tier t) {
     case Tier::float_: return "float";
     case Tier::double_: return "double";
     case Tier::long_double: return "long_double";
+    case Tier::auto_: return "auto";
   }
   return "?";
 }
@@ -212,8 +213,8 @@ Scene build(const toml::table& root, const std::string& source) {
   s.t_max = in.number("run", "t_max", s.t_max);
   if (!(s.t_max > 0) || s.t_max > 1e12)
     throw InputError("run.t_max", shown(*in.find("run", "t_max")), "must be a number in (0, 1e12]");
-  const std::string tier = in.word("run", "tier", "double", {"float", "double", "long_double"});
-  s.tier = tier == "float" ? Tier::float_ : tier == "long_double" ? Tier::long_double : Tier::double_;
+  const std::string tier = in.word("run", "tier", "double", {"float", "double", "long_double", "auto"});
+  s.tier = tier == "float" ? Tier::float_ : tier == "long_double" ? Tier::long_double : tier == "auto" ? Tier::auto_ : Tier::double_;
 
   s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
   if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)

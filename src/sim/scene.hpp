@@ -27,7 +27,8 @@ class InputError : public std::runtime_error {
 ExactReal parse_exact_input(const std::string& key, const std::string& text);
 
 enum class InitKind { birkhoff, flow };
-enum class Tier { float_, double_, long_double };
+/// auto_: chosen per scene by the audit (rotleak simulate resolves it before running).
+enum class Tier { float_, double_, long_double, auto_ };
 
 std::string to_string(InitKind k);
 std::string to_string(Tier t);

@@ -1,0 +1,162 @@
+// Numerical stability at the extremes (issue 4's list), each a named test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "numeric/tiers.hpp"
+#include "sim/engine.hpp"
+#include "verify/audit.hpp"
+#include "verify/certify.hpp"
+#include "verify/shadow.hpp"
+#include "verify/trace.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+Scene scene_with(const std::vector<std::string>& sets) { return parse_scene("", sets); }
+
+double off_boundary(const Stadium<double>& st, Piece p, const Vec2<double>& q) {
+  if (p == Piece::top) return std::abs(q.y - 1);
+  if (p == Piece::bottom) return std::abs(q.y + 1);
+  return std::abs(std::hypot(q.x - st.arc_centre_x(p), q.y) - 1);
+}
+
+}  // namespace
+
+// |p| -> 1: whispering-gallery orbits along an arc with flights of ~1e-6; they must neither stick
+// nor leave the boundary, and the arc's flight formula must stay accurate (no cancellation).
+TEST(Extremes, GrazingHitsAlongTheArc) {
+  const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const BoundaryPoint<double> b = st.at(0.2);
+  ASSERT_EQ(b.piece, Piece::right_arc);
+  Vec2<double> q = b.q, v = st.velocity(b, 1 - 1e-12);
+  std::size_t arc_hits = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Hit<double> h = st.next_hit(q, v);
+    ASSERT_GT(h.t, 0.0) << "collision " << k;
+    ASSERT_LT(off_boundary(st, h.piece, h.q), 1e-12) << "collision " << k;
+    arc_hits += h.piece == Piece::right_arc;
+    v = st.reflect(h.piece, h.q, v);
+    q = h.q;
+  }
+  EXPECT_GT(arc_hits, 1000u);
+  EXPECT_NEAR(std::hypot(v.x, v.y), 1.0, 1e-12);
+}
+
+// A ray aimed exactly at a junction: whichever piece rounding picks, the point is the junction and
+// the outgoing direction the same (both pieces share the normal there).
+TEST(Extremes, HitsExactlyAtTheFourJunctions) {
+  const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const Vec2<double> junctions[] = {{1, 1}, {1, -1}, {-1, -1}, {-1, 1}};
+  for (const auto& j : junctions) {
+    const Vec2<double> from{0.25 * j.x, -j.y};  // on the opposite straight edge
+    const double len = std::hypot(j.x - from.x, j.y - from.y);
+    const Vec2<double> v{(j.x - from.x) / len, (j.y - from.y) / len};
+    const Hit<double> h = st.next_hit(from, v);
+    EXPECT_NEAR(h.q.x, j.x, 1e-14);
+    EXPECT_NEAR(h.q.y, j.y, 1e-14);
+    EXPECT_NEAR(h.t, len, 1e-14);
+    const Vec2<double> out = st.reflect(h.piece, h.q, v);
+    EXPECT_NEAR(out.x, v.x, 1e-7);  // an arc's normal at its end is vertical to ~sqrt(eps)
+    EXPECT_NEAR(out.y, -v.y, 1e-7);
+  }
+  // the boundary coordinate is continuous across each junction
+  for (int k = 0; k < 4; ++k) {
+    const double s = st.junction(k);
+    const BoundaryPoint<double> before = st.at(std::nextafter(s, 0.0)), after = st.at(s);
+    EXPECT_LT(std::hypot(before.q.x - after.q.x, before.q.y - after.q.y), 1e-14) << "junction " << k;
+  }
+}
+
+// p = 0 on a straight edge: v = (0, -1) exactly, so the orbit is periodic in every tier, forever.
+template <class R>
+void expect_exactly_periodic(double s0) {
+  const Stadium<R> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const BoundaryPoint<R> b = st.at(R(s0));
+  Vec2<R> q = b.q, v = st.velocity(b, R(0));
+  R t(0);
+  for (int k = 0; k < 100000; ++k) {
+    const Hit<R> h = st.next_hit(q, v);
+    t += h.t;
+    v = st.reflect(h.piece, h.q, v);
+    q = h.q;
+  }
+  EXPECT_TRUE(q.x == b.q.x && q.y == b.q.y) << num_traits<R>::name();
+  EXPECT_TRUE(t == R(200000)) << num_traits<R>::name();  // 10^5 flights of exactly 2
+}
+
+TEST(Extremes, BouncingBallWithPZeroIsPeriodicInEveryTier) {
+  for (double s0 : {0.0, 0.03, 0.5, 0.95}) {
+    expect_exactly_periodic<float>(s0);
+    expect_exactly_periodic<double>(s0);
+    expect_exactly_periodic<long double>(s0);
+    expect_exactly_periodic<dd_real>(s0);
+    MpfrPrecision p(256);
+    expect_exactly_periodic<Mpfr>(s0);
+  }
+}
+
+// lambda = 1e-9 and 0.5: a tiny leak is almost never hit, a huge one at once; the engine handles both.
+TEST(Extremes, TinyAndHugeLeaks) {
+  const Scene tiny = scene_with({"leak.width=1e-9", "ensemble.particles=2000", "run.t_max=2000"});
+  const Scene huge = scene_with({"leak.width=0.5", "ensemble.particles=2000", "run.t_max=2000"});
+  const RunResult a = run_ensemble(tiny, RunOptions{}), b = run_ensemble(huge, RunOptions{});
+  // expected escapes ~ N * (1 - exp(-lambda t / mean free time)): ~0.002 for the tiny leak
+  EXPECT_LE(a.tally.escaped, 3u);
+  EXPECT_EQ(b.tally.escaped, 2000u);
+  EXPECT_LT(static_cast<double>(b.tally.collisions) / 2000, 3.0);  // half the boundary: ~2 collisions each
+}
+
+// omega = 0, 1e-9, 1e6, 1e12 at t_max = 2e4: the audit's scalar check flags lost phase resolution.
+TEST(Extremes, LeakPhaseResolutionAtLargeOmega) {
+  auto resolved = [](const char* omega, const char* tier) {
+    return scalar_check(scene_with({std::string("leak.omega=") + omega}), tier).phase_resolved;
+  };
+  for (const char* tier : {"float", "double", "long_double", "dd"}) {
+    EXPECT_TRUE(resolved("0", tier)) << tier;
+    EXPECT_TRUE(resolved("1e-9", tier)) << tier;
+  }
+  EXPECT_FALSE(resolved("1e6", "float"));
+  EXPECT_TRUE(resolved("1e6", "double"));
+  EXPECT_FALSE(resolved("1e12", "double"));  // omega t_max = 2e16 > 2^53: the phase is lost
+  EXPECT_FALSE(resolved("1e12", "long_double"));
+  EXPECT_TRUE(resolved("1e12", "dd"));
+}
+
+TEST(Extremes, LongRunsCoarsenFloatTime) {
+  const Scene s = scene_with({"run.t_max=1e7"});
+  EXPECT_EQ(scalar_check(s, "float").time_ulp_at_tmax, 1.0);  // 2^23 <= 1e7 < 2^24: ulp 1
+  EXPECT_LT(scalar_check(s, "double").time_ulp_at_tmax, 2e-9);
+}
+
+// liouville(10) in double is a nearby rational; the audit says so and over what horizon it does not matter.
+TEST(Extremes, LiouvilleOmegaIsHeldAsANearbyRational) {
+  const ScalarCheck c = scalar_check(scene_with({"leak.omega=liouville(10)"}), "double");
+  EXPECT_TRUE(c.omega_is_rounded);
+  EXPECT_GT(c.omega_single_drift, 0);
+  EXPECT_LT(c.omega_single_drift, 1e-12);           // |omega - fl(omega)| <= 2^-57, times 2e4
+  EXPECT_GT(c.single_matters_after, 1e8);           // rounded once, drift reaches 1e-5 only after ~1e12
+  EXPECT_GT(c.split_matters_after, c.single_matters_after * 1e10);  // hi + lo: far longer
+  EXPECT_TRUE(c.phase_resolved);
+  EXPECT_NE(c.note.find("nearby rational"), std::string::npos);
+}
+
+// MPFI: more bits certify more collisions, and a certified escape is the truth's escape.
+TEST(Extremes, IntervalCertificatesGrowWithBits) {
+  const Scene s = scene_with({});
+  const InitialConditions ic(s.seed, s.init, 4, 1, 1);
+  const InitialDraw d = ic.draw(1);
+  const Certificate c64 = certify_at(s, d, 64, 1000), c256 = certify_at(s, d, 256, 1000);
+  EXPECT_LT(c64.certified_collisions, c256.certified_collisions);
+  const auto attempts = certify(s, d, 64, 4096, 1000);
+  ASSERT_TRUE(attempts.back().escape_certified);
+  ShadowOptions opt;
+  opt.tiers = {"double"};
+  const ShadowResult truth = shadow(s, 1, opt);
+  ASSERT_TRUE(truth.truth.escape.has_value());
+  EXPECT_EQ(attempts.back().escape_collision, *truth.truth.escape);
+  const double t_true = truth.truth.t[*truth.truth.escape - 1];
+  EXPECT_LE(attempts.back().escape_time_lo, t_true);
+  EXPECT_GE(attempts.back().escape_time_hi, t_true);
+}
