@@ -6,6 +6,7 @@
 #include "numeric/tiers.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"
+#include "verify/exact_replay.hpp"
 #include "verify/trace.hpp"
 
 using namespace rotleak;
@@ -162,4 +163,41 @@ TEST(Lyapunov, BouncingBallDivergenceIsPolynomial) {
   EXPECT_GT(law.power, 0.5);
   EXPECT_LT(law.power, 3.0);
   EXPECT_LT(law.rate, 0.01);  // chaos: ~0.94 per collision
+}
+
+// The generic core at MPFR against CGAL's exact kernel with square roots, from rational initial
+// data: same piece at every collision, points and directions equal to 1e-65 (256 bits less the
+// chaos growth over these collisions). CORE's expression trees deepen with every square root, so
+// exact comparisons get dearer quickly: 3 collisions take 3 ms, 4 take over a minute.
+TEST(ExactReplay, GenericCoreAtMpfrMatchesCgalExactKernel) {
+  constexpr int kCollisions = 3;
+  struct Start {
+    mpq_class x, y, ux, uy;
+  };
+  const std::vector<Start> starts{{mpq_class(3, 8), 1, 3, -4},             // top edge, a Pythagorean direction
+                                  {mpq_class(8, 5), mpq_class(4, 5), -1, -2},  // on the right arc
+                                  {mpq_class(-1, 3), mpq_class(-1), 5, 12},     // bottom edge
+                                  {0, 0, 7, mpq_class(1, 10)}};                 // inside, almost horizontal
+  MpfrPrecision precision(256);
+  const Stadium<Mpfr> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  for (const Start& s0 : starts) {
+    const auto exact = exact_replay(2, 1, s0.x, s0.y, s0.ux, s0.uy, kCollisions);
+    auto mp = [](const mpq_class& q) { return round_exact<Mpfr>(ExactReal::rational(q)); };
+    Vec2<Mpfr> q{mp(s0.x), mp(s0.y)};
+    const Mpfr len = sqrt(mp(s0.ux) * mp(s0.ux) + mp(s0.uy) * mp(s0.uy));
+    Vec2<Mpfr> v{mp(s0.ux) / len, mp(s0.uy) / len};
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      const Hit<Mpfr> h = st.next_hit(q, v);
+      v = st.reflect(h.piece, h.q, v);
+      q = h.q;
+      ASSERT_EQ(h.piece, exact[k].piece) << "collision " << k + 1;
+      const std::pair<const Mpfr*, const std::string*> pairs[] = {
+          {&q.x, &exact[k].x}, {&q.y, &exact[k].y}, {&v.x, &exact[k].ux}, {&v.y, &exact[k].uy}};
+      for (const auto& [got, want] : pairs) {
+        Mpfr w;
+        mpfr_set_str(w.data(), want->c_str(), 10, MPFR_RNDN);
+        EXPECT_LT(std::abs(num_traits<Mpfr>::to_double(Mpfr(*got - w))), 1e-65) << "collision " << k + 1 << ": " << *want;
+      }
+    }
+  }
 }
