@@ -128,6 +128,16 @@ TEST(Extremes, LongRunsCoarsenFloatTime) {
   const Scene s = scene_with({"run.t_max=1e7"});
   EXPECT_EQ(scalar_check(s, "float").time_ulp_at_tmax, 1.0);  // 2^23 <= 1e7 < 2^24: ulp 1
   EXPECT_LT(scalar_check(s, "double").time_ulp_at_tmax, 2e-9);
+  // and the run itself: a long-lived bouncing ball reaches t_max = 1e7 in double (tiny leak, no escape
+  // route for it), survival bins of 1000 keep the histogram small
+  const Scene run = scene_with({"run.t_max=1e7", "observe.survival_dt=1000", "ensemble.particles=10", "leak.width=1e-6",
+                                "fit.kappa_window=[0, 1e6]"});
+  const RunResult r = run_ensemble(run, RunOptions{});
+  EXPECT_EQ(r.tally.escaped + r.tally.survived, 10u);
+  EXPECT_EQ(r.tally.stuck, 0u);
+  // a survivor makes t_max / mean free path = 4.6e6 collisions; a leak of 1e-6 lets each escape with
+  // probability 1 - exp(-4.6) ~ 0.99 somewhere along the way, on average after ~1e6 collisions
+  EXPECT_GT(r.tally.collisions, 10u * 100000u);
 }
 
 // liouville(10) in double is a nearby rational; the audit says so and over what horizon it does not matter.

@@ -104,6 +104,7 @@ TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDr
       const double div = divergence(s, truth.states[i]);
       const Reported r = report(st, step);
       out.divergence.push_back(div);
+      out.t.push_back(r.t);
       out.s.push_back(r.s);
       out.p.push_back(r.p);
       if (!out.horizon && div > opt.tolerance) {

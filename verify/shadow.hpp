@@ -37,7 +37,7 @@ struct TierShadow {
   std::string name;
   std::size_t collisions = 0;
   std::vector<double> divergence;  ///< max-norm of (t, x, y, vx, vy) minus the truth, per collision
-  std::vector<double> s, p;
+  std::vector<double> t, s, p;  ///< this tier's own values per collision
   std::optional<std::size_t> horizon;   ///< first collision with divergence > tolerance
   double horizon_time = 0;
   std::optional<std::size_t> decision;  ///< first collision whose escape decision differs from the truth

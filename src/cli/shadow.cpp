@@ -79,13 +79,15 @@ int run_shadow(const ShadowArgs& a) {
 
   if (dir) {
     std::string csv = "k,t,s,p,in_leak,mupo";
-    for (const auto& t : r.tiers) csv += ",div_" + t.name + ",s_" + t.name + ",p_" + t.name;
+    for (const auto& t : r.tiers) csv += ",div_" + t.name + ",t_" + t.name + ",s_" + t.name + ",p_" + t.name;
     csv += "\n";
     for (std::size_t i = 0; i < r.truth.t.size(); ++i) {
       csv += std::to_string(i + 1) + "," + shortest(r.truth.t[i]) + "," + shortest(r.truth.s[i]) + "," +
              shortest(r.truth.p[i]) + "," + std::to_string(r.truth.in_leak[i]) + "," + std::to_string(r.truth.mupo[i]);
       for (const auto& t : r.tiers)
-        csv += i < t.collisions ? "," + shortest(t.divergence[i]) + "," + shortest(t.s[i]) + "," + shortest(t.p[i]) : ",,,";
+        csv += i < t.collisions ? "," + shortest(t.divergence[i]) + "," + shortest(t.t[i]) + "," + shortest(t.s[i]) + "," +
+                                      shortest(t.p[i])
+                                : ",,,,";
       csv += "\n";
     }
     write_file_atomic(dir->file("shadow.csv"), csv);
