@@ -253,8 +253,7 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
   }
 
   // 4. Lyapunov exponent both ways (divergence from the most precise non-MPFR tier sampled).
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
+  const InitialConditions ic = initial_conditions(scene);
   rep.lyapunov_tangent = tangent_lyapunov(scene, ic.draw(0), 1000000);
   std::size_t best = 0;
   for (std::size_t k = 0; k < opt.tiers.size(); ++k)

@@ -161,8 +161,7 @@ bool valid_tier_name(const std::string& n) {
 }
 
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
+  const InitialConditions ic = initial_conditions(scene);
   ShadowResult res = shadow_from(scene, ic.draw(id), opt);
   res.id = id;
   return res;

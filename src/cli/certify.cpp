@@ -23,8 +23,7 @@ int run_certify(const CertifyArgs& a) {
     throw InputError("--particle", std::to_string(a.particle), "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
   if (a.bits < 24 || a.bits > a.max_bits || a.max_bits > (1L << 22))
     throw InputError("--bits", std::to_string(a.bits), "must be in [24, --max-bits], and --max-bits <= 2^22");
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
+  const InitialConditions ic = initial_conditions(scene);
   const auto attempts = certify(scene, ic.draw(static_cast<std::uint64_t>(a.particle)), a.bits, a.max_bits,
                                 static_cast<std::size_t>(a.collisions));
   nlohmann::ordered_json doc, list = nlohmann::ordered_json::array();

@@ -37,8 +37,7 @@ int run_lyapunov(const LyapunovArgs& a) {
   if (!valid_tier_name(a.tier)) throw InputError("--tier", a.tier, "allowed: float, double, long_double, dd, float128, mpfr:BITS");
   if (!(a.from >= 0 && a.from < a.to)) throw InputError("--window", std::to_string(a.from) + "," + std::to_string(a.to), "needs 0 <= from < to");
 
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
+  const InitialConditions ic = initial_conditions(scene);
   const LyapunovEstimate tangent = tangent_lyapunov(scene, ic.draw(0), static_cast<std::size_t>(a.tangent));
   ShadowOptions opt;
   opt.tiers = {a.tier};

@@ -79,8 +79,7 @@ void run_block(const Model<R>& model, const InitialConditions& ic, std::uint64_t
 template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   const Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
-  const InitialConditions ic(scene.seed, scene.init, scene.creation_window, round_exact<double>(scene.d / ExactReal::parse("2")),
-                             round_exact<double>(scene.r));
+  const InitialConditions ic = initial_conditions(scene);
   RunResult result;
   result.tally.resize(scene);
   if (scene.escape_records) result.records.resize(scene.particles);

@@ -64,6 +64,12 @@ class InitialConditions {
   double window_, half_d_, r_;
 };
 
+/// The scene's initial conditions (its seed, kind, creation window and stadium size).
+inline InitialConditions initial_conditions(const Scene& scene) {
+  return InitialConditions(scene.seed, scene.init, scene.creation_window,
+                           round_exact<double>(scene.d / ExactReal::parse("2")), round_exact<double>(scene.r));
+}
+
 /// Position, unit velocity and time of a particle at creation, in tier R.
 template <class R>
 struct ParticleState {
