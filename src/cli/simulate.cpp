@@ -26,6 +26,7 @@ struct SimulateArgs {
   long long particles = -1;
   int threads = 0;
   std::vector<std::string> sets;
+  std::string engine = "auto";
   bool force = false, json_out = false, plot = false, progress = false, no_progress = false;
 };
 
@@ -66,6 +67,14 @@ int run_simulate(const SimulateArgs& a) {
 
   RunOptions opt;
   opt.threads = a.threads;
+  if (a.engine != "auto" && a.engine != "scalar" && a.engine != "simd")
+    throw InputError("--engine", a.engine, "allowed: auto, scalar, simd");
+  opt.engine = a.engine == "scalar" ? Engine::scalar : a.engine == "simd" ? Engine::simd : Engine::automatic;
+  try {
+    resolve_engine(opt.engine, scene);
+  } catch (const std::runtime_error& e) {
+    throw InputError("--engine", a.engine, e.what());
+  }
   opt.progress = !a.no_progress && (a.progress || ::isatty(2));
   const RunResult res = run_ensemble(scene, opt);
 
@@ -94,7 +103,7 @@ int run_simulate(const SimulateArgs& a) {
   s["seed"] = scene.seed;
   s["tier"] = to_string(scene.tier);
   if (choice) s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(choice->tier)}, {"reason", choice->reason}};
-  s["engine"] = "scalar";
+  s["engine"] = to_string(res.engine);
   s["threads"] = res.threads;
   s["particles"] = scene.particles;
   s["wall_seconds"] = res.wall_seconds;

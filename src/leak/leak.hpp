@@ -104,15 +104,23 @@ class Leak {
     return abs(circular_offset(stadium_.s_of(p, q), c)) <= half_width_;
   }
 
- private:
+  /// A stationary leak's part on one piece: an x range (straight pieces) or the two directions from
+  /// the arc's centre that bound the sub-arc, clockwise (arcs).
   struct Window {
-    R lo{0}, hi{0};        // straight pieces: x range
-    Vec2<R> from, to;      // arcs: directions from the centre bounding the sub-arc (clockwise)
+    R lo{0}, hi{0};
+    Vec2<R> from, to;
   };
   struct PieceWindows {
     std::array<Window, 3> w;
     int n = 0;
   };
+  /// The stationary windows of piece p (empty for a moving leak).
+  const PieceWindows& windows(Piece p) const { return windows_[static_cast<int>(p)]; }
+  /// s-range of piece p, the top edge unwrapped to [j3 - 1, j0].
+  const R& piece_lo(Piece p) const { return piece_lo_[static_cast<int>(p)]; }
+  const R& piece_hi(Piece p) const { return piece_hi_[static_cast<int>(p)]; }
+
+ private:
 
   void build_windows() {
     using std::cos;

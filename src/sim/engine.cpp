@@ -7,10 +7,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <type_traits>
 #include <stdexcept>
 
 #include "io/progress.hpp"
 #include "sim/particle.hpp"
+#include "sim/simd_engine.hpp"
 
 namespace rotleak {
 
@@ -76,6 +79,64 @@ void run_block(const Model<R>& model, const InitialConditions& ic, std::uint64_t
     record(i, run_particle(model, initial_state(model.stadium, ic.draw(first_id + i)), observe));
 }
 
+/// The vectorised kernel's view of a double model.
+simd::Scene simd_scene(const Model<double>& m) {
+  simd::Scene s{};
+  const Stadium<double>& st = m.stadium;
+  s.r = st.r();
+  s.half_d = st.half_d();
+  s.t_max = m.t_max;
+  s.L = st.perimeter();
+  s.inv_L = 1 / st.perimeter();
+  s.r_over_L = st.r() / st.perimeter();
+  s.pi = st.pi();
+  for (int k = 0; k < 4; ++k) s.junction[k] = st.junction(k);
+  s.rotating = m.leak.schedule().rotating();
+  for (int p = 0; p < 4; ++p) {
+    const auto& pw = m.leak.windows(static_cast<Piece>(p));
+    s.n_windows[p] = pw.n;
+    for (int w = 0; w < pw.n; ++w) {
+      s.lo[p][w] = pw.w[w].lo;
+      s.hi[p][w] = pw.w[w].hi;
+      s.from_x[p][w] = pw.w[w].from.x;
+      s.from_y[p][w] = pw.w[w].from.y;
+      s.to_x[p][w] = pw.w[w].to.x;
+      s.to_y[p][w] = pw.w[w].to.y;
+    }
+  }
+  s.omega_hi = m.leak.schedule().omega_split().hi;
+  s.omega_lo = m.leak.schedule().omega_split().lo;
+  s.start = m.leak.schedule().start();
+  s.half_width = m.leak.half_width();
+  return s;
+}
+
+struct SimdContext {
+  const Model<double>* model;
+  const InitialConditions* ic;
+  std::uint64_t first_id, next, hi;
+  std::function<void(std::uint64_t, const ParticleEnd&)> record;
+};
+
+bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  if (ctx->next >= ctx->hi) return false;
+  *id = ctx->next++;
+  const ParticleState<double> ps = initial_state(ctx->model->stadium, ctx->ic->draw(ctx->first_id + *id));
+  *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t};
+  return true;
+}
+
+void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  ParticleEnd end;
+  end.fate = static_cast<Fate>(e.fate);
+  end.t = e.t;
+  end.collisions = e.collisions;
+  if (end.fate == Fate::escaped) end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  ctx->record(id, end);
+}
+
 template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   const Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
@@ -84,6 +145,11 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   result.tally.resize(scene);
   if (scene.escape_records) result.records.resize(scene.particles);
 
+  result.engine = resolve_engine(opt.engine, scene);
+  const bool use_simd = result.engine == Engine::simd;
+  simd::Scene kernel_scene{};
+  if constexpr (std::is_same_v<R, double>)
+    if (use_simd) kernel_scene = simd_scene(model);
   const std::uint64_t n = scene.particles;
   constexpr std::uint64_t kBlock = 4096;
   const std::uint64_t blocks = (n + kBlock - 1) / kBlock;
@@ -124,8 +190,16 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     for (std::uint64_t blk = 0; blk < blocks; ++blk) {
       const std::uint64_t lo = blk * kBlock, hi = std::min(n, lo + kBlock);
       const std::uint64_t before = local.collisions;
-      if (scene.collision_density) run_block(model, ic, opt.first_id, lo, hi, density, record);
-      else run_block(model, ic, opt.first_id, lo, hi, none, record);
+      if (use_simd) {
+        if constexpr (std::is_same_v<R, double>) {
+          SimdContext ctx{&model, &ic, opt.first_id, lo, hi, record};
+          simd::run(kernel_scene, &ctx, simd_next, simd_finish);
+        }
+      } else if (scene.collision_density) {
+        run_block(model, ic, opt.first_id, lo, hi, density, record);
+      } else {
+        run_block(model, ic, opt.first_id, lo, hi, none, record);
+      }
       const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
       const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
       if (omp_get_thread_num() == 0) progress.update(d, c);
@@ -139,6 +213,27 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
 }
 
 }  // namespace
+
+std::string to_string(Engine e) {
+  switch (e) {
+    case Engine::automatic: return "auto";
+    case Engine::scalar: return "scalar";
+    case Engine::simd: return "simd";
+  }
+  return "?";
+}
+
+Engine resolve_engine(Engine requested, const Scene& scene) {
+  // The kernel has no collision-density observer: f_c runs scalar.
+  const bool fits = scene.tier == Tier::double_ && !scene.collision_density;
+  if (requested == Engine::simd) {
+    if (!simd::available()) throw std::runtime_error("--engine simd: this CPU lacks AVX2 and FMA");
+    if (!fits) throw std::runtime_error("--engine simd runs the double tier without a collision_density observer");
+    return Engine::simd;
+  }
+  if (requested == Engine::scalar) return Engine::scalar;
+  return fits && simd::available() ? Engine::simd : Engine::scalar;
+}
 
 RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
   switch (scene.tier) {

@@ -30,8 +30,12 @@ struct Tally {
   void merge(const Tally& other);
 };
 
+/// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes).
+enum class Engine { automatic, scalar, simd };
+
 struct RunOptions {
   int threads = 0;               ///< 0: OpenMP's default
+  Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
   std::uint64_t first_id = 0;    ///< particles are ids [first_id, first_id + scene.particles)
   bool progress = false;         ///< progress line on stderr
 };
@@ -41,7 +45,12 @@ struct RunResult {
   std::vector<EscapeRecord> records;  ///< by id - first_id, when scene.escape_records
   double wall_seconds = 0;
   int threads = 1;
+  Engine engine = Engine::scalar;  ///< the one that ran
 };
+
+/// The engine `requested` resolves to for this scene on this CPU.
+Engine resolve_engine(Engine requested, const Scene& scene);
+std::string to_string(Engine e);
 
 /// Runs the scene's ensemble in its tier.
 RunResult run_ensemble(const Scene& scene, const RunOptions& options);
