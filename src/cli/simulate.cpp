@@ -37,7 +37,7 @@ json scene_json(const Scene& s) {
   j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
   j["ensemble"] = {{"particles", s.particles}, {"seed", s.seed}, {"init", to_string(s.init)},
                    {"creation_window", s.creation_window}};
-  j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}};
+  j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}, {"fast_forward", s.fast_forward}};
   json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
   if (s.collision_density) {
     json w = json::array();

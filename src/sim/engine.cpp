@@ -108,6 +108,7 @@ simd::Scene simd_scene(const Model<double>& m) {
   s.omega_lo = m.leak.schedule().omega_split().lo;
   s.start = m.leak.schedule().start();
   s.half_width = m.leak.half_width();
+  s.handoff_bounces = m.fast_forward ? 32 : 0;
   return s;
 }
 
@@ -116,10 +117,17 @@ struct SimdContext {
   const InitialConditions* ic;
   std::uint64_t first_id, next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
+  std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
 };
 
 bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   auto* ctx = static_cast<SimdContext*>(c);
+  if (!ctx->resume.empty()) {
+    *id = ctx->resume.back().first;
+    *start = ctx->resume.back().second;
+    ctx->resume.pop_back();
+    return true;
+  }
   if (ctx->next >= ctx->hi) return false;
   *id = ctx->next++;
   const ParticleState<double> ps = initial_state(ctx->model->stadium, ctx->ic->draw(ctx->first_id + *id));
@@ -129,6 +137,17 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
 
 void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
   auto* ctx = static_cast<SimdContext*>(c);
+  if (e.fate == 3) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
+                      // give it back to a lane (or record it, if it ended in the jump)
+    Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
+    f.end.collisions = e.collisions;
+    if (fast_forward(*ctx->model, f)) {
+      ctx->resume.push_back({id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions)}});
+    } else {
+      ctx->record(id, f.end);
+    }
+    return;
+  }
   ParticleEnd end;
   end.fate = static_cast<Fate>(e.fate);
   end.t = e.t;
@@ -139,7 +158,8 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
 
 template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
-  const Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
+  Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
+  model.fast_forward = scene.fast_forward;
   const InitialConditions ic = initial_conditions(scene);
   RunResult result;
   result.tally.resize(scene);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 #include <cstdint>
 
 #include "geometry/stadium.hpp"
@@ -16,6 +17,7 @@ struct Model {
   Stadium<R> stadium;
   Leak<R> leak;
   R t_max;
+  bool fast_forward = false;  ///< jump over bouncing-ball phases in closed form (see fast_forward())
 
   Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start,
         const ExactReal& omega, double tmax)
@@ -47,6 +49,171 @@ struct Flight {
   int zero_flights = 0;
 };
 
+/// Fewest bounces for which fast_forward() jumps (below it stepping is as cheap).
+inline constexpr long kMinFastForwardBounces = 4;
+
+/// The next stretch of the repeated rounded sum x <- fl(x + d): `len` additions that each add exactly
+/// `inc`. Inside one binade the grid spacing is fixed, so fl(x + d) - x is the same for every grid
+/// point (an exact tie aside, which a second step detects); the stretch ends where x would leave
+/// its binade. IEEE binary types only.
+template <class R>
+struct SumRun {
+  R inc;
+  long len;
+};
+
+template <class R>
+SumRun<R> next_run(R x, R d, long cap) {
+  using std::abs;
+  const R x1 = x + d;
+  const R inc = x1 - x;
+  if (inc == 0) return {R(0), cap};  // d below half an ulp of x: x never moves
+  const R x2 = x1 + d;
+  if (x2 - x1 != inc || x == 0 || x1 == 0) return {inc, 1};  // a tie or a binade edge: one step
+  const int e = std::ilogb(x);
+  const R lo = std::ldexp(R(1), e), hi = std::ldexp(R(1), e + 1);  // |x| in [lo, hi)
+  const R ax = abs(x);
+  const bool away = (x > 0) == (inc > 0);  // |x| grows
+  const R ainc = abs(inc);
+  long len;
+  if (away) {
+    const R room = (hi - ax) / ainc;  // steps j with ax + j ainc < hi
+    len = room > R(cap) ? cap : static_cast<long>(std::ceil(room)) - 1;
+  } else {
+    const R room = (ax - lo) / ainc;  // steps j with ax - j ainc >= lo
+    len = room > R(cap) ? cap : static_cast<long>(std::floor(room));
+  }
+  // the divisions were rounded: make sure the last point is still inside the binade
+  while (len > 1) {
+    const R last = std::fma(R(static_cast<double>(len)), inc, x);
+    if (std::ilogb(last) == e && (last > 0) == (x > 0) && last != 0) break;
+    --len;
+  }
+  return {inc, len < 1 ? 1 : len};
+}
+
+/// Closed-form bouncing-ball phase, bit-identical to stepping. Called after a reflection on a
+/// straight edge: while the particle crosses to the opposite edge inside |x| <= d/2, stepping would
+/// compute the same flight dt = 2r/|vy| and the same dx = fl(vx dt) at every bounce, and x, t by
+/// repeated rounded additions; next_run() reproduces those sums a binade at a time. Jumps to the
+/// bounce before the particle would reach an arc or pass t_max, or to the first bounce in the leak
+/// (stationary: windows tested on exact bounce positions; moving: the phase at each bounce time, no
+/// geometry). Skipped bounces count as collisions. Returns false when the particle ended.
+template <class R>
+bool fast_forward(const Model<R>& m, Flight<R>& f) {
+  if constexpr (!std::is_floating_point_v<R>) {
+    return true;  // exact emulation needs IEEE binary arithmetic
+  } else {
+    const Stadium<R>& st = m.stadium;
+    ParticleState<R>& ps = f.ps;
+    if (ps.v.y == 0) return true;
+    // the flight and step of the first bounce, exactly as next_hit computes them
+    const R ey = ps.v.y > 0 ? st.r() : R(-st.r());
+    const R dt = (ey - ps.q.y) / ps.v.y;
+    const R dx = ps.v.x * dt;
+    const R room = dx > 0 ? R((st.half_d() - ps.q.x) / dx) : dx < 0 ? R((st.half_d() + ps.q.x) / R(-dx)) : R(1e18);
+    if (!(room >= R(kMinFastForwardBounces)) || !((m.t_max - ps.t) / dt >= R(kMinFastForwardBounces))) return true;
+    const bool stationary = !m.leak.schedule().rotating();
+    const bool on_top = ps.q.y > 0;  // edge of bounce 0
+    R x = ps.q.x, t = ps.t;
+    long k = 0;
+    constexpr long kCap = 1L << 40;
+    auto edge_top = [&](long j) { return ((j % 2) == 0) == on_top; };
+    auto in_leak = [&](long j, R xj, R tj) {
+      const bool top = edge_top(j);
+      const Vec2<R> q{xj, top ? st.r() : R(-st.r())};
+      return m.leak.hit(top ? Piece::top : Piece::bottom, q, tj);
+    };
+    for (;;) {
+      const SumRun<R> rx = next_run(x, dx, kCap), rt = next_run(t, dt, kCap);
+      long J = rx.len < rt.len ? rx.len : rt.len;
+      // first bounce j in 1..J that leaves the straight edges, passes t_max, or is in the leak
+      long stop = J + 1;
+      int why = 0;  // 1 arc, 2 time, 3 leak
+      auto xj = [&](long j) { return std::fma(R(static_cast<double>(j)), rx.inc, x); };
+      auto tj = [&](long j) { return std::fma(R(static_cast<double>(j)), rt.inc, t); };
+      {  // x_j and t_j are monotone in j: bisect for the first out-of-range bounce
+        auto first = [&](auto bad) {
+          if (!bad(J)) return J + 1;
+          long a = 1, b = J;
+          while (a < b) {
+            const long mid = a + (b - a) / 2;
+            if (bad(mid)) b = mid;
+            else a = mid + 1;
+          }
+          return a;
+        };
+        const long j_arc = first([&](long j) {
+          const R v = xj(j);
+          return !(v <= st.half_d() && v >= -st.half_d());
+        });
+        const long j_time = first([&](long j) { return tj(j) > m.t_max; });
+        if (j_arc < stop) stop = j_arc, why = 1;
+        if (j_time < stop) stop = j_time, why = 2;
+      }
+      if (stationary) {
+        // windows by the parity of the bounce: j with edge_top(k + j)
+        for (int parity = 1; parity <= 2; ++parity) {
+          const bool top = edge_top(k + parity);
+          const auto& pw = m.leak.windows(top ? Piece::top : Piece::bottom);
+          for (int w = 0; w < pw.n; ++w) {
+            // x_j in [lo, hi] is an interval of j (monotone x_j); search it among j = parity, parity + 2, ...
+            const R lo = pw.w[w].lo, hi = pw.w[w].hi;
+            auto before = [&](long j) {  // x_j has not reached the window yet (in the direction of motion)
+              const R v = xj(j);
+              return rx.inc > 0 ? v < lo : v > hi;
+            };
+            // smallest j of this parity with !before(j)
+            long a = 0, b = (J - parity) / 2;  // j = parity + 2 i, i in [0, b]
+            if (b < 0) continue;
+            if (before(parity + 2 * b)) continue;
+            while (a < b) {
+              const long mid = a + (b - a) / 2;
+              if (before(parity + 2 * mid)) a = mid + 1;
+              else b = mid;
+            }
+            const long j = parity + 2 * a;
+            const R v = xj(j);
+            if (v >= lo && v <= hi && j < stop) stop = j, why = 3;
+          }
+        }
+      } else {
+        const long upto = stop <= J ? stop - 1 : J;
+        for (long j = 1; j <= upto; ++j)
+          if (in_leak(k + j, xj(j), tj(j))) {
+            stop = j, why = 3;
+            break;
+          }
+      }
+      if (why == 0) {  // the whole stretch is free bounces
+        x = xj(J);
+        t = tj(J);
+        k += J;
+        continue;
+      }
+      const long last = why == 3 ? stop : stop - 1;  // bounce the particle is at when this ends
+      x = xj(last);
+      t = tj(last);
+      k += last;
+      break;
+    }
+    if (k == 0) return true;
+    const bool top = edge_top(k);
+    ps.q = {x, top ? st.r() : R(-st.r())};
+    ps.t = t;
+    const R avy = ps.v.y > 0 ? ps.v.y : R(-ps.v.y);
+    ps.v.y = top ? R(-avy) : avy;  // outgoing: away from the edge it is on
+    f.end.collisions += static_cast<std::uint64_t>(k);
+    if (in_leak(k, x, t)) {
+      f.end.fate = Fate::escaped;
+      f.end.t = num_traits<R>::to_double(t);
+      f.end.s = num_traits<R>::to_double(st.s_of(top ? Piece::top : Piece::bottom, ps.q));
+      return false;
+    }
+    return true;  // the next step meets the arc, or t > t_max, as stepping would
+  }
+}
+
 /// One collision: next_hit, time check, leak test, reflect. Returns false once the particle has
 /// ended (f.end says how). The engine interleaves several flights per thread with this.
 template <class R, class Observer>
@@ -68,6 +235,7 @@ inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
   }
   f.ps.v = m.stadium.reflect(h.piece, h.q, f.ps.v);
   f.ps.q = h.q;
+  if (m.fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom) && !fast_forward(m, f)) return false;
   if (h.t > 0) {
     f.zero_flights = 0;
   } else if (++f.zero_flights > kMaxZeroFlights) {

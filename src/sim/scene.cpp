@@ -40,7 +40,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
     {"ensemble", {"particles", "seed", "init", "creation_window"}},
-    {"run", {"t_max", "tier"}},
+    {"run", {"t_max", "tier", "fast_forward"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window"}},
 };
@@ -216,6 +216,11 @@ Scene build(const toml::table& root, const std::string& source) {
   const std::string tier = in.word("run", "tier", "double", {"float", "double", "long_double", "auto"});
   s.tier = tier == "float" ? Tier::float_ : tier == "long_double" ? Tier::long_double : tier == "auto" ? Tier::auto_ : Tier::double_;
 
+  if (const toml::node* n = in.find("run", "fast_forward")) {
+    auto b = n->as_boolean();
+    if (!b) throw InputError("run.fast_forward", shown(*n), "must be true or false");
+    s.fast_forward = b->get();
+  }
   s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
   if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
     throw InputError("observe.survival_dt", std::to_string(s.survival_dt),
@@ -297,7 +302,8 @@ std::string scene_to_toml(const Scene& s) {
      << s.omega_text << "\"\n\n";
   os << "[ensemble]\nparticles = " << s.particles << "\nseed = " << s.seed << "\ninit = \"" << to_string(s.init)
      << "\"\ncreation_window = " << num(s.creation_window) << "\n\n";
-  os << "[run]\nt_max = " << num(s.t_max) << "\ntier = \"" << to_string(s.tier) << "\"\n\n";
+  os << "[run]\nt_max = " << num(s.t_max) << "\ntier = \"" << to_string(s.tier) << "\"\nfast_forward = "
+     << (s.fast_forward ? "true" : "false") << "\n\n";
   os << "[observe]\nsurvival_dt = " << num(s.survival_dt) << "\nescapes = " << (s.escape_records ? "true" : "false")
      << "\n";
   if (s.collision_density) {

@@ -55,6 +55,7 @@ struct Scene {
 
   double t_max = 20000;
   Tier tier = Tier::double_;
+  bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/particle.hpp fast_forward)
 
   double survival_dt = 1;
   std::optional<CollisionDensitySpec> collision_density;

@@ -63,11 +63,13 @@ void fill(const Scene& S, Group& g, void* ctx, NextParticle next) {
     if (next(ctx, &st, &g.L.id[k])) {
       g.L.live[k] = true;
       g.L.qx[k] = st.qx, g.L.qy[k] = st.qy, g.L.vx[k] = st.vx, g.L.vy[k] = st.vy, g.L.t[k] = st.t;
+      g.L.coll[k] = st.collisions;
       ++g.live;
     } else {
       park(S, g.L, k);
+      g.L.coll[k] = 0;
     }
-    g.L.coll[k] = 0, g.L.zero[k] = 0;
+    g.L.zero[k] = 0;
   }
   reload(g);
 }
@@ -139,33 +141,42 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
   g.zero = xsimd::select(th > ZERO, ZERO, g.zero + ONE);
   const M stuck = g.zero > B(static_cast<double>(kMaxZeroFlights));
   g.qx = hx, g.qy = hy, g.t = t;
+  // a long run between the straight edges ahead: (room to the arc) |vy| >= n 2r |vx|, no division
+  M handoff(false);
+  if (S.handoff_bounces > 0) {
+    const B room = xsimd::select(vx > ZERO, HD - hx, HD + hx);
+    handoff = straight & !over & !esc & (room * xsimd::abs(g.vy) >= B(2 * S.handoff_bounces) * R * xsimd::abs(g.vx));
+  }
 
-  const M done = over | esc | stuck;
+  const M done = over | esc | stuck | handoff;
   const unsigned dm = bits(done);
   if (!dm) return;
   Lanes& L = g.L;
   g.qx.store_aligned(L.qx), g.qy.store_aligned(L.qy), g.vx.store_aligned(L.vx), g.vy.store_aligned(L.vy);
   g.t.store_aligned(L.t), g.coll.store_aligned(L.coll), g.zero.store_aligned(L.zero);
-  const unsigned em = bits(esc), sm = bits(stuck), om = bits(over);
+  const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), hm = bits(handoff);
   const unsigned straight_m = bits(straight), up_m = bits(up), right_m = bits(right);
   for (int i = 0; i < W; ++i) {
     if (!((dm >> i) & 1) || !L.live[i]) continue;
     End e;
-    e.fate = ((om >> i) & 1) ? 1 : ((em >> i) & 1) ? 0 : ((sm >> i) & 1) ? 2 : 1;
+    e.fate = ((om >> i) & 1) ? 1 : ((em >> i) & 1) ? 0 : ((sm >> i) & 1) ? 2 : ((hm >> i) & 1) ? 3 : 1;
     e.t = e.fate == 1 ? S.t_max : L.t[i];
     e.qx = L.qx[i];
     e.qy = L.qy[i];
+    e.vx = L.vx[i];
+    e.vy = L.vy[i];
     e.piece = ((straight_m >> i) & 1) ? (((up_m >> i) & 1) ? 0 : 2) : (((right_m >> i) & 1) ? 1 : 3);
     e.collisions = static_cast<std::uint64_t>(L.coll[i]);
     finish(ctx, L.id[i], e);
     Start st;
     if (next(ctx, &st, &L.id[i])) {
       L.qx[i] = st.qx, L.qy[i] = st.qy, L.vx[i] = st.vx, L.vy[i] = st.vy, L.t[i] = st.t;
+      L.coll[i] = st.collisions;
     } else {
       park(S, L, i);
       --g.live;
+      L.coll[i] = 0;
     }
-    L.coll[i] = 0;
     L.zero[i] = 0;
   }
   reload(g);

@@ -23,15 +23,19 @@ struct Scene {
   double to_x[4][kMaxWindows], to_y[4][kMaxWindows];
   // moving leak: phase = frac(start + omega t), omega = hi + lo
   double omega_hi, omega_lo, start, half_width;
+  /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
+  /// edges is handed back (fate 3) for the scalar fast-forward; 0: never.
+  double handoff_bounces;
 };
 
 struct Start {
   double qx, qy, vx, vy, t;
+  double collisions = 0;  ///< already made (a particle coming back from the fast-forward)
 };
 
 struct End {
-  int fate;  ///< 0 escaped, 1 survived, 2 stuck (as Fate)
-  double t, qx, qy;
+  int fate;  ///< 0 escaped, 1 survived, 2 stuck (as Fate); 3 handed back mid-flight (state below)
+  double t, qx, qy, vx, vy;
   int piece;
   std::uint64_t collisions;
 };
