@@ -10,6 +10,10 @@
 
 #include <xsimd/xsimd.hpp>
 
+#ifndef ROTLEAK_SIMD_GROUPS
+#define ROTLEAK_SIMD_GROUPS 4
+#endif
+
 namespace rotleak::simd {
 
 namespace {
@@ -17,6 +21,7 @@ namespace {
 using B = xsimd::batch<double, xsimd::avx2>;
 using M = B::batch_bool_type;
 constexpr int W = 4;
+constexpr int kGroups = ROTLEAK_SIMD_GROUPS;
 constexpr int kMaxZeroFlights = 64;  // as the scalar engine
 
 struct Lanes {
@@ -91,7 +96,9 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
   const B b = xsimd::fma(dx, vx, qy * vy);
   const B c = xsimd::fma(dx - R, dx + R, qy * qy);
   const B sq = xsimd::sqrt(xsimd::max(xsimd::fms(b, b, c), ZERO));
-  const B ta = xsimd::select(b <= ZERO, sq - b, -c / (b + sq));
+  // b > 0 (a start outside the disc moving off its centre line) is rare: divide only when a lane needs it
+  const M far = b > ZERO;
+  const B ta = xsimd::any(far) ? xsimd::select(far, -c / (b + sq), sq - b) : sq - b;
   const B th = xsimd::select(straight, tl, ta);
   const B hx = xsimd::select(straight, xl, xsimd::fma(th, vx, qx));
   const B hy = xsimd::select(straight, ey, xsimd::fma(th, vy, qy));
@@ -185,14 +192,17 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
 }  // namespace
 
 void run(const Scene& S, void* ctx, NextParticle next, Finish finish) {
-  // Two independent groups per iteration: each collision is a long dependent chain (division,
-  // square root, division), and two chains side by side keep the core busy.
-  Group a, b;
-  fill(S, a, ctx, next);
-  fill(S, b, ctx, next);
-  while (a.live > 0 || b.live > 0) {
-    step(S, a, ctx, next, finish);
-    step(S, b, ctx, next, finish);
+  // Independent groups side by side: each collision is a long dependent chain (division, square
+  // root, division), and several chains at once keep the core busy.
+  Group g[kGroups];
+  for (Group& x : g) fill(S, x, ctx, next);
+  for (;;) {
+    int live = 0;
+    for (Group& x : g) {
+      step(S, x, ctx, next, finish);
+      live += x.live;
+    }
+    if (live == 0) break;
   }
 }
 
