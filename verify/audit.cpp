@@ -12,6 +12,7 @@
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
+#include "sim/simd_engine.hpp"
 
 namespace rotleak {
 
@@ -61,7 +62,7 @@ struct Ensemble {
   AlphaResult alpha;
 };
 
-Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int threads) {
+Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int threads, Engine engine = Engine::scalar) {
   Scene s = base;
   s.tier = tier;
   s.particles = n;
@@ -69,6 +70,7 @@ Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int th
   s.escape_records = false;
   RunOptions opt;
   opt.threads = threads;
+  opt.engine = engine;
   const RunResult r = run_ensemble(s, opt);
   Ensemble e{{survival_times(s), survivors_on_grid(s, r.tally), s.particles}, {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
@@ -269,6 +271,20 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
   rep.statistics.push_back(compare("double", e_d, e_ld, scene.t_max));
   StatisticsCheck ld = compare("long_double", e_ld, e_d, scene.t_max);  // the reference against double
   rep.statistics.push_back(ld);
+  // the vectorised double engine, as a tier of its own: the same comparison, and whether its
+  // survival curve is the scalar double engine's, survivor for survivor
+  if (simd::available()) {
+    const Ensemble e_v = run_tier_ensemble(scene, Tier::double_, n, threads, Engine::simd);
+    StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
+    v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
+    rep.statistics.push_back(v);
+    char why[300];
+    std::snprintf(why, sizeof why, "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max |z| = %.2f)",
+                  v.identical_to_scalar_double ? "identical to" : "differs from", v.consistent ? "agrees with" : "differs from",
+                  v.max_abs_z);
+    for (const char* stat : {"P(t)", "kappa", "alpha"})
+      rep.verdicts.push_back({"double_simd", stat, v.consistent ? "trusted as a statistic" : "not trusted", why});
+  }
 
   // 6. Scalars and verdicts.
   for (const TierAudit& ta : rep.tiers) {

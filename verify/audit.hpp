@@ -53,6 +53,7 @@ struct StatisticsCheck {
   std::optional<double> alpha_diff;
   double alpha_diff_error = 0;
   bool consistent = false;
+  bool identical_to_scalar_double = false;  ///< (double_simd) same survivors at every grid time
 };
 
 struct ScalarCheck {

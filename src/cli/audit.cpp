@@ -90,7 +90,7 @@ int run_audit(const AuditArgs& a) {
                      {"kappa_error", s.kappa_error}, {"kappa_diff", s.kappa_diff}, {"kappa_diff_error", s.kappa_diff_error},
                      {"alpha", s.alpha ? json(*s.alpha) : json(nullptr)}, {"alpha_error", s.alpha_error},
                      {"alpha_diff", s.alpha_diff ? json(*s.alpha_diff) : json(nullptr)}, {"alpha_diff_error", s.alpha_diff_error},
-                     {"consistent", s.consistent}});
+                     {"consistent", s.consistent}, {"identical_to_scalar_double", s.identical_to_scalar_double}});
   }
   doc["statistics"] = stats;
   json scal = json::array();
