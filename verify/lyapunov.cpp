@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "verify/line_fit.hpp"
 #include "verify/trace.hpp"
 
 namespace rotleak {
@@ -24,16 +25,6 @@ MeanSd mean_se(const std::vector<double>& v) {
   return m;
 }
 
-double slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
-  mx /= static_cast<double>(x.size());
-  my /= static_cast<double>(x.size());
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
-  return sxx > 0 ? sxy / sxx : 0;
-}
-
 }  // namespace
 
 LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, std::size_t collisions) {
@@ -43,7 +34,7 @@ LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, s
   const Stadium<double>& st = model.stadium;
   const double r = num_traits<double>::to_double(st.r());
   constexpr std::size_t kBatches = 20;
-  const std::size_t per_batch = collisions / kBatches;
+  const std::size_t per_batch = collisions / kBatches > 0 ? collisions / kBatches : 1;
   double J = 1, Jp = 0, t_prev = draw.tau, log_sum = 0, batch_log = 0, batch_t0 = draw.tau;
   std::vector<double> rate_t, rate_k;
   const std::size_t done = trace(model, draw, collisions, [&](const TraceStep<double>& s) {
@@ -94,8 +85,8 @@ LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std:
       y.push_back(std::log(ts.divergence[i]));
     }
     if (y.size() < 10) continue;
-    per_t.push_back(slope(t, y));
-    per_k.push_back(slope(k, y));
+    per_t.push_back(least_squares(t, y).slope);
+    per_k.push_back(least_squares(k, y).slope);
     used += y.size();
   }
   LyapunovEstimate e;
@@ -131,31 +122,6 @@ ClassGrowth class_growth(const std::vector<ShadowResult>& runs, std::size_t tier
   return g;
 }
 
-namespace {
-
-struct LineFit {
-  double slope = 0, r2 = 0;
-};
-
-LineFit fit_r2(const std::vector<double>& x, const std::vector<double>& y) {
-  LineFit f;
-  f.slope = slope(x, y);
-  double my = 0, mx = 0;
-  for (std::size_t i = 0; i < y.size(); ++i) my += y[i], mx += x[i];
-  my /= static_cast<double>(y.size());
-  mx /= static_cast<double>(x.size());
-  double ss_tot = 0, ss_res = 0;
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    const double pred = my + f.slope * (x[i] - mx);
-    ss_tot += (y[i] - my) * (y[i] - my);
-    ss_res += (y[i] - pred) * (y[i] - pred);
-  }
-  f.r2 = ss_tot > 0 ? 1 - ss_res / ss_tot : 0;
-  return f;
-}
-
-}  // namespace
-
 GrowthLaw growth_law(const std::vector<double>& div, std::size_t from) {
   std::vector<double> k, lnk, y;
   for (std::size_t i = from; i < div.size(); ++i) {
@@ -167,7 +133,7 @@ GrowthLaw growth_law(const std::vector<double>& div, std::size_t from) {
   GrowthLaw g;
   g.points = y.size();
   if (y.size() < 3) return g;
-  const LineFit p = fit_r2(lnk, y), e = fit_r2(k, y);
+  const LineFit p = least_squares(lnk, y), e = least_squares(k, y);
   g.power = p.slope;
   g.power_r2 = p.r2;
   g.rate = e.slope;

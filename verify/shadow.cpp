@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "numeric/tiers.hpp"
+#include "verify/line_fit.hpp"
 #include "verify/trace.hpp"
 
 namespace rotleak {
@@ -74,17 +75,6 @@ TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long s
   return run;
 }
 
-double fit_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = static_cast<double>(x.size());
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
-  mx /= n;
-  my /= n;
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
-  return sxx > 0 ? sxy / sxx : 0;
-}
-
 template <class R>
 TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDraw& draw, const TruthRun& truth,
                     long truth_bits, const ShadowOptions& opt, const Stadium<double>& st) {
@@ -135,8 +125,8 @@ TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDr
   }
   out.growth_points = y.size();
   if (y.size() >= 3) {
-    out.growth_per_collision = fit_slope(k, y);
-    out.growth_per_time = fit_slope(t, y);
+    out.growth_per_collision = least_squares(k, y).slope;
+    out.growth_per_time = least_squares(t, y).slope;
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
