@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
     const double med = h.empty() ? 0 : h[h.size() / 2];
     std::printf("| %s | %.1f | %.2f | %.0f | %zu/%llu |\n", tiers[k].c_str(), cost[k], cost[k] / base, med, h.size(),
                 static_cast<unsigned long long>(particles));
-    if (csv) csv << tiers[k] << "," << (k < 5 ? std::vector<int>{24, 53, 64, 106, 113}[k] : std::stoi(tiers[k].substr(5))) << ","
+    if (csv) csv << tiers[k] << "," << tier_bits(tiers[k]) << ","
                  << cost[k] << "," << cost[k] / base << "," << med << "," << h.size() << "\n";
   }
   std::printf("\nshadowed %llu particles x 900 collisions of the s_L = 0 scene; tolerance %.0e; %d threads\n",

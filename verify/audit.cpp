@@ -18,16 +18,6 @@ namespace rotleak {
 
 namespace {
 
-long tier_bits(const std::string& t) {
-  if (t == "float") return 24;
-  if (t == "double") return 53;
-  if (t == "long_double") return 64;
-  if (t == "dd") return 106;
-  if (t == "float128") return 113;
-  const auto c = t.find(':');
-  return c == std::string::npos ? 53 : std::stol(t.substr(c + 1));
-}
-
 Quantiles quantiles(std::vector<double> v) {
   Quantiles q;
   q.n = v.size();

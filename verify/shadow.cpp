@@ -132,22 +132,37 @@ TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDr
   return out;
 }
 
-long mpfr_bits_of(const std::string& name) {
-  const auto colon = name.find(':');
-  if (colon == std::string::npos) return 0;
+}  // namespace
+
+long tier_bits(const std::string& n) {
+  if (n == "float") return 24;
+  if (n == "double") return 53;
+  if (n == "long_double") return 64;
+  if (n == "dd") return 106;
+  if (n == "float128") return 113;
+  if (n.rfind("mpfr:", 0) != 0 && n.rfind("mpfi:", 0) != 0) return 0;
   try {
-    const long b = std::stol(name.substr(colon + 1));
-    return b >= 24 && b <= (1L << 20) ? b : 0;
+    std::size_t used = 0;
+    const long b = std::stol(n.substr(5), &used);
+    return used == n.size() - 5 && b >= 24 && b <= (1L << 20) ? b : 0;
   } catch (const std::exception&) {
     return 0;
   }
 }
 
-}  // namespace
+bool valid_tier_name(const std::string& n) { return tier_bits(n) > 0; }
 
-bool valid_tier_name(const std::string& n) {
-  if (n == "float" || n == "double" || n == "long_double" || n == "dd" || n == "float128") return true;
-  return (n.rfind("mpfr:", 0) == 0 || n.rfind("mpfi:", 0) == 0) && mpfr_bits_of(n) > 0;
+std::vector<std::string> parse_tier_list(const std::string& list, bool allow_intervals) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  for (;;) {
+    const std::size_t comma = list.find(',', from);
+    const std::string t = list.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
+    if (!valid_tier_name(t) || (!allow_intervals && t.rfind("mpfi:", 0) == 0)) throw std::invalid_argument(t);
+    out.push_back(t);
+    if (comma == std::string::npos) return out;
+    from = comma + 1;
+  }
 }
 
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
@@ -215,7 +230,7 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
     else if (name == "dd") ts = run_tier<dd_real>(name, scene, res.draw, upper, truth_bits, opt, st);
     else if (name == "float128") ts = run_tier<float128>(name, scene, res.draw, upper, truth_bits, opt, st);
     else {
-      MpfrPrecision p(mpfr_bits_of(name));
+      MpfrPrecision p(tier_bits(name));
       ts = name[3] == 'r' ? run_tier<Mpfr>(name, scene, res.draw, upper, truth_bits, opt, st)
                           : run_tier<Mpfi>(name, scene, res.draw, upper, truth_bits, opt, st);
     }

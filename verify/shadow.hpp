@@ -58,8 +58,12 @@ struct ShadowResult {
   std::vector<TierShadow> tiers;
 };
 
-/// Allowed tier names: float, double, long_double, dd, float128, mpfr:B, mpfi:B.
+/// Allowed tier names: float, double, long_double, dd, float128, mpfr:B, mpfi:B (B in [24, 2^20]).
 bool valid_tier_name(const std::string& name);
+/// Significand bits of a tier (0 for a name that is not one).
+long tier_bits(const std::string& name);
+/// "double,dd,mpfr:256" -> the names; throws std::invalid_argument(name) for the first bad one.
+std::vector<std::string> parse_tier_list(const std::string& list, bool allow_intervals);
 
 /// Throws std::invalid_argument for an unknown tier, std::runtime_error when no truth is found below max_bits.
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& options);

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cli/commands.hpp"
 #include "io/files.hpp"
@@ -35,12 +34,10 @@ int run_audit(const AuditArgs& a) {
   if (a.stats < 1000) throw InputError("--stats-particles", std::to_string(a.stats), "must be >= 1000");
   if (a.max_collisions < 10) throw InputError("--max-collisions", std::to_string(a.max_collisions), "must be >= 10");
   AuditOptions opt;
-  opt.tiers.clear();
-  std::stringstream ss(a.tiers);
-  for (std::string t; std::getline(ss, t, ',');) {
-    if (!valid_tier_name(t) || t.rfind("mpfi:", 0) == 0)
-      throw InputError("--tiers", "\"" + t + "\"", "allowed: float, double, long_double, dd, float128, mpfr:BITS");
-    opt.tiers.push_back(t);
+  try {
+    opt.tiers = parse_tier_list(a.tiers, false);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--tiers", "\"" + std::string(e.what()) + "\"", "allowed: float, double, long_double, dd, float128, mpfr:BITS");
   }
   opt.sample = static_cast<std::size_t>(a.sample);
   opt.stats_particles = static_cast<std::uint64_t>(a.stats);

@@ -2,7 +2,6 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cli/commands.hpp"
 #include "io/files.hpp"
@@ -49,12 +48,11 @@ int run_shadow(const ShadowArgs& a) {
   if (a.collisions < 0) throw InputError("--collisions", std::to_string(a.collisions), "must be >= 0 (0: until the truth escapes)");
   if (!(a.tolerance > 0 && a.tolerance < 1)) throw InputError("--tolerance", std::to_string(a.tolerance), "must be in (0, 1)");
   ShadowOptions opt;
-  opt.tiers.clear();
-  std::stringstream ss(a.tiers);
-  for (std::string t; std::getline(ss, t, ',');) {
-    if (!valid_tier_name(t))
-      throw InputError("--tiers", "\"" + t + "\"", "allowed: float, double, long_double, dd, float128, mpfr:BITS, mpfi:BITS (BITS 24..2^20)");
-    opt.tiers.push_back(t);
+  try {
+    opt.tiers = parse_tier_list(a.tiers, true);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--tiers", "\"" + std::string(e.what()) + "\"",
+                     "allowed: float, double, long_double, dd, float128, mpfr:BITS, mpfi:BITS (BITS 24..2^20)");
   }
   opt.collisions = static_cast<std::size_t>(a.collisions);
   opt.tolerance = a.tolerance;
