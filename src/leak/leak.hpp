@@ -76,6 +76,10 @@ class Leak {
     // s-ranges of the pieces, with the top edge unwrapped to [j3 - 1, j0].
     piece_lo_ = {stadium.junction(3) - 1, stadium.junction(0), stadium.junction(1), stadium.junction(2)};
     piece_hi_ = {stadium.junction(0), stadium.junction(1), stadium.junction(2), stadium.junction(3)};
+    for (int k = 0; k < 4; ++k) {
+      piece_mid_[k] = (piece_lo_[k] + piece_hi_[k]) / 2;
+      reach_[k] = (piece_hi_[k] - piece_lo_[k]) / 2 + half_width_;
+    }
     if (!schedule_.rotating()) build_windows();
   }
 
@@ -96,9 +100,7 @@ class Leak {
       // Skip the atan2 unless the leak overlaps this arc now.
       using std::abs;
       const int k = static_cast<int>(p);
-      const R mid = (piece_lo_[k] + piece_hi_[k]) / 2;
-      const R half_len = (piece_hi_[k] - piece_lo_[k]) / 2;
-      if (abs(circular_offset(mid, c)) > half_len + half_width_) return false;
+      if (abs(circular_offset(piece_mid_[k], c)) > reach_[k]) return false;
     }
     using std::abs;
     return abs(circular_offset(stadium_.s_of(p, q), c)) <= half_width_;
@@ -176,6 +178,7 @@ class Leak {
   LeakSchedule<R> schedule_;
   R half_width_;
   std::array<R, 4> piece_lo_{}, piece_hi_{};
+  std::array<R, 4> piece_mid_{}, reach_{};  ///< the leak centre can touch piece k only within reach_ of its middle
   std::array<PieceWindows, 4> windows_{};
 };
 
