@@ -1,6 +1,7 @@
 // MPFR and MPFI numbers whose working precision is per thread (a scoped guard sets it), not a
 // process-wide default: Boost 1.74's variable-precision mpfr_float keeps one static default for all
 // threads, which an OpenMP audit cannot share. Each new value takes the calling thread's precision.
+// Significands up to 512 bits are stored inline (no allocation per temporary; see detail::kInlineLimbs).
 //
 // Interval comparisons are predicates in CGAL's sense: they answer when the enclosures decide, and
 // throw UncertainDecision when they overlap, so a generic branch either runs certified or stops.
@@ -10,6 +11,7 @@
 #include <mpfr.h>
 
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <utility>
 
@@ -29,37 +31,106 @@ class MpfrPrecision {
   static inline thread_local mpfr_prec_t bits_ = 256;
 };
 
+namespace detail {
+
+/// Significands of up to this many limbs (512 bits on 64-bit limbs) live inside the number itself
+/// (MPFR's custom interface), so the temporaries of the geometry core cost no allocation; wider
+/// ones (the truth's doubling search) fall back to mpfr_init2's heap.
+inline constexpr int kInlineLimbs = 8;
+
+inline bool fits_inline(mpfr_prec_t bits) { return mpfr_custom_get_size(bits) <= sizeof(mp_limb_t) * kInlineLimbs; }
+
+/// Initialises x to +0 at `bits`, in `buf` when it fits.
+inline void init_limbs(mpfr_ptr x, mp_limb_t* buf, mpfr_prec_t bits) {
+  if (fits_inline(bits)) {
+    mpfr_custom_init(buf, bits);
+    mpfr_custom_init_set(x, MPFR_ZERO_KIND, 0, bits, buf);
+  } else {
+    mpfr_init2(x, bits);
+  }
+}
+inline bool on_heap(mpfr_srcptr x, const mp_limb_t* buf) { return mpfr_custom_get_significand(x) != buf; }
+inline void release_limbs(mpfr_ptr x, const mp_limb_t* buf) {
+  if (on_heap(x, buf)) mpfr_clear(x);
+}
+/// dst = src for two inline numbers of the same precision: the limbs and the exponent copied
+/// through the custom interface, without mpfr_set's general path (the result is the same value).
+inline void copy_limbs(mpfr_ptr dst, mp_limb_t* dst_buf, mpfr_srcptr src, const mp_limb_t* src_buf) {
+  if (on_heap(dst, dst_buf) || on_heap(src, src_buf)) {
+    mpfr_set(dst, src, MPFR_RNDN);
+    return;
+  }
+  const int kind = mpfr_custom_get_kind(src);
+  const mpfr_prec_t bits = mpfr_get_prec(src);
+  if (kind == MPFR_REGULAR_KIND || kind == -MPFR_REGULAR_KIND) {
+    __builtin_memcpy(dst_buf, src_buf, mpfr_custom_get_size(bits));
+    mpfr_custom_init_set(dst, kind, mpfr_custom_get_exp(src), bits, dst_buf);
+  } else {
+    mpfr_custom_init_set(dst, kind, 0, bits, dst_buf);
+  }
+}
+/// dst = src; dst takes src's precision. A heap significand is handed over (src is left a valid 0).
+inline void move_limbs(mpfr_ptr dst, mp_limb_t* dst_buf, mpfr_ptr src, mp_limb_t* src_buf) {
+  if (on_heap(src, src_buf)) {
+    release_limbs(dst, dst_buf);
+    *dst = *src;
+    init_limbs(src, src_buf, MPFR_PREC_MIN);
+    return;
+  }
+  if (mpfr_get_prec(dst) != mpfr_get_prec(src)) {
+    release_limbs(dst, dst_buf);
+    init_limbs(dst, dst_buf, mpfr_get_prec(src));
+  }
+  copy_limbs(dst, dst_buf, src, src_buf);
+}
+
+}  // namespace detail
+
 class Mpfr {
  public:
-  Mpfr() { mpfr_init2(v_, MpfrPrecision::current()), mpfr_set_zero(v_, 1); }
-  Mpfr(double x) { mpfr_init2(v_, MpfrPrecision::current()), mpfr_set_d(v_, x, MPFR_RNDN); }  // NOLINT: implicit like a built-in
-  Mpfr(int x) { mpfr_init2(v_, MpfrPrecision::current()), mpfr_set_si(v_, x, MPFR_RNDN); }     // NOLINT
-  Mpfr(long x) { mpfr_init2(v_, MpfrPrecision::current()), mpfr_set_si(v_, x, MPFR_RNDN); }    // NOLINT
-  Mpfr(const Mpfr& o) { mpfr_init2(v_, mpfr_get_prec(o.v_)), mpfr_set(v_, o.v_, MPFR_RNDN); }
-  Mpfr(Mpfr&& o) noexcept { mpfr_init2(v_, MPFR_PREC_MIN), mpfr_swap(v_, o.v_); }
+  Mpfr() { init(); }
+  Mpfr(double x) { init(), mpfr_set_d(v_, x, MPFR_RNDN); }  // NOLINT: implicit like a built-in
+  Mpfr(int x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }     // NOLINT
+  Mpfr(long x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }    // NOLINT
+  Mpfr(const Mpfr& o) {
+    detail::init_limbs(v_, buf_, mpfr_get_prec(o.v_));
+    detail::copy_limbs(v_, buf_, o.v_, o.buf_);
+  }
+  Mpfr(Mpfr&& o) noexcept {
+    detail::init_limbs(v_, buf_, MPFR_PREC_MIN);
+    detail::move_limbs(v_, buf_, o.v_, o.buf_);
+  }
   Mpfr& operator=(const Mpfr& o) {
     if (this != &o) {
-      mpfr_set_prec(v_, mpfr_get_prec(o.v_));
-      mpfr_set(v_, o.v_, MPFR_RNDN);
+      if (mpfr_get_prec(v_) != mpfr_get_prec(o.v_)) {
+        detail::release_limbs(v_, buf_);
+        detail::init_limbs(v_, buf_, mpfr_get_prec(o.v_));
+      }
+      detail::copy_limbs(v_, buf_, o.v_, o.buf_);
     }
     return *this;
   }
   Mpfr& operator=(Mpfr&& o) noexcept {
-    mpfr_swap(v_, o.v_);
+    if (this != &o) detail::move_limbs(v_, buf_, o.v_, o.buf_);
     return *this;
   }
-  ~Mpfr() { mpfr_clear(v_); }
+  ~Mpfr() { detail::release_limbs(v_, buf_); }
 
   mpfr_ptr data() { return v_; }
   mpfr_srcptr data() const { return v_; }
 
+  // a op= b keeps the semantics of a = a op b: the result has the thread's working precision.
 #define ROTLEAK_MPFR_BINARY(op, fn)                             \
   friend Mpfr operator op(const Mpfr& a, const Mpfr& b) {       \
     Mpfr r;                                                     \
     fn(r.v_, a.v_, b.v_, MPFR_RNDN);                            \
     return r;                                                   \
   }                                                             \
-  Mpfr& operator op##=(const Mpfr& b) { return *this = *this op b; }
+  Mpfr& operator op##=(const Mpfr& b) {                         \
+    if (mpfr_get_prec(v_) != MpfrPrecision::current()) return *this = *this op b; \
+    fn(v_, v_, b.v_, MPFR_RNDN);                                \
+    return *this;                                               \
+  }
   ROTLEAK_MPFR_BINARY(+, mpfr_add)
   ROTLEAK_MPFR_BINARY(-, mpfr_sub)
   ROTLEAK_MPFR_BINARY(*, mpfr_mul)
@@ -76,6 +147,41 @@ class Mpfr {
   friend bool operator>=(const Mpfr& a, const Mpfr& b) { return mpfr_greaterequal_p(a.v_, b.v_); }
   friend bool operator==(const Mpfr& a, const Mpfr& b) { return mpfr_equal_p(a.v_, b.v_); }
   friend bool operator!=(const Mpfr& a, const Mpfr& b) { return !mpfr_equal_p(a.v_, b.v_); }
+
+  // Small integer operands (the core's 0, 1, 2) go straight to MPFR's _si functions: no temporary,
+  // and the same result (the integer is exact, the operation rounded once either way).
+  template <class I>
+  static constexpr bool small_int = std::is_integral_v<I> && std::is_signed_v<I> && sizeof(I) <= sizeof(long);
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator+(const Mpfr& a, I b) { return with(mpfr_add_si, a, b); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator+(I a, const Mpfr& b) { return with(mpfr_add_si, b, a); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator-(const Mpfr& a, I b) { return with(mpfr_sub_si, a, b); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator-(I a, const Mpfr& b) {
+    Mpfr r;
+    mpfr_si_sub(r.v_, static_cast<long>(a), b.v_, MPFR_RNDN);
+    return r;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator*(const Mpfr& a, I b) { return with(mpfr_mul_si, a, b); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator*(I a, const Mpfr& b) { return with(mpfr_mul_si, b, a); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend Mpfr operator/(const Mpfr& a, I b) { return with(mpfr_div_si, a, b); }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator<(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) < 0; }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator<=(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) <= 0; }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator>(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) > 0; }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator>=(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) >= 0; }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator==(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) == 0; }
+  template <class I, class = std::enable_if_t<small_int<I>>>
+  friend bool operator!=(const Mpfr& a, I b) { return mpfr_nan_p(a.v_) || cmp(a, b) != 0; }
 
 #define ROTLEAK_MPFR_UNARY(name, fn)  \
   friend Mpfr name(const Mpfr& a) {   \
@@ -105,7 +211,21 @@ class Mpfr {
   }
 
  private:
+  void init() { detail::init_limbs(v_, buf_, MpfrPrecision::current()); }
+  template <class I>
+  static Mpfr with(int (*fn)(mpfr_ptr, mpfr_srcptr, long, mpfr_rnd_t), const Mpfr& a, I b) {
+    Mpfr r;
+    fn(r.v_, a.v_, static_cast<long>(b), MPFR_RNDN);
+    return r;
+  }
+  /// Three-way comparison with an integer (callers rule out NaN first: it is unordered).
+  template <class I>
+  static int cmp(const Mpfr& a, I b) {
+    return mpfr_cmp_si(a.v_, static_cast<long>(b));
+  }
+
   mpfr_t v_;
+  mp_limb_t buf_[detail::kInlineLimbs];
 };
 
 /// An interval comparison that the enclosures cannot decide.
@@ -116,24 +236,30 @@ class UncertainDecision : public std::runtime_error {
 
 class Mpfi {
  public:
-  Mpfi() { mpfi_init2(v_, MpfrPrecision::current()), mpfi_set_si(v_, 0); }
-  Mpfi(double x) { mpfi_init2(v_, MpfrPrecision::current()), mpfi_set_d(v_, x); }  // NOLINT
-  Mpfi(int x) { mpfi_init2(v_, MpfrPrecision::current()), mpfi_set_si(v_, x); }     // NOLINT
-  Mpfi(long x) { mpfi_init2(v_, MpfrPrecision::current()), mpfi_set_si(v_, x); }    // NOLINT
-  Mpfi(const Mpfi& o) { mpfi_init2(v_, mpfi_get_prec(o.v_)), mpfi_set(v_, o.v_); }
-  Mpfi(Mpfi&& o) noexcept { mpfi_init2(v_, MPFR_PREC_MIN), mpfi_swap(v_, o.v_); }
+  Mpfi() { init(MpfrPrecision::current()); }
+  Mpfi(double x) { init(MpfrPrecision::current()), mpfi_set_d(v_, x); }  // NOLINT
+  Mpfi(int x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }     // NOLINT
+  Mpfi(long x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }    // NOLINT
+  Mpfi(const Mpfi& o) { init(mpfi_get_prec(o.v_)), mpfi_set(v_, o.v_); }
+  Mpfi(Mpfi&& o) noexcept {
+    init(MPFR_PREC_MIN);
+    take(o);
+  }
   Mpfi& operator=(const Mpfi& o) {
     if (this != &o) {
-      mpfi_set_prec(v_, mpfi_get_prec(o.v_));
+      if (mpfi_get_prec(v_) != mpfi_get_prec(o.v_)) {
+        release();
+        init(mpfi_get_prec(o.v_));
+      }
       mpfi_set(v_, o.v_);
     }
     return *this;
   }
   Mpfi& operator=(Mpfi&& o) noexcept {
-    mpfi_swap(v_, o.v_);
+    if (this != &o) take(o);
     return *this;
   }
-  ~Mpfi() { mpfi_clear(v_); }
+  ~Mpfi() { release(); }
 
   mpfi_ptr data() { return v_; }
   mpfi_srcptr data() const { return v_; }
@@ -156,7 +282,11 @@ class Mpfi {
     fn(r.v_, a.v_, b.v_);                                 \
     return r;                                             \
   }                                                       \
-  Mpfi& operator op##=(const Mpfi& b) { return *this = *this op b; }
+  Mpfi& operator op##=(const Mpfi& b) {                   \
+    if (mpfi_get_prec(v_) != MpfrPrecision::current()) return *this = *this op b; \
+    fn(v_, v_, b.v_);                                     \
+    return *this;                                         \
+  }
   ROTLEAK_MPFI_BINARY(+, mpfi_add)
   ROTLEAK_MPFI_BINARY(-, mpfi_sub)
   ROTLEAK_MPFI_BINARY(*, mpfi_mul)
@@ -222,7 +352,22 @@ class Mpfi {
   friend Mpfi fma(const Mpfi& a, const Mpfi& b, const Mpfi& c) { return a * b + c; }
 
  private:
+  // both end points in the number itself when they fit (see detail::kInlineLimbs)
+  void init(mpfr_prec_t bits) {
+    detail::init_limbs(&v_->left, lbuf_, bits);
+    detail::init_limbs(&v_->right, rbuf_, bits);
+  }
+  void release() {
+    detail::release_limbs(&v_->left, lbuf_);
+    detail::release_limbs(&v_->right, rbuf_);
+  }
+  void take(Mpfi& o) {
+    detail::move_limbs(&v_->left, lbuf_, &o.v_->left, o.lbuf_);
+    detail::move_limbs(&v_->right, rbuf_, &o.v_->right, o.rbuf_);
+  }
+
   mpfi_t v_;
+  mp_limb_t lbuf_[detail::kInlineLimbs], rbuf_[detail::kInlineLimbs];
 };
 
 }  // namespace rotleak

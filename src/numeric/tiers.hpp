@@ -100,8 +100,13 @@ struct num_traits<Mpfi> {
   static void to_mpfr(mpfr_ptr out, const Mpfi& x) { mpfi_mid(out, x.data()); }
   /// An enclosure of the exact value.
   static Mpfi from_exact(const ExactReal& x) {
+    // enclose() sets its output's precision, which an inline significand cannot take: go through a plain mpfi_t
+    mpfi_t box;
+    mpfi_init2(box, bits());
+    x.enclose(box, bits());
     Mpfi r;
-    x.enclose(r.data(), bits());
+    mpfi_set(r.data(), box);
+    mpfi_clear(box);
     return r;
   }
   static Mpfi pi() { return from_exact(ExactReal::pi()); }
