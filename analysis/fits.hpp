@@ -10,15 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "sim/survival.hpp"
+
 namespace rotleak {
-
-struct SurvivalCurve {
-  std::vector<double> t;                 ///< grid times, increasing
-  std::vector<std::uint64_t> survivors;  ///< survivors at each time
-  std::uint64_t particles = 0;
-
-  double P(std::size_t i) const { return static_cast<double>(survivors[i]) / static_cast<double>(particles); }
-};
 
 struct KappaFit {
   bool ok = false;

@@ -2,6 +2,7 @@
 // Reports collisions/s (items_per_second); compare tiers by their ratio, never by absolute times.
 #include <benchmark/benchmark.h>
 
+#include "numeric/mpfr_fixed.hpp"
 #include "sim/particle.hpp"
 
 using namespace rotleak;

@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 
+#include "io/scene_file.hpp"
 #include "sim/engine.hpp"
 #include "sim/particle.hpp"
 #include "sim/simd_engine.hpp"

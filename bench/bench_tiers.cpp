@@ -13,7 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "numeric/tiers.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/tier_dispatch.hpp"
 #include "verify/shadow.hpp"
 #include "verify/trace.hpp"
 
@@ -40,13 +41,7 @@ double cost_ns(const Scene& scene) {
 }
 
 double cost_of(const std::string& tier, const Scene& scene) {
-  if (tier == "float") return cost_ns<float>(scene);
-  if (tier == "double") return cost_ns<double>(scene);
-  if (tier == "long_double") return cost_ns<long double>(scene);
-  if (tier == "dd") return cost_ns<dd_real>(scene);
-  if (tier == "float128") return cost_ns<float128>(scene);
-  MpfrPrecision p(std::stol(tier.substr(5)));
-  return tier[3] == 'r' ? cost_ns<Mpfr>(scene) : cost_ns<Mpfi>(scene);
+  return with_tier(tier, [&](auto type) { return cost_ns<typename decltype(type)::type>(scene); });
 }
 
 }  // namespace
@@ -69,9 +64,9 @@ int main(int argc, char** argv) {
   ShadowOptions opt;
   opt.tiers = tiers;
   opt.collisions = 900;
-  std::vector<ShadowResult> runs(particles);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::uint64_t i = 0; i < particles; ++i) runs[i] = shadow(scene, i, opt);
+  std::vector<std::uint64_t> ids(particles);
+  for (std::uint64_t i = 0; i < particles; ++i) ids[i] = i;
+  const std::vector<ShadowResult> runs = shadow_many(scene, ids, opt);
 
   std::ofstream csv;
   if (!csv_path.empty()) csv.open(csv_path);

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "numeric/exact.hpp"
-#include "numeric/num_traits.hpp"
+#include "numeric/mpfr_fixed.hpp"
 
 using rotleak::ExactParseError;
 using rotleak::ExactReal;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
 #include "sim/engine.hpp"
 #include "verify/audit.hpp"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "io/scene_file.hpp"
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
 #include "sim/particle.hpp"

@@ -1,7 +1,7 @@
 // Scene validation: every bad input is an InputError naming its key; overrides; round trip.
 #include <gtest/gtest.h>
 
-#include "sim/scene.hpp"
+#include "io/scene_file.hpp"
 
 using namespace rotleak;
 

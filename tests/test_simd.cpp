@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "io/scene_file.hpp"
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
@@ -59,7 +60,7 @@ TEST_P(SimdStationary, BitIdenticalToTheScalarCore) {
   const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
   EXPECT_EQ(b.engine, Engine::simd);
   EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, b.records));
-  EXPECT_EQ(survival_csv(s, a.tally), survival_csv(s, b.tally));
+  EXPECT_EQ(survival_csv(survival_curve(s, a.tally)), survival_csv(survival_curve(s, b.tally)));
   EXPECT_EQ(a.tally.collisions, b.tally.collisions);
 }
 
@@ -85,8 +86,8 @@ TEST(Simd, RotatingLeaksAgreeInDistribution) {
     std::size_t same = 0;
     for (std::size_t i = 0; i < ta.size(); ++i) same += ta[i] == tb[i];
     EXPECT_GT(static_cast<double>(same) / n, 0.9) << omega << ": most particles identical";
-    const SurvivalCurve ca{survival_times(s), survivors_on_grid(s, a.tally), s.particles};
-    const SurvivalCurve cb{survival_times(s), survivors_on_grid(s, b.tally), s.particles};
+    const SurvivalCurve ca = survival_curve(s, a.tally);
+    const SurvivalCurve cb = survival_curve(s, b.tally);
     const KappaFit ka = fit_kappa(ca, 0, 200), kb = fit_kappa(cb, 0, 200);
     EXPECT_NEAR(ka.value, kb.value, 3 * std::hypot(ka.std_error, kb.std_error)) << omega;
   }

@@ -5,8 +5,9 @@
 
 #include <algorithm>
 
+#include "io/scene_file.hpp"
 #include "analysis/fits.hpp"
-#include "io/run_output.hpp"
+#include "sim/survival.hpp"
 #include "sim/engine.hpp"
 
 using namespace rotleak;
@@ -24,7 +25,7 @@ TEST_P(StationaryTable, ReproducesKappaAndAlpha) {
   const Scene scene = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_" + row.s_L + ".toml",
                                  {"ensemble.particles=" + std::to_string(row.particles)});
   const RunResult res = run_ensemble(scene, RunOptions{});
-  const SurvivalCurve c{survival_times(scene), survivors_on_grid(scene, res.tally), scene.particles};
+  const SurvivalCurve c = survival_curve(scene, res.tally);
   const KappaFit k = fit_kappa(c, scene.kappa_window.from, scene.kappa_window.to);
   const AlphaResult a = find_alpha(c, k);
   ASSERT_TRUE(k.ok);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"

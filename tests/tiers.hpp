@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "numeric/mpfr_fixed.hpp"
 #include "numeric/tiers.hpp"
 
 namespace rotleak::test {

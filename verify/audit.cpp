@@ -10,8 +10,8 @@
 #include <limits>
 
 #include "analysis/fits.hpp"
-#include "io/run_output.hpp"
 #include "sim/engine.hpp"
+#include "sim/survival.hpp"
 #include "sim/simd_engine.hpp"
 
 namespace rotleak {
@@ -62,7 +62,7 @@ Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int th
   opt.threads = threads;
   opt.engine = engine;
   const RunResult r = run_ensemble(s, opt);
-  Ensemble e{{survival_times(s), survivors_on_grid(s, r.tally), s.particles}, {}, {}};
+  Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
   e.alpha = find_alpha(e.curve, e.kappa);
   return e;
@@ -160,12 +160,11 @@ ScalarCheck scalar_check(const Scene& scene, const std::string& tier) {
   return c;
 }
 
-AuditReport audit(const Scene& scene, const AuditOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
-  AuditReport rep;
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+namespace {
 
-  // 1. Strata from a double run with escape records.
+/// Ids to shadow, stratified by their double escape time (rare strata first, so the common ones
+/// fill what is left of the sample).
+std::vector<std::uint64_t> stratified_sample(const Scene& scene, const AuditOptions& opt, int threads) {
   Scene strat = scene;
   strat.particles = std::min<std::uint64_t>(opt.stratify_particles, scene.particles);
   strat.escape_records = true;
@@ -174,109 +173,86 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
   RunOptions ro;
   ro.threads = threads;
   const RunResult sr = run_ensemble(strat, ro);
-  std::vector<std::vector<std::uint64_t>> strata(4);
-  const char* names[] = {"early (t < 100)", "middle (100 <= t < 1000)", "late (t >= 1000)", "survivor"};
+  std::vector<std::vector<std::uint64_t>> strata(4);  // early (t < 100), middle (< 1000), late, survivor
   for (std::uint64_t i = 0; i < sr.records.size(); ++i) {
     const EscapeRecord& e = sr.records[i];
     const int k = e.fate != Fate::escaped ? 3 : e.t < 100 ? 0 : e.t < 1000 ? 1 : 2;
     strata[static_cast<std::size_t>(k)].push_back(i);
   }
+  std::vector<std::uint64_t> ids;
   std::size_t want = opt.sample;
-  for (int k = 3; k >= 0; --k) {  // rare strata first, so the common ones fill what is left
-    const auto& ids = strata[static_cast<std::size_t>(k)];
-    const std::size_t take = std::min(ids.size(), k == 0 ? want : (want + static_cast<std::size_t>(k)) / static_cast<std::size_t>(k + 1));
-    for (std::size_t j = 0; j < take; ++j) {
-      rep.ids.push_back(ids[j * ids.size() / take]);
-      rep.strata.push_back(names[k]);
-    }
+  for (int k = 3; k >= 0; --k) {
+    const auto& in = strata[static_cast<std::size_t>(k)];
+    const std::size_t take = std::min(in.size(), k == 0 ? want : (want + static_cast<std::size_t>(k)) / static_cast<std::size_t>(k + 1));
+    for (std::size_t j = 0; j < take; ++j) ids.push_back(in[j * in.size() / take]);
     want -= take;
   }
-  rep.sample = rep.ids.size();
+  return ids;
+}
 
-  // 2. Shadows in parallel.
-  ShadowOptions so;
-  so.tiers = opt.tiers;
-  so.max_collisions = opt.max_collisions;
-  so.tolerance = opt.tolerance;
-  std::vector<ShadowResult> runs(rep.sample);
-  std::atomic<std::size_t> done{0};
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t i = 0; i < rep.sample; ++i) {
-    runs[i] = shadow(scene, rep.ids[i], so);
-    const std::size_t d = ++done;
-    if (opt.progress && omp_get_thread_num() == 0)
-      std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, rep.sample);
-  }
-  if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
-  for (const auto& r : runs) rep.max_truth_bits = std::max(rep.max_truth_bits, r.truth.bits);
-
-  // 3. Per tier: horizons, escape reproduction, growth by class.
-  for (std::size_t k = 0; k < opt.tiers.size(); ++k) {
-    TierAudit ta;
-    ta.name = opt.tiers[k];
-    std::vector<double> hc, ht, hm, hch;
-    std::size_t exact = 0;
-    for (const ShadowResult& r : runs) {
-      const TierShadow& ts = r.tiers[k];
-      if (r.truth.escape) {
-        ++ta.escapes_compared;
-        exact += ts.escape_exact;
-      }
-      // A particle that escapes (or reaches the cap) before its tier leaves tolerance says only that
-      // the horizon is longer than its life: censored, counted apart, not mixed into the quantiles.
-      if (!ts.horizon) {
-        ++ta.beyond_horizon;
-        continue;
-      }
-      const std::size_t h = *ts.horizon;
-      hc.push_back(static_cast<double>(h));
-      ht.push_back(ts.horizon_time - r.draw.tau);
-      std::size_t mupo = 0;
-      for (std::size_t i = 0; i < std::min(h, r.truth.mupo.size()); ++i) mupo += r.truth.mupo[i];
-      (4 * mupo >= h && h > 0 ? hm : hch).push_back(static_cast<double>(h));
+/// Horizons, escape reproduction and growth by class of tier k over the shadow runs.
+TierAudit tier_audit(const std::vector<ShadowResult>& runs, std::size_t k, const std::string& name) {
+  TierAudit ta;
+  ta.name = name;
+  std::vector<double> hc, ht, hm, hch;
+  std::size_t exact = 0;
+  for (const ShadowResult& r : runs) {
+    const TierShadow& ts = r.tiers[k];
+    if (r.truth.escape) {
+      ++ta.escapes_compared;
+      exact += ts.escape_exact;
     }
-    ta.escape_time_exact_fraction = ta.escapes_compared ? static_cast<double>(exact) / static_cast<double>(ta.escapes_compared) : 0;
-    ta.horizon_collisions = quantiles(hc);
-    ta.horizon_time = quantiles(ht);
-    ta.horizon_collisions_mupo = quantiles(hm);
-    ta.horizon_collisions_chaotic = quantiles(hch);
-    ta.growth = class_growth(runs, k);
-    rep.tiers.push_back(ta);
+    // A particle that escapes (or reaches the cap) before its tier leaves tolerance says only that
+    // the horizon is longer than its life: censored, counted apart, not mixed into the quantiles.
+    if (!ts.horizon) {
+      ++ta.beyond_horizon;
+      continue;
+    }
+    const std::size_t h = *ts.horizon;
+    hc.push_back(static_cast<double>(h));
+    ht.push_back(ts.horizon_time - r.draw.tau);
+    std::size_t mupo = 0;
+    for (std::size_t i = 0; i < std::min(h, r.truth.mupo.size()); ++i) mupo += r.truth.mupo[i];
+    (4 * mupo >= h && h > 0 ? hm : hch).push_back(static_cast<double>(h));
   }
+  ta.escape_time_exact_fraction = ta.escapes_compared ? static_cast<double>(exact) / static_cast<double>(ta.escapes_compared) : 0;
+  ta.horizon_collisions = quantiles(hc);
+  ta.horizon_time = quantiles(ht);
+  ta.horizon_collisions_mupo = quantiles(hm);
+  ta.horizon_collisions_chaotic = quantiles(hch);
+  ta.growth = class_growth(runs, k);
+  return ta;
+}
 
-  // 4. Lyapunov exponent both ways (divergence from the most precise non-MPFR tier sampled).
-  const InitialConditions ic = initial_conditions(scene);
-  rep.lyapunov_tangent = tangent_lyapunov(scene, ic.draw(0), 1000000);
-  std::size_t best = 0;
-  for (std::size_t k = 0; k < opt.tiers.size(); ++k)
-    if (tier_bits(opt.tiers[k]) <= 113 && tier_bits(opt.tiers[k]) >= tier_bits(opt.tiers[best])) best = k;
-  rep.lyapunov_divergence = divergence_lyapunov(runs, best, 10, 150);
-
-  // 5. Statistics: the same ids as full ensembles in float, double, long double.
-  const std::uint64_t n = std::min<std::uint64_t>(opt.stats_particles, scene.particles);
+/// The same ids as full ensembles in float, double, long double (and the vectorised engine),
+/// each compared with the long double ensemble (long double with double).
+void statistics_checks(const Scene& scene, std::uint64_t n, int threads, AuditReport& rep) {
   const Ensemble e_ld = run_tier_ensemble(scene, Tier::long_double, n, threads);
   const Ensemble e_d = run_tier_ensemble(scene, Tier::double_, n, threads);
   const Ensemble e_f = run_tier_ensemble(scene, Tier::float_, n, threads);
   rep.statistics.push_back(compare("float", e_f, e_ld, scene.t_max));
   rep.statistics.push_back(compare("double", e_d, e_ld, scene.t_max));
-  StatisticsCheck ld = compare("long_double", e_ld, e_d, scene.t_max);  // the reference against double
-  rep.statistics.push_back(ld);
+  rep.statistics.push_back(compare("long_double", e_ld, e_d, scene.t_max));
   // the vectorised double engine, as a tier of its own: the same comparison, and whether its
   // survival curve is the scalar double engine's, survivor for survivor
-  if (simd::available()) {
-    const Ensemble e_v = run_tier_ensemble(scene, Tier::double_, n, threads, Engine::simd);
-    StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
-    v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
-    rep.statistics.push_back(v);
-    char why[300];
-    std::snprintf(why, sizeof why, "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max |z| = %.2f)",
-                  v.identical_to_scalar_double ? "identical to" : "differs from", v.consistent ? "agrees with" : "differs from",
-                  v.max_abs_z);
-    for (const char* stat : {"P(t)", "kappa", "alpha"})
-      rep.verdicts.push_back({"double_simd", stat, v.consistent ? "trusted as a statistic" : "not trusted", why});
-  }
+  if (!simd::available()) return;
+  const Ensemble e_v = run_tier_ensemble(scene, Tier::double_, n, threads, Engine::simd);
+  StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
+  v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
+  rep.statistics.push_back(v);
+  char why[300];
+  std::snprintf(why, sizeof why, "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max |z| = %.2f)",
+                v.identical_to_scalar_double ? "identical to" : "differs from", v.consistent ? "agrees with" : "differs from",
+                v.max_abs_z);
+  for (const char* stat : {"P(t)", "kappa", "alpha"})
+    rep.verdicts.push_back({"double_simd", stat, v.consistent ? "trusted as a statistic" : "not trusted", why});
+}
 
-  // 6. Scalars and verdicts.
+/// Per tier: its scalars, and a verdict on trajectories, P(t), kappa and alpha.
+void verdicts(const Scene& scene, AuditReport& rep) {
+  const StatisticsCheck* ld = nullptr;
+  for (const auto& s : rep.statistics)
+    if (s.tier == "long_double") ld = &s;
   for (const TierAudit& ta : rep.tiers) {
     const ScalarCheck sc = scalar_check(scene, ta.name);
     rep.scalars.push_back(sc);
@@ -305,7 +281,7 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
         v.reason = std::string(b) + "; trajectories leave the truth after a median " +
                    std::to_string(static_cast<long>(ta.horizon_collisions.median)) + " collisions";
       } else {
-        const bool ld_ok = ld.consistent;
+        const bool ld_ok = ld && ld->consistent;
         v.verdict = ld_ok ? "trusted as a statistic" : "not trusted";
         v.reason = std::string("no ensemble at this tier; more precise than long double, whose ensemble ") +
                    (ld_ok ? "agrees with double" : "disagrees with double");
@@ -313,6 +289,40 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
       rep.verdicts.push_back(v);
     }
   }
+}
+
+}  // namespace
+
+AuditReport audit(const Scene& scene, const AuditOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  AuditReport rep;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+
+  rep.ids = stratified_sample(scene, opt, threads);
+  rep.sample = rep.ids.size();
+
+  ShadowOptions so;
+  so.tiers = opt.tiers;
+  so.max_collisions = opt.max_collisions;
+  so.tolerance = opt.tolerance;
+  std::function<void(std::size_t)> progress;
+  if (opt.progress)
+    progress = [&](std::size_t d) { std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, rep.sample); };
+  const std::vector<ShadowResult> runs = shadow_many(scene, rep.ids, so, threads, progress);
+  if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
+  for (const auto& r : runs) rep.max_truth_bits = std::max(rep.max_truth_bits, r.truth.bits);
+  for (std::size_t k = 0; k < opt.tiers.size(); ++k) rep.tiers.push_back(tier_audit(runs, k, opt.tiers[k]));
+
+  // Lyapunov exponent both ways (divergence from the most precise non-MPFR tier sampled).
+  const InitialConditions ic = initial_conditions(scene);
+  rep.lyapunov_tangent = tangent_lyapunov(scene, ic.draw(0), 1000000);
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < opt.tiers.size(); ++k)
+    if (tier_bits(opt.tiers[k]) <= 113 && tier_bits(opt.tiers[k]) >= tier_bits(opt.tiers[best])) best = k;
+  rep.lyapunov_divergence = divergence_lyapunov(runs, best, 10, 150);
+
+  statistics_checks(scene, std::min<std::uint64_t>(opt.stats_particles, scene.particles), threads, rep);
+  verdicts(scene, rep);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -76,7 +76,6 @@ struct Verdict {
 struct AuditReport {
   std::size_t sample = 0;
   std::vector<std::uint64_t> ids;
-  std::vector<std::string> strata;  ///< per sampled id
   long max_truth_bits = 0;
   LyapunovEstimate lyapunov_tangent, lyapunov_divergence;
   std::vector<TierAudit> tiers;

@@ -151,4 +151,26 @@ InitialDraw bouncing_ball_draw(const Scene& scene, double p0) {
   return d;
 }
 
+LyapunovStudy lyapunov_study(const Scene& scene, const LyapunovStudyOptions& opt) {
+  LyapunovStudy s;
+  s.options = opt;
+  const InitialConditions ic = initial_conditions(scene);
+  s.tangent = tangent_lyapunov(scene, ic.draw(0), opt.tangent_collisions);
+  ShadowOptions so;
+  so.tiers = {opt.tier};
+  so.collisions = opt.collisions;
+  std::vector<std::uint64_t> ids(opt.particles);
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  const std::vector<ShadowResult> runs = shadow_many(scene, ids, so, opt.threads);
+  s.divergence = divergence_lyapunov(runs, 0, opt.from, opt.to);
+  s.by_class = class_growth(runs, 0);
+  ShadowOptions bb;
+  bb.tiers = {"double"};
+  bb.collisions = 8000;
+  const ShadowResult ball = shadow_from(scene, bouncing_ball_draw(scene, opt.mupo_p), bb);
+  s.mupo_collisions = ball.tiers[0].collisions;
+  s.mupo_law = growth_law(ball.tiers[0].divergence);
+  return s;
+}
+
 }  // namespace rotleak

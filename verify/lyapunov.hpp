@@ -5,7 +5,9 @@
 //  2. Shadow divergence: the slope in t of the ensemble mean of ln(divergence from the truth).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "verify/shadow.hpp"
@@ -49,5 +51,25 @@ GrowthLaw growth_law(const std::vector<double>& divergence, std::size_t from = 1
 
 /// A bouncing-ball (MUPO) orbit: from the top edge at x = -0.9 d/2, Birkhoff p = p0 > 0 small.
 InitialDraw bouncing_ball_draw(const Scene& scene, double p0);
+
+struct LyapunovStudyOptions {
+  std::string tier = "float128";  ///< tier whose divergence from the truth is fitted
+  std::size_t particles = 200, collisions = 100;  ///< shadow runs and their length
+  std::size_t tangent_collisions = 2000000;
+  double from = 10, to = 150;  ///< fit window, in time since creation
+  double mupo_p = 1e-4;        ///< p0 of the bouncing-ball orbit followed in double
+  int threads = 0;
+};
+
+/// The exponent both ways, the growth by class, and the growth law of one bouncing-ball orbit.
+struct LyapunovStudy {
+  LyapunovStudyOptions options;
+  LyapunovEstimate tangent, divergence;
+  ClassGrowth by_class;
+  std::size_t mupo_collisions = 0;
+  GrowthLaw mupo_law;
+  double relative_difference() const { return std::abs(divergence.per_time - tangent.per_time) / tangent.per_time; }
+};
+LyapunovStudy lyapunov_study(const Scene& scene, const LyapunovStudyOptions& options);
 
 }  // namespace rotleak

@@ -1,12 +1,15 @@
 #include "verify/shadow.hpp"
 
+#include <omp.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <stdexcept>
 
-#include "numeric/tiers.hpp"
+#include "numeric/tier_dispatch.hpp"
 #include "verify/line_fit.hpp"
 #include "verify/trace.hpp"
 
@@ -134,37 +137,6 @@ TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDr
 
 }  // namespace
 
-long tier_bits(const std::string& n) {
-  if (n == "float") return 24;
-  if (n == "double") return 53;
-  if (n == "long_double") return 64;
-  if (n == "dd") return 106;
-  if (n == "float128") return 113;
-  if (n.rfind("mpfr:", 0) != 0 && n.rfind("mpfi:", 0) != 0) return 0;
-  try {
-    std::size_t used = 0;
-    const long b = std::stol(n.substr(5), &used);
-    return used == n.size() - 5 && b >= 24 && b <= (1L << 20) ? b : 0;
-  } catch (const std::exception&) {
-    return 0;
-  }
-}
-
-bool valid_tier_name(const std::string& n) { return tier_bits(n) > 0; }
-
-std::vector<std::string> parse_tier_list(const std::string& list, bool allow_intervals) {
-  std::vector<std::string> out;
-  std::size_t from = 0;
-  for (;;) {
-    const std::size_t comma = list.find(',', from);
-    const std::string t = list.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
-    if (!valid_tier_name(t) || (!allow_intervals && t.rfind("mpfi:", 0) == 0)) throw std::invalid_argument(t);
-    out.push_back(t);
-    if (comma == std::string::npos) return out;
-    from = comma + 1;
-  }
-}
-
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
   const InitialConditions ic = initial_conditions(scene);
   ShadowResult res = shadow_from(scene, ic.draw(id), opt);
@@ -174,7 +146,7 @@ ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& o
 
 ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
   for (const auto& n : opt.tiers)
-    if (!valid_tier_name(n)) throw std::invalid_argument(n);
+    if (tier_bits(n) == 0) throw std::invalid_argument(n);
   ShadowResult res;
   res.draw = draw;
   const Stadium<double> st(scene.d, scene.r);
@@ -223,22 +195,27 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
 
   const long truth_bits = res.truth.bits;
   for (const std::string& name : opt.tiers) {
-    TierShadow ts;
-    if (name == "float") ts = run_tier<float>(name, scene, res.draw, upper, truth_bits, opt, st);
-    else if (name == "double") ts = run_tier<double>(name, scene, res.draw, upper, truth_bits, opt, st);
-    else if (name == "long_double") ts = run_tier<long double>(name, scene, res.draw, upper, truth_bits, opt, st);
-    else if (name == "dd") ts = run_tier<dd_real>(name, scene, res.draw, upper, truth_bits, opt, st);
-    else if (name == "float128") ts = run_tier<float128>(name, scene, res.draw, upper, truth_bits, opt, st);
-    else {
-      MpfrPrecision p(tier_bits(name));
-      ts = name[3] == 'r' ? run_tier<Mpfr>(name, scene, res.draw, upper, truth_bits, opt, st)
-                          : run_tier<Mpfi>(name, scene, res.draw, upper, truth_bits, opt, st);
-    }
+    TierShadow ts = with_tier(name, [&](auto type) {
+      return run_tier<typename decltype(type)::type>(name, scene, res.draw, upper, truth_bits, opt, st);
+    });
     if (res.truth.escape && ts.escape && *ts.escape == *res.truth.escape)
       ts.escape_exact = std::abs(ts.escape_time - res.truth.t[*res.truth.escape - 1]) <= opt.tolerance;
     res.tiers.push_back(std::move(ts));
   }
   return res;
+}
+
+std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids, const ShadowOptions& opt,
+                                      int threads, const std::function<void(std::size_t)>& progress) {
+  std::vector<ShadowResult> runs(ids.size());
+  std::atomic<std::size_t> done{0};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    runs[i] = shadow(scene, ids[i], opt);
+    const std::size_t d = ++done;
+    if (progress && omp_get_thread_num() == 0) progress(d);
+  }
+  return runs;
 }
 
 }  // namespace rotleak

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sim/initial.hpp"
+#include "numeric/tier.hpp"
 #include "sim/scene.hpp"
 
 namespace rotleak {
@@ -58,16 +60,12 @@ struct ShadowResult {
   std::vector<TierShadow> tiers;
 };
 
-/// Allowed tier names: float, double, long_double, dd, float128, mpfr:B, mpfi:B (B in [24, 2^20]).
-bool valid_tier_name(const std::string& name);
-/// Significand bits of a tier (0 for a name that is not one).
-long tier_bits(const std::string& name);
-/// "double,dd,mpfr:256" -> the names; throws std::invalid_argument(name) for the first bad one.
-std::vector<std::string> parse_tier_list(const std::string& list, bool allow_intervals);
-
 /// Throws std::invalid_argument for an unknown tier, std::runtime_error when no truth is found below max_bits.
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& options);
 /// The same from explicit binary initial data (a chosen orbit rather than an ensemble member).
 ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& options);
+/// Shadows of many ids in parallel (threads 0: all cores), in the order of `ids`.
+std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids, const ShadowOptions& options,
+                                      int threads = 0, const std::function<void(std::size_t done)>& progress = {});
 
 }  // namespace rotleak

@@ -1,10 +1,10 @@
 // rotleak certify SCENE --particle ID [--bits B] [--max-bits M] [--json]
 #include <cstdio>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
+#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
-#include "verify/certify.hpp"
+#include "verify/reports.hpp"
 
 namespace rotleak::cli {
 
@@ -21,29 +21,14 @@ int run_certify(const CertifyArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   if (a.particle < 0 || static_cast<std::uint64_t>(a.particle) >= scene.particles)
     throw InputError("--particle", std::to_string(a.particle), "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
-  if (a.bits < 24 || a.bits > a.max_bits || a.max_bits > (1L << 22))
-    throw InputError("--bits", std::to_string(a.bits), "must be in [24, --max-bits], and --max-bits <= 2^22");
+  if (a.bits < Tier::kMinBits || a.bits > a.max_bits || a.max_bits > (1L << 22))
+    throw InputError("--bits", std::to_string(a.bits),
+                     "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits], and --max-bits <= 2^22");
   const InitialConditions ic = initial_conditions(scene);
   const auto attempts = certify(scene, ic.draw(static_cast<std::uint64_t>(a.particle)), a.bits, a.max_bits,
                                 static_cast<std::size_t>(a.collisions));
-  nlohmann::ordered_json doc, list = nlohmann::ordered_json::array();
-  for (const auto& c : attempts)
-    list.push_back({{"bits", c.bits}, {"certified_collisions", c.certified_collisions}, {"escape_certified", c.escape_certified},
-                    {"escape_collision", c.escape_collision}, {"escape_time", {c.escape_time_lo, c.escape_time_hi}},
-                    {"last_width", c.last_width}});
-  doc["particle"] = a.particle;
-  doc["attempts"] = list;
-  doc["escape_certified"] = attempts.back().escape_certified;
-  if (a.json_out) {
-    std::cout << doc.dump(2) << "\n";
-    return 0;
-  }
-  for (const auto& c : attempts)
-    std::printf("%6ld bits: %zu collisions certified%s\n", c.bits, c.certified_collisions,
-                c.escape_certified ? (", escape at collision " + std::to_string(c.escape_collision) + " proven, t in [" +
-                                      std::to_string(c.escape_time_lo) + ", " + std::to_string(c.escape_time_hi) + "]")
-                                         .c_str()
-                                   : "");
+  if (a.json_out) std::cout << certify_json(static_cast<std::uint64_t>(a.particle), attempts).dump(2) << "\n";
+  else std::fputs(certify_text(attempts).c_str(), stdout);
   return 0;
 }
 

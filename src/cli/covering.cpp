@@ -1,18 +1,15 @@
 // rotleak covering --omega 2/3 [--omega ...] --delta 1e-7 --lambda 0.01 [--d 2 --r 1] [--json] [--out DIR]
 #include <cstdio>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
-#include "analysis/covering.hpp"
 #include "cli/commands.hpp"
+#include "io/covering_output.hpp"
 #include "io/files.hpp"
-#include "sim/scene.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak::cli {
 
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct CoveringArgs {
   std::vector<std::string> omegas;
@@ -21,32 +18,6 @@ struct CoveringArgs {
   int resolution = 10000;
   bool json_out = false, force = false, segments = false, plot = true;
 };
-
-json covering_json(const std::string& omega, const Covering& c) {
-  json gaps = json::array();
-  for (const auto& g : c.gaps) {
-    json e = {{"length", g.length}, {"count", g.count}};
-    if (!g.exact.empty()) e["exact"] = g.exact;
-    gaps.push_back(e);
-  }
-  return {{"omega", omega},
-          {"x", c.x_text},
-          {"N", c.N},
-          {"exact", c.exact},
-          {"error_bound", c.error_bound},
-          {"zero_measure", c.zero_measure},
-          {"max_zero_gap", c.max_zero_gap},
-          {"clusters", c.clusters},
-          {"min", c.min},
-          {"max", c.max},
-          {"mean", c.mean},
-          {"cv", c.cv},
-          {"discrepancy", c.discrepancy},
-          {"gaps", gaps},
-          {"three_distance_holds", c.three_distance_holds},
-          {"segments", c.segments.size()},
-          {"seconds", c.seconds}};
-}
 
 int run_covering(const CoveringArgs& a) {
   if (a.omegas.empty()) throw InputError("--omega", "(none)", "give at least one omega");
@@ -87,24 +58,10 @@ int run_covering(const CoveringArgs& a) {
   doc["covering"] = list.size() == 1 ? list[0] : list;
 
   if (dir) {
-    std::string csv = "s";
-    for (const auto& o : a.omegas) csv += ",f_L[" + o + "]";
-    csv += "\n";
-    std::vector<std::vector<double>> prof;
-    for (const auto& c : results) prof.push_back(covering_profile(c, static_cast<std::size_t>(a.resolution)));
-    for (int b = 0; b < a.resolution; ++b) {
-      csv += shortest((b + 0.5) / a.resolution);
-      for (const auto& p : prof) csv += "," + shortest(p[static_cast<std::size_t>(b)]);
-      csv += "\n";
-    }
-    write_file_atomic(dir->file("f_L.csv"), csv);
-    if (a.segments) {
-      for (std::size_t i = 0; i < results.size(); ++i) {
-        std::string seg = "from,to,f_L\n";
-        for (const auto& s : results[i].segments) seg += shortest(s.from) + "," + shortest(s.to) + "," + std::to_string(s.value) + "\n";
-        write_file_atomic(dir->file("segments_" + std::to_string(i) + ".csv"), seg);
-      }
-    }
+    write_file_atomic(dir->file("f_L.csv"), covering_profile_csv(a.omegas, results, static_cast<std::size_t>(a.resolution)));
+    if (a.segments)
+      for (std::size_t i = 0; i < results.size(); ++i)
+        write_file_atomic(dir->file("segments_" + std::to_string(i) + ".csv"), covering_segments_csv(results[i]));
     write_file_atomic(dir->file("summary.json"), doc.dump(2) + "\n");
     dir->commit();
   }
@@ -112,17 +69,7 @@ int run_covering(const CoveringArgs& a) {
     std::cout << doc.dump(2) << "\n";
   } else {
     std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", a.delta.c_str(), a.lambda.c_str(), a.d.c_str(), a.r.c_str());
-    for (std::size_t i = 0; i < results.size(); ++i) {
-      const Covering& c = results[i];
-      char how[64];
-      std::snprintf(how, sizeof how, c.exact ? "exact" : "certified, points within %.1e", c.error_bound);
-      std::printf("omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
-                  "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
-                  a.omegas[i].c_str(), static_cast<unsigned long long>(c.N), how, c.zero_measure, c.max_zero_gap,
-                  static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
-                  static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
-                  c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
-    }
+    std::fputs(covering_text(a.omegas, results).c_str(), stdout);
   }
   if (dir && a.plot) {
     std::fflush(stdout);

@@ -1,18 +1,14 @@
 // rotleak lyapunov SCENE [--particles M] [--collisions K] [--tier float128] [--tangent-collisions N] [--json]
-#include <omp.h>
-
 #include <cstdio>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
+#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
-#include "verify/lyapunov.hpp"
+#include "verify/reports.hpp"
 
 namespace rotleak::cli {
 
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct LyapunovArgs {
   std::string scene, tier = "float128";
@@ -23,70 +19,28 @@ struct LyapunovArgs {
   bool json_out = false;
 };
 
-json estimate_json(const LyapunovEstimate& e) {
-  return {{"per_time", e.per_time}, {"per_time_error", e.per_time_error}, {"per_collision", e.per_collision},
-          {"per_collision_error", e.per_collision_error}, {"samples", e.samples}, {"collisions", e.collisions}};
-}
-
 int run_lyapunov(const LyapunovArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   if (a.particles < 2 || static_cast<std::uint64_t>(a.particles) > scene.particles)
     throw InputError("--particles", std::to_string(a.particles), "must be in [2, ensemble.particles]");
   if (a.collisions < 10) throw InputError("--collisions", std::to_string(a.collisions), "must be >= 10");
   if (a.tangent < 1000) throw InputError("--tangent-collisions", std::to_string(a.tangent), "must be >= 1000");
-  if (!valid_tier_name(a.tier)) throw InputError("--tier", a.tier, "allowed: float, double, long_double, dd, float128, mpfr:BITS");
+  const auto tier = Tier::parse(a.tier);
+  if (!tier || tier->automatic() || tier->interval()) throw InputError("--tier", a.tier, "allowed: " + tier_names_allowed(false));
   if (!(a.from >= 0 && a.from < a.to)) throw InputError("--window", std::to_string(a.from) + "," + std::to_string(a.to), "needs 0 <= from < to");
 
-  const InitialConditions ic = initial_conditions(scene);
-  const LyapunovEstimate tangent = tangent_lyapunov(scene, ic.draw(0), static_cast<std::size_t>(a.tangent));
-  ShadowOptions opt;
-  opt.tiers = {a.tier};
+  LyapunovStudyOptions opt;
+  opt.tier = a.tier;
+  opt.particles = static_cast<std::size_t>(a.particles);
   opt.collisions = static_cast<std::size_t>(a.collisions);
-  std::vector<ShadowResult> runs(static_cast<std::size_t>(a.particles));
-  const int threads = a.threads > 0 ? a.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (long long i = 0; i < a.particles; ++i) runs[static_cast<std::size_t>(i)] = shadow(scene, static_cast<std::uint64_t>(i), opt);
-  const LyapunovEstimate div = divergence_lyapunov(runs, 0, a.from, a.to);
-  const ClassGrowth cls = class_growth(runs, 0);
-  ShadowOptions bb;
-  bb.tiers = {"double"};
-  bb.collisions = 8000;
-  const ShadowResult ball = shadow_from(scene, bouncing_ball_draw(scene, a.mupo_p), bb);
-  const GrowthLaw law = growth_law(ball.tiers[0].divergence);
-
-  const double rel = std::abs(div.per_time - tangent.per_time) / tangent.per_time;
-  json doc;
-  doc["lyapunov"] = {{"per_time", tangent.per_time},
-                     {"per_collision", tangent.per_collision},
-                     {"tangent", estimate_json(tangent)},
-                     {"divergence", estimate_json(div)},
-                     {"divergence_tier", a.tier},
-                     {"divergence_window", {a.from, a.to}},
-                     {"relative_difference", rel}};
-  doc["growth_by_class"] = {{"tier", a.tier},
-                            {"mupo_per_collision", cls.mupo_per_collision},
-                            {"mupo_steps", cls.mupo_steps},
-                            {"chaotic_per_collision", cls.chaotic_per_collision},
-                            {"chaotic_steps", cls.chaotic_steps}};
-  doc["mupo_orbit"] = {{"p0", a.mupo_p},       {"collisions", ball.tiers[0].collisions},
-                       {"tier", "double"},     {"power", law.power},
-                       {"power_r2", law.power_r2}, {"exp_rate_per_collision", law.rate},
-                       {"exp_r2", law.rate_r2}, {"polynomial", law.polynomial()}};
-  if (a.json_out) {
-    std::cout << doc.dump(2) << "\n";
-    return 0;
-  }
-  std::printf("Lyapunov exponent of %s\n", scene.source.c_str());
-  std::printf("  tangent dynamics (%zu collisions, double): %.5f +- %.5f per time, %.5f +- %.5f per collision\n",
-              tangent.collisions, tangent.per_time, tangent.per_time_error, tangent.per_collision, tangent.per_collision_error);
-  std::printf("  shadow divergence (%zu particles, %s vs truth, t in [%g, %g]): %.5f +- %.5f per time, %.5f +- %.5f per collision\n",
-              div.samples, a.tier.c_str(), a.from, a.to, div.per_time, div.per_time_error, div.per_collision, div.per_collision_error);
-  std::printf("  relative difference: %.2f%%\n", 100 * rel);
-  std::printf("growth of ln(divergence) per collision: MUPO phases %.4f (%zu steps), chaotic %.4f (%zu steps)\n",
-              cls.mupo_per_collision, cls.mupo_steps, cls.chaotic_per_collision, cls.chaotic_steps);
-  std::printf("bouncing-ball orbit, p0 = %g, %zu collisions in double: divergence ~ k^%.2f (R^2 %.4f) vs exp(%.4f k) (R^2 %.4f): %s\n",
-              a.mupo_p, ball.tiers[0].collisions, law.power, law.power_r2, law.rate, law.rate_r2,
-              law.polynomial() ? "polynomial" : "exponential");
+  opt.tangent_collisions = static_cast<std::size_t>(a.tangent);
+  opt.from = a.from;
+  opt.to = a.to;
+  opt.mupo_p = a.mupo_p;
+  opt.threads = a.threads;
+  const LyapunovStudy study = lyapunov_study(scene, opt);
+  if (a.json_out) std::cout << lyapunov_json(study).dump(2) << "\n";
+  else std::fputs(lyapunov_text(study, scene.source).c_str(), stdout);
   return 0;
 }
 

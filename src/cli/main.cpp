@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "sim/scene.hpp"
+#include "numeric/input.hpp"
 #include "version.hpp"
 
 int main(int argc, char** argv) {

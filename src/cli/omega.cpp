@@ -6,7 +6,7 @@
 
 #include "analysis/continued_fraction.hpp"
 #include "cli/commands.hpp"
-#include "sim/scene.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak::cli {
 

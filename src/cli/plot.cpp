@@ -3,12 +3,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "sim/scene.hpp"
+#include "numeric/input.hpp"
 #include "version.hpp"
 
 extern char** environ;
@@ -38,6 +39,16 @@ int draw_plots(const std::string& run_dir) {
   if (!fs::exists(fs::path(run_dir) / "summary.json"))
     throw InputError("DIR", "\"" + run_dir + "\"", "must be a complete run directory (with summary.json)");
   return run_plot_script("plot_run.py", run_dir);
+}
+
+int plot_after_run(const std::string& run_dir) {
+  std::fflush(stdout);  // our lines first, then the plotter's
+  const int rc = draw_plots(run_dir);
+  if (rc != 0) {
+    std::fprintf(stderr, "rotleak: plotting failed (exit %d); the run itself is complete\n", rc);
+    return 1;
+  }
+  return 0;
 }
 
 Command add_plot(CLI::App& app) {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "sim/scene.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak {
 

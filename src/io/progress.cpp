@@ -1,33 +1,34 @@
 #include "io/progress.hpp"
 
 #include <cstdio>
+#include <memory>
 
 namespace rotleak {
 
-ProgressLine::ProgressLine(bool enabled, std::uint64_t total)
-    : enabled_(enabled), total_(total), start_(std::chrono::steady_clock::now()), last_(start_) {}
+ProgressLine::ProgressLine(bool enabled)
+    : enabled_(enabled), start_(std::chrono::steady_clock::now()), last_(start_) {}
 
-void ProgressLine::update(std::uint64_t done, std::uint64_t collisions) {
+void ProgressLine::update(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
-  if (now - last_ < std::chrono::milliseconds(500)) return;
+  if (!final && now - last_ < std::chrono::milliseconds(500)) return;
   last_ = now;
-  draw(done, collisions, false);
-}
-
-void ProgressLine::finish(std::uint64_t done, std::uint64_t collisions) {
-  if (enabled_) draw(done, collisions, true);
-}
-
-void ProgressLine::draw(std::uint64_t done, std::uint64_t collisions, bool final) {
-  const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double frac = total_ ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+  const double el = std::chrono::duration<double>(now - start_).count();
+  const double frac = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
   const double rate = el > 0 ? static_cast<double>(collisions) / el : 0.0;
   const double eta = frac > 0 ? el * (1 - frac) / frac : 0.0;
   std::fprintf(stderr, "\r[rotleak] %5.1f%%  %llu/%llu particles  %.3g collisions/s  %s %.0f s   %s",
-               100 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), rate,
+               100 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total), rate,
                final ? "took" : "ETA", final ? el : eta, final ? "\n" : "");
   std::fflush(stderr);
+}
+
+std::function<void(std::uint64_t, std::uint64_t, std::uint64_t, bool)> progress_on_stderr(bool enabled) {
+  if (!enabled) return {};
+  auto line = std::make_shared<ProgressLine>(true);
+  return [line](std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final) {
+    line->update(done, total, collisions, final);
+  };
 }
 
 }  // namespace rotleak

@@ -3,21 +3,22 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 
 namespace rotleak {
 
 class ProgressLine {
  public:
-  ProgressLine(bool enabled, std::uint64_t total);
-  /// Call from one thread only.
-  void update(std::uint64_t done, std::uint64_t collisions);
-  void finish(std::uint64_t done, std::uint64_t collisions);
+  explicit ProgressLine(bool enabled);
+  /// Call from one thread at a time; `final` draws the closing line.
+  void update(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final);
 
  private:
-  void draw(std::uint64_t done, std::uint64_t collisions, bool final);
   bool enabled_;
-  std::uint64_t total_;
   std::chrono::steady_clock::time_point start_, last_;
 };
+
+/// A RunOptions::progress callback drawing a ProgressLine (empty when disabled).
+std::function<void(std::uint64_t, std::uint64_t, std::uint64_t, bool)> progress_on_stderr(bool enabled);
 
 }  // namespace rotleak

@@ -1,31 +1,21 @@
 #include "io/run_output.hpp"
 
-#include "io/files.hpp"
+#include <cstdio>
+
+#include "io/scene_file.hpp"
+#include "version.hpp"
 
 namespace rotleak {
 
-std::vector<double> survival_times(const Scene& scene) {
-  const std::size_t bins = scene.survival_bins();
-  std::vector<double> t(bins + 1);
-  for (std::size_t k = 0; k <= bins; ++k) {
-    const double tk = static_cast<double>(k) * scene.survival_dt;
-    t[k] = tk < scene.t_max ? tk : scene.t_max;
-  }
-  return t;
-}
-
-std::string survival_csv(const Scene& scene, const Tally& tally) {
-  const std::vector<double> t = survival_times(scene);
-  const std::vector<std::uint64_t> alive = survivors_on_grid(scene, tally);
+std::string survival_csv(const SurvivalCurve& curve) {
   std::string out = "t,survivors,P\n";
-  out.reserve(alive.size() * 32);
-  const double n = static_cast<double>(scene.particles);
-  for (std::size_t k = 0; k < alive.size(); ++k) {
-    out += shortest(t[k]);
+  out.reserve(curve.survivors.size() * 32);
+  for (std::size_t k = 0; k < curve.survivors.size(); ++k) {
+    out += shortest(curve.t[k]);
     out += ',';
-    out += std::to_string(alive[k]);
+    out += std::to_string(curve.survivors[k]);
     out += ',';
-    out += shortest(static_cast<double>(alive[k]) / n);
+    out += shortest(curve.P(k));
     out += '\n';
   }
   return out;
@@ -64,6 +54,110 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
            (r.fate == Fate::escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions) + '\n';
   }
   return out;
+}
+
+json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
+  const Scene& scene = r.scene;
+  const KappaFit& kappa = r.kappa;
+  const AlphaResult& alpha = r.alpha;
+  const TailFit& tail = r.tail;
+  json s;
+  s["rotleak"] = {{"version", kVersion}, {"git", kGitDescribe}};
+  s["command"] = "simulate";
+  s["scene"] = scene_json(scene);
+  s["seed"] = scene.seed;
+  s["tier"] = to_string(scene.tier);
+  if (r.tier_choice) s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
+  s["engine"] = to_string(r.result.engine);
+  s["threads"] = r.result.threads;
+  s["particles"] = scene.particles;
+  s["wall_seconds"] = r.result.wall_seconds;
+  s["collisions"] = r.result.tally.collisions;
+  s["collisions_per_second"] = r.collisions_per_second();
+  s["escaped"] = r.result.tally.escaped;
+  s["survivors_at_t_max"] = r.result.tally.survived;
+  s["stuck"] = r.result.tally.stuck;
+  s["kappa"] = {{"value", kappa.ok ? json(kappa.value) : json(nullptr)},
+                {"error", kappa.std_error},
+                {"window", {kappa.from, kappa.to}},
+                {"points", kappa.points},
+                {"log_amplitude", kappa.log_amplitude},
+                {"method", kappa.method}};
+  s["alpha"] = {{"value", nullable(alpha.value)},
+                {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
+                {"upper_bound", nullable(alpha.upper_bound)},
+                {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
+                {"factor", alpha.factor},
+                {"min_survivors", alpha.min_survivors},
+                {"resolved_until", alpha.resolved_until},
+                {"note", alpha.note}};
+  s["tail_exponent"] = {{"value", nullable(tail.z)},
+                        {"error", tail.z ? json(tail.std_error) : json(nullptr)},
+                        {"window", {tail.from, tail.to}},
+                        {"points", tail.points},
+                        {"method", tail.method}};
+  s["files"] = files;
+  return s;
+}
+
+std::string summary_text(const RunSummary& r) {
+  std::string out;
+  char line[512];
+  auto add = [&](int n) { out.append(line, static_cast<std::size_t>(n < 0 ? 0 : std::min<int>(n, sizeof line - 1))); };
+  add(std::snprintf(line, sizeof line, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n",
+                    r.scene.source.c_str(), static_cast<unsigned long long>(r.scene.particles),
+                    to_string(r.scene.tier).c_str(), r.result.threads, r.result.wall_seconds, r.collisions_per_second()));
+  const KappaFit& kappa = r.kappa;
+  const AlphaResult& alpha = r.alpha;
+  if (kappa.ok)
+    add(std::snprintf(line, sizeof line, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value,
+                      kappa.std_error, kappa.from, kappa.to));
+  else
+    add(std::snprintf(line, sizeof line, "kappa: not resolved (too few points in [%g, %g])\n", kappa.from, kappa.to));
+  if (alpha.value)
+    add(std::snprintf(line, sizeof line, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n",
+                      *alpha.value, alpha.std_error, alpha.crossing_time, alpha.factor));
+  else if (alpha.upper_bound)
+    add(std::snprintf(line, sizeof line, "alpha < %.3g   (no crossing up to t = %g while >= %llu survive)\n",
+                      *alpha.upper_bound, alpha.resolved_until, static_cast<unsigned long long>(alpha.min_survivors)));
+  if (r.tail.z)
+    add(std::snprintf(line, sizeof line, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error,
+                      r.tail.from, r.tail.to));
+  if (r.result.tally.stuck)
+    add(std::snprintf(line, sizeof line, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
+                      static_cast<unsigned long long>(r.result.tally.stuck)));
+  return out;
+}
+
+void write_directory_summary(RunDirectory& dir, const std::string& command, const std::string& scene_source,
+                             std::vector<std::string> files) {
+  files.push_back("summary.json");
+  const json s = {{"rotleak", {{"version", kVersion}, {"git", kGitDescribe}}},
+                  {"command", command},
+                  {"scene", scene_source},
+                  {"files", files}};
+  write_file_atomic(dir.file("summary.json"), s.dump(2) + "\n");
+  dir.commit();
+}
+
+json write_run(RunDirectory& dir, const RunSummary& r) {
+  std::vector<std::string> files{"survival.csv"};
+  write_file_atomic(dir.file("survival.csv"), survival_csv(r.curve));
+  if (r.scene.collision_density) {
+    write_file_atomic(dir.file("fc.csv"), density_csv(r.scene, r.result.tally));
+    files.push_back("fc.csv");
+  }
+  if (r.scene.escape_records) {
+    write_file_atomic(dir.file("escapes.csv"), escapes_csv(0, r.result.records));
+    files.push_back("escapes.csv");
+  }
+  write_file_atomic(dir.file("scene.toml"), scene_to_toml(r.scene));
+  files.push_back("scene.toml");
+  files.push_back("summary.json");
+  const json s = summary_json(r, files);
+  write_file_atomic(dir.file("summary.json"), s.dump(2) + "\n");  // last: its presence marks a complete run
+  dir.commit();
+  return s;
 }
 
 }  // namespace rotleak

@@ -1,21 +1,35 @@
-// The run directory's CSV files, as text (written atomically by the caller).
+// A simulate run directory from a RunSummary: survival.csv, fc.csv, escapes.csv, scene.toml and
+// summary.json (written last: its presence marks a complete run), each written atomically. The
+// summary.json schema is documented in docs/output.md.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "sim/engine.hpp"
-#include "sim/scene.hpp"
+#include "analysis/run_summary.hpp"
+#include "io/files.hpp"
+#include "io/json.hpp"
 
 namespace rotleak {
 
-/// Grid times t_k = k dt for k = 0..bins, the last one clamped to t_max.
-std::vector<double> survival_times(const Scene& scene);
 /// survival.csv: header t,survivors,P.
-std::string survival_csv(const Scene& scene, const Tally& tally);
+std::string survival_csv(const SurvivalCurve& curve);
 /// fc.csv: s (bin centre), then per window the normalised density and the raw count.
 std::string density_csv(const Scene& scene, const Tally& tally);
 /// escapes.csv: id,fate,t,s,collisions.
 std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records);
+
+/// summary.json of a run whose directory holds `files`.
+json summary_json(const RunSummary& s, const std::vector<std::string>& files);
+/// The few lines a person reads after a run (kappa, alpha, z, warnings).
+std::string summary_text(const RunSummary& s);
+
+/// For commands whose main document has its own name (audit.json): summary.json with the version,
+/// the command, the scene and the files, written last; then commits the directory.
+void write_directory_summary(RunDirectory& dir, const std::string& command, const std::string& scene_source,
+                             std::vector<std::string> files);
+
+/// Writes every file of the run into the staged directory and commits it; returns summary.json.
+json write_run(RunDirectory& dir, const RunSummary& s);
 
 }  // namespace rotleak

@@ -1,23 +1,18 @@
 // One traits struct per number type, after CAPD: name, bits, epsilon, the one correct rounding of an
 // exact input into the type, pi, and the exact error of a product (for the leak phase). Generic code
-// asks these instead of spelling constants.
+// asks these instead of spelling constants. Boost.Multiprecision stays out of this header: its
+// MPFR-backed type has its own (numeric/mpfr_fixed.hpp), for the code that uses it.
 #pragma once
 
-#include <boost/multiprecision/mpfr.hpp>
+#include <mpfr.h>
+
+#include <cmath>
 #include <limits>
 #include <string>
 
 #include "numeric/exact.hpp"
 
 namespace rotleak {
-
-/// MPFR at a fixed number of decimal digits: the precision is part of the type, so no global
-/// (thread-shared) default precision is ever read or written.
-template <unsigned Digits10>
-using mpfr_fixed = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<Digits10>,
-                                                 boost::multiprecision::et_off>;
-/// The reference tier of the foundation: 77 decimal digits = 257 bits.
-using mpfr256 = mpfr_fixed<77>;
 
 template <class R>
 struct num_traits;
@@ -71,23 +66,6 @@ struct num_traits<long double>
   static void to_mpfr(mpfr_ptr out, long double x) { mpfr_set_ld(out, x, MPFR_RNDN); }
   static long double from_mpfr(const mpfr_t x) { return mpfr_get_ld(x, MPFR_RNDN); }
 };
-template <unsigned D>
-struct num_traits<mpfr_fixed<D>> : detail::rounded_from_mpfr<mpfr_fixed<D>, num_traits<mpfr_fixed<D>>> {
-  using R = mpfr_fixed<D>;
-  // Boost's digits10 -> bits rule (detail::digits10_2_2, not constexpr); a test checks they agree.
-  static constexpr mpfr_prec_t bits() { return (D * 1000L) / 301 + (((D * 1000L) % 301) ? 2 : 1); }
-  static std::string name() { return "mpfr" + std::to_string(bits()); }
-  static R epsilon() { return std::numeric_limits<R>::epsilon(); }
-  static double to_double(const R& x) { return mpfr_get_d(x.backend().data(), MPFR_RNDN); }
-  static void to_mpfr(mpfr_ptr out, const R& x) { mpfr_set(out, x.backend().data(), MPFR_RNDN); }
-  static R from_mpfr(const mpfr_t x) {
-    R r;
-    mpfr_set(r.backend().data(), x, MPFR_RNDN);
-    return r;
-  }
-  static R product_error(const R& a, const R& b, const R& prod) { return fma(a, b, R(-prod)); }
-};
-
 /// The exact value rounded once, correctly, into R (for interval types: enclosed).
 template <class R>
 R round_exact(const ExactReal& x) {

@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <stdexcept>
 
-#include "io/progress.hpp"
+#include "numeric/tier_dispatch.hpp"
 #include "sim/particle.hpp"
 #include "sim/simd_engine.hpp"
 
@@ -32,17 +32,6 @@ void Tally::merge(const Tally& o) {
   escaped += o.escaped;
   survived += o.survived;
   stuck += o.stuck;
-}
-
-std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& tally) {
-  std::vector<std::uint64_t> out(tally.escapes_per_bin.size() + 1);
-  std::uint64_t alive = scene.particles;
-  out[0] = alive;
-  for (std::size_t k = 0; k < tally.escapes_per_bin.size(); ++k) {
-    alive -= tally.escapes_per_bin[k];
-    out[k + 1] = alive;
-  }
-  return out;
 }
 
 namespace {
@@ -138,7 +127,7 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
 
 void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
   auto* ctx = static_cast<SimdContext*>(c);
-  if (e.fate == 3) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
+  if (e.fate == LaneEnd::handed_back) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
                       // give it back to a lane (or record it, if it ended in the jump)
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
@@ -177,7 +166,6 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   const double dt = scene.survival_dt;
   const std::size_t nbins = result.tally.escapes_per_bin.size();
   std::atomic<std::uint64_t> done{0}, collisions_done{0};
-  ProgressLine progress(opt.progress, n);
   const auto t0 = std::chrono::steady_clock::now();
 
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
@@ -223,13 +211,13 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
       }
       const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
       const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
-      if (omp_get_thread_num() == 0) progress.update(d, c);
+      if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, n, c, false);
     }
 #pragma omp critical
     result.tally.merge(local);
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  progress.finish(n, result.tally.collisions);
+  if (opt.progress) opt.progress(n, n, result.tally.collisions, true);
   return result;
 }
 
@@ -256,14 +244,25 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
   return fits && simd::available() ? Engine::simd : Engine::scalar;
 }
 
-RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
-  switch (scene.tier) {
-    case Tier::float_: return run_tier<float>(scene, options);
-    case Tier::long_double: return run_tier<long double>(scene, options);
-    case Tier::auto_: throw std::logic_error("run.tier = \"auto\" must be resolved (verify/auto_tier) before running");
-    case Tier::double_: break;
+Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene) {
+  if (name != "auto" && name != "scalar" && name != "simd") throw InputError(key, name, "allowed: auto, scalar, simd");
+  const Engine e = name == "scalar" ? Engine::scalar : name == "simd" ? Engine::simd : Engine::automatic;
+  try {
+    resolve_engine(e, scene);
+  } catch (const std::runtime_error& err) {
+    throw InputError(key, name, err.what());
   }
-  return run_tier<double>(scene, options);
+  return e;
+}
+
+RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
+  if (!scene.tier.automatic() && !scene.tier.ensemble())
+    throw std::invalid_argument("the ensemble engine runs float, double or long_double, not " + scene.tier.name());
+  return with_tier(scene.tier, [&](auto type) -> RunResult {
+    using R = typename decltype(type)::type;
+    if constexpr (std::is_floating_point_v<R>) return run_tier<R>(scene, options);
+    else throw std::logic_error("unreachable: not an ensemble tier");
+  });
 }
 
 }  // namespace rotleak

@@ -4,13 +4,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
+#include "sim/fate.hpp"
 #include "sim/scene.hpp"
 
 namespace rotleak {
-
-enum class Fate : std::uint8_t { escaped = 0, survived = 1, stuck = 2 };
 
 /// One particle's end, kept only when escape records are asked for.
 struct EscapeRecord {
@@ -37,7 +37,9 @@ struct RunOptions {
   int threads = 0;               ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
   std::uint64_t first_id = 0;    ///< particles are ids [first_id, first_id + scene.particles)
-  bool progress = false;         ///< progress line on stderr
+  /// Called from one thread at a time, at most after every block of particles: particles done of
+  /// total, collisions so far; once more with final = true at the end. Empty: no reports.
+  std::function<void(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final)> progress;
 };
 
 struct RunResult {
@@ -52,10 +54,10 @@ struct RunResult {
 Engine resolve_engine(Engine requested, const Scene& scene);
 std::string to_string(Engine e);
 
-/// Runs the scene's ensemble in its tier.
-RunResult run_ensemble(const Scene& scene, const RunOptions& options);
+/// Engine by name (auto, scalar, simd), checked against the scene and this CPU; an InputError naming `key` otherwise.
+Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene);
 
-/// Survivors at t_k = k dt (k = 0..bins, the last at t_max) from the escape histogram.
-std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& tally);
+/// Runs the scene's ensemble in its tier (an ensemble tier; auto must be resolved first).
+RunResult run_ensemble(const Scene& scene, const RunOptions& options);
 
 }  // namespace rotleak

@@ -7,7 +7,7 @@
 
 #include "geometry/stadium.hpp"
 #include "leak/leak.hpp"
-#include "sim/engine.hpp"
+#include "sim/fate.hpp"
 #include "sim/initial.hpp"
 
 namespace rotleak {
@@ -36,10 +36,6 @@ struct ParticleEnd {
   double t = 0, s = 0;
   std::uint64_t collisions = 0;
 };
-
-/// Flights of zero length in a row before a particle is declared stuck (a corner or exact graze
-/// that rounding cannot leave); counted and reported, never silently dropped.
-inline constexpr int kMaxZeroFlights = 64;
 
 /// A particle in flight: its state and, once it has ended, how.
 template <class R>

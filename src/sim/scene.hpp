@@ -1,37 +1,21 @@
-// A scene: everything one run needs, validated. Every error names the key, the value and what is allowed.
+// A scene: everything one run needs. Scene files are read and validated in io/scene_file.hpp,
+// where every error names the key, the value and what is allowed.
 #pragma once
 
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "numeric/exact.hpp"
+#include "numeric/input.hpp"
+#include "numeric/tier.hpp"
 
 namespace rotleak {
 
-/// Bad input. what() is one line: "<key> = <value>: <what is allowed>".
-class InputError : public std::runtime_error {
- public:
-  InputError(const std::string& key, const std::string& value, const std::string& allowed)
-      : std::runtime_error(key + " = " + value + ": " + allowed), key_(key) {}
-  const std::string& key() const { return key_; }
-
- private:
-  std::string key_;
-};
-
-/// An exact value read from user text; bad text is an InputError naming `key`.
-ExactReal parse_exact_input(const std::string& key, const std::string& text);
-
 enum class InitKind { birkhoff, flow };
-/// auto_: chosen per scene by the audit (rotleak simulate resolves it before running).
-enum class Tier { float_, double_, long_double, auto_ };
 
 std::string to_string(InitKind k);
-std::string to_string(Tier t);
 
 struct TimeWindow {
   double from = 0, to = 0;
@@ -54,7 +38,7 @@ struct Scene {
   double creation_window = 4;  ///< particles are created at times uniform in [0, creation_window]
 
   double t_max = 20000;
-  Tier tier = Tier::double_;
+  Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
   bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/particle.hpp fast_forward)
 
   double survival_dt = 1;
@@ -68,15 +52,5 @@ struct Scene {
   /// Number of survival bins, ceil(t_max / survival_dt).
   std::size_t survival_bins() const;
 };
-
-/// Reads and validates a TOML scene. `overrides` are "section.key=value" strings applied on top of
-/// the file before validation (values for exact keys are taken verbatim as text).
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
-/// Same from TOML text (for tests and for scenes built in memory).
-Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides = {},
-                  const std::string& source = "<string>");
-
-/// The scene as TOML text that parse_scene reads back to the same scene.
-std::string scene_to_toml(const Scene& s);
 
 }  // namespace rotleak

@@ -22,7 +22,6 @@ using B = xsimd::batch<double, xsimd::avx2>;
 using M = B::batch_bool_type;
 constexpr int W = 4;
 constexpr int kGroups = ROTLEAK_SIMD_GROUPS;
-constexpr int kMaxZeroFlights = 64;  // as the scalar engine
 
 struct Lanes {
   alignas(32) double qx[W], qy[W], vx[W], vy[W], t[W], coll[W], zero[W];
@@ -166,8 +165,12 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
   for (int i = 0; i < W; ++i) {
     if (!((dm >> i) & 1) || !L.live[i]) continue;
     End e;
-    e.fate = ((om >> i) & 1) ? 1 : ((em >> i) & 1) ? 0 : ((sm >> i) & 1) ? 2 : ((hm >> i) & 1) ? 3 : 1;
-    e.t = e.fate == 1 ? S.t_max : L.t[i];
+    e.fate = ((om >> i) & 1)   ? LaneEnd::survived
+             : ((em >> i) & 1) ? LaneEnd::escaped
+             : ((sm >> i) & 1) ? LaneEnd::stuck
+             : ((hm >> i) & 1) ? LaneEnd::handed_back
+                               : LaneEnd::survived;
+    e.t = e.fate == LaneEnd::survived ? S.t_max : L.t[i];
     e.qx = L.qx[i];
     e.qy = L.qy[i];
     e.vx = L.vx[i];

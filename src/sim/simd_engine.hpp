@@ -6,6 +6,8 @@
 
 #include <cstdint>
 
+#include "sim/fate.hpp"
+
 namespace rotleak::simd {
 
 inline constexpr int kMaxWindows = 3;
@@ -24,7 +26,7 @@ struct Scene {
   // moving leak: phase = frac(start + omega t), omega = hi + lo
   double omega_hi, omega_lo, start, half_width;
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
-  /// edges is handed back (fate 3) for the scalar fast-forward; 0: never.
+  /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;
 };
 
@@ -34,7 +36,7 @@ struct Start {
 };
 
 struct End {
-  int fate;  ///< 0 escaped, 1 survived, 2 stuck (as Fate); 3 handed back mid-flight (state below)
+  LaneEnd fate;  ///< a Fate, or handed back mid-flight (the state below)
   double t, qx, qy, vx, vy;
   int piece;
   std::uint64_t collisions;

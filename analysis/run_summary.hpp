@@ -1,0 +1,33 @@
+// What one run says: the scene as run, the engine's tallies, the survival curve and its fits. Every
+// command, scan point, rank and test that runs a scene summarises it here, and io/run_output.hpp
+// writes it.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "analysis/fits.hpp"
+#include "sim/engine.hpp"
+#include "sim/scene.hpp"
+#include "sim/survival.hpp"
+
+namespace rotleak {
+
+struct RunSummary {
+  Scene scene;             ///< as run (a tier of auto resolved)
+  RunResult result;
+  SurvivalCurve curve;
+  KappaFit kappa;
+  AlphaResult alpha;
+  TailFit tail;
+  std::optional<std::string> tier_choice;  ///< why, when the scene asked for run.tier = auto
+
+  double collisions_per_second() const {
+    return result.wall_seconds > 0 ? static_cast<double>(result.tally.collisions) / result.wall_seconds : 0.0;
+  }
+};
+
+/// The curve and the three fits (kappa on the scene's window, alpha, the tail exponent).
+RunSummary summarise(const Scene& scene, RunResult result);
+
+}  // namespace rotleak

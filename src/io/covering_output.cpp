@@ -1,0 +1,74 @@
+#include "io/covering_output.hpp"
+
+#include <cstdio>
+
+#include "io/files.hpp"
+
+namespace rotleak {
+
+json covering_json(const std::string& omega, const Covering& c) {
+  json gaps = json::array();
+  for (const auto& g : c.gaps) {
+    json e = {{"length", g.length}, {"count", g.count}};
+    if (!g.exact.empty()) e["exact"] = g.exact;
+    gaps.push_back(e);
+  }
+  return {{"omega", omega},
+          {"x", c.x_text},
+          {"N", c.N},
+          {"exact", c.exact},
+          {"error_bound", c.error_bound},
+          {"zero_measure", c.zero_measure},
+          {"max_zero_gap", c.max_zero_gap},
+          {"clusters", c.clusters},
+          {"min", c.min},
+          {"max", c.max},
+          {"mean", c.mean},
+          {"cv", c.cv},
+          {"discrepancy", c.discrepancy},
+          {"gaps", gaps},
+          {"three_distance_holds", c.three_distance_holds},
+          {"segments", c.segments.size()},
+          {"seconds", c.seconds}};
+}
+
+std::string covering_profile_csv(const std::vector<std::string>& omegas, const std::vector<Covering>& results,
+                                 std::size_t resolution) {
+  std::string csv = "s";
+  for (const auto& o : omegas) csv += ",f_L[" + o + "]";
+  csv += "\n";
+  std::vector<std::vector<double>> prof;
+  for (const auto& c : results) prof.push_back(covering_profile(c, resolution));
+  for (std::size_t b = 0; b < resolution; ++b) {
+    csv += shortest((static_cast<double>(b) + 0.5) / static_cast<double>(resolution));
+    for (const auto& p : prof) csv += "," + shortest(p[b]);
+    csv += "\n";
+  }
+  return csv;
+}
+
+std::string covering_segments_csv(const Covering& c) {
+  std::string seg = "from,to,f_L\n";
+  for (const auto& s : c.segments) seg += shortest(s.from) + "," + shortest(s.to) + "," + std::to_string(s.value) + "\n";
+  return seg;
+}
+
+std::string covering_text(const std::vector<std::string>& omegas, const std::vector<Covering>& results) {
+  std::string out;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const Covering& c = results[i];
+    char how[64], line[1024];
+    std::snprintf(how, sizeof how, c.exact ? "exact" : "certified, points within %.1e", c.error_bound);
+    std::snprintf(line, sizeof line,
+                  "omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
+                  "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
+                  omegas[i].c_str(), static_cast<unsigned long long>(c.N), how, c.zero_measure, c.max_zero_gap,
+                  static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
+                  static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
+                  c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace rotleak

@@ -1,0 +1,337 @@
+#include "io/scene_file.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+namespace rotleak {
+
+namespace {
+
+// The keys a scene may hold. Anything else is an error: a misspelt key must not be silently ignored.
+const std::map<std::string, std::set<std::string>> kSchema = {
+    {"stadium", {"d", "r"}},
+    {"leak", {"width", "start", "omega"}},
+    {"ensemble", {"particles", "seed", "init", "creation_window"}},
+    {"run", {"t_max", "tier", "fast_forward"}},
+    {"observe", {"survival_dt", "collision_density", "escapes"}},
+    {"fit", {"kappa_window"}},
+};
+const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
+const std::set<std::string> kDensityKeys = {"bins", "windows"};
+
+std::string shown(const toml::node& n) {
+  std::ostringstream os;
+  if (auto s = n.as_string()) os << '"' << s->get() << '"';
+  else if (auto f = n.as_floating_point()) {
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof buf, f->get());
+    os << std::string(buf, r.ptr);
+  } else if (n.is_table()) {
+    os << "{...}";
+  } else {
+    n.visit([&](auto&& v) { os << v; });
+  }
+  return os.str();
+}
+
+struct Reader {
+  const toml::table& root;
+
+  const toml::node* find(const std::string& section, const std::string& key) const {
+    if (auto sec = root.get_as<toml::table>(section)) return sec->get(key);
+    return nullptr;
+  }
+
+  ExactReal exact(const std::string& section, const std::string& key, std::string& text,
+                  ExactReal fallback) const {
+    const std::string name = section + "." + key;
+    const toml::node* n = find(section, key);
+    if (!n) return fallback;
+    if (n->is_floating_point())
+      throw InputError(name, shown(*n),
+                       "write it as a string (e.g. " + key + " = \"0.01\") so it is read exactly, not through double");
+    if (auto i = n->as_integer()) text = std::to_string(i->get());
+    else if (auto s = n->as_string()) text = s->get();
+    else throw InputError(name, shown(*n), "must be an exact number given as a string or an integer");
+    return parse_exact_input(name, text);
+  }
+
+  double number(const std::string& section, const std::string& key, double fallback) const {
+    const toml::node* n = find(section, key);
+    if (!n) return fallback;
+    return as_number(section + "." + key, *n);
+  }
+
+  static double as_number(const std::string& name, const toml::node& n) {
+    double v;
+    if (auto i = n.as_integer()) v = static_cast<double>(i->get());
+    else if (auto f = n.as_floating_point()) v = f->get();
+    else throw InputError(name, shown(n), "must be a number");
+    if (!std::isfinite(v)) throw InputError(name, shown(n), "must be a finite number");
+    return v;
+  }
+
+  std::uint64_t count(const std::string& section, const std::string& key, std::uint64_t fallback,
+                      std::uint64_t min, const std::string& allowed) const {
+    const toml::node* n = find(section, key);
+    if (!n) return fallback;
+    auto i = n->as_integer();
+    if (!i || i->get() < 0 || static_cast<std::uint64_t>(i->get()) < min)
+      throw InputError(section + "." + key, shown(*n), allowed);
+    return static_cast<std::uint64_t>(i->get());
+  }
+
+  std::string word(const std::string& section, const std::string& key, const std::string& fallback,
+                   const std::set<std::string>& allowed) const {
+    const toml::node* n = find(section, key);
+    if (!n) return fallback;
+    auto s = n->as_string();
+    if (!s || !allowed.count(s->get())) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
+      throw InputError(section + "." + key, shown(*n), "must be one of " + list);
+    }
+    return s->get();
+  }
+
+  static TimeWindow window(const std::string& name, const toml::node& n) {
+    auto a = n.as_array();
+    if (!a || a->size() != 2)
+      throw InputError(name, shown(n), "must be a pair of times [from, to] with 0 <= from < to");
+    TimeWindow w{as_number(name, *a->get(0)), as_number(name, *a->get(1))};
+    if (!(w.from >= 0 && w.from < w.to))
+      throw InputError(name, shown(n), "must be a pair of times [from, to] with 0 <= from < to");
+    return w;
+  }
+};
+
+void check_known_keys(const toml::table& root) {
+  for (auto&& [k, v] : root) {
+    const std::string section(k.str());
+    auto it = kSchema.find(section);
+    if (it == kSchema.end()) {
+      std::string list;
+      for (const auto& [s, _] : kSchema) list += (list.empty() ? "" : ", ") + s;
+      throw InputError(section, shown(v), "unknown section; allowed: " + list);
+    }
+    auto sec = v.as_table();
+    if (!sec) throw InputError(section, shown(v), "must be a table [" + section + "]");
+    for (auto&& [kk, vv] : *sec) {
+      const std::string key(kk.str());
+      if (!it->second.count(key)) {
+        std::string list;
+        for (const auto& a : it->second) list += (list.empty() ? "" : ", ") + a;
+        throw InputError(section + "." + key, shown(vv), "unknown key; [" + section + "] allows " + list);
+      }
+    }
+  }
+}
+
+void apply_override(toml::table& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set", "\"" + assignment + "\"", "must look like section.key=value (e.g. leak.omega=2/3)");
+  const std::string path = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+  const auto dot = path.find('.');
+  if (dot == std::string::npos)
+    throw InputError("--set", "\"" + assignment + "\"", "the key needs its section, e.g. leak.omega=2/3");
+  const std::string section = path.substr(0, dot), key = path.substr(dot + 1);
+  auto it = kSchema.find(section);
+  if (it == kSchema.end() || !it->second.count(key)) {
+    std::string list;
+    for (const auto& [s, keys] : kSchema)
+      for (const auto& kk : keys) list += (list.empty() ? "" : ", ") + (s + "." + kk);
+    throw InputError(path, "\"" + value + "\"", "unknown key; allowed: " + list);
+  }
+  if (!root.contains(section)) root.insert(section, toml::table{});
+  toml::table& sec = *root.get_as<toml::table>(section);
+  if (kExactKeys.count(path)) {
+    sec.insert_or_assign(key, value);  // exact keys keep the text verbatim
+    return;
+  }
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    sec.insert_or_assign(key, value);  // a bare word: validation says whether it is allowed
+    return;
+  }
+  parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
+}
+
+Scene build(const toml::table& root, const std::string& source) {
+  check_known_keys(root);
+  Reader in{root};
+  Scene s;
+  s.source = source;
+  s.d = in.exact("stadium", "d", s.d_text, s.d);
+  s.r = in.exact("stadium", "r", s.r_text, s.r);
+  s.width = in.exact("leak", "width", s.width_text, s.width);
+  s.start = in.exact("leak", "start", s.start_text, s.start);
+  s.omega = in.exact("leak", "omega", s.omega_text, s.omega);
+  if (s.d.sign() <= 0) throw InputError("stadium.d", "\"" + s.d_text + "\"", "must be > 0");
+  if (s.r.sign() <= 0) throw InputError("stadium.r", "\"" + s.r_text + "\"", "must be > 0");
+  if (s.width.sign() <= 0 || (s.width - ExactReal::parse("1")).sign() >= 0)
+    throw InputError("leak.width", "\"" + s.width_text + "\"", "must be in (0, 1) (a fraction of the perimeter)");
+
+  s.particles = in.count("ensemble", "particles", s.particles, 1, "must be an integer >= 1");
+  s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");
+  s.init = in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow
+                                                                                   : InitKind::birkhoff;
+  s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
+  if (s.creation_window < 0)
+    throw InputError("ensemble.creation_window", std::to_string(s.creation_window), "must be >= 0");
+
+  s.t_max = in.number("run", "t_max", s.t_max);
+  if (!(s.t_max > 0) || s.t_max > 1e12)
+    throw InputError("run.t_max", shown(*in.find("run", "t_max")), "must be a number in (0, 1e12]");
+  if (const toml::node* n = in.find("run", "tier")) {
+    const auto name = n->as_string();
+    const auto tier = name ? Tier::parse(name->get()) : std::nullopt;
+    if (!tier || !(tier->ensemble() || tier->automatic()))
+      throw InputError("run.tier", shown(*n),
+                       "must be one of \"float\", \"double\", \"long_double\" (the ensemble tiers) or \"auto\"");
+    s.tier = *tier;
+  }
+
+  if (const toml::node* n = in.find("run", "fast_forward")) {
+    auto b = n->as_boolean();
+    if (!b) throw InputError("run.fast_forward", shown(*n), "must be true or false");
+    s.fast_forward = b->get();
+  }
+  s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
+  if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
+    throw InputError("observe.survival_dt", std::to_string(s.survival_dt),
+                     "must be > 0 with t_max / survival_dt <= 1e8 bins");
+  if (const toml::node* n = in.find("observe", "collision_density")) {
+    auto t = n->as_table();
+    if (!t) throw InputError("observe.collision_density", shown(*n), "must be a table { bins = ..., windows = [[from, to], ...] }");
+    for (auto&& [k, v] : *t)
+      if (!kDensityKeys.count(std::string(k.str())))
+        throw InputError("observe.collision_density." + std::string(k.str()), shown(v), "unknown key; allowed: bins, windows");
+    CollisionDensitySpec spec;
+    if (auto b = t->get("bins")) {
+      auto i = b->as_integer();
+      if (!i || i->get() < 1 || i->get() > 10000000)
+        throw InputError("observe.collision_density.bins", shown(*b), "must be an integer in [1, 10^7]");
+      spec.bins = static_cast<int>(i->get());
+    }
+    if (auto w = t->get("windows")) {
+      auto a = w->as_array();
+      if (!a || a->empty())
+        throw InputError("observe.collision_density.windows", shown(*w), "must be a non-empty list of [from, to] pairs");
+      for (auto&& item : *a) spec.windows.push_back(Reader::window("observe.collision_density.windows", item));
+    } else {
+      spec.windows.push_back({0, s.t_max});
+    }
+    s.collision_density = spec;
+  }
+  if (const toml::node* n = in.find("observe", "escapes")) {
+    auto b = n->as_boolean();
+    if (!b) throw InputError("observe.escapes", shown(*n), "must be true or false");
+    s.escape_records = b->get();
+  }
+  if (const toml::node* n = in.find("fit", "kappa_window")) {
+    s.kappa_window = Reader::window("fit.kappa_window", *n);
+    if (s.kappa_window.to > s.t_max)
+      throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
+  }
+  if (s.kappa_window.to > s.t_max) s.kappa_window.to = s.t_max;
+  return s;
+}
+
+toml::table parse_toml(const std::string& text, const std::string& source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << "line " << e.source().begin.line << ": " << e.description();
+    throw InputError(source, "(TOML)", os.str());
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::vector<std::string>& overrides, const std::string& source) {
+  toml::table root = parse_toml(text, source);
+  for (const auto& o : overrides) apply_override(root, o);
+  return build(root, source);
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream f(path);
+  if (!f) throw InputError("SCENE", "\"" + path + "\"", "must be a readable TOML file");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return parse_scene(ss.str(), overrides, path);
+}
+
+json scene_json(const Scene& s) {
+  json j;
+  j["source"] = s.source;
+  j["stadium"] = {{"d", s.d_text}, {"r", s.r_text}};
+  j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
+  j["ensemble"] = {{"particles", s.particles}, {"seed", s.seed}, {"init", to_string(s.init)},
+                   {"creation_window", s.creation_window}};
+  j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}, {"fast_forward", s.fast_forward}};
+  json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
+  if (s.collision_density) {
+    json w = json::array();
+    for (const auto& win : s.collision_density->windows) w.push_back({win.from, win.to});
+    obs["collision_density"] = {{"bins", s.collision_density->bins}, {"windows", w}};
+  }
+  j["observe"] = obs;
+  j["fit"] = {{"kappa_window", {s.kappa_window.from, s.kappa_window.to}}};
+  return j;
+}
+
+namespace {
+
+/// A JSON value as a TOML value: strings in JSON's escapes (valid TOML basic strings), floats with
+/// a decimal point so they read back as floats, arrays and objects inline.
+std::string toml_value(const json& v) {
+  switch (v.type()) {
+    case json::value_t::number_float: {
+      char buf[64];
+      auto r = std::to_chars(buf, buf + sizeof buf, v.get<double>());
+      std::string out(buf, r.ptr);
+      if (out.find_first_of(".en") == std::string::npos) out += ".0";
+      return out;
+    }
+    case json::value_t::array: {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + toml_value(v[i]);
+      return out + "]";
+    }
+    case json::value_t::object: {
+      std::string out = "{ ";
+      bool first = true;
+      for (const auto& [k, x] : v.items()) {
+        out += (first ? "" : ", ") + k + " = " + toml_value(x);
+        first = false;
+      }
+      return out + " }";
+    }
+    default: return v.dump();  // strings, integers, booleans: JSON's text is TOML's
+  }
+}
+
+}  // namespace
+
+std::string scene_to_toml(const Scene& s) {
+  std::string out;
+  const json doc = scene_json(s);
+  for (const auto& [section, keys] : doc.items()) {
+    if (!keys.is_object()) continue;  // "source": where it came from, not part of the scene
+    out += (out.empty() ? "[" : "\n[") + section + "]\n";
+    for (const auto& [k, v] : keys.items()) out += k + " = " + toml_value(v) + "\n";
+  }
+  return out;
+}
+
+}  // namespace rotleak

@@ -1,0 +1,25 @@
+// Scene files: TOML in, validated Scene out (every error names the key, the value and what is
+// allowed); and the one serialiser of a Scene, as JSON (summary.json) and as TOML (scene.toml).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/json.hpp"
+#include "sim/scene.hpp"
+
+namespace rotleak {
+
+/// Reads and validates a TOML scene. `overrides` are "section.key=value" strings applied on top of
+/// the file before validation (values for exact keys are taken verbatim as text).
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// Same from TOML text (for tests and for scenes built in memory).
+Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides = {},
+                  const std::string& source = "<string>");
+
+/// The scene as a JSON object: "source", then one object per TOML section, exact keys as their text.
+json scene_json(const Scene& s);
+/// The scene as TOML text that parse_scene reads back to the same scene (scene_json, rendered as TOML).
+std::string scene_to_toml(const Scene& s);
+
+}  // namespace rotleak
