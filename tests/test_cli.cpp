@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "names.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -82,7 +84,8 @@ INSTANTIATE_TEST_SUITE_P(
                       std::pair{std::string("--particles 0"), std::string("--particles")},
                       std::pair{std::string("--set leak.colour=red"), std::string("leak.colour")},
                       std::pair{std::string("--threads -1"), std::string("--threads")},
-                      std::pair{std::string("--bogus"), std::string("--bogus")}));
+                      std::pair{std::string("--bogus"), std::string("--bogus")}),
+                         rotleak::test::IndexedName());
 
 TEST(Cli, MissingSceneFileIsBadInput) {
   const Outcome o = run("simulate /nonexistent/scene.toml --out " + (scratch() / "x").string());
@@ -151,7 +154,8 @@ INSTANTIATE_TEST_SUITE_P(
                       std::pair{std::string("covering --omega 2/3 --delta 1"), std::string("--delta")},
                       std::pair{std::string("covering --omega 2/3 --lambda 1.5"), std::string("--lambda")},
                       std::pair{std::string("covering --omega 2/3 --lambda 0"), std::string("--lambda")},
-                      std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")}));
+                      std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")}),
+                         rotleak::test::IndexedName());
 
 TEST(Cli, OmegaAndCoveringJson) {
   const Outcome o = run("omega 'ln(19)' --terms 40 --json");

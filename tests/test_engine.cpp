@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "names.hpp"
 #include "io/scene_file.hpp"
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
@@ -44,7 +45,8 @@ TEST_P(EngineThreads, OneAndTwoThreadsGiveIdenticalFiles) {
 
 INSTANTIATE_TEST_SUITE_P(Leaks, EngineThreads,
                          ::testing::Values(std::pair{"0", "birkhoff"}, std::pair{"2/3", "birkhoff"},
-                                           std::pair{"ln(19)", "flow"}));
+                                           std::pair{"ln(19)", "flow"}),
+                         rotleak::test::IndexedName());
 
 TEST(Engine, MatchesTheReferenceLoopParticleByParticle) {
   const Scene scene = small_scene("1008/1009");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "names.hpp"
 #include "io/scene_file.hpp"
 #include "io/run_output.hpp"
 #include "sim/engine.hpp"
@@ -64,7 +65,8 @@ TEST_P(FastForward, SameEscapeCollisionAndTimeAsStepping) {
 
 INSTANTIATE_TEST_SUITE_P(Leaks, FastForward,
                          ::testing::Values(std::pair{"0", "0"}, std::pair{"0", "0.5"}, std::pair{"0", "0.1022"},
-                                           std::pair{"1", "0"}, std::pair{"2/3", "0.3"}));
+                                           std::pair{"1", "0"}, std::pair{"2/3", "0.3"}),
+                         rotleak::test::IndexedName());
 
 // One orbit built to bounce: p = 1e-4 from x = -0.9 on the top edge, thousands of bounces in one jump.
 TEST(FastForwardOrbit, LongBouncingPhaseInOneJump) {

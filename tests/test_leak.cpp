@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "names.hpp"
 #include "leak/leak.hpp"
 #include "tiers.hpp"
 
@@ -89,7 +90,8 @@ INSTANTIATE_TEST_SUITE_P(Positions, LeakWindows,
                                            std::pair{"0.75", "0.01"}, std::pair{"0.998", "0.01"},
                                            std::pair{"0.3", "0.9"}, std::pair{"0.9", "0.5"},
                                            std::pair{"0.6", "0.3"}, std::pair{"0.3", "1e-9"},
-                                           std::pair{"0.7", "0.5"}));
+                                           std::pair{"0.7", "0.5"}),
+                         rotleak::test::IndexedName());
 
 TEST(LeakStraddle, JunctionCasesOfTheStationaryTable) {
   // s_L = 0.1022 still overlaps the straight top edge; s_L = 0.1024 lies wholly on the arc (SPEC 5).

@@ -1,6 +1,7 @@
 // Scene validation: every bad input is an InputError naming its key; overrides; round trip.
 #include <gtest/gtest.h>
 
+#include "names.hpp"
 #include "io/scene_file.hpp"
 
 using namespace rotleak;
@@ -90,7 +91,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"", "leak.omega=", "leak.omega"},
         BadCase{"", "leak.omgea=1", "leak.omgea"},
         BadCase{"", "omega=1", "--set"},
-        BadCase{"[leak\n", "", "TOML"}));
+        BadCase{"[leak\n", "", "TOML"}),
+                         rotleak::test::IndexedName());
 
 TEST(Scene, TomlRoundTrip) {
   const Scene a = parse_scene(

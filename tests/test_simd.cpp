@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "names.hpp"
 #include "io/scene_file.hpp"
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
@@ -64,7 +65,8 @@ TEST_P(SimdStationary, BitIdenticalToTheScalarCore) {
   EXPECT_EQ(a.tally.collisions, b.tally.collisions);
 }
 
-INSTANTIATE_TEST_SUITE_P(LeakPositions, SimdStationary, ::testing::Values("0", "0.1022", "0.1024", "0.25", "0.5", "0.95"));
+INSTANTIATE_TEST_SUITE_P(LeakPositions, SimdStationary, ::testing::Values("0", "0.1022", "0.1024", "0.25", "0.5", "0.95"),
+                         rotleak::test::IndexedName());
 
 TEST(Simd, OneAndTwoThreadsGiveIdenticalFiles) {
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";

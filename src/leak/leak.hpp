@@ -17,7 +17,7 @@ template <class R>
 class LeakSchedule {
  public:
   LeakSchedule(const ExactReal& start, const ExactReal& omega)
-      : omega_exact_(omega), omega_(split_exact<R>(omega)), rotating_(omega.sign() != 0) {
+      : omega_(split_exact<R>(omega)), rotating_(omega.sign() != 0) {
     // s0 reduced exactly into [0,1) before rounding.
     ExactReal s = start;
     const mpfr_prec_t guard = 64;
@@ -34,7 +34,6 @@ class LeakSchedule {
   }
 
   bool rotating() const { return rotating_; }
-  const ExactReal& omega() const { return omega_exact_; }
   const two_term<R>& omega_split() const { return omega_; }
   const R& start() const { return start_; }
 
@@ -50,7 +49,6 @@ class LeakSchedule {
   }
 
  private:
-  ExactReal omega_exact_;
   two_term<R> omega_;
   R start_{0};
   bool rotating_;
@@ -118,9 +116,6 @@ class Leak {
   };
   /// The stationary windows of piece p (empty for a moving leak).
   const PieceWindows& windows(Piece p) const { return windows_[static_cast<int>(p)]; }
-  /// s-range of piece p, the top edge unwrapped to [j3 - 1, j0].
-  const R& piece_lo(Piece p) const { return piece_lo_[static_cast<int>(p)]; }
-  const R& piece_hi(Piece p) const { return piece_hi_[static_cast<int>(p)]; }
 
  private:
 

@@ -361,10 +361,6 @@ ExactReal::ExactReal(std::shared_ptr<const Node> n) : node_(std::move(n)) {}
 
 ExactReal ExactReal::parse(std::string_view text) { return ExactReal(Parser(text).parse_all()); }
 ExactReal ExactReal::rational(const mpq_class& q) { return ExactReal(make_rational(q)); }
-ExactReal ExactReal::from_double(double x) {
-  if (!std::isfinite(x)) throw ExactParseError("not a finite number");
-  return ExactReal(make_rational(mpq_class(x)));
-}
 ExactReal ExactReal::pi() { return ExactReal(make_node(Kind::pi)); }
 
 bool ExactReal::is_rational() const { return is_rat(node_); }

@@ -28,7 +28,6 @@ class ExactReal {
   /// "golden", "liouville(10)". Decimals are read as exact rationals, never through double.
   static ExactReal parse(std::string_view text);
   static ExactReal rational(const mpq_class& q);
-  static ExactReal from_double(double x);  ///< the exact binary value of x
   static ExactReal pi();
 
   ExactReal();  ///< zero
