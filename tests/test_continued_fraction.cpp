@@ -70,7 +70,9 @@ TEST(ContinuedFraction, RandomBigRationalsRoundTripExactly) {
     const auto terms = cf_of_rational(q);
     EXPECT_EQ(rational_of_cf(terms), q) << "seed " << seed << " case " << i;
     for (std::size_t k = 1; k < terms.size(); ++k) EXPECT_GE(terms[k], 1);
-    if (terms.size() > 1) EXPECT_GE(terms.back(), 2);  // canonical form
+    if (terms.size() > 1) {
+      EXPECT_GE(terms.back(), 2);  // canonical form
+    }
   }
 }
 

@@ -76,7 +76,7 @@ TEST(Covering, SweepAgreesWithDirectCounting) {
       EXPECT_EQ(seg.value, direct_count(x, half, c.N, mid)) << omega << " at s = " << mid.get_d() << ", seed " << seed;
     }
     // integral of f_L = (N + 1) lambda exactly
-    EXPECT_NEAR(c.mean, (c.N + 1) * 0.05, 1e-12 * c.mean);
+    EXPECT_NEAR(c.mean, static_cast<double>(c.N + 1) * 0.05, 1e-12 * c.mean);
   }
 }
 

@@ -45,8 +45,8 @@ INSTANTIATE_TEST_SUITE_P(Spec5, StationaryTable,
                                            Row{"0.1024", 4.750e-3, 9.5e-4, 1000000},
                                            Row{"0.11", 4.683e-3, 2.9e-3, 500000},
                                            Row{"0.25", 4.382e-3, 3.4e-3, 500000}),
-                         [](const ::testing::TestParamInfo<Row>& info) {
-                           std::string name = std::string("sL_") + info.param.s_L;
+                         [](const ::testing::TestParamInfo<Row>& row) {
+                           std::string name = std::string("sL_") + row.param.s_L;
                            std::replace(name.begin(), name.end(), '.', '_');
                            return name;
                          });

@@ -64,13 +64,17 @@ TEST(Shadow, HighPrecisionTiersReproduceTheEscape) {
     const ShadowResult r = shadow(stationary(), id, opt);
     if (!r.truth.escape) continue;
     // escapes well inside a tier's horizon (double ~24 collisions, 256 bits ~170) are reproduced
-    if (*r.truth.escape < 15) EXPECT_TRUE(r.tiers[0].escape_exact) << "id " << id;
+    if (*r.truth.escape < 15) {
+      EXPECT_TRUE(r.tiers[0].escape_exact) << "id " << id;
+    }
     if (*r.truth.escape < 120) {
       EXPECT_TRUE(r.tiers[1].escape_exact) << "id " << id;
       ++within;
     }
     // past the horizon the decision may differ, and then the tier says so
-    if (!r.tiers[0].escape_exact) EXPECT_TRUE(r.tiers[0].decision.has_value() || r.tiers[0].horizon.has_value());
+    if (!r.tiers[0].escape_exact) {
+      EXPECT_TRUE(r.tiers[0].decision.has_value() || r.tiers[0].horizon.has_value());
+    }
   }
   EXPECT_GT(within, 10);
 }

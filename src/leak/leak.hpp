@@ -125,7 +125,7 @@ class Leak {
     const R c = schedule_.start();
     for (int k = 0; k < 4; ++k) {
       for (int shift = -1; shift <= 1; ++shift) {
-        const R a = c - half_width_ + shift, b = c + half_width_ + shift;
+        const R a = c - half_width_ + R(shift), b = c + half_width_ + R(shift);
         const R lo = a > piece_lo_[k] ? a : piece_lo_[k];
         const R hi = b < piece_hi_[k] ? b : piece_hi_[k];
         if (lo > hi) continue;

@@ -201,7 +201,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
       const std::uint64_t before = local.collisions;
       if (use_simd) {
         if constexpr (std::is_same_v<R, double>) {
-          SimdContext ctx{&model, &ic, opt.first_id, lo, hi, record};
+          SimdContext ctx{&model, &ic, opt.first_id, lo, hi, record, {}};
           simd::run(kernel_scene, &ctx, simd_next, simd_finish);
         }
       } else if (scene.collision_density) {

@@ -21,7 +21,7 @@ struct Model {
 
   Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start,
         const ExactReal& omega, double tmax)
-      : stadium(d, r), leak(stadium, width, start, omega), t_max(tmax) {}
+      : stadium(d, r), leak(stadium, width, start, omega), t_max(R(tmax)) {}
 };
 
 /// What the particle loop reports to its observer at each collision; the default does nothing.

@@ -89,7 +89,7 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
   const B xl = xsimd::fma(vx, tl, qx);
   const M flat = vy == ZERO;
   const M straight = (xsimd::abs(xl) <= HD) & !flat;
-  const M right = (flat & (vx > ZERO)) | (!flat & (xl > ZERO));
+  const M right = (flat & (vx > ZERO)) | ((!flat) & (xl > ZERO));
   const B cx = xsimd::select(right, HD, -HD);
   const B dx = qx - cx;
   const B b = xsimd::fma(dx, vx, qy * vy);
@@ -112,7 +112,7 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
     for (int w = 0; w < S.n_windows[2]; ++w) in = in | (straight & !up & (hx >= B(S.lo[2][w])) & (hx <= B(S.hi[2][w])));
     const B rx = hx - cx;
     for (int p = 1; p <= 3; p += 2) {
-      const M on = !straight & (p == 1 ? right : !right);
+      const M on = (!straight) & (p == 1 ? right : !right);
       for (int w = 0; w < S.n_windows[p]; ++w) {
         const B c1 = xsimd::fms(B(S.from_x[p][w]), hy, B(S.from_y[p][w]) * rx);  // cross(from, rel)
         const B c2 = xsimd::fms(rx, B(S.to_y[p][w]), hy * B(S.to_x[p][w]));      // cross(rel, to)
