@@ -27,7 +27,7 @@ inline constexpr int kExitBadInput = 2;
 int run_plot_script(const std::string& script, const std::string& dir);
 /// Draws a simulate run directory (survival.png, fc.png).
 int draw_plots(const std::string& run_dir);
-/// draw_plots after a completed run: stdout flushed first, a failure reported (exit 1), the run kept.
-int plot_after_run(const std::string& run_dir);
+/// A plot script after a completed run: stdout flushed first, a failure reported (exit 1), the run kept.
+int plot_after_run(const std::string& run_dir, const std::string& script = "plot_run.py");
 
 }  // namespace rotleak::cli

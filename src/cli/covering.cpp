@@ -19,43 +19,42 @@ struct CoveringArgs {
   bool json_out = false, force = false, segments = false, plot = true;
 };
 
-int run_covering(const CoveringArgs& a) {
+/// The exact inputs, each checked against its range (before any output is staged).
+CoveringInput parse_input(const CoveringArgs& a) {
   if (a.omegas.empty()) throw InputError("--omega", "(none)", "give at least one omega");
   if (a.resolution < 1 || a.resolution > 10000000)
     throw InputError("--resolution", std::to_string(a.resolution), "must be in [1, 10^7]");
-  CoveringInput in;
-  in.delta = parse_exact_input("--delta", a.delta);
-  in.lambda = parse_exact_input("--lambda", a.lambda);
-  in.d = parse_exact_input("--d", a.d);
-  in.r = parse_exact_input("--r", a.r);
-  std::vector<ExactReal> omegas;
-  for (const auto& o : a.omegas) omegas.push_back(parse_exact_input("--omega", o));
-  // validate everything (and stage the output) before computing
-  auto check = [](const ExactReal& v, const std::string& key, const std::string& text, bool open_unit) {
+  auto exact = [](const std::string& key, const std::string& text, bool open_unit) {
+    const ExactReal v = parse_exact_input(key, text);
     if (v.sign() <= 0 || (open_unit && (v - ExactReal::parse("1")).sign() >= 0))
       throw InputError(key, "\"" + text + "\"", open_unit ? "must be in (0, 1)" : "must be > 0");
+    return v;
   };
-  check(in.delta, "--delta", a.delta, true);
-  check(in.lambda, "--lambda", a.lambda, true);
-  check(in.d, "--d", a.d, false);
-  check(in.r, "--r", a.r, false);
+  CoveringInput in;
+  in.delta = exact("--delta", a.delta, true);
+  in.lambda = exact("--lambda", a.lambda, true);
+  in.d = exact("--d", a.d, false);
+  in.r = exact("--r", a.r, false);
+  return in;
+}
+
+int run_covering(const CoveringArgs& a) {
+  CoveringInput in = parse_input(a);
+  std::vector<ExactReal> omegas;
+  for (const auto& o : a.omegas) omegas.push_back(parse_exact_input("--omega", o));
   std::unique_ptr<RunDirectory> dir;
   if (!a.out.empty()) dir = std::make_unique<RunDirectory>(a.out, a.force);
 
   std::vector<Covering> results;
-  json list = json::array();
-  for (std::size_t i = 0; i < omegas.size(); ++i) {
-    in.omega = omegas[i];
+  for (const ExactReal& omega : omegas) {
+    in.omega = omega;
     try {
       results.push_back(mupo_covering(in));
     } catch (const std::invalid_argument& e) {
       throw InputError("--delta", "\"" + a.delta + "\"", e.what());
     }
-    list.push_back(covering_json(a.omegas[i], results.back()));
   }
-  json doc;
-  doc["input"] = {{"delta", a.delta}, {"lambda", a.lambda}, {"d", a.d}, {"r", a.r}};
-  doc["covering"] = list.size() == 1 ? list[0] : list;
+  const json doc = covering_document({a.delta, a.lambda, a.d, a.r}, a.omegas, results);
 
   if (dir) {
     write_file_atomic(dir->file("f_L.csv"), covering_profile_csv(a.omegas, results, static_cast<std::size_t>(a.resolution)));
@@ -71,15 +70,7 @@ int run_covering(const CoveringArgs& a) {
     std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", a.delta.c_str(), a.lambda.c_str(), a.d.c_str(), a.r.c_str());
     std::fputs(covering_text(a.omegas, results).c_str(), stdout);
   }
-  if (dir && a.plot) {
-    std::fflush(stdout);
-    const int rc = run_plot_script("plot_covering.py", dir->final_path().string());
-    if (rc != 0) {
-      std::cerr << "rotleak: plotting failed (exit " << rc << ")\n";
-      return 1;
-    }
-  }
-  return 0;
+  return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_covering.py") : 0;
 }
 
 }  // namespace

@@ -41,9 +41,9 @@ int draw_plots(const std::string& run_dir) {
   return run_plot_script("plot_run.py", run_dir);
 }
 
-int plot_after_run(const std::string& run_dir) {
+int plot_after_run(const std::string& run_dir, const std::string& script) {
   std::fflush(stdout);  // our lines first, then the plotter's
-  const int rc = draw_plots(run_dir);
+  const int rc = run_plot_script(script, run_dir);
   if (rc != 0) {
     std::fprintf(stderr, "rotleak: plotting failed (exit %d); the run itself is complete\n", rc);
     return 1;

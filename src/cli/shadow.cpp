@@ -47,11 +47,7 @@ int run_shadow(const ShadowArgs& a) {
   }
   if (a.json_out) std::cout << doc.dump(2) << "\n";
   else std::fputs(shadow_text(r).c_str(), stdout);
-  if (dir && a.plot) {
-    std::fflush(stdout);
-    if (run_plot_script("plot_shadow.py", dir->final_path().string()) != 0) return 1;
-  }
-  return 0;
+  return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_shadow.py") : 0;
 }
 
 }  // namespace

@@ -32,6 +32,15 @@ json covering_json(const std::string& omega, const Covering& c) {
           {"seconds", c.seconds}};
 }
 
+json covering_document(const CoveringTexts& in, const std::vector<std::string>& omegas, const std::vector<Covering>& results) {
+  json list = json::array();
+  for (std::size_t i = 0; i < results.size(); ++i) list.push_back(covering_json(omegas[i], results[i]));
+  json doc;
+  doc["input"] = {{"delta", in.delta}, {"lambda", in.lambda}, {"d", in.d}, {"r", in.r}};
+  doc["covering"] = list.size() == 1 ? list[0] : list;
+  return doc;
+}
+
 std::string covering_profile_csv(const std::vector<std::string>& omegas, const std::vector<Covering>& results,
                                  std::size_t resolution) {
   std::string csv = "s";
