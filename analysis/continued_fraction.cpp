@@ -43,9 +43,11 @@ std::vector<Fraction> convergents(const std::vector<mpz_class>& terms) {
 std::vector<Fraction> semiconvergents(const std::vector<mpz_class>& terms, std::size_t k, std::size_t max_count) {
   std::vector<Fraction> out;
   if (k == 0 || k >= terms.size()) return out;
-  const std::vector<Fraction> c = convergents(std::vector<mpz_class>(terms.begin(), terms.begin() + static_cast<long>(k)));
+  const std::vector<Fraction> c =
+      convergents(std::vector<mpz_class>(terms.begin(), terms.begin() + static_cast<long>(k)));
   const Fraction prev = c[k - 1], prev2 = k >= 2 ? c[k - 2] : Fraction{1, 0};
-  for (mpz_class j = 1; j < terms[k] && out.size() < max_count; ++j) out.push_back({prev2.p + j * prev.p, prev2.q + j * prev.q});
+  for (mpz_class j = 1; j < terms[k] && out.size() < max_count; ++j)
+    out.push_back({prev2.p + j * prev.p, prev2.q + j * prev.q});
   return out;
 }
 
@@ -114,7 +116,8 @@ CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms, long min_
   }
   mpfr_clear(end);
   mpfi_clear(box);
-  if (out.terms.size() < terms) throw std::domain_error("cannot certify " + std::to_string(terms) + " partial quotients of " + x.text());
+  if (out.terms.size() < terms)
+    throw std::domain_error("cannot certify " + std::to_string(terms) + " partial quotients of " + x.text());
   return out;
 }
 
@@ -168,8 +171,10 @@ template <class Pred>
 mpz_class first_true(mpz_class lo, mpz_class hi, Pred pred) {
   while (lo < hi) {
     mpz_class mid = (lo + hi) / 2;
-    if (pred(mid)) hi = mid;
-    else lo = mid + 1;
+    if (pred(mid))
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }
@@ -181,8 +186,10 @@ BestApproximations best_approximations(const ExactReal& x, const mpz_class& max_
   Expansion cf(x);
   Fraction prev{1, 0}, prev2{0, 1};  // convergents k-1, k-2
   auto accept = [&](const Fraction& f) {
-    if (!out.list.empty() && out.list.back().q == f.q) out.list.back() = f;  // same q, closer
-    else out.list.push_back(f);
+    if (!out.list.empty() && out.list.back().q == f.q)
+      out.list.back() = f;  // same q, closer
+    else
+      out.list.push_back(f);
     if (out.list.size() > max_count) {
       out.list.pop_back();
       out.truncated = true;
@@ -203,9 +210,8 @@ BestApproximations best_approximations(const ExactReal& x, const mpz_class& max_
         if (cap < j_max) j_max = cap;
       }
       if (j_max >= 1 && closer(x, semi(prev2, prev, j_max), best)) {
-        const mpz_class j0 = first_true(mpz_class(1), j_max, [&](const mpz_class& j) {
-          return closer(x, semi(prev2, prev, j), best);
-        });
+        const mpz_class j0 =
+            first_true(mpz_class(1), j_max, [&](const mpz_class& j) { return closer(x, semi(prev2, prev, j), best); });
         for (mpz_class j = j0; j <= j_max && !out.truncated; ++j) accept(semi(prev2, prev, j));
       }
     }
@@ -226,9 +232,8 @@ std::optional<Fraction> smallest_denominator_within(const ExactReal& x, const Ex
     const mpz_class* a = cf.term(k);
     if (!a) return std::nullopt;
     if (k >= 1 && *a > 1 && within(x, semi(prev2, prev, *a - 1), eps)) {
-      const mpz_class j = first_true(mpz_class(1), *a - 1, [&](const mpz_class& jj) {
-        return within(x, semi(prev2, prev, jj), eps);
-      });
+      const mpz_class j =
+          first_true(mpz_class(1), *a - 1, [&](const mpz_class& jj) { return within(x, semi(prev2, prev, jj), eps); });
       // below convergent k-1's own denominator nothing qualified, so this is the smallest
       return semi(prev2, prev, j);
     }

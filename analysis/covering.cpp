@@ -69,8 +69,9 @@ Covering mupo_covering(const CoveringInput& in) {
   Covering c;
   const mpz_class n_max = floor_exact(in.d / (two * in.r * ExactReal::parse("sqrt(" + in.delta.text() + ")")));
   if (n_max > kMaxCoveringPoints)
-    throw std::invalid_argument("delta = " + in.delta.text() + ": gives N = " + n_max.get_str() + " reflections, above the limit " +
-                                std::to_string(kMaxCoveringPoints) + " (use a larger delta)");
+    throw std::invalid_argument("delta = " + in.delta.text() + ": gives N = " + n_max.get_str() +
+                                " reflections, above the limit " + std::to_string(kMaxCoveringPoints) +
+                                " (use a larger delta)");
   c.N = n_max.get_ui();
 
   // x = t_c omega mod 1, with t_c = 2r(1 + delta)
@@ -132,8 +133,10 @@ Covering mupo_covering(const CoveringInput& in) {
   std::size_t i = 0, j = 0;
   auto emit = [&](u128 to) {
     if (to == pos) return;
-    if (!raw.empty() && raw.back().value == value) raw.back().to = to;
-    else raw.push_back({pos, to, value});
+    if (!raw.empty() && raw.back().value == value)
+      raw.back().to = to;
+    else
+      raw.push_back({pos, to, value});
     pos = to;
   };
   while (i < K || j < K) {
@@ -161,7 +164,8 @@ Covering mupo_covering(const CoveringInput& in) {
     c.segments.push_back({static_cast<double>(s.from) / Md, static_cast<double>(s.to) / Md, s.value});
   }
   if (raw.size() > 1 && raw.front().value == 0 && raw.back().value == 0)  // a zero gap across s = 0
-    longest = std::max(longest, static_cast<double>((raw.front().to - raw.front().from) + (raw.back().to - raw.back().from)) / Md);
+    longest = std::max(
+        longest, static_cast<double>((raw.front().to - raw.front().from) + (raw.back().to - raw.back().from)) / Md);
   c.zero_measure = zero;
   c.max_zero_gap = longest;
   for (std::size_t k = 0; k < raw.size(); ++k)  // a covered arc starts where f_L rises from 0
@@ -185,8 +189,10 @@ Covering mupo_covering(const CoveringInput& in) {
   std::vector<std::pair<u128, std::uint64_t>> merged;
   const u128 tol = exact ? 0 : static_cast<u128>(2 * (c.N + 2));
   for (const auto& [len, count] : gap_count) {
-    if (!merged.empty() && len - merged.back().first <= tol) merged.back().second += count;
-    else merged.push_back({len, count});
+    if (!merged.empty() && len - merged.back().first <= tol)
+      merged.back().second += count;
+    else
+      merged.push_back({len, count});
   }
   std::vector<u128> nonzero;
   for (const auto& [len, count] : merged) {
@@ -199,7 +205,8 @@ Covering mupo_covering(const CoveringInput& in) {
     c.gaps.push_back(g);
     if (len > tol) nonzero.push_back(len);
   }
-  if (nonzero.size() <= 2) c.three_distance_holds = true;
+  if (nonzero.size() <= 2)
+    c.three_distance_holds = true;
   else if (nonzero.size() == 3) {
     const u128 sum = nonzero[0] + nonzero[1];
     const u128 diff = sum > nonzero[2] ? sum - nonzero[2] : nonzero[2] - sum;

@@ -27,9 +27,9 @@ struct CoveringInput {
 inline constexpr std::uint64_t kMaxCoveringPoints = 50'000'000;
 
 struct GapCount {
-  double length = 0;     ///< in units of s
+  double length = 0;  ///< in units of s
   std::uint64_t count = 0;
-  std::string exact;     ///< the exact length as a rational "a/b" (exact mode only)
+  std::string exact;  ///< the exact length as a rational "a/b" (exact mode only)
 };
 
 struct Segment {
@@ -38,18 +38,18 @@ struct Segment {
 };
 
 struct Covering {
-  std::uint64_t N = 0;           ///< points are n = 0..N
-  bool exact = false;            ///< rational inputs: everything below exact
-  double error_bound = 0;        ///< max displacement of any point / interval end, in s
-  std::string x_text;            ///< x = t_c omega as used (exact rational, or a decimal)
+  std::uint64_t N = 0;            ///< points are n = 0..N
+  bool exact = false;             ///< rational inputs: everything below exact
+  double error_bound = 0;         ///< max displacement of any point / interval end, in s
+  std::string x_text;             ///< x = t_c omega as used (exact rational, or a decimal)
   std::vector<Segment> segments;  ///< f_L as a piecewise-constant function on [0, 1)
   // metrics
   double zero_measure = 0, max_zero_gap = 0;
   std::uint64_t clusters = 0;  ///< maximal arcs where f_L > 0 (on the circle)
   std::uint64_t min = 0, max = 0;
-  double mean = 0, cv = 0;  ///< mean = (N + 1) lambda; cv = L2 deviation / mean
-  double discrepancy = 0;   ///< star discrepancy of the points frac(n x)
-  std::vector<GapCount> gaps;  ///< three-distance structure: distinct gaps between neighbours
+  double mean = 0, cv = 0;            ///< mean = (N + 1) lambda; cv = L2 deviation / mean
+  double discrepancy = 0;             ///< star discrepancy of the points frac(n x)
+  std::vector<GapCount> gaps;         ///< three-distance structure: distinct gaps between neighbours
   bool three_distance_holds = false;  ///< <= 3 lengths, and with 3 the largest = sum of the others
   double seconds = 0;
 };

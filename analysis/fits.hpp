@@ -20,7 +20,9 @@ struct KappaFit {
   double log_amplitude = 0;         ///< ln A in P ~ A exp(-kappa t)
   double from = 0, to = 0;          ///< window actually used
   std::size_t points = 0;
-  std::string method = "least squares of ln P(t) on the grid points in the window; standard error from the binomial (Greenwood) covariance of ln P";
+  std::string method =
+      "least squares of ln P(t) on the grid points in the window; standard error from the binomial (Greenwood) "
+      "covariance of ln P";
   /// Standard error of the fitted ln P at time t (extrapolation uncertainty).
   double log_se_at(double t) const;
   double var_a = 0, var_b = 0, cov_ab = 0;  ///< covariance of (ln A, -kappa)
@@ -42,7 +44,8 @@ struct TailFit {
   double std_error = 0;
   double from = 0, to = 0;
   std::size_t points = 0;
-  std::string method = "least squares of ln P against ln t on log-spaced grid points from the alpha crossing to the last resolved time";
+  std::string method =
+      "least squares of ln P against ln t on log-spaced grid points from the alpha crossing to the last resolved time";
 };
 
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);

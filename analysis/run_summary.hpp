@@ -14,7 +14,7 @@
 namespace rotleak {
 
 struct RunSummary {
-  Scene scene;             ///< as run (a tier of auto resolved)
+  Scene scene;  ///< as run (a tier of auto resolved)
   RunResult result;
   SurvivalCurve curve;
   KappaFit kappa;

@@ -23,7 +23,8 @@ static void BM_rational_1e5_digits_1e4_terms(benchmark::State& state) {
   q.canonicalize();
   for (auto _ : state) {
     const auto terms = cf_of_rational(q, 10000);
-    if (terms.size() != 10000 || rational_of_cf(terms) == q) state.SkipWithError("expected 10^4 terms of a longer expansion");
+    if (terms.size() != 10000 || rational_of_cf(terms) == q)
+      state.SkipWithError("expected 10^4 terms of a longer expansion");
     benchmark::DoNotOptimize(terms);
   }
 }

@@ -58,9 +58,12 @@ std::uint64_t plain_particle(double qx, double qy, double vx, double vy, double 
     if (t > t_max) return n;
     ++n;
     double s;
-    if (straight) s = hy > 0 ? (hx >= 0 ? hx / L : 1 + hx / L) : (hd + M_PI * r + (hd - hx)) / L;
-    else if (cx > 0) s = (hd + r * std::atan2(hx - hd, hy)) / L;
-    else s = (3 * hd + M_PI * r + r * std::atan2(-(hx + hd), -hy)) / L;
+    if (straight)
+      s = hy > 0 ? (hx >= 0 ? hx / L : 1 + hx / L) : (hd + M_PI * r + (hd - hx)) / L;
+    else if (cx > 0)
+      s = (hd + r * std::atan2(hx - hd, hy)) / L;
+    else
+      s = (3 * hd + M_PI * r + r * std::atan2(-(hx + hd), -hy)) / L;
     double off = s - omega * t;
     off -= std::floor(off + 0.5);
     if (std::abs(off) <= half) return n;
@@ -134,12 +137,15 @@ void BM_mupo_tail(benchmark::State& state, bool ff) {
   double collisions = 0, sec = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::uint64_t id : ids) collisions += static_cast<double>(run_particle(model, initial_state(model.stadium, ic.draw(id)), none).collisions);
+    for (std::uint64_t id : ids)
+      collisions +=
+          static_cast<double>(run_particle(model, initial_state(model.stadium, ic.draw(id)), none).collisions);
     sec += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   state.counters["particles"] = static_cast<double>(ids.size());
   g_rates[std::string("MUPO tail (") + std::to_string(ids.size()) + " ids alive at t = 5000, t_max 2e5), scalar" +
-          (ff ? " + fast-forward" : ", stepping")] = {collisions / sec, static_cast<double>(ids.size()) * state.iterations() / sec};
+          (ff ? " + fast-forward" : ", stepping")] = {collisions / sec,
+                                                      static_cast<double>(ids.size()) * state.iterations() / sec};
 }
 
 }  // namespace
@@ -174,7 +180,9 @@ int main(int argc, char** argv) {
   }
   double step = 0, ff = 0;
   for (const auto& [name, r] : g_rates)
-    if (name.find("MUPO") != std::string::npos) (name.find("fast-forward") != std::string::npos ? ff : step) = r.particles_per_second;
-  if (step > 0) std::printf("\nMUPO tail: fast-forward %.1fx faster than stepping (same collisions counted)\n", ff / step);
+    if (name.find("MUPO") != std::string::npos)
+      (name.find("fast-forward") != std::string::npos ? ff : step) = r.particles_per_second;
+  if (step > 0)
+    std::printf("\nMUPO tail: fast-forward %.1fx faster than stepping (same collisions counted)\n", ff / step);
   return 0;
 }

@@ -50,11 +50,14 @@ int main(int argc, char** argv) {
   std::string csv_path;
   std::uint64_t particles = 100;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--particles") && i + 1 < argc) particles = std::stoull(argv[++i]);
-    else csv_path = argv[i];
+    if (!std::strcmp(argv[i], "--particles") && i + 1 < argc)
+      particles = std::stoull(argv[++i]);
+    else
+      csv_path = argv[i];
   }
   const Scene scene = parse_scene("[leak]\nwidth = \"0.01\"\nstart = \"0\"\n");  // the s_L = 0 stationary scene
-  const std::vector<std::string> tiers{"float", "double", "long_double", "dd", "float128", "mpfr:128", "mpfr:256", "mpfr:1024"};
+  const std::vector<std::string> tiers{"float",    "double",   "long_double", "dd",
+                                       "float128", "mpfr:128", "mpfr:256",    "mpfr:1024"};
 
   std::vector<double> cost;
   for (const auto& t : tiers) cost.push_back(cost_of(t, scene));
@@ -71,7 +74,9 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!csv_path.empty()) csv.open(csv_path);
   if (csv) csv << "tier,bits,ns_per_collision,ratio_to_double,median_horizon_collisions,horizons_observed\n";
-  std::printf("| tier | ns / collision | cost vs double | median trust horizon (collisions) | observed |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| tier | ns / collision | cost vs double | median trust horizon (collisions) | observed "
+      "|\n|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < tiers.size(); ++k) {
     std::vector<double> h;
     for (const auto& r : runs)
@@ -80,8 +85,9 @@ int main(int argc, char** argv) {
     const double med = h.empty() ? 0 : h[h.size() / 2];
     std::printf("| %s | %.1f | %.2f | %.0f | %zu/%llu |\n", tiers[k].c_str(), cost[k], cost[k] / base, med, h.size(),
                 static_cast<unsigned long long>(particles));
-    if (csv) csv << tiers[k] << "," << tier_bits(tiers[k]) << ","
-                 << cost[k] << "," << cost[k] / base << "," << med << "," << h.size() << "\n";
+    if (csv)
+      csv << tiers[k] << "," << tier_bits(tiers[k]) << "," << cost[k] << "," << cost[k] / base << "," << med << ","
+          << h.size() << "\n";
   }
   std::printf("\nshadowed %llu particles x 900 collisions of the s_L = 0 scene; tolerance %.0e; %d threads\n",
               static_cast<unsigned long long>(particles), opt.tolerance, omp_get_max_threads());

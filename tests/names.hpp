@@ -18,10 +18,14 @@ inline std::string name_part(const std::string& text) {
   auto digit = [&](std::size_t i) { return i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); };
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
-    if (std::isalnum(static_cast<unsigned char>(c))) out += c;
-    else if (c == '.' && digit(i + 1) && (i == 0 || digit(i - 1))) out += 'p';
-    else if (c == '/') out += "_over_";
-    else if (!out.empty() && out.back() != '_') out += '_';
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      out += c;
+    else if (c == '.' && digit(i + 1) && (i == 0 || digit(i - 1)))
+      out += 'p';
+    else if (c == '/')
+      out += "_over_";
+    else if (!out.empty() && out.back() != '_')
+      out += '_';
   }
   while (!out.empty() && out.back() == '_') out.pop_back();
   if (out.size() > 48) out.resize(48);
@@ -30,9 +34,15 @@ inline std::string name_part(const std::string& text) {
 
 template <class P>
 std::string describe(const P& p) {
-  if constexpr (std::is_convertible_v<P, std::string>) return name_part(std::string(p));
-  else if constexpr (requires { p.first; p.second; }) return describe(p.first) + "_" + describe(p.second);
-  else return name_part(p.key);  // a case struct names itself by the key it is about
+  if constexpr (std::is_convertible_v<P, std::string>)
+    return name_part(std::string(p));
+  else if constexpr (requires {
+                       p.first;
+                       p.second;
+                     })
+    return describe(p.first) + "_" + describe(p.second);
+  else
+    return name_part(p.key);  // a case struct names itself by the key it is about
 }
 
 /// name_generator for INSTANTIATE_TEST_SUITE_P.

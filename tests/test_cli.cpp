@@ -54,8 +54,7 @@ fs::path write_scene(const std::string& name, const std::string& text) {
   return p;
 }
 
-const char* kSmall =
-    "[ensemble]\nparticles = 2000\n[run]\nt_max = 400\n[fit]\nkappa_window = [0, 300]\n";
+const char* kSmall = "[ensemble]\nparticles = 2000\n[run]\nt_max = 400\n[fit]\nkappa_window = [0, 300]\n";
 
 }  // namespace
 
@@ -74,17 +73,16 @@ TEST_P(CliBadInput, ExitsWithStatusTwoAndOneLineNamingTheKey) {
   EXPECT_TRUE(o.out.empty());
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, CliBadInput,
-    ::testing::Values(std::pair{std::string("--set leak.width=1"), std::string("leak.width")},
-                      std::pair{std::string("--set leak.omega=foo"), std::string("leak.omega")},
-                      std::pair{std::string("--set run.t_max=0"), std::string("run.t_max")},
-                      std::pair{std::string("--set run.t_max=nan"), std::string("run.t_max")},
-                      std::pair{std::string("--set stadium.r=-1"), std::string("stadium.r")},
-                      std::pair{std::string("--particles 0"), std::string("--particles")},
-                      std::pair{std::string("--set leak.colour=red"), std::string("leak.colour")},
-                      std::pair{std::string("--threads -1"), std::string("--threads")},
-                      std::pair{std::string("--bogus"), std::string("--bogus")}),
+INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput,
+                         ::testing::Values(std::pair{std::string("--set leak.width=1"), std::string("leak.width")},
+                                           std::pair{std::string("--set leak.omega=foo"), std::string("leak.omega")},
+                                           std::pair{std::string("--set run.t_max=0"), std::string("run.t_max")},
+                                           std::pair{std::string("--set run.t_max=nan"), std::string("run.t_max")},
+                                           std::pair{std::string("--set stadium.r=-1"), std::string("stadium.r")},
+                                           std::pair{std::string("--particles 0"), std::string("--particles")},
+                                           std::pair{std::string("--set leak.colour=red"), std::string("leak.colour")},
+                                           std::pair{std::string("--threads -1"), std::string("--threads")},
+                                           std::pair{std::string("--bogus"), std::string("--bogus")}),
                          rotleak::test::IndexedName());
 
 TEST(Cli, MissingSceneFileIsBadInput) {
@@ -100,8 +98,8 @@ TEST(Cli, ExistingOutputNeedsForceAndJsonIsAloneOnStdout) {
   const Outcome first = run("simulate " + scene.string() + " --out " + outdir.string() + " --json --threads 2");
   ASSERT_EQ(first.status, 0) << first.err;
   const auto j = nlohmann::json::parse(first.out);  // throws if anything else is on stdout
-  for (const char* key : {"seed", "rotleak", "threads", "wall_seconds", "collisions", "collisions_per_second",
-                          "kappa", "alpha", "scene", "tier"})
+  for (const char* key : {"seed", "rotleak", "threads", "wall_seconds", "collisions", "collisions_per_second", "kappa",
+                          "alpha", "scene", "tier"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["kappa"].contains("value"));
   EXPECT_TRUE(j["kappa"].contains("error"));
@@ -115,7 +113,8 @@ TEST(Cli, ExistingOutputNeedsForceAndJsonIsAloneOnStdout) {
   EXPECT_NE(again.err.find("--force"), std::string::npos);
   EXPECT_TRUE(fs::exists(outdir / "summary.json")) << "the old run must survive a refused overwrite";
 
-  const Outcome forced = run("simulate " + scene.string() + " --out " + outdir.string() + " --force --set ensemble.seed=7");
+  const Outcome forced =
+      run("simulate " + scene.string() + " --out " + outdir.string() + " --force --set ensemble.seed=7");
   EXPECT_EQ(forced.status, 0) << forced.err;
   EXPECT_EQ(nlohmann::json::parse(slurp(outdir / "summary.json"))["seed"], 7);
   for (const auto& e : fs::directory_iterator(scratch()))
@@ -155,7 +154,7 @@ INSTANTIATE_TEST_SUITE_P(
                       std::pair{std::string("covering --omega 2/3 --lambda 1.5"), std::string("--lambda")},
                       std::pair{std::string("covering --omega 2/3 --lambda 0"), std::string("--lambda")},
                       std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")}),
-                         rotleak::test::IndexedName());
+    rotleak::test::IndexedName());
 
 TEST(Cli, OmegaAndCoveringJson) {
   const Outcome o = run("omega 'ln(19)' --terms 40 --json");
@@ -167,7 +166,8 @@ TEST(Cli, OmegaAndCoveringJson) {
   const Outcome c = run("covering --omega 2/3 --delta 1e-7 --lambda 0.01 --json");
   ASSERT_EQ(c.status, 0) << c.err;
   const auto k = nlohmann::json::parse(c.out)["covering"];
-  for (const char* key : {"zero_measure", "max_zero_gap", "gaps", "discrepancy", "clusters"}) EXPECT_TRUE(k.contains(key)) << key;
+  for (const char* key : {"zero_measure", "max_zero_gap", "gaps", "discrepancy", "clusters"})
+    EXPECT_TRUE(k.contains(key)) << key;
   EXPECT_EQ(k["clusters"], 3);
   const Outcome several = run("covering --omega 1 2/3 --json");
   ASSERT_EQ(several.status, 0) << several.err;

@@ -47,8 +47,10 @@ std::vector<std::pair<long, long>> brute_first_kind(const ExactReal& x, long Q) 
     for (long p = p0 - 1; p <= p0 + 2; ++p) {
       const mpq_class d = dist(mpz_class(p), mpz_class(q));
       if (best < 0 || d < best) {
-        if (!out.empty() && out.back().second == q) out.back() = {p, q};
-        else out.push_back({p, q});
+        if (!out.empty() && out.back().second == q)
+          out.back() = {p, q};
+        else
+          out.push_back({p, q});
         best = d;
       }
     }
@@ -130,7 +132,8 @@ TEST(ContinuedFraction, LiouvilleExpansionStructure) {
 }
 
 TEST(Approximation, FirstKindMatchesBruteForce) {
-  for (const char* s : {"ln(19)", "pi", "sqrt(2)", "golden", "e", "2*ln(19)", "355/113", "7/5", "liouville(10)", "0.4"}) {
+  for (const char* s :
+       {"ln(19)", "pi", "sqrt(2)", "golden", "e", "2*ln(19)", "355/113", "7/5", "liouville(10)", "0.4"}) {
     const ExactReal x = ExactReal::parse(s);
     const BestApproximations best = best_approximations(x, mpz_class(300));
     std::vector<std::pair<long, long>> got;

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "names.hpp"
-#include "io/scene_file.hpp"
 #include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "names.hpp"
 #include "sim/engine.hpp"
 #include "sim/particle.hpp"
 
@@ -18,9 +18,9 @@ namespace {
 Scene small_scene(const std::string& omega, const std::string& init = "birkhoff") {
   return parse_scene(
       "[leak]\nwidth = \"0.02\"\nstart = \"0.1\"\nomega = \"" + omega +
-          "\"\n[ensemble]\nparticles = 20000\nseed = 42\ninit = \"" + init +
-          "\"\n[run]\nt_max = 3000\n[observe]\nsurvival_dt = 0.5\nescapes = true\n"
-          "collision_density = { bins = 64, windows = [[0, 3000], [100, 3000]] }\n[fit]\nkappa_window = [0, 200]\n");
+      "\"\n[ensemble]\nparticles = 20000\nseed = 42\ninit = \"" + init +
+      "\"\n[run]\nt_max = 3000\n[observe]\nsurvival_dt = 0.5\nescapes = true\n"
+      "collision_density = { bins = 64, windows = [[0, 3000], [100, 3000]] }\n[fit]\nkappa_window = [0, 200]\n");
 }
 
 }  // namespace

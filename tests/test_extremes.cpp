@@ -146,8 +146,8 @@ TEST(Extremes, LiouvilleOmegaIsHeldAsANearbyRational) {
   const ScalarCheck c = scalar_check(scene_with({"leak.omega=liouville(10)"}), "double");
   EXPECT_TRUE(c.omega_is_rounded);
   EXPECT_GT(c.omega_single_drift, 0);
-  EXPECT_LT(c.omega_single_drift, 1e-12);           // |omega - fl(omega)| <= 2^-57, times 2e4
-  EXPECT_GT(c.single_matters_after, 1e8);           // rounded once, drift reaches 1e-5 only after ~1e12
+  EXPECT_LT(c.omega_single_drift, 1e-12);                           // |omega - fl(omega)| <= 2^-57, times 2e4
+  EXPECT_GT(c.single_matters_after, 1e8);                           // rounded once, drift reaches 1e-5 only after ~1e12
   EXPECT_GT(c.split_matters_after, c.single_matters_after * 1e10);  // hi + lo: far longer
   EXPECT_TRUE(c.phase_resolved);
   EXPECT_NE(c.note.find("nearby rational"), std::string::npos);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "names.hpp"
-#include "io/scene_file.hpp"
 #include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "names.hpp"
 #include "sim/engine.hpp"
 #include "sim/particle.hpp"
 

@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "names.hpp"
 #include "leak/leak.hpp"
+#include "names.hpp"
 #include "tiers.hpp"
 
 using namespace rotleak;
@@ -88,9 +88,8 @@ INSTANTIATE_TEST_SUITE_P(Positions, LeakWindows,
                                            std::pair{"0.1022", "0.01"}, std::pair{"0.1024", "0.01"},
                                            std::pair{"0.25", "0.01"}, std::pair{"0.5", "0.01"},
                                            std::pair{"0.75", "0.01"}, std::pair{"0.998", "0.01"},
-                                           std::pair{"0.3", "0.9"}, std::pair{"0.9", "0.5"},
-                                           std::pair{"0.6", "0.3"}, std::pair{"0.3", "1e-9"},
-                                           std::pair{"0.7", "0.5"}),
+                                           std::pair{"0.3", "0.9"}, std::pair{"0.9", "0.5"}, std::pair{"0.6", "0.3"},
+                                           std::pair{"0.3", "1e-9"}, std::pair{"0.7", "0.5"}),
                          rotleak::test::IndexedName());
 
 TEST(LeakStraddle, JunctionCasesOfTheStationaryTable) {

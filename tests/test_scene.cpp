@@ -1,8 +1,8 @@
 // Scene validation: every bad input is an InputError naming its key; overrides; round trip.
 #include <gtest/gtest.h>
 
-#include "names.hpp"
 #include "io/scene_file.hpp"
+#include "names.hpp"
 
 using namespace rotleak;
 
@@ -30,9 +30,8 @@ TEST(Scene, DefaultsAndExactValues) {
 }
 
 TEST(Scene, OverridesApplyBeforeValidation) {
-  const Scene s = parse_scene("[leak]\nomega = \"0\"\n", {"leak.omega=2/3", "ensemble.particles=1234",
-                                                          "run.t_max=500", "fit.kappa_window=[10, 200]",
-                                                          "ensemble.init=flow"});
+  const Scene s = parse_scene("[leak]\nomega = \"0\"\n", {"leak.omega=2/3", "ensemble.particles=1234", "run.t_max=500",
+                                                          "fit.kappa_window=[10, 200]", "ensemble.init=flow"});
   EXPECT_EQ(s.omega.as_rational(), mpq_class(2, 3));
   EXPECT_EQ(s.omega_text, "2/3");
   EXPECT_EQ(s.particles, 1234u);
@@ -64,21 +63,18 @@ TEST_P(SceneBadInput, IsRejectedWithItsKey) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, SceneBadInput,
     ::testing::Values(
-        BadCase{"[leak]\nwdth = \"0.01\"\n", "", "leak.wdth"},             // unknown key
-        BadCase{"[lek]\nwidth = \"0.01\"\n", "", "lek"},                   // unknown section
-        BadCase{"[leak]\nwidth = \"1\"\n", "", "leak.width"},              // width >= 1
-        BadCase{"[leak]\nwidth = \"1.5\"\n", "", "leak.width"},
-        BadCase{"[leak]\nwidth = \"0\"\n", "", "leak.width"},
+        BadCase{"[leak]\nwdth = \"0.01\"\n", "", "leak.wdth"},  // unknown key
+        BadCase{"[lek]\nwidth = \"0.01\"\n", "", "lek"},        // unknown section
+        BadCase{"[leak]\nwidth = \"1\"\n", "", "leak.width"},   // width >= 1
+        BadCase{"[leak]\nwidth = \"1.5\"\n", "", "leak.width"}, BadCase{"[leak]\nwidth = \"0\"\n", "", "leak.width"},
         BadCase{"[leak]\nwidth = \"-0.01\"\n", "", "leak.width"},
-        BadCase{"[leak]\nwidth = 0.01\n", "", "leak.width"},               // float: not exact
-        BadCase{"[leak]\nomega = \"two thirds\"\n", "", "leak.omega"},     // unparsable omega
-        BadCase{"[leak]\nomega = \"nan\"\n", "", "leak.omega"},
-        BadCase{"[leak]\nomega = \"inf\"\n", "", "leak.omega"},
-        BadCase{"[stadium]\nd = \"-2\"\n", "", "stadium.d"},               // negative size
+        BadCase{"[leak]\nwidth = 0.01\n", "", "leak.width"},            // float: not exact
+        BadCase{"[leak]\nomega = \"two thirds\"\n", "", "leak.omega"},  // unparsable omega
+        BadCase{"[leak]\nomega = \"nan\"\n", "", "leak.omega"}, BadCase{"[leak]\nomega = \"inf\"\n", "", "leak.omega"},
+        BadCase{"[stadium]\nd = \"-2\"\n", "", "stadium.d"},  // negative size
         BadCase{"[stadium]\nr = \"0\"\n", "", "stadium.r"},
-        BadCase{"[run]\nt_max = 0\n", "", "run.t_max"},                    // t_max <= 0
-        BadCase{"[run]\nt_max = -5\n", "", "run.t_max"},
-        BadCase{"[run]\nt_max = nan\n", "", "run.t_max"},
+        BadCase{"[run]\nt_max = 0\n", "", "run.t_max"},  // t_max <= 0
+        BadCase{"[run]\nt_max = -5\n", "", "run.t_max"}, BadCase{"[run]\nt_max = nan\n", "", "run.t_max"},
         BadCase{"[run]\nt_max = inf\n", "", "run.t_max"},
         BadCase{"[ensemble]\nparticles = 0\n", "", "ensemble.particles"},  // zero particles
         BadCase{"[ensemble]\nparticles = -3\n", "", "ensemble.particles"},
@@ -87,12 +83,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"[observe]\ncollision_density = { bins = 0 }\n", "", "observe.collision_density.bins"},
         BadCase{"[observe]\ncollision_density = { windows = [[5, 1]] }\n", "", "observe.collision_density.windows"},
         BadCase{"[fit]\nkappa_window = [300, 0]\n", "", "fit.kappa_window"},
-        BadCase{"[run]\ntier = \"quad\"\n", "", "run.tier"},
-        BadCase{"", "leak.omega=", "leak.omega"},
-        BadCase{"", "leak.omgea=1", "leak.omgea"},
-        BadCase{"", "omega=1", "--set"},
-        BadCase{"[leak\n", "", "TOML"}),
-                         rotleak::test::IndexedName());
+        BadCase{"[run]\ntier = \"quad\"\n", "", "run.tier"}, BadCase{"", "leak.omega=", "leak.omega"},
+        BadCase{"", "leak.omgea=1", "leak.omgea"}, BadCase{"", "omega=1", "--set"}, BadCase{"[leak\n", "", "TOML"}),
+    rotleak::test::IndexedName());
 
 TEST(Scene, TomlRoundTrip) {
   const Scene a = parse_scene(

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "names.hpp"
-#include "io/scene_file.hpp"
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "names.hpp"
 #include "sim/engine.hpp"
 #include "sim/simd_engine.hpp"
 
@@ -16,7 +16,8 @@ using namespace rotleak;
 
 namespace {
 
-Scene scene(const std::string& start, const std::string& omega, std::uint64_t n = 20000, const std::string& width = "0.02") {
+Scene scene(const std::string& start, const std::string& omega, std::uint64_t n = 20000,
+            const std::string& width = "0.02") {
   return parse_scene("[leak]\nwidth = \"" + width + "\"\nstart = \"" + start + "\"\nomega = \"" + omega +
                      "\"\n[ensemble]\nparticles = " + std::to_string(n) +
                      "\nseed = 5\n[run]\nt_max = 3000\n[observe]\nescapes = true\n[fit]\nkappa_window = [0, 200]\n");
@@ -40,7 +41,8 @@ double ks_distance(std::vector<double> a, std::vector<double> b) {
     const double x = std::min(a[i], b[j]);
     while (i < a.size() && a[i] <= x) ++i;
     while (j < b.size() && b[j] <= x) ++j;
-    d = std::max(d, std::abs(static_cast<double>(i) / static_cast<double>(a.size()) - static_cast<double>(j) / static_cast<double>(b.size())));
+    d = std::max(d, std::abs(static_cast<double>(i) / static_cast<double>(a.size()) -
+                             static_cast<double>(j) / static_cast<double>(b.size())));
   }
   return d;
 }
@@ -65,7 +67,8 @@ TEST_P(SimdStationary, BitIdenticalToTheScalarCore) {
   EXPECT_EQ(a.tally.collisions, b.tally.collisions);
 }
 
-INSTANTIATE_TEST_SUITE_P(LeakPositions, SimdStationary, ::testing::Values("0", "0.1022", "0.1024", "0.25", "0.5", "0.95"),
+INSTANTIATE_TEST_SUITE_P(LeakPositions, SimdStationary,
+                         ::testing::Values("0", "0.1022", "0.1024", "0.25", "0.5", "0.95"),
                          rotleak::test::IndexedName());
 
 TEST(Simd, OneAndTwoThreadsGiveIdenticalFiles) {

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 
-#include "io/scene_file.hpp"
 #include "analysis/fits.hpp"
-#include "sim/survival.hpp"
+#include "io/scene_file.hpp"
 #include "sim/engine.hpp"
+#include "sim/survival.hpp"
 
 using namespace rotleak;
 

@@ -5,9 +5,9 @@
 
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
+#include "verify/exact_replay.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"
-#include "verify/exact_replay.hpp"
 #include "verify/trace.hpp"
 
 using namespace rotleak;
@@ -179,10 +179,10 @@ TEST(ExactReplay, GenericCoreAtMpfrMatchesCgalExactKernel) {
   struct Start {
     mpq_class x, y, ux, uy;
   };
-  const std::vector<Start> starts{{mpq_class(3, 8), 1, 3, -4},             // top edge, a Pythagorean direction
+  const std::vector<Start> starts{{mpq_class(3, 8), 1, 3, -4},                 // top edge, a Pythagorean direction
                                   {mpq_class(8, 5), mpq_class(4, 5), -1, -2},  // on the right arc
-                                  {mpq_class(-1, 3), mpq_class(-1), 5, 12},     // bottom edge
-                                  {0, 0, 7, mpq_class(1, 10)}};                 // inside, almost horizontal
+                                  {mpq_class(-1, 3), mpq_class(-1), 5, 12},    // bottom edge
+                                  {0, 0, 7, mpq_class(1, 10)}};                // inside, almost horizontal
   MpfrPrecision precision(256);
   const Stadium<Mpfr> st(ExactReal::parse("2"), ExactReal::parse("1"));
   for (const Start& s0 : starts) {
@@ -201,7 +201,8 @@ TEST(ExactReplay, GenericCoreAtMpfrMatchesCgalExactKernel) {
       for (const auto& [got, want] : pairs) {
         Mpfr w;
         mpfr_set_str(w.data(), want->c_str(), 10, MPFR_RNDN);
-        EXPECT_LT(std::abs(num_traits<Mpfr>::to_double(Mpfr(*got - w))), 1e-65) << "collision " << k + 1 << ": " << *want;
+        EXPECT_LT(std::abs(num_traits<Mpfr>::to_double(Mpfr(*got - w))), 1e-65)
+            << "collision " << k + 1 << ": " << *want;
       }
     }
   }

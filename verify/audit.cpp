@@ -11,8 +11,8 @@
 
 #include "analysis/fits.hpp"
 #include "sim/engine.hpp"
-#include "sim/survival.hpp"
 #include "sim/simd_engine.hpp"
+#include "sim/survival.hpp"
 
 namespace rotleak {
 
@@ -140,21 +140,26 @@ ScalarCheck scalar_check(const Scene& scene, const std::string& tier) {
   const double split_err = stationary ? 0 : abs_enclosure_hi(rest - ExactReal::rational(lq));
   c.omega_split_drift = split_err * scene.t_max;
   const double single_err = c.omega_single_drift / scene.t_max;
-  c.split_matters_after = split_err > 0 ? 1e-3 * scene.width.to_double() / split_err : std::numeric_limits<double>::infinity();
-  c.single_matters_after = single_err > 0 ? 1e-3 * scene.width.to_double() / single_err : std::numeric_limits<double>::infinity();
+  c.split_matters_after =
+      split_err > 0 ? 1e-3 * scene.width.to_double() / split_err : std::numeric_limits<double>::infinity();
+  c.single_matters_after =
+      single_err > 0 ? 1e-3 * scene.width.to_double() / single_err : std::numeric_limits<double>::infinity();
   // the phase of a time known to half an ulp, plus a few roundings of the phase itself
-  c.phase_error_at_tmax = stationary ? 0 : omega_abs * c.time_ulp_at_tmax / 2 + 4 * std::ldexp(1.0, 1 - static_cast<int>(p));
+  c.phase_error_at_tmax =
+      stationary ? 0 : omega_abs * c.time_ulp_at_tmax / 2 + 4 * std::ldexp(1.0, 1 - static_cast<int>(p));
   c.phase_resolved = c.phase_error_at_tmax + c.omega_split_drift < 1e-3 * lambda;
   char buf[400];
   if (stationary) {
-    std::snprintf(buf, sizeof buf, "stationary leak: no phase to resolve; time resolution at t_max %.2g", c.time_ulp_at_tmax);
+    std::snprintf(buf, sizeof buf, "stationary leak: no phase to resolve; time resolution at t_max %.2g",
+                  c.time_ulp_at_tmax);
   } else {
-    std::snprintf(buf, sizeof buf,
-                  "omega*t_max = %.3g; phase error at t_max <= %.2g (%.2g of the leak width); omega held %s, drift over t_max "
-                  "%.2g rounded once, %.2g as hi+lo (%s; reaches 1e-3 of the leak width after t = %.2g)",
-                  omega_abs * scene.t_max, c.phase_error_at_tmax, c.phase_error_at_tmax / lambda,
-                  c.omega_is_rounded ? "as a nearby rational" : "exactly", c.omega_single_drift, c.omega_split_drift,
-                  c.omega_split_drift < 1e-3 * lambda ? "does not matter" : "matters", c.split_matters_after);
+    std::snprintf(
+        buf, sizeof buf,
+        "omega*t_max = %.3g; phase error at t_max <= %.2g (%.2g of the leak width); omega held %s, drift over t_max "
+        "%.2g rounded once, %.2g as hi+lo (%s; reaches 1e-3 of the leak width after t = %.2g)",
+        omega_abs * scene.t_max, c.phase_error_at_tmax, c.phase_error_at_tmax / lambda,
+        c.omega_is_rounded ? "as a nearby rational" : "exactly", c.omega_single_drift, c.omega_split_drift,
+        c.omega_split_drift < 1e-3 * lambda ? "does not matter" : "matters", c.split_matters_after);
   }
   c.note = buf;
   return c;
@@ -183,7 +188,8 @@ std::vector<std::uint64_t> stratified_sample(const Scene& scene, const AuditOpti
   std::size_t want = opt.sample;
   for (int k = 3; k >= 0; --k) {
     const auto& in = strata[static_cast<std::size_t>(k)];
-    const std::size_t take = std::min(in.size(), k == 0 ? want : (want + static_cast<std::size_t>(k)) / static_cast<std::size_t>(k + 1));
+    const std::size_t take =
+        std::min(in.size(), k == 0 ? want : (want + static_cast<std::size_t>(k)) / static_cast<std::size_t>(k + 1));
     for (std::size_t j = 0; j < take; ++j) ids.push_back(in[j * in.size() / take]);
     want -= take;
   }
@@ -215,7 +221,8 @@ TierAudit tier_audit(const std::vector<ShadowResult>& runs, std::size_t k, const
     for (std::size_t i = 0; i < std::min(h, r.truth.mupo.size()); ++i) mupo += r.truth.mupo[i];
     (4 * mupo >= h && h > 0 ? hm : hch).push_back(static_cast<double>(h));
   }
-  ta.escape_time_exact_fraction = ta.escapes_compared ? static_cast<double>(exact) / static_cast<double>(ta.escapes_compared) : 0;
+  ta.escape_time_exact_fraction =
+      ta.escapes_compared ? static_cast<double>(exact) / static_cast<double>(ta.escapes_compared) : 0;
   ta.horizon_collisions = quantiles(hc);
   ta.horizon_time = quantiles(ht);
   ta.horizon_collisions_mupo = quantiles(hm);
@@ -241,9 +248,11 @@ void statistics_checks(const Scene& scene, std::uint64_t n, int threads, AuditRe
   v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
   rep.statistics.push_back(v);
   char why[300];
-  std::snprintf(why, sizeof why, "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max |z| = %.2f)",
-                v.identical_to_scalar_double ? "identical to" : "differs from", v.consistent ? "agrees with" : "differs from",
-                v.max_abs_z);
+  std::snprintf(why, sizeof why,
+                "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max "
+                "|z| = %.2f)",
+                v.identical_to_scalar_double ? "identical to" : "differs from",
+                v.consistent ? "agrees with" : "differs from", v.max_abs_z);
   for (const char* stat : {"P(t)", "kappa", "alpha"})
     rep.verdicts.push_back({"double_simd", stat, v.consistent ? "trusted as a statistic" : "not trusted", why});
 }
@@ -258,8 +267,9 @@ void verdicts(const Scene& scene, AuditReport& rep) {
     rep.scalars.push_back(sc);
     const bool trajectories = ta.escape_time_exact_fraction >= 0.99 && ta.escapes_compared > 0;
     char why[300];
-    std::snprintf(why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
-                  100 * ta.escape_time_exact_fraction, ta.escapes_compared, ta.horizon_collisions.median, ta.horizon_time.median);
+    std::snprintf(
+        why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
+        100 * ta.escape_time_exact_fraction, ta.escapes_compared, ta.horizon_collisions.median, ta.horizon_time.median);
     rep.verdicts.push_back({ta.name, "trajectories", trajectories ? "trusted" : "not trusted", why});
     const StatisticsCheck* st = nullptr;
     for (const auto& s : rep.statistics)
@@ -275,8 +285,8 @@ void verdicts(const Scene& scene, AuditReport& rep) {
       } else if (st) {
         char b[300];
         std::snprintf(b, sizeof b, "%s (max |z| = %.2f over %zu windows, kappa diff %.2g +- %.1g) against %s",
-                      st->consistent ? "ensemble agrees" : "ensemble differs", st->max_abs_z, st->windows.size(), st->kappa_diff,
-                      st->kappa_diff_error, ta.name == "long_double" ? "double" : "long double");
+                      st->consistent ? "ensemble agrees" : "ensemble differs", st->max_abs_z, st->windows.size(),
+                      st->kappa_diff, st->kappa_diff_error, ta.name == "long_double" ? "double" : "long double");
         v.verdict = st->consistent ? "trusted as a statistic" : "not trusted";
         v.reason = std::string(b) + "; trajectories leave the truth after a median " +
                    std::to_string(static_cast<long>(ta.horizon_collisions.median)) + " collisions";

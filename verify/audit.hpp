@@ -17,7 +17,7 @@ struct AuditOptions {
   std::uint64_t stratify_particles = 200000;  ///< ids scanned (double) to build the strata
   std::size_t max_collisions = 1500;          ///< shadow horizon cap (long survivors)
   double tolerance = 1e-6;
-  std::uint64_t stats_particles = 1000000;    ///< ensemble size of the statistics check (<= scene's)
+  std::uint64_t stats_particles = 1000000;  ///< ensemble size of the statistics check (<= scene's)
   int threads = 0;
   bool progress = false;
 };
@@ -31,7 +31,7 @@ struct TierAudit {
   std::string name;
   double escape_time_exact_fraction = 0;  ///< over sampled particles whose truth escapes in the horizon
   std::size_t escapes_compared = 0;
-  Quantiles horizon_collisions, horizon_time;  ///< over particles whose horizon was observed
+  Quantiles horizon_collisions, horizon_time;                     ///< over particles whose horizon was observed
   Quantiles horizon_collisions_mupo, horizon_collisions_chaotic;  ///< by class of the particle
   ClassGrowth growth;
   std::size_t beyond_horizon = 0;  ///< censored: escaped or capped before leaving tolerance
@@ -58,14 +58,14 @@ struct StatisticsCheck {
 
 struct ScalarCheck {
   std::string tier;
-  double phase_error_at_tmax = 0;     ///< bound on |leak phase error| at t_max from t's own rounding
-  double omega_single_drift = 0;      ///< |omega - fl(omega)| * t_max
-  double omega_split_drift = 0;       ///< |omega - (hi + lo)| * t_max (what the engine uses)
+  double phase_error_at_tmax = 0;  ///< bound on |leak phase error| at t_max from t's own rounding
+  double omega_single_drift = 0;   ///< |omega - fl(omega)| * t_max
+  double omega_split_drift = 0;    ///< |omega - (hi + lo)| * t_max (what the engine uses)
   double time_ulp_at_tmax = 0;
-  double split_matters_after = 0;     ///< time at which |omega - (hi + lo)| t reaches 1e-3 of the leak width
-  double single_matters_after = 0;    ///< the same for omega rounded once
-  bool omega_is_rounded = false;      ///< the tier holds a nearby rational, not omega
-  bool phase_resolved = false;        ///< phase errors << leak width
+  double split_matters_after = 0;   ///< time at which |omega - (hi + lo)| t reaches 1e-3 of the leak width
+  double single_matters_after = 0;  ///< the same for omega rounded once
+  bool omega_is_rounded = false;    ///< the tier holds a nearby rational, not omega
+  bool phase_resolved = false;      ///< phase errors << leak width
   std::string note;
 };
 

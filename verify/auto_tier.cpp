@@ -31,18 +31,21 @@ TierChoice choose_tier(const Scene& scene, int threads) {
     const ScalarCheck& sc = rep.scalars[k];
     if (ok && !sc.phase_resolved && scene.omega.sign() != 0) ok = false, why = "leak phase: " + sc.note;
     if (ok && sc.time_ulp_at_tmax > scene.survival_dt / 100)
-      ok = false, why = "time resolution at t_max " + std::to_string(sc.time_ulp_at_tmax) + " is coarse against survival_dt";
+      ok = false,
+      why = "time resolution at t_max " + std::to_string(sc.time_ulp_at_tmax) + " is coarse against survival_dt";
     if (ok) {
       std::string verdict;
       for (const Verdict& v : rep.verdicts)
         if (v.tier == name && v.statistic == "P(t)") verdict = v.verdict + ": " + v.reason;
-      return {tiers[k], "cheapest tier the audit trusts for P(t), kappa and alpha (" + std::to_string(opt.stats_particles) +
+      return {tiers[k], "cheapest tier the audit trusts for P(t), kappa and alpha (" +
+                            std::to_string(opt.stats_particles) +
                             " particles compared with the same ids in long double): " + name + ", " + verdict +
                             (rejected.empty() ? "" : "; rejected: " + rejected)};
     }
     rejected += (rejected.empty() ? "" : "; ") + name + " (" + why + ")";
   }
-  return {Tier::long_double, "no ensemble tier passed the audit; ran the most precise one (long_double). Rejected: " + rejected};
+  return {Tier::long_double,
+          "no ensemble tier passed the audit; ran the most precise one (long_double). Rejected: " + rejected};
 }
 
 }  // namespace rotleak

@@ -70,7 +70,8 @@ LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, s
   return e;
 }
 
-LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from, double t_to) {
+LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from,
+                                     double t_to) {
   std::vector<double> per_t, per_k;
   std::size_t used = 0;
   for (const ShadowResult& r : runs) {
@@ -113,8 +114,10 @@ ClassGrowth class_growth(const std::vector<ShadowResult>& runs, std::size_t tier
       const double a = ts.divergence[i - 1], b = ts.divergence[i];
       if (!(a > 0) || !(b > 0) || b > 1e-3) continue;
       const double step = std::log(b) - std::log(a);
-      if (r.truth.mupo[i]) mupo += step, ++g.mupo_steps;
-      else chaotic += step, ++g.chaotic_steps;
+      if (r.truth.mupo[i])
+        mupo += step, ++g.mupo_steps;
+      else
+        chaotic += step, ++g.chaotic_steps;
     }
   }
   if (g.mupo_steps) g.mupo_per_collision = mupo / static_cast<double>(g.mupo_steps);
@@ -144,8 +147,9 @@ GrowthLaw growth_law(const std::vector<double>& div, std::size_t from) {
 InitialDraw bouncing_ball_draw(const Scene& scene, double p0) {
   // s of x = -0.9 d/2 on the top edge: 1 - 0.9 (d/2) / L, rounded once
   InitialDraw d;
-  d.s = round_exact<double>(ExactReal::parse("1") - ExactReal::parse("0.9") * scene.d / ExactReal::parse("2") /
-                                                        (ExactReal::parse("2") * scene.d + ExactReal::parse("2") * ExactReal::pi() * scene.r));
+  d.s = round_exact<double>(ExactReal::parse("1") -
+                            ExactReal::parse("0.9") * scene.d / ExactReal::parse("2") /
+                                (ExactReal::parse("2") * scene.d + ExactReal::parse("2") * ExactReal::pi() * scene.r));
   d.p = p0;
   d.tau = 0;
   return d;

@@ -17,9 +17,9 @@ namespace rotleak {
 struct LyapunovEstimate {
   double per_time = 0, per_time_error = 0;
   double per_collision = 0, per_collision_error = 0;
-  double time = 0;               ///< total time (tangent) or fit window length (divergence)
-  std::size_t collisions = 0;    ///< collisions used
-  std::size_t samples = 0;       ///< batches (tangent) or particles (divergence)
+  double time = 0;             ///< total time (tangent) or fit window length (divergence)
+  std::size_t collisions = 0;  ///< collisions used
+  std::size_t samples = 0;     ///< batches (tangent) or particles (divergence)
   double window_from = 0, window_to = 0;
 };
 
@@ -29,7 +29,8 @@ LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, s
 /// From shadow runs (tier `tier` against the truth): per particle the least-squares slope of
 /// ln(divergence) against t and against k over [t_from, t_to] (collisions with divergence < 1e-3
 /// only), averaged; error = s.d. / sqrt(particles).
-LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from, double t_to);
+LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from,
+                                     double t_to);
 
 /// Mean increase of ln(divergence) per collision, before saturation, split by the truth's class of
 /// the collision (MUPO phase or chaotic).
@@ -53,7 +54,7 @@ GrowthLaw growth_law(const std::vector<double>& divergence, std::size_t from = 1
 InitialDraw bouncing_ball_draw(const Scene& scene, double p0);
 
 struct LyapunovStudyOptions {
-  std::string tier = "float128";  ///< tier whose divergence from the truth is fitted
+  std::string tier = "float128";                  ///< tier whose divergence from the truth is fitted
   std::size_t particles = 200, collisions = 100;  ///< shadow runs and their length
   std::size_t tangent_collisions = 2000000;
   double from = 10, to = 150;  ///< fit window, in time since creation

@@ -28,8 +28,12 @@ json q_json(const Quantiles& q) {
 }
 
 json estimate_json(const LyapunovEstimate& e) {
-  return {{"per_time", e.per_time}, {"per_time_error", e.per_time_error}, {"per_collision", e.per_collision},
-          {"per_collision_error", e.per_collision_error}, {"samples", e.samples}, {"collisions", e.collisions}};
+  return {{"per_time", e.per_time},
+          {"per_time_error", e.per_time_error},
+          {"per_collision", e.per_collision},
+          {"per_collision_error", e.per_collision_error},
+          {"samples", e.samples},
+          {"collisions", e.collisions}};
 }
 
 }  // namespace
@@ -42,7 +46,9 @@ json shadow_json(const ShadowResult& r, double tolerance) {
   doc["tolerance"] = tolerance;
   std::size_t mupo = 0;
   for (auto m : r.truth.mupo) mupo += m;
-  doc["truth"] = {{"bits", r.truth.bits}, {"bits_tried", r.truth.bits_tried}, {"agreement", r.truth.agreement},
+  doc["truth"] = {{"bits", r.truth.bits},
+                  {"bits_tried", r.truth.bits_tried},
+                  {"agreement", r.truth.agreement},
                   {"escape_collision", nullable(r.truth.escape)},
                   {"escape_time", r.truth.escape ? json(r.truth.t[*r.truth.escape - 1]) : json(nullptr)},
                   {"mupo_collisions", mupo}};
@@ -60,8 +66,8 @@ std::string shadow_csv(const ShadowResult& r) {
     csv += std::to_string(i + 1) + "," + shortest(r.truth.t[i]) + "," + shortest(r.truth.s[i]) + "," +
            shortest(r.truth.p[i]) + "," + std::to_string(r.truth.in_leak[i]) + "," + std::to_string(r.truth.mupo[i]);
     for (const auto& t : r.tiers)
-      csv += i < t.collisions ? "," + shortest(t.divergence[i]) + "," + shortest(t.t[i]) + "," + shortest(t.s[i]) + "," +
-                                    shortest(t.p[i])
+      csv += i < t.collisions ? "," + shortest(t.divergence[i]) + "," + shortest(t.t[i]) + "," + shortest(t.s[i]) +
+                                    "," + shortest(t.p[i])
                               : ",,,,";
     csv += "\n";
   }
@@ -73,18 +79,20 @@ std::string shadow_text(const ShadowResult& r) {
   std::size_t mupo = 0;
   for (auto m : r.truth.mupo) mupo += m;
   appendf(out, "particle %llu: s0 = %.17g, p0 = %.17g, created at t = %.17g; %zu collisions, %zu in MUPO phases\n",
-              static_cast<unsigned long long>(r.id), r.draw.s, r.draw.p, r.draw.tau, r.horizon_collisions, mupo);
+          static_cast<unsigned long long>(r.id), r.draw.s, r.draw.p, r.draw.tau, r.horizon_collisions, mupo);
   appendf(out, "truth: MPFR at %ld bits (%ld bits agree to %.1e)", r.truth.bits, r.truth.bits / 2, r.truth.agreement);
-  if (r.truth.escape) appendf(out, ", escapes at collision %zu, t = %.12g\n", *r.truth.escape, r.truth.t[*r.truth.escape - 1]);
-  else appendf(out, ", does not escape within the horizon\n");
-  appendf(out, "%-12s %10s %12s %10s %10s %8s %11s %9s\n", "tier", "horizon", "horizon t", "decision", "escape", "exact",
-              "ln-growth/k", "seconds");
+  if (r.truth.escape)
+    appendf(out, ", escapes at collision %zu, t = %.12g\n", *r.truth.escape, r.truth.t[*r.truth.escape - 1]);
+  else
+    appendf(out, ", does not escape within the horizon\n");
+  appendf(out, "%-12s %10s %12s %10s %10s %8s %11s %9s\n", "tier", "horizon", "horizon t", "decision", "escape",
+          "exact", "ln-growth/k", "seconds");
   for (const auto& t : r.tiers) {
     appendf(out, "%-12s %10s %12s %10s %10s %8s %11.3g %9.3g%s\n", t.name.c_str(),
-                t.horizon ? std::to_string(*t.horizon).c_str() : "-", t.horizon ? shortest(t.horizon_time).c_str() : "-",
-                t.decision ? std::to_string(*t.decision).c_str() : "-", t.escape ? std::to_string(*t.escape).c_str() : "-",
-                t.escape_exact ? "yes" : "no", t.growth_per_collision, t.seconds,
-                t.stopped.empty() ? "" : ("  (" + t.stopped + ")").c_str());
+            t.horizon ? std::to_string(*t.horizon).c_str() : "-", t.horizon ? shortest(t.horizon_time).c_str() : "-",
+            t.decision ? std::to_string(*t.decision).c_str() : "-", t.escape ? std::to_string(*t.escape).c_str() : "-",
+            t.escape_exact ? "yes" : "no", t.growth_per_collision, t.seconds,
+            t.stopped.empty() ? "" : ("  (" + t.stopped + ")").c_str());
   }
   return out;
 }
@@ -95,13 +103,15 @@ json audit_json(const AuditReport& r, const std::string& source) {
   doc["sample"] = r.sample;
   doc["seconds"] = r.seconds;
   doc["max_truth_bits"] = r.max_truth_bits;
-  doc["lyapunov"] = {{"per_time", r.lyapunov_tangent.per_time},
-                     {"per_collision", r.lyapunov_tangent.per_collision},
-                     {"tangent", {{"per_time", r.lyapunov_tangent.per_time}, {"error", r.lyapunov_tangent.per_time_error}}},
-                     {"divergence", {{"per_time", r.lyapunov_divergence.per_time},
-                                     {"error", r.lyapunov_divergence.per_time_error},
-                                     {"per_collision", r.lyapunov_divergence.per_collision},
-                                     {"particles", r.lyapunov_divergence.samples}}}};
+  doc["lyapunov"] = {
+      {"per_time", r.lyapunov_tangent.per_time},
+      {"per_collision", r.lyapunov_tangent.per_collision},
+      {"tangent", {{"per_time", r.lyapunov_tangent.per_time}, {"error", r.lyapunov_tangent.per_time_error}}},
+      {"divergence",
+       {{"per_time", r.lyapunov_divergence.per_time},
+        {"error", r.lyapunov_divergence.per_time_error},
+        {"per_collision", r.lyapunov_divergence.per_collision},
+        {"particles", r.lyapunov_divergence.samples}}}};
   json tiers = json::array();
   for (const auto& t : r.tiers)
     tiers.push_back({{"name", t.name},
@@ -121,20 +131,38 @@ json audit_json(const AuditReport& r, const std::string& source) {
   for (const auto& s : r.statistics) {
     json w = json::array();
     for (const auto& x : s.windows)
-      w.push_back({{"from", x.from}, {"to", x.to}, {"escapes", x.escapes_tier}, {"at_risk", x.at_risk_tier},
-                   {"escapes_ref", x.escapes_ref}, {"at_risk_ref", x.at_risk_ref}, {"z", x.z}});
-    stats.push_back({{"tier", s.tier}, {"windows", w}, {"max_abs_z", s.max_abs_z}, {"kappa", s.kappa},
-                     {"kappa_error", s.kappa_error}, {"kappa_diff", s.kappa_diff}, {"kappa_diff_error", s.kappa_diff_error},
-                     {"alpha", s.alpha ? json(*s.alpha) : json(nullptr)}, {"alpha_error", s.alpha_error},
-                     {"alpha_diff", s.alpha_diff ? json(*s.alpha_diff) : json(nullptr)}, {"alpha_diff_error", s.alpha_diff_error},
-                     {"consistent", s.consistent}, {"identical_to_scalar_double", s.identical_to_scalar_double}});
+      w.push_back({{"from", x.from},
+                   {"to", x.to},
+                   {"escapes", x.escapes_tier},
+                   {"at_risk", x.at_risk_tier},
+                   {"escapes_ref", x.escapes_ref},
+                   {"at_risk_ref", x.at_risk_ref},
+                   {"z", x.z}});
+    stats.push_back({{"tier", s.tier},
+                     {"windows", w},
+                     {"max_abs_z", s.max_abs_z},
+                     {"kappa", s.kappa},
+                     {"kappa_error", s.kappa_error},
+                     {"kappa_diff", s.kappa_diff},
+                     {"kappa_diff_error", s.kappa_diff_error},
+                     {"alpha", s.alpha ? json(*s.alpha) : json(nullptr)},
+                     {"alpha_error", s.alpha_error},
+                     {"alpha_diff", s.alpha_diff ? json(*s.alpha_diff) : json(nullptr)},
+                     {"alpha_diff_error", s.alpha_diff_error},
+                     {"consistent", s.consistent},
+                     {"identical_to_scalar_double", s.identical_to_scalar_double}});
   }
   doc["statistics"] = stats;
   json scal = json::array();
   for (const auto& s : r.scalars)
-    scal.push_back({{"tier", s.tier}, {"phase_error_at_tmax", s.phase_error_at_tmax}, {"omega_single_drift", s.omega_single_drift},
-                    {"omega_split_drift", s.omega_split_drift}, {"time_ulp_at_tmax", s.time_ulp_at_tmax},
-                    {"omega_is_rounded", s.omega_is_rounded}, {"phase_resolved", s.phase_resolved}, {"note", s.note}});
+    scal.push_back({{"tier", s.tier},
+                    {"phase_error_at_tmax", s.phase_error_at_tmax},
+                    {"omega_single_drift", s.omega_single_drift},
+                    {"omega_split_drift", s.omega_split_drift},
+                    {"time_ulp_at_tmax", s.time_ulp_at_tmax},
+                    {"omega_is_rounded", s.omega_is_rounded},
+                    {"phase_resolved", s.phase_resolved},
+                    {"note", s.note}});
   doc["scalars"] = scal;
   json verdicts = json::array();
   for (const auto& v : r.verdicts)
@@ -146,25 +174,28 @@ json audit_json(const AuditReport& r, const std::string& source) {
 std::string audit_text(const AuditReport& r, const std::string& source) {
   std::string out;
   appendf(out, "audit of %s: %zu particles shadowed (truth up to %ld bits), %.1f s\n", source.c_str(), r.sample,
-              r.max_truth_bits, r.seconds);
-  appendf(out, "Lyapunov exponent: %.4f per time, %.4f per collision (tangent); shadow divergence %.4f +- %.4f per time\n",
-              r.lyapunov_tangent.per_time, r.lyapunov_tangent.per_collision, r.lyapunov_divergence.per_time,
-              r.lyapunov_divergence.per_time_error);
-  appendf(out, "trust horizons in collisions (quantiles over particles that reached theirs; 'later' = escaped first),\n"
-              "escape times reproduced, ln-divergence growth per collision by class:\n");
-  appendf(out, "%-12s %6s %6s %6s %8s %6s %6s %6s %10s %9s %9s\n", "tier", "h10", "h50", "h90", "h50 time", "n", "later",
-              "h50 MUPO", "escape ok", "g(MUPO)", "g(chaos)");
+          r.max_truth_bits, r.seconds);
+  appendf(out,
+          "Lyapunov exponent: %.4f per time, %.4f per collision (tangent); shadow divergence %.4f +- %.4f per time\n",
+          r.lyapunov_tangent.per_time, r.lyapunov_tangent.per_collision, r.lyapunov_divergence.per_time,
+          r.lyapunov_divergence.per_time_error);
+  appendf(out,
+          "trust horizons in collisions (quantiles over particles that reached theirs; 'later' = escaped first),\n"
+          "escape times reproduced, ln-divergence growth per collision by class:\n");
+  appendf(out, "%-12s %6s %6s %6s %8s %6s %6s %6s %10s %9s %9s\n", "tier", "h10", "h50", "h90", "h50 time", "n",
+          "later", "h50 MUPO", "escape ok", "g(MUPO)", "g(chaos)");
   for (const auto& t : r.tiers) {
-    const std::string mupo = t.horizon_collisions_mupo.n ? std::to_string(static_cast<long>(t.horizon_collisions_mupo.median)) : "-";
-    appendf(out, "%-12s %6.0f %6.0f %6.0f %8.1f %6zu %6zu %6s %9.1f%% %9.3f %9.3f\n", t.name.c_str(), t.horizon_collisions.q10,
-                t.horizon_collisions.median, t.horizon_collisions.q90, t.horizon_time.median, t.horizon_collisions.n,
-                t.beyond_horizon, mupo.c_str(), 100 * t.escape_time_exact_fraction, t.growth.mupo_per_collision,
-                t.growth.chaotic_per_collision);
+    const std::string mupo =
+        t.horizon_collisions_mupo.n ? std::to_string(static_cast<long>(t.horizon_collisions_mupo.median)) : "-";
+    appendf(out, "%-12s %6.0f %6.0f %6.0f %8.1f %6zu %6zu %6s %9.1f%% %9.3f %9.3f\n", t.name.c_str(),
+            t.horizon_collisions.q10, t.horizon_collisions.median, t.horizon_collisions.q90, t.horizon_time.median,
+            t.horizon_collisions.n, t.beyond_horizon, mupo.c_str(), 100 * t.escape_time_exact_fraction,
+            t.growth.mupo_per_collision, t.growth.chaotic_per_collision);
   }
   appendf(out, "statistics (same ids, %s ensembles):\n", "float / double / long double");
   for (const auto& s : r.statistics)
-    appendf(out, "  %-12s max |z| %.2f, kappa %.5g (diff %.2g +- %.1g): %s\n", s.tier.c_str(), s.max_abs_z, s.kappa, s.kappa_diff,
-                s.kappa_diff_error, s.consistent ? "consistent" : "DIFFERS");
+    appendf(out, "  %-12s max |z| %.2f, kappa %.5g (diff %.2g +- %.1g): %s\n", s.tier.c_str(), s.max_abs_z, s.kappa,
+            s.kappa_diff, s.kappa_diff_error, s.consistent ? "consistent" : "DIFFERS");
   appendf(out, "scalars:\n");
   for (const auto& s : r.scalars) appendf(out, "  %-12s %s\n", s.tier.c_str(), s.note.c_str());
   appendf(out, "verdicts:\n");
@@ -176,22 +207,23 @@ std::string audit_text(const AuditReport& r, const std::string& source) {
 json lyapunov_json(const LyapunovStudy& s) {
   const double rel = s.relative_difference();
   json doc;
-  doc["lyapunov"] = {{"per_time", s.tangent.per_time},
-                     {"per_collision", s.tangent.per_collision},
-                     {"tangent", estimate_json(s.tangent)},
-                     {"divergence", estimate_json(s.divergence)},
-                     {"divergence_tier", s.options.tier},
-                     {"divergence_window", {s.options.from, s.options.to}},
+  doc["lyapunov"] = {{"per_time", s.tangent.per_time},      {"per_collision", s.tangent.per_collision},
+                     {"tangent", estimate_json(s.tangent)}, {"divergence", estimate_json(s.divergence)},
+                     {"divergence_tier", s.options.tier},   {"divergence_window", {s.options.from, s.options.to}},
                      {"relative_difference", rel}};
   doc["growth_by_class"] = {{"tier", s.options.tier},
                             {"mupo_per_collision", s.by_class.mupo_per_collision},
                             {"mupo_steps", s.by_class.mupo_steps},
                             {"chaotic_per_collision", s.by_class.chaotic_per_collision},
                             {"chaotic_steps", s.by_class.chaotic_steps}};
-  doc["mupo_orbit"] = {{"p0", s.options.mupo_p},       {"collisions", s.mupo_collisions},
-                       {"tier", "double"},     {"power", s.mupo_law.power},
-                       {"power_r2", s.mupo_law.power_r2}, {"exp_rate_per_collision", s.mupo_law.rate},
-                       {"exp_r2", s.mupo_law.rate_r2}, {"polynomial", s.mupo_law.polynomial()}};
+  doc["mupo_orbit"] = {{"p0", s.options.mupo_p},
+                       {"collisions", s.mupo_collisions},
+                       {"tier", "double"},
+                       {"power", s.mupo_law.power},
+                       {"power_r2", s.mupo_law.power_r2},
+                       {"exp_rate_per_collision", s.mupo_law.rate},
+                       {"exp_r2", s.mupo_law.rate_r2},
+                       {"polynomial", s.mupo_law.polynomial()}};
   return doc;
 }
 
@@ -200,23 +232,33 @@ std::string lyapunov_text(const LyapunovStudy& s, const std::string& source) {
   const double rel = s.relative_difference();
   appendf(out, "Lyapunov exponent of %s\n", source.c_str());
   appendf(out, "  tangent dynamics (%zu collisions, double): %.5f +- %.5f per time, %.5f +- %.5f per collision\n",
-              s.tangent.collisions, s.tangent.per_time, s.tangent.per_time_error, s.tangent.per_collision, s.tangent.per_collision_error);
-  appendf(out, "  shadow divergence (%zu particles, %s vs truth, t in [%g, %g]): %.5f +- %.5f per time, %.5f +- %.5f per collision\n",
-              s.divergence.samples, s.options.tier.c_str(), s.options.from, s.options.to, s.divergence.per_time, s.divergence.per_time_error, s.divergence.per_collision, s.divergence.per_collision_error);
+          s.tangent.collisions, s.tangent.per_time, s.tangent.per_time_error, s.tangent.per_collision,
+          s.tangent.per_collision_error);
+  appendf(out,
+          "  shadow divergence (%zu particles, %s vs truth, t in [%g, %g]): %.5f +- %.5f per time, %.5f +- %.5f per "
+          "collision\n",
+          s.divergence.samples, s.options.tier.c_str(), s.options.from, s.options.to, s.divergence.per_time,
+          s.divergence.per_time_error, s.divergence.per_collision, s.divergence.per_collision_error);
   appendf(out, "  relative difference: %.2f%%\n", 100 * rel);
   appendf(out, "growth of ln(divergence) per collision: MUPO phases %.4f (%zu steps), chaotic %.4f (%zu steps)\n",
-              s.by_class.mupo_per_collision, s.by_class.mupo_steps, s.by_class.chaotic_per_collision, s.by_class.chaotic_steps);
-  appendf(out, "bouncing-ball orbit, p0 = %g, %zu collisions in double: divergence ~ k^%.2f (R^2 %.4f) vs exp(%.4f k) (R^2 %.4f): %s\n",
-              s.options.mupo_p, s.mupo_collisions, s.mupo_law.power, s.mupo_law.power_r2, s.mupo_law.rate, s.mupo_law.rate_r2,
-              s.mupo_law.polynomial() ? "polynomial" : "exponential");
+          s.by_class.mupo_per_collision, s.by_class.mupo_steps, s.by_class.chaotic_per_collision,
+          s.by_class.chaotic_steps);
+  appendf(out,
+          "bouncing-ball orbit, p0 = %g, %zu collisions in double: divergence ~ k^%.2f (R^2 %.4f) vs exp(%.4f k) (R^2 "
+          "%.4f): %s\n",
+          s.options.mupo_p, s.mupo_collisions, s.mupo_law.power, s.mupo_law.power_r2, s.mupo_law.rate,
+          s.mupo_law.rate_r2, s.mupo_law.polynomial() ? "polynomial" : "exponential");
   return out;
 }
 
 json certify_json(std::uint64_t particle, const std::vector<Certificate>& attempts) {
   json doc, list = json::array();
   for (const auto& c : attempts)
-    list.push_back({{"bits", c.bits}, {"certified_collisions", c.certified_collisions}, {"escape_certified", c.escape_certified},
-                    {"escape_collision", c.escape_collision}, {"escape_time", {c.escape_time_lo, c.escape_time_hi}},
+    list.push_back({{"bits", c.bits},
+                    {"certified_collisions", c.certified_collisions},
+                    {"escape_certified", c.escape_certified},
+                    {"escape_collision", c.escape_collision},
+                    {"escape_time", {c.escape_time_lo, c.escape_time_hi}},
                     {"last_width", c.last_width}});
   doc["particle"] = particle;
   doc["attempts"] = list;
@@ -228,10 +270,10 @@ std::string certify_text(const std::vector<Certificate>& attempts) {
   std::string out;
   for (const auto& c : attempts)
     appendf(out, "%6ld bits: %zu collisions certified%s\n", c.bits, c.certified_collisions,
-                c.escape_certified ? (", escape at collision " + std::to_string(c.escape_collision) + " proven, t in [" +
-                                      std::to_string(c.escape_time_lo) + ", " + std::to_string(c.escape_time_hi) + "]")
-                                         .c_str()
-                                   : "");
+            c.escape_certified ? (", escape at collision " + std::to_string(c.escape_collision) + " proven, t in [" +
+                                  std::to_string(c.escape_time_lo) + ", " + std::to_string(c.escape_time_hi) + "]")
+                                     .c_str()
+                               : "");
   return out;
 }
 

@@ -62,8 +62,8 @@ struct TruthRun {
 };
 
 // One MPFR run at `bits`; states are stored at `store_bits` (>= bits) for comparisons.
-TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long store_bits, std::size_t K, bool stop_at_escape,
-                  const Stadium<double>& st) {
+TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long store_bits, std::size_t K,
+                  bool stop_at_escape, const Stadium<double>& st) {
   TruthRun run;
   MpfrPrecision work(bits);
   const Model<Mpfr> model = model_of<Mpfr>(scene);
@@ -161,7 +161,8 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
   for (;;) {
     res.truth.bits_tried.push_back(bits);
     if (2 * bits > opt.max_bits)
-      throw std::runtime_error("no truth below " + std::to_string(opt.max_bits) + " bits (raise max_bits or shorten the horizon)");
+      throw std::runtime_error("no truth below " + std::to_string(opt.max_bits) +
+                               " bits (raise max_bits or shorten the horizon)");
     upper = run_mpfr(scene, res.draw, 2 * bits, 2 * bits, K, false, st);
     double agree = upper.states.size() == lower.states.size() ? 0 : std::numeric_limits<double>::infinity();
     {
@@ -205,8 +206,9 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
   return res;
 }
 
-std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids, const ShadowOptions& opt,
-                                      int threads, const std::function<void(std::size_t)>& progress) {
+std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids,
+                                      const ShadowOptions& opt, int threads,
+                                      const std::function<void(std::size_t)>& progress) {
   std::vector<ShadowResult> runs(ids.size());
   std::atomic<std::size_t> done{0};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())

@@ -10,12 +10,12 @@ namespace rotleak {
 
 template <class R>
 struct TraceStep {
-  std::size_t k;       ///< collision number, from 1
-  const R& t;          ///< its time
+  std::size_t k;  ///< collision number, from 1
+  const R& t;     ///< its time
   Piece piece;
-  const Vec2<R>& q;    ///< its point
-  const Vec2<R>& v;    ///< outgoing velocity
-  bool in_leak;        ///< the escape test at this collision
+  const Vec2<R>& q;  ///< its point
+  const Vec2<R>& v;  ///< outgoing velocity
+  bool in_leak;      ///< the escape test at this collision
 };
 
 /// Follows the particle with binary initial data `draw` through at most `max_collisions` collisions

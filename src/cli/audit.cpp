@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
 #include "io/run_output.hpp"
+#include "io/scene_file.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -24,7 +24,8 @@ struct AuditArgs {
 
 int run_audit(const AuditArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  if (a.sample < 4 || a.sample > 1000000) throw InputError("--sample", std::to_string(a.sample), "must be in [4, 10^6]");
+  if (a.sample < 4 || a.sample > 1000000)
+    throw InputError("--sample", std::to_string(a.sample), "must be in [4, 10^6]");
   if (a.stats < 1000) throw InputError("--stats-particles", std::to_string(a.stats), "must be >= 1000");
   if (a.max_collisions < 10) throw InputError("--max-collisions", std::to_string(a.max_collisions), "must be >= 10");
   AuditOptions opt;
@@ -49,8 +50,10 @@ int run_audit(const AuditArgs& a) {
     write_file_atomic(dir->file("audit.json"), doc.dump(2) + "\n");
     write_directory_summary(*dir, "audit", scene.source, {"audit.json"});
   }
-  if (a.json_out) std::cout << doc.dump(2) << "\n";
-  else std::fputs(audit_text(r, scene.source).c_str(), stdout);
+  if (a.json_out)
+    std::cout << doc.dump(2) << "\n";
+  else
+    std::fputs(audit_text(r, scene.source).c_str(), stdout);
   return 0;
 }
 
@@ -58,11 +61,13 @@ int run_audit(const AuditArgs& a) {
 
 Command add_audit(CLI::App& app) {
   auto a = std::make_shared<AuditArgs>();
-  CLI::App* sub = app.add_subcommand("audit", "Which trajectories, statistics and scalars of a scene can be trusted, per tier");
+  CLI::App* sub =
+      app.add_subcommand("audit", "Which trajectories, statistics and scalars of a scene can be trusted, per tier");
   sub->add_option("scene", a->scene, "Scene file (TOML)")->required();
   sub->add_option("--sample", a->sample, "Particles to shadow, stratified by escape time (default 1000)");
   sub->add_option("--tiers", a->tiers, "Comma list of tiers to shadow");
-  sub->add_option("--stats-particles", a->stats, "Ensemble size of the float/double/long double comparison (default 1e6)");
+  sub->add_option("--stats-particles", a->stats,
+                  "Ensemble size of the float/double/long double comparison (default 1e6)");
   sub->add_option("--stratify-particles", a->stratify, "Ids scanned to build the strata (default 2e5)");
   sub->add_option("--max-collisions", a->max_collisions, "Shadow horizon cap per particle (default 1500)");
   sub->add_option("--tolerance", a->tolerance, "Divergence that ends a trust horizon (default 1e-6)");

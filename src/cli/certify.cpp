@@ -2,8 +2,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
+#include "io/scene_file.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -20,15 +20,18 @@ struct CertifyArgs {
 int run_certify(const CertifyArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   if (a.particle < 0 || static_cast<std::uint64_t>(a.particle) >= scene.particles)
-    throw InputError("--particle", std::to_string(a.particle), "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
+    throw InputError("--particle", std::to_string(a.particle),
+                     "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
   if (a.bits < Tier::kMinBits || a.bits > a.max_bits || a.max_bits > (1L << 22))
     throw InputError("--bits", std::to_string(a.bits),
                      "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits], and --max-bits <= 2^22");
   const InitialConditions ic = initial_conditions(scene);
   const auto attempts = certify(scene, ic.draw(static_cast<std::uint64_t>(a.particle)), a.bits, a.max_bits,
                                 static_cast<std::size_t>(a.collisions));
-  if (a.json_out) std::cout << certify_json(static_cast<std::uint64_t>(a.particle), attempts).dump(2) << "\n";
-  else std::fputs(certify_text(attempts).c_str(), stdout);
+  if (a.json_out)
+    std::cout << certify_json(static_cast<std::uint64_t>(a.particle), attempts).dump(2) << "\n";
+  else
+    std::fputs(certify_text(attempts).c_str(), stdout);
   return 0;
 }
 
@@ -36,7 +39,8 @@ int run_certify(const CertifyArgs& a) {
 
 Command add_certify(CLI::App& app) {
   auto a = std::make_shared<CertifyArgs>();
-  CLI::App* sub = app.add_subcommand("certify", "Prove a particle's escape with MPFI interval arithmetic (raising the bits)");
+  CLI::App* sub =
+      app.add_subcommand("certify", "Prove a particle's escape with MPFI interval arithmetic (raising the bits)");
   sub->add_option("scene", a->scene, "Scene file (TOML)")->required();
   sub->add_option("--particle", a->particle, "Particle id")->required();
   sub->add_option("--bits", a->bits, "Starting precision (default 64)");

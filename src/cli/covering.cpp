@@ -57,7 +57,8 @@ int run_covering(const CoveringArgs& a) {
   const json doc = covering_document({a.delta, a.lambda, a.d, a.r}, a.omegas, results);
 
   if (dir) {
-    write_file_atomic(dir->file("f_L.csv"), covering_profile_csv(a.omegas, results, static_cast<std::size_t>(a.resolution)));
+    write_file_atomic(dir->file("f_L.csv"),
+                      covering_profile_csv(a.omegas, results, static_cast<std::size_t>(a.resolution)));
     if (a.segments)
       for (std::size_t i = 0; i < results.size(); ++i)
         write_file_atomic(dir->file("segments_" + std::to_string(i) + ".csv"), covering_segments_csv(results[i]));
@@ -67,7 +68,8 @@ int run_covering(const CoveringArgs& a) {
   if (a.json_out) {
     std::cout << doc.dump(2) << "\n";
   } else {
-    std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", a.delta.c_str(), a.lambda.c_str(), a.d.c_str(), a.r.c_str());
+    std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", a.delta.c_str(), a.lambda.c_str(),
+                a.d.c_str(), a.r.c_str());
     std::fputs(covering_text(a.omegas, results).c_str(), stdout);
   }
   return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_covering.py") : 0;
@@ -77,7 +79,8 @@ int run_covering(const CoveringArgs& a) {
 
 Command add_covering(CLI::App& app) {
   auto a = std::make_shared<CoveringArgs>();
-  CLI::App* sub = app.add_subcommand("covering", "The MUPO covering f_L(s) of the leak during a bouncing-ball crossing");
+  CLI::App* sub =
+      app.add_subcommand("covering", "The MUPO covering f_L(s) of the leak during a bouncing-ball crossing");
   sub->add_option("--omega", a->omegas, "omega (exact; repeat or list several to draw them together)")->required();
   sub->add_option("--delta", a->delta, "1 + delta = 1/sqrt(1 - p^2) (default 1e-7)");
   sub->add_option("--lambda", a->lambda, "leak width in s (default 0.01)");

@@ -2,8 +2,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
+#include "io/scene_file.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -26,8 +26,10 @@ int run_lyapunov(const LyapunovArgs& a) {
   if (a.collisions < 10) throw InputError("--collisions", std::to_string(a.collisions), "must be >= 10");
   if (a.tangent < 1000) throw InputError("--tangent-collisions", std::to_string(a.tangent), "must be >= 1000");
   const auto tier = Tier::parse(a.tier);
-  if (!tier || tier->automatic() || tier->interval()) throw InputError("--tier", a.tier, "allowed: " + tier_names_allowed(false));
-  if (!(a.from >= 0 && a.from < a.to)) throw InputError("--window", std::to_string(a.from) + "," + std::to_string(a.to), "needs 0 <= from < to");
+  if (!tier || tier->automatic() || tier->interval())
+    throw InputError("--tier", a.tier, "allowed: " + tier_names_allowed(false));
+  if (!(a.from >= 0 && a.from < a.to))
+    throw InputError("--window", std::to_string(a.from) + "," + std::to_string(a.to), "needs 0 <= from < to");
 
   LyapunovStudyOptions opt;
   opt.tier = a.tier;
@@ -39,8 +41,10 @@ int run_lyapunov(const LyapunovArgs& a) {
   opt.mupo_p = a.mupo_p;
   opt.threads = a.threads;
   const LyapunovStudy study = lyapunov_study(scene, opt);
-  if (a.json_out) std::cout << lyapunov_json(study).dump(2) << "\n";
-  else std::fputs(lyapunov_text(study, scene.source).c_str(), stdout);
+  if (a.json_out)
+    std::cout << lyapunov_json(study).dump(2) << "\n";
+  else
+    std::fputs(lyapunov_text(study, scene.source).c_str(), stdout);
   return 0;
 }
 
@@ -48,7 +52,8 @@ int run_lyapunov(const LyapunovArgs& a) {
 
 Command add_lyapunov(CLI::App& app) {
   auto a = std::make_shared<LyapunovArgs>();
-  CLI::App* sub = app.add_subcommand("lyapunov", "Lyapunov exponent two ways (tangent dynamics, shadow divergence) and MUPO growth");
+  CLI::App* sub = app.add_subcommand(
+      "lyapunov", "Lyapunov exponent two ways (tangent dynamics, shadow divergence) and MUPO growth");
   sub->add_option("scene", a->scene, "Scene file (TOML): the stadium (the leak plays no part)")->required();
   sub->add_option("--particles", a->particles, "Shadow runs for the divergence estimate (default 200)");
   sub->add_option("--collisions", a->collisions, "Collisions per shadow run (default 100)");

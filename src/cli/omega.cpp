@@ -40,8 +40,10 @@ int run_omega(const OmegaArgs& a) {
   opt.convergents = static_cast<std::size_t>(a.convergents < 0 ? 0 : a.convergents);
   opt.eps = eps;
   const OmegaReport r = omega_report(a.value, x, opt);
-  if (a.json_out) std::cout << omega_json(r, a.eps).dump(2) << "\n";
-  else std::fputs(omega_text(r, a.eps).c_str(), stdout);
+  if (a.json_out)
+    std::cout << omega_json(r, a.eps).dump(2) << "\n";
+  else
+    std::fputs(omega_text(r, a.eps).c_str(), stdout);
   return 0;
 }
 
@@ -49,8 +51,11 @@ int run_omega(const OmegaArgs& a) {
 
 Command add_omega(CLI::App& app) {
   auto a = std::make_shared<OmegaArgs>();
-  CLI::App* sub = app.add_subcommand("omega", "Continued fraction, convergents and best approximations of an exact omega");
-  sub->add_option("value", a->value, "omega: 1008/1009, 1e-4, ln(19), 2*ln(19), sqrt(2), pi, e, golden, liouville(10), ...")->required();
+  CLI::App* sub =
+      app.add_subcommand("omega", "Continued fraction, convergents and best approximations of an exact omega");
+  sub->add_option("value", a->value,
+                  "omega: 1008/1009, 1e-4, ln(19), 2*ln(19), sqrt(2), pi, e, golden, liouville(10), ...")
+      ->required();
   sub->add_option("--terms", a->terms, "Certified partial quotients to compute (default 20)");
   sub->add_option("--max-den", a->max_den, "Largest denominator for best approximations (default 1000)");
   sub->add_option("--eps", a->eps, "Also find the smallest q with |omega - p/q| < eps");

@@ -2,9 +2,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include "io/scene_file.hpp"
 #include "cli/commands.hpp"
 #include "io/files.hpp"
+#include "io/scene_file.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -25,8 +25,10 @@ int run_shadow(const ShadowArgs& a) {
   if (a.particle < 0 || static_cast<std::uint64_t>(a.particle) >= scene.particles)
     throw InputError("--particle", std::to_string(a.particle),
                      "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
-  if (a.collisions < 0) throw InputError("--collisions", std::to_string(a.collisions), "must be >= 0 (0: until the truth escapes)");
-  if (!(a.tolerance > 0 && a.tolerance < 1)) throw InputError("--tolerance", std::to_string(a.tolerance), "must be in (0, 1)");
+  if (a.collisions < 0)
+    throw InputError("--collisions", std::to_string(a.collisions), "must be >= 0 (0: until the truth escapes)");
+  if (!(a.tolerance > 0 && a.tolerance < 1))
+    throw InputError("--tolerance", std::to_string(a.tolerance), "must be in (0, 1)");
   ShadowOptions opt;
   try {
     opt.tiers = parse_tier_list(a.tiers, true);
@@ -45,8 +47,10 @@ int run_shadow(const ShadowArgs& a) {
     write_file_atomic(dir->file("summary.json"), doc.dump(2) + "\n");
     dir->commit();
   }
-  if (a.json_out) std::cout << doc.dump(2) << "\n";
-  else std::fputs(shadow_text(r).c_str(), stdout);
+  if (a.json_out)
+    std::cout << doc.dump(2) << "\n";
+  else
+    std::fputs(shadow_text(r).c_str(), stdout);
   return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_shadow.py") : 0;
 }
 

@@ -29,8 +29,10 @@ int run_simulate(SimulateArgs a) {
   if (!a.json_out) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
 
   const SimulateOutcome out = simulate(a.request);
-  if (a.json_out) std::cout << out.document.dump(2) << "\n";
-  else std::printf("%swrote %s/\n", summary_text(out.summary).c_str(), out.dir.c_str());
+  if (a.json_out)
+    std::cout << out.document.dump(2) << "\n";
+  else
+    std::printf("%swrote %s/\n", summary_text(out.summary).c_str(), out.dir.c_str());
   return a.plot ? plot_after_run(out.dir.string()) : 0;
 }
 
@@ -38,13 +40,15 @@ int run_simulate(SimulateArgs a) {
 
 Command add_simulate(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
-  CLI::App* sub = app.add_subcommand("simulate", "Run a scene's ensemble; write survival.csv, summary.json (and fc.csv)");
+  CLI::App* sub =
+      app.add_subcommand("simulate", "Run a scene's ensemble; write survival.csv, summary.json (and fc.csv)");
   sub->add_option("scene", args->request.scene_path, "Scene file (TOML)")->required();
   sub->add_option("--out", args->request.out, "Run directory to create")->required();
   sub->add_option("--particles", args->particles, "Override ensemble.particles");
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key: section.key=value (repeatable)");
-  sub->add_option("--engine", args->request.engine, "auto (vectorised when the CPU has AVX2+FMA and the scene allows), scalar, simd");
+  sub->add_option("--engine", args->request.engine,
+                  "auto (vectorised when the CPU has AVX2+FMA and the scene allows), scalar, simd");
   sub->add_flag("--force", args->request.force, "Replace an existing run directory");
   sub->add_flag("--json", args->json_out, "Print summary.json on stdout (nothing else there)");
   sub->add_flag("--plot", args->plot, "Draw the PNGs (rotleak plot) after the run");

@@ -16,9 +16,9 @@ enum class Piece : int { top = 0, right_arc = 1, bottom = 2, left_arc = 3 };
 
 template <class R>
 struct Hit {
-  R t{0};           ///< flight time (= length: speed 1)
+  R t{0};  ///< flight time (= length: speed 1)
   Piece piece{Piece::top};
-  Vec2<R> q;        ///< collision point
+  Vec2<R> q;  ///< collision point
 };
 
 /// A point of the boundary with its frame.
@@ -112,7 +112,8 @@ class Stadium {
         R th = atan2(q.x - half_d_, q.y);
         return junction_[0] + clamp_angle(th) * r_over_L_;
       }
-      case Piece::bottom: return junction_[1] + (half_d_ - q.x) * inv_L_;
+      case Piece::bottom:
+        return junction_[1] + (half_d_ - q.x) * inv_L_;
       case Piece::left_arc: {
         R th = atan2(-(q.x + half_d_), -q.y);
         return junction_[2] + clamp_angle(th) * r_over_L_;
@@ -123,16 +124,22 @@ class Stadium {
 
   Vec2<R> tangent(Piece p, const Vec2<R>& q) const {
     switch (p) {
-      case Piece::top: return {R(1), R(0)};
-      case Piece::bottom: return {R(-1), R(0)};
-      default: return {q.y * inv_r_, R(-(q.x - arc_centre_x(p)) * inv_r_)};
+      case Piece::top:
+        return {R(1), R(0)};
+      case Piece::bottom:
+        return {R(-1), R(0)};
+      default:
+        return {q.y * inv_r_, R(-(q.x - arc_centre_x(p)) * inv_r_)};
     }
   }
   Vec2<R> inward_normal(Piece p, const Vec2<R>& q) const {
     switch (p) {
-      case Piece::top: return {R(0), R(-1)};
-      case Piece::bottom: return {R(0), R(1)};
-      default: return {R((arc_centre_x(p) - q.x) * inv_r_), R(-q.y * inv_r_)};
+      case Piece::top:
+        return {R(0), R(-1)};
+      case Piece::bottom:
+        return {R(0), R(1)};
+      default:
+        return {R((arc_centre_x(p) - q.x) * inv_r_), R(-q.y * inv_r_)};
     }
   }
 

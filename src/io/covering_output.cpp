@@ -32,7 +32,8 @@ json covering_json(const std::string& omega, const Covering& c) {
           {"seconds", c.seconds}};
 }
 
-json covering_document(const CoveringTexts& in, const std::vector<std::string>& omegas, const std::vector<Covering>& results) {
+json covering_document(const CoveringTexts& in, const std::vector<std::string>& omegas,
+                       const std::vector<Covering>& results) {
   json list = json::array();
   for (std::size_t i = 0; i < results.size(); ++i) list.push_back(covering_json(omegas[i], results[i]));
   json doc;
@@ -58,7 +59,8 @@ std::string covering_profile_csv(const std::vector<std::string>& omegas, const s
 
 std::string covering_segments_csv(const Covering& c) {
   std::string seg = "from,to,f_L\n";
-  for (const auto& s : c.segments) seg += shortest(s.from) + "," + shortest(s.to) + "," + std::to_string(s.value) + "\n";
+  for (const auto& s : c.segments)
+    seg += shortest(s.from) + "," + shortest(s.to) + "," + std::to_string(s.value) + "\n";
   return seg;
 }
 
@@ -68,13 +70,14 @@ std::string covering_text(const std::vector<std::string>& omegas, const std::vec
     const Covering& c = results[i];
     char how[64], line[1024];
     std::snprintf(how, sizeof how, c.exact ? "exact" : "certified, points within %.1e", c.error_bound);
-    std::snprintf(line, sizeof line,
-                  "omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
-                  "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
-                  omegas[i].c_str(), static_cast<unsigned long long>(c.N), how, c.zero_measure, c.max_zero_gap,
-                  static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
-                  static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
-                  c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
+    std::snprintf(
+        line, sizeof line,
+        "omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
+        "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
+        omegas[i].c_str(), static_cast<unsigned long long>(c.N), how, c.zero_measure, c.max_zero_gap,
+        static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
+        static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
+        c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
     out += line;
   }
   return out;

@@ -15,7 +15,8 @@ struct CoveringTexts {
   std::string delta, lambda, d, r;
 };
 /// summary.json of `rotleak covering`: the inputs, then one covering (or a list of them).
-json covering_document(const CoveringTexts& input, const std::vector<std::string>& omegas, const std::vector<Covering>& results);
+json covering_document(const CoveringTexts& input, const std::vector<std::string>& omegas,
+                       const std::vector<Covering>& results);
 
 /// One omega's covering (omega as the user wrote it).
 json covering_json(const std::string& omega, const Covering& c);

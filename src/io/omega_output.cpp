@@ -12,7 +12,8 @@ json approximation_json(const Approximation& a) {
 
 void approximation_lines(std::string& out, const std::vector<Approximation>& list) {
   for (const auto& a : list)
-    appendf(out, "  %s/%s   [%s, %s]\n", a.f.p.get_str().c_str(), a.f.q.get_str().c_str(), a.error.lo.c_str(), a.error.hi.c_str());
+    appendf(out, "  %s/%s   [%s, %s]\n", a.f.p.get_str().c_str(), a.f.q.get_str().c_str(), a.error.lo.c_str(),
+            a.error.hi.c_str());
 }
 
 }  // namespace
@@ -52,7 +53,8 @@ json omega_json(const OmegaReport& r, const std::string& eps_text) {
   if (!r.liouville_partial_sums.empty()) o["liouville_partial_sums"] = r.liouville_partial_sums;
   if (r.options.eps)
     o["smallest_q_within_eps"] =
-        r.within_eps ? json{{"eps", eps_text}, {"p", r.within_eps->p.get_str()}, {"q", r.within_eps->q.get_str()}} : json(nullptr);
+        r.within_eps ? json{{"eps", eps_text}, {"p", r.within_eps->p.get_str()}, {"q", r.within_eps->q.get_str()}}
+                     : json(nullptr);
   json j;
   j["omega"] = o;
   return j;
@@ -66,10 +68,12 @@ std::string omega_text(const OmegaReport& r, const std::string& eps_text) {
           r.cf.complete ? "terms, complete" : (r.x.is_rational() ? "terms" : "certified terms"));
   for (std::size_t k = 0; k < r.cf.terms.size(); ++k)
     appendf(out, "%s%s", k == 0 ? "" : (k == 1 ? "; " : ", "), r.cf.terms[k].get_str().c_str());
-  appendf(out, "]%s\n", r.cf.precision_bits ? (" (certified at " + std::to_string(r.cf.precision_bits) + " bits)").c_str() : "");
+  appendf(out, "]%s\n",
+          r.cf.precision_bits ? (" (certified at " + std::to_string(r.cf.precision_bits) + " bits)").c_str() : "");
   appendf(out, "convergents p/q and omega - p/q (certified enclosure):\n");
   approximation_lines(out, r.convergents);
-  appendf(out, "best approximations with q <= %s%s:\n", r.options.max_den.get_str().c_str(), r.best_truncated ? " (list truncated)" : "");
+  appendf(out, "best approximations with q <= %s%s:\n", r.options.max_den.get_str().c_str(),
+          r.best_truncated ? " (list truncated)" : "");
   approximation_lines(out, r.best);
   if (r.options.eps && r.within_eps)
     appendf(out, "smallest q with |omega - p/q| < %s: %s/%s\n", eps_text.c_str(), r.within_eps->p.get_str().c_str(),

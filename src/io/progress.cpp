@@ -5,8 +5,7 @@
 
 namespace rotleak {
 
-ProgressLine::ProgressLine(bool enabled)
-    : enabled_(enabled), start_(std::chrono::steady_clock::now()), last_(start_) {}
+ProgressLine::ProgressLine(bool enabled) : enabled_(enabled), start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 void ProgressLine::update(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final) {
   if (!enabled_) return;
@@ -17,8 +16,8 @@ void ProgressLine::update(std::uint64_t done, std::uint64_t total, std::uint64_t
   const double frac = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
   const double rate = el > 0 ? static_cast<double>(collisions) / el : 0.0;
   const double eta = frac > 0 ? el * (1 - frac) / frac : 0.0;
-  std::fprintf(stderr, "\r[rotleak] %5.1f%%  %llu/%llu particles  %.3g collisions/s  %s %.0f s   %s",
-               100 * frac, static_cast<unsigned long long>(done), static_cast<unsigned long long>(total), rate,
+  std::fprintf(stderr, "\r[rotleak] %5.1f%%  %llu/%llu particles  %.3g collisions/s  %s %.0f s   %s", 100 * frac,
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total), rate,
                final ? "took" : "ETA", final ? el : eta, final ? "\n" : "");
   std::fflush(stderr);
 }

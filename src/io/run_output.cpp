@@ -72,7 +72,8 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["scene"] = scene_json(scene);
   s["seed"] = scene.seed;
   s["tier"] = to_string(scene.tier);
-  if (r.tier_choice) s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
+  if (r.tier_choice)
+    s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
   s["engine"] = to_string(r.result.engine);
   s["threads"] = r.result.threads;
   s["particles"] = scene.particles;
@@ -111,7 +112,8 @@ std::string summary_text(const RunSummary& r) {
   auto add = [&](int n) { out.append(line, static_cast<std::size_t>(n < 0 ? 0 : std::min<int>(n, sizeof line - 1))); };
   add(std::snprintf(line, sizeof line, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n",
                     r.scene.source.c_str(), static_cast<unsigned long long>(r.scene.particles),
-                    to_string(r.scene.tier).c_str(), r.result.threads, r.result.wall_seconds, r.collisions_per_second()));
+                    to_string(r.scene.tier).c_str(), r.result.threads, r.result.wall_seconds,
+                    r.collisions_per_second()));
   const KappaFit& kappa = r.kappa;
   const AlphaResult& alpha = r.alpha;
   if (kappa.ok)
@@ -129,7 +131,8 @@ std::string summary_text(const RunSummary& r) {
     add(std::snprintf(line, sizeof line, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error,
                       r.tail.from, r.tail.to));
   if (r.result.tally.stuck)
-    add(std::snprintf(line, sizeof line, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
+    add(std::snprintf(line, sizeof line,
+                      "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
                       static_cast<unsigned long long>(r.result.tally.stuck)));
   return out;
 }

@@ -1,12 +1,12 @@
 #include "io/scene_file.hpp"
 
+#include <toml++/toml.h>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 namespace rotleak {
 
@@ -26,7 +26,8 @@ const std::set<std::string> kDensityKeys = {"bins", "windows"};
 
 std::string shown(const toml::node& n) {
   std::ostringstream os;
-  if (auto s = n.as_string()) os << '"' << s->get() << '"';
+  if (auto s = n.as_string())
+    os << '"' << s->get() << '"';
   else if (auto f = n.as_floating_point()) {
     char buf[64];
     auto r = std::to_chars(buf, buf + sizeof buf, f->get());
@@ -47,17 +48,19 @@ struct Reader {
     return nullptr;
   }
 
-  ExactReal exact(const std::string& section, const std::string& key, std::string& text,
-                  ExactReal fallback) const {
+  ExactReal exact(const std::string& section, const std::string& key, std::string& text, ExactReal fallback) const {
     const std::string name = section + "." + key;
     const toml::node* n = find(section, key);
     if (!n) return fallback;
     if (n->is_floating_point())
       throw InputError(name, shown(*n),
                        "write it as a string (e.g. " + key + " = \"0.01\") so it is read exactly, not through double");
-    if (auto i = n->as_integer()) text = std::to_string(i->get());
-    else if (auto s = n->as_string()) text = s->get();
-    else throw InputError(name, shown(*n), "must be an exact number given as a string or an integer");
+    if (auto i = n->as_integer())
+      text = std::to_string(i->get());
+    else if (auto s = n->as_string())
+      text = s->get();
+    else
+      throw InputError(name, shown(*n), "must be an exact number given as a string or an integer");
     return parse_exact_input(name, text);
   }
 
@@ -69,15 +72,18 @@ struct Reader {
 
   static double as_number(const std::string& name, const toml::node& n) {
     double v;
-    if (auto i = n.as_integer()) v = static_cast<double>(i->get());
-    else if (auto f = n.as_floating_point()) v = f->get();
-    else throw InputError(name, shown(n), "must be a number");
+    if (auto i = n.as_integer())
+      v = static_cast<double>(i->get());
+    else if (auto f = n.as_floating_point())
+      v = f->get();
+    else
+      throw InputError(name, shown(n), "must be a number");
     if (!std::isfinite(v)) throw InputError(name, shown(n), "must be a finite number");
     return v;
   }
 
-  std::uint64_t count(const std::string& section, const std::string& key, std::uint64_t fallback,
-                      std::uint64_t min, const std::string& allowed) const {
+  std::uint64_t count(const std::string& section, const std::string& key, std::uint64_t fallback, std::uint64_t min,
+                      const std::string& allowed) const {
     const toml::node* n = find(section, key);
     if (!n) return fallback;
     auto i = n->as_integer();
@@ -181,8 +187,8 @@ Scene build(const toml::table& root, const std::string& source) {
 
   s.particles = in.count("ensemble", "particles", s.particles, 1, "must be an integer >= 1");
   s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");
-  s.init = in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow
-                                                                                   : InitKind::birkhoff;
+  s.init =
+      in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow : InitKind::birkhoff;
   s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
   if (s.creation_window < 0)
     throw InputError("ensemble.creation_window", std::to_string(s.creation_window), "must be >= 0");
@@ -210,10 +216,13 @@ Scene build(const toml::table& root, const std::string& source) {
                      "must be > 0 with t_max / survival_dt <= 1e8 bins");
   if (const toml::node* n = in.find("observe", "collision_density")) {
     auto t = n->as_table();
-    if (!t) throw InputError("observe.collision_density", shown(*n), "must be a table { bins = ..., windows = [[from, to], ...] }");
+    if (!t)
+      throw InputError("observe.collision_density", shown(*n),
+                       "must be a table { bins = ..., windows = [[from, to], ...] }");
     for (auto&& [k, v] : *t)
       if (!kDensityKeys.count(std::string(k.str())))
-        throw InputError("observe.collision_density." + std::string(k.str()), shown(v), "unknown key; allowed: bins, windows");
+        throw InputError("observe.collision_density." + std::string(k.str()), shown(v),
+                         "unknown key; allowed: bins, windows");
     CollisionDensitySpec spec;
     if (auto b = t->get("bins")) {
       auto i = b->as_integer();
@@ -224,7 +233,8 @@ Scene build(const toml::table& root, const std::string& source) {
     if (auto w = t->get("windows")) {
       auto a = w->as_array();
       if (!a || a->empty())
-        throw InputError("observe.collision_density.windows", shown(*w), "must be a non-empty list of [from, to] pairs");
+        throw InputError("observe.collision_density.windows", shown(*w),
+                         "must be a non-empty list of [from, to] pairs");
       for (auto&& item : *a) spec.windows.push_back(Reader::window("observe.collision_density.windows", item));
     } else {
       spec.windows.push_back({0, s.t_max});
@@ -238,8 +248,7 @@ Scene build(const toml::table& root, const std::string& source) {
   }
   if (const toml::node* n = in.find("fit", "kappa_window")) {
     s.kappa_window = Reader::window("fit.kappa_window", *n);
-    if (s.kappa_window.to > s.t_max)
-      throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
+    if (s.kappa_window.to > s.t_max) throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
   }
   if (s.kappa_window.to > s.t_max) s.kappa_window.to = s.t_max;
   return s;
@@ -276,7 +285,9 @@ json scene_json(const Scene& s) {
   j["source"] = s.source;
   j["stadium"] = {{"d", s.d_text}, {"r", s.r_text}};
   j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
-  j["ensemble"] = {{"particles", s.particles}, {"seed", s.seed}, {"init", to_string(s.init)},
+  j["ensemble"] = {{"particles", s.particles},
+                   {"seed", s.seed},
+                   {"init", to_string(s.init)},
                    {"creation_window", s.creation_window}};
   j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}, {"fast_forward", s.fast_forward}};
   json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
@@ -317,7 +328,8 @@ std::string toml_value(const json& v) {
       }
       return out + " }";
     }
-    default: return v.dump();  // strings, integers, booleans: JSON's text is TOML's
+    default:
+      return v.dump();  // strings, integers, booleans: JSON's text is TOML's
   }
 }
 

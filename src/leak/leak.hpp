@@ -118,7 +118,6 @@ class Leak {
   const PieceWindows& windows(Piece p) const { return windows_[static_cast<int>(p)]; }
 
  private:
-
   void build_windows() {
     using std::cos;
     using std::sin;

@@ -10,8 +10,8 @@ namespace rotleak {
 struct ExactReal::Node {
   enum class Kind { rational, pi, e, golden, ln, sqrt, liouville, add, sub, mul, div, neg };
   Kind kind = Kind::rational;
-  mpq_class q;              // value when kind == rational
-  unsigned long base = 0;   // liouville base
+  mpq_class q;             // value when kind == rational
+  unsigned long base = 0;  // liouville base
   std::shared_ptr<const Node> a, b;
 };
 
@@ -43,13 +43,17 @@ bool is_rat(const NodePtr& n) { return n->kind == Kind::rational; }
 NodePtr fold_binary(Kind k, NodePtr a, NodePtr b) {
   if (is_rat(a) && is_rat(b)) {
     switch (k) {
-      case Kind::add: return make_rational(a->q + b->q);
-      case Kind::sub: return make_rational(a->q - b->q);
-      case Kind::mul: return make_rational(a->q * b->q);
+      case Kind::add:
+        return make_rational(a->q + b->q);
+      case Kind::sub:
+        return make_rational(a->q - b->q);
+      case Kind::mul:
+        return make_rational(a->q * b->q);
       case Kind::div:
         if (sgn(b->q) == 0) throw ExactParseError("division by zero");
         return make_rational(a->q / b->q);
-      default: break;
+      default:
+        break;
     }
   }
   if (k == Kind::div && is_rat(b) && sgn(b->q) == 0) throw ExactParseError("division by zero");
@@ -115,17 +119,23 @@ class Parser {
   NodePtr expr() {
     NodePtr n = term();
     for (;;) {
-      if (eat('+')) n = fold_binary(Kind::add, n, term());
-      else if (eat('-')) n = fold_binary(Kind::sub, n, term());
-      else return n;
+      if (eat('+'))
+        n = fold_binary(Kind::add, n, term());
+      else if (eat('-'))
+        n = fold_binary(Kind::sub, n, term());
+      else
+        return n;
     }
   }
   NodePtr term() {
     NodePtr n = unary();
     for (;;) {
-      if (eat('*')) n = fold_binary(Kind::mul, n, unary());
-      else if (eat('/')) n = fold_binary(Kind::div, n, unary());
-      else return n;
+      if (eat('*'))
+        n = fold_binary(Kind::mul, n, unary());
+      else if (eat('/'))
+        n = fold_binary(Kind::div, n, unary());
+      else
+        return n;
     }
   }
   NodePtr unary() {
@@ -179,9 +189,7 @@ class Parser {
   }
   NodePtr named() {
     const std::size_t start = pos_;
-    while (pos_ < s_.size() &&
-           (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_'))
-      ++pos_;
+    while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
     const std::string name(s_.substr(start, pos_ - start));
     if (name == "pi") return make_node(Kind::pi);
     if (name == "e") return make_node(Kind::e);
@@ -229,8 +237,12 @@ void enclose_liouville(mpfi_t out, unsigned long base, mpfr_prec_t prec) {
 bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
   mpfi_set_prec(out, prec);
   switch (n.kind) {
-    case Kind::rational: mpfi_set_q(out, n.q.get_mpq_t()); return true;
-    case Kind::pi: mpfi_const_pi(out); return true;
+    case Kind::rational:
+      mpfi_set_q(out, n.q.get_mpq_t());
+      return true;
+    case Kind::pi:
+      mpfi_const_pi(out);
+      return true;
     case Kind::e:
       mpfi_set_ui(out, 1);
       mpfi_exp(out, out);
@@ -241,8 +253,11 @@ bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
       mpfi_add_ui(out, out, 1);
       mpfi_div_ui(out, out, 2);
       return true;
-    case Kind::liouville: enclose_liouville(out, n.base, prec); return true;
-    default: break;
+    case Kind::liouville:
+      enclose_liouville(out, n.base, prec);
+      return true;
+    default:
+      break;
   }
   mpfi_t a, b;
   mpfi_init2(a, prec);
@@ -251,24 +266,39 @@ bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
   if (ok && n.b) ok = enclose_node(*n.b, b, prec);
   if (ok) {
     switch (n.kind) {
-      case Kind::neg: mpfi_neg(out, a); break;
-      case Kind::add: mpfi_add(out, a, b); break;
-      case Kind::sub: mpfi_sub(out, a, b); break;
-      case Kind::mul: mpfi_mul(out, a, b); break;
+      case Kind::neg:
+        mpfi_neg(out, a);
+        break;
+      case Kind::add:
+        mpfi_add(out, a, b);
+        break;
+      case Kind::sub:
+        mpfi_sub(out, a, b);
+        break;
+      case Kind::mul:
+        mpfi_mul(out, a, b);
+        break;
       case Kind::div:
-        if (mpfi_has_zero(b)) ok = false;
-        else mpfi_div(out, a, b);
+        if (mpfi_has_zero(b))
+          ok = false;
+        else
+          mpfi_div(out, a, b);
         break;
       case Kind::ln:
-        if (!mpfi_is_strictly_pos(a)) ok = false;
-        else mpfi_log(out, a);
+        if (!mpfi_is_strictly_pos(a))
+          ok = false;
+        else
+          mpfi_log(out, a);
         break;
       case Kind::sqrt:
         if (mpfi_is_strictly_neg(a)) throw std::domain_error("sqrt of a negative value");
-        if (!mpfi_is_nonneg(a)) ok = false;
-        else mpfi_sqrt(out, a);
+        if (!mpfi_is_nonneg(a))
+          ok = false;
+        else
+          mpfi_sqrt(out, a);
         break;
-      default: ok = false;
+      default:
+        ok = false;
     }
   }
   mpfi_clear(a);
@@ -278,18 +308,30 @@ bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
 
 std::string node_text(const Node& n) {
   switch (n.kind) {
-    case Kind::rational: return n.q.get_str();
-    case Kind::pi: return "pi";
-    case Kind::e: return "e";
-    case Kind::golden: return "golden";
-    case Kind::liouville: return "liouville(" + std::to_string(n.base) + ")";
-    case Kind::ln: return "ln(" + node_text(*n.a) + ")";
-    case Kind::sqrt: return "sqrt(" + node_text(*n.a) + ")";
-    case Kind::neg: return "-(" + node_text(*n.a) + ")";
-    case Kind::add: return "(" + node_text(*n.a) + "+" + node_text(*n.b) + ")";
-    case Kind::sub: return "(" + node_text(*n.a) + "-" + node_text(*n.b) + ")";
-    case Kind::mul: return "(" + node_text(*n.a) + "*" + node_text(*n.b) + ")";
-    case Kind::div: return "(" + node_text(*n.a) + "/" + node_text(*n.b) + ")";
+    case Kind::rational:
+      return n.q.get_str();
+    case Kind::pi:
+      return "pi";
+    case Kind::e:
+      return "e";
+    case Kind::golden:
+      return "golden";
+    case Kind::liouville:
+      return "liouville(" + std::to_string(n.base) + ")";
+    case Kind::ln:
+      return "ln(" + node_text(*n.a) + ")";
+    case Kind::sqrt:
+      return "sqrt(" + node_text(*n.a) + ")";
+    case Kind::neg:
+      return "-(" + node_text(*n.a) + ")";
+    case Kind::add:
+      return "(" + node_text(*n.a) + "+" + node_text(*n.b) + ")";
+    case Kind::sub:
+      return "(" + node_text(*n.a) + "-" + node_text(*n.b) + ")";
+    case Kind::mul:
+      return "(" + node_text(*n.a) + "*" + node_text(*n.b) + ")";
+    case Kind::div:
+      return "(" + node_text(*n.a) + "/" + node_text(*n.b) + ")";
   }
   return "?";
 }
@@ -423,8 +465,10 @@ int ExactReal::sign() const {
   int s = 2;
   for (mpfr_prec_t wp = 64; wp <= kMaxWorkingBits && s == 2; wp *= 2) {
     if (!enclose_node(*node_, box, wp)) continue;
-    if (mpfi_is_strictly_pos(box)) s = 1;
-    else if (mpfi_is_strictly_neg(box)) s = -1;
+    if (mpfi_is_strictly_pos(box))
+      s = 1;
+    else if (mpfi_is_strictly_neg(box))
+      s = -1;
   }
   mpfi_clear(box);
   if (s == 2) throw std::domain_error("cannot decide the sign of " + text());

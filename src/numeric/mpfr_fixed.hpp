@@ -10,8 +10,8 @@
 namespace rotleak {
 
 template <unsigned Digits10>
-using mpfr_fixed = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<Digits10>,
-                                                 boost::multiprecision::et_off>;
+using mpfr_fixed =
+    boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<Digits10>, boost::multiprecision::et_off>;
 /// The reference tier of the foundation: 77 decimal digits = 257 bits.
 using mpfr256 = mpfr_fixed<77>;
 

@@ -11,8 +11,8 @@
 #include <mpfr.h>
 
 #include <stdexcept>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace rotleak {
@@ -90,8 +90,8 @@ class Mpfr {
  public:
   Mpfr() { init(); }
   Mpfr(double x) { init(), mpfr_set_d(v_, x, MPFR_RNDN); }  // NOLINT: implicit like a built-in
-  Mpfr(int x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }     // NOLINT
-  Mpfr(long x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }    // NOLINT
+  Mpfr(int x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }    // NOLINT
+  Mpfr(long x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }   // NOLINT
   Mpfr(const Mpfr& o) {
     detail::init_limbs(v_, buf_, mpfr_get_prec(o.v_));
     detail::copy_limbs(v_, buf_, o.v_, o.buf_);
@@ -120,16 +120,16 @@ class Mpfr {
   mpfr_srcptr data() const { return v_; }
 
   // a op= b keeps the semantics of a = a op b: the result has the thread's working precision.
-#define ROTLEAK_MPFR_BINARY(op, fn)                             \
-  friend Mpfr operator op(const Mpfr& a, const Mpfr& b) {       \
-    Mpfr r;                                                     \
-    fn(r.v_, a.v_, b.v_, MPFR_RNDN);                            \
-    return r;                                                   \
-  }                                                             \
-  Mpfr& operator op##=(const Mpfr& b) {                         \
+#define ROTLEAK_MPFR_BINARY(op, fn)                                               \
+  friend Mpfr operator op(const Mpfr& a, const Mpfr& b) {                         \
+    Mpfr r;                                                                       \
+    fn(r.v_, a.v_, b.v_, MPFR_RNDN);                                              \
+    return r;                                                                     \
+  }                                                                               \
+  Mpfr& operator op##=(const Mpfr& b) {                                           \
     if (mpfr_get_prec(v_) != MpfrPrecision::current()) return *this = *this op b; \
-    fn(v_, v_, b.v_, MPFR_RNDN);                                \
-    return *this;                                               \
+    fn(v_, v_, b.v_, MPFR_RNDN);                                                  \
+    return *this;                                                                 \
   }
   ROTLEAK_MPFR_BINARY(+, mpfr_add)
   ROTLEAK_MPFR_BINARY(-, mpfr_sub)
@@ -151,43 +151,69 @@ class Mpfr {
   // Small integer operands (the core's 0, 1, 2) go straight to MPFR's _si functions: no temporary,
   // and the same result (the integer is exact, the operation rounded once either way).
   template <class I>
-  static constexpr bool small_int = std::is_integral_v<I> && std::is_signed_v<I> && sizeof(I) <= sizeof(long);
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator+(const Mpfr& a, I b) { return with(mpfr_add_si, a, b); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator+(I a, const Mpfr& b) { return with(mpfr_add_si, b, a); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator-(const Mpfr& a, I b) { return with(mpfr_sub_si, a, b); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
+  static constexpr bool small_int() {
+    return std::is_integral_v<I> && std::is_signed_v<I> && sizeof(I) <= sizeof(long);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator+(const Mpfr& a, I b) {
+    return with(mpfr_add_si, a, b);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator+(I a, const Mpfr& b) {
+    return with(mpfr_add_si, b, a);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator-(const Mpfr& a, I b) {
+    return with(mpfr_sub_si, a, b);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
   friend Mpfr operator-(I a, const Mpfr& b) {
     Mpfr r;
     mpfr_si_sub(r.v_, static_cast<long>(a), b.v_, MPFR_RNDN);
     return r;
   }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator*(const Mpfr& a, I b) { return with(mpfr_mul_si, a, b); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator*(I a, const Mpfr& b) { return with(mpfr_mul_si, b, a); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend Mpfr operator/(const Mpfr& a, I b) { return with(mpfr_div_si, a, b); }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator<(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) < 0; }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator<=(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) <= 0; }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator>(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) > 0; }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator>=(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) >= 0; }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator==(const Mpfr& a, I b) { return !mpfr_nan_p(a.v_) && cmp(a, b) == 0; }
-  template <class I, class = std::enable_if_t<small_int<I>>>
-  friend bool operator!=(const Mpfr& a, I b) { return mpfr_nan_p(a.v_) || cmp(a, b) != 0; }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator*(const Mpfr& a, I b) {
+    return with(mpfr_mul_si, a, b);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator*(I a, const Mpfr& b) {
+    return with(mpfr_mul_si, b, a);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend Mpfr operator/(const Mpfr& a, I b) {
+    return with(mpfr_div_si, a, b);
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator<(const Mpfr& a, I b) {
+    return !mpfr_nan_p(a.v_) && cmp(a, b) < 0;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator<=(const Mpfr& a, I b) {
+    return !mpfr_nan_p(a.v_) && cmp(a, b) <= 0;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator>(const Mpfr& a, I b) {
+    return !mpfr_nan_p(a.v_) && cmp(a, b) > 0;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator>=(const Mpfr& a, I b) {
+    return !mpfr_nan_p(a.v_) && cmp(a, b) >= 0;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator==(const Mpfr& a, I b) {
+    return !mpfr_nan_p(a.v_) && cmp(a, b) == 0;
+  }
+  template <class I, class = std::enable_if_t<small_int<I>()>>
+  friend bool operator!=(const Mpfr& a, I b) {
+    return mpfr_nan_p(a.v_) || cmp(a, b) != 0;
+  }
 
-#define ROTLEAK_MPFR_UNARY(name, fn)  \
-  friend Mpfr name(const Mpfr& a) {   \
-    Mpfr r;                           \
-    fn(r.v_, a.v_, MPFR_RNDN);        \
-    return r;                         \
+#define ROTLEAK_MPFR_UNARY(name, fn) \
+  friend Mpfr name(const Mpfr& a) {  \
+    Mpfr r;                          \
+    fn(r.v_, a.v_, MPFR_RNDN);       \
+    return r;                        \
   }
   ROTLEAK_MPFR_UNARY(sqrt, mpfr_sqrt)
   ROTLEAK_MPFR_UNARY(sin, mpfr_sin)
@@ -238,8 +264,8 @@ class Mpfi {
  public:
   Mpfi() { init(MpfrPrecision::current()); }
   Mpfi(double x) { init(MpfrPrecision::current()), mpfi_set_d(v_, x); }  // NOLINT
-  Mpfi(int x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }     // NOLINT
-  Mpfi(long x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }    // NOLINT
+  Mpfi(int x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }    // NOLINT
+  Mpfi(long x) { init(MpfrPrecision::current()), mpfi_set_si(v_, x); }   // NOLINT
   Mpfi(const Mpfi& o) { init(mpfi_get_prec(o.v_)), mpfi_set(v_, o.v_); }
   Mpfi(Mpfi&& o) noexcept {
     init(MPFR_PREC_MIN);
@@ -276,16 +302,16 @@ class Mpfi {
   double hi() const { return mpfr_get_d(&v_->right, MPFR_RNDU); }
   bool contains(mpfr_srcptr x) const { return mpfi_is_inside_fr(x, v_) > 0; }
 
-#define ROTLEAK_MPFI_BINARY(op, fn)                       \
-  friend Mpfi operator op(const Mpfi& a, const Mpfi& b) { \
-    Mpfi r;                                               \
-    fn(r.v_, a.v_, b.v_);                                 \
-    return r;                                             \
-  }                                                       \
-  Mpfi& operator op##=(const Mpfi& b) {                   \
+#define ROTLEAK_MPFI_BINARY(op, fn)                                               \
+  friend Mpfi operator op(const Mpfi& a, const Mpfi& b) {                         \
+    Mpfi r;                                                                       \
+    fn(r.v_, a.v_, b.v_);                                                         \
+    return r;                                                                     \
+  }                                                                               \
+  Mpfi& operator op##=(const Mpfi& b) {                                           \
     if (mpfi_get_prec(v_) != MpfrPrecision::current()) return *this = *this op b; \
-    fn(v_, v_, b.v_);                                     \
-    return *this;                                         \
+    fn(v_, v_, b.v_);                                                             \
+    return *this;                                                                 \
   }
   ROTLEAK_MPFI_BINARY(+, mpfi_add)
   ROTLEAK_MPFI_BINARY(-, mpfi_sub)

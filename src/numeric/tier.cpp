@@ -12,9 +12,9 @@ struct Named {
   long bits;
 };
 // long double's bits are the x86-64 extended format's; num_traits<long double> says the same (a test checks).
-constexpr Named kFixed[] = {{"float", TierKind::float_, 24},         {"double", TierKind::double_, 53},
-                            {"long_double", TierKind::long_double, 64}, {"dd", TierKind::dd, 106},
-                            {"float128", TierKind::float128, 113},      {"auto", TierKind::automatic, 0}};
+constexpr Named kFixed[] = {
+    {"float", TierKind::float_, 24}, {"double", TierKind::double_, 53},     {"long_double", TierKind::long_double, 64},
+    {"dd", TierKind::dd, 106},       {"float128", TierKind::float128, 113}, {"auto", TierKind::automatic, 0}};
 
 }  // namespace
 
@@ -32,7 +32,8 @@ std::optional<Tier> Tier::parse(const std::string& n) {
   const bool mp = n.rfind("mpfr:", 0) == 0, mi = n.rfind("mpfi:", 0) == 0;
   if (!mp && !mi) return std::nullopt;
   const std::string digits = n.substr(5);
-  if (digits.empty() || digits.size() > 8 || digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  if (digits.empty() || digits.size() > 8 || digits.find_first_not_of("0123456789") != std::string::npos)
+    return std::nullopt;
   const long b = std::stol(digits);
   if (b < kMinBits || b > kMaxBits) return std::nullopt;
   return Tier{mp ? TierKind::mpfr : TierKind::mpfi, b};

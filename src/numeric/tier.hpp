@@ -20,7 +20,9 @@ struct Tier {
   bool interval() const { return kind == TierKind::mpfi; }
   bool automatic() const { return kind == TierKind::automatic; }
   /// The ensemble engine runs these (the IEEE types); the others are for single trajectories.
-  bool ensemble() const { return kind == TierKind::float_ || kind == TierKind::double_ || kind == TierKind::long_double; }
+  bool ensemble() const {
+    return kind == TierKind::float_ || kind == TierKind::double_ || kind == TierKind::long_double;
+  }
 
   /// The tier a name denotes ("auto" included); nothing for an unknown name or bits outside [kMinBits, kMaxBits].
   static std::optional<Tier> parse(const std::string& name);

@@ -13,11 +13,16 @@ namespace rotleak {
 template <class F>
 decltype(auto) with_tier(const Tier& tier, F&& f) {
   switch (tier.kind) {
-    case TierKind::float_: return f(std::type_identity<float>{});
-    case TierKind::double_: return f(std::type_identity<double>{});
-    case TierKind::long_double: return f(std::type_identity<long double>{});
-    case TierKind::dd: return f(std::type_identity<dd_real>{});
-    case TierKind::float128: return f(std::type_identity<float128>{});
+    case TierKind::float_:
+      return f(std::type_identity<float>{});
+    case TierKind::double_:
+      return f(std::type_identity<double>{});
+    case TierKind::long_double:
+      return f(std::type_identity<long double>{});
+    case TierKind::dd:
+      return f(std::type_identity<dd_real>{});
+    case TierKind::float128:
+      return f(std::type_identity<float128>{});
     case TierKind::mpfr: {
       MpfrPrecision working(tier.bits);
       return f(std::type_identity<Mpfr>{});
@@ -26,7 +31,8 @@ decltype(auto) with_tier(const Tier& tier, F&& f) {
       MpfrPrecision working(tier.bits);
       return f(std::type_identity<Mpfi>{});
     }
-    case TierKind::automatic: break;
+    case TierKind::automatic:
+      break;
   }
   throw std::logic_error("tier \"auto\" must be resolved (verify/auto_tier) before it runs");
 }

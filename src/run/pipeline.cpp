@@ -26,7 +26,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
 SimulateOutcome simulate(const SimulateRequest& req) {
   const Scene scene = load_scene(req.scene_path, req.overrides);
   if (!scene.tier.automatic()) engine_from_name("--engine", req.engine, scene);  // a bad engine fails before any work
-  RunDirectory dir(req.out, req.force);  // validated and staged before any work
+  RunDirectory dir(req.out, req.force);                                          // validated and staged before any work
   SimulateOutcome out;
   out.summary = run_scene(scene, req.run, req.engine, req.note);
   out.document = write_run(dir, out.summary);

@@ -25,9 +25,9 @@ struct SimulateRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
   std::filesystem::path out;
-  bool force = false;                  ///< replace an existing run directory
-  std::string engine = "auto";         ///< auto, scalar, simd
-  RunOptions run;                      ///< threads, progress
+  bool force = false;           ///< replace an existing run directory
+  std::string engine = "auto";  ///< auto, scalar, simd
+  RunOptions run;               ///< threads, progress
   Note note;
 };
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <type_traits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "numeric/tier_dispatch.hpp"
 #include "sim/particle.hpp"
@@ -20,9 +20,8 @@ namespace rotleak {
 void Tally::resize(const Scene& scene) {
   escapes_per_bin.assign(scene.survival_bins(), 0);
   if (scene.collision_density)
-    collision_density.assign(scene.collision_density->windows.size() *
-                                 static_cast<std::size_t>(scene.collision_density->bins),
-                             0);
+    collision_density.assign(
+        scene.collision_density->windows.size() * static_cast<std::size_t>(scene.collision_density->bins), 0);
 }
 
 void Tally::merge(const Tally& o) {
@@ -128,11 +127,12 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
 void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
   auto* ctx = static_cast<SimdContext*>(c);
   if (e.fate == LaneEnd::handed_back) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
-                      // give it back to a lane (or record it, if it ended in the jump)
+                                         // give it back to a lane (or record it, if it ended in the jump)
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
     if (fast_forward(*ctx->model, f)) {
-      ctx->resume.push_back({id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions)}});
+      ctx->resume.push_back(
+          {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions)}});
     } else {
       ctx->record(id, f.end);
     }
@@ -175,8 +175,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     result.threads = omp_get_num_threads();
     Tally local;
     local.resize(scene);
-    DensityObserver<R> density{&model.stadium,
-                               scene.collision_density ? &scene.collision_density->windows : nullptr,
+    DensityObserver<R> density{&model.stadium, scene.collision_density ? &scene.collision_density->windows : nullptr,
                                scene.collision_density ? scene.collision_density->bins : 0,
                                local.collision_density.data()};
     NoCollisionObserver<R> none;
@@ -189,8 +188,12 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
           ++local.escaped;
           break;
         }
-        case Fate::survived: ++local.survived; break;
-        case Fate::stuck: ++local.stuck; break;
+        case Fate::survived:
+          ++local.survived;
+          break;
+        case Fate::stuck:
+          ++local.stuck;
+          break;
       }
       local.collisions += end.collisions;
       if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
@@ -225,9 +228,12 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
 
 std::string to_string(Engine e) {
   switch (e) {
-    case Engine::automatic: return "auto";
-    case Engine::scalar: return "scalar";
-    case Engine::simd: return "simd";
+    case Engine::automatic:
+      return "auto";
+    case Engine::scalar:
+      return "scalar";
+    case Engine::simd:
+      return "simd";
   }
   return "?";
 }
@@ -260,8 +266,10 @@ RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
     throw std::invalid_argument("the ensemble engine runs float, double or long_double, not " + scene.tier.name());
   return with_tier(scene.tier, [&](auto type) -> RunResult {
     using R = typename decltype(type)::type;
-    if constexpr (std::is_floating_point_v<R>) return run_tier<R>(scene, options);
-    else throw std::logic_error("unreachable: not an ensemble tier");
+    if constexpr (std::is_floating_point_v<R>)
+      return run_tier<R>(scene, options);
+    else
+      throw std::logic_error("unreachable: not an ensemble tier");
   });
 }
 

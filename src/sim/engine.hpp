@@ -14,15 +14,15 @@ namespace rotleak {
 
 /// One particle's end, kept only when escape records are asked for.
 struct EscapeRecord {
-  double t = 0;      ///< escape time (or t_max for survivors)
-  double s = 0;      ///< boundary coordinate of the escape collision
+  double t = 0;  ///< escape time (or t_max for survivors)
+  double s = 0;  ///< boundary coordinate of the escape collision
   std::uint64_t collisions = 0;
   Fate fate = Fate::survived;
 };
 
 /// Integer counts; merge() is exact and order-independent.
 struct Tally {
-  std::vector<std::uint64_t> escapes_per_bin;  ///< escapes with t in [k dt, (k+1) dt)
+  std::vector<std::uint64_t> escapes_per_bin;    ///< escapes with t in [k dt, (k+1) dt)
   std::vector<std::uint64_t> collision_density;  ///< windows x bins, row-major
   std::uint64_t collisions = 0, escaped = 0, survived = 0, stuck = 0;
 
@@ -34,9 +34,9 @@ struct Tally {
 enum class Engine { automatic, scalar, simd };
 
 struct RunOptions {
-  int threads = 0;               ///< 0: OpenMP's default
+  int threads = 0;                    ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
-  std::uint64_t first_id = 0;    ///< particles are ids [first_id, first_id + scene.particles)
+  std::uint64_t first_id = 0;         ///< particles are ids [first_id, first_id + scene.particles)
   /// Called from one thread at a time, at most after every block of particles: particles done of
   /// total, collisions so far; once more with final = true at the end. Empty: no reports.
   std::function<void(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final)> progress;

@@ -14,9 +14,9 @@ namespace rotleak {
 
 /// The binary initial data of one particle.
 struct InitialDraw {
-  double s = 0, p = 0;        ///< Birkhoff start (init = birkhoff)
-  double x = 0, y = 0, u = 0; ///< flow start: position and direction angle 2*pi*u (init = flow)
-  double tau = 0;             ///< creation time
+  double s = 0, p = 0;         ///< Birkhoff start (init = birkhoff)
+  double x = 0, y = 0, u = 0;  ///< flow start: position and direction angle 2*pi*u (init = flow)
+  double tau = 0;              ///< creation time
   bool flow = false;
 };
 

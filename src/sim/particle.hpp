@@ -2,8 +2,8 @@
 #pragma once
 
 #include <cmath>
-#include <type_traits>
 #include <cstdint>
+#include <type_traits>
 
 #include "geometry/stadium.hpp"
 #include "leak/leak.hpp"
@@ -19,8 +19,8 @@ struct Model {
   R t_max;
   bool fast_forward = false;  ///< jump over bouncing-ball phases in closed form (see fast_forward())
 
-  Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start,
-        const ExactReal& omega, double tmax)
+  Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start, const ExactReal& omega,
+        double tmax)
       : stadium(d, r), leak(stadium, width, start, omega), t_max(R(tmax)) {}
 };
 
@@ -134,8 +134,10 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
           long a = 1, b = J;
           while (a < b) {
             const long mid = a + (b - a) / 2;
-            if (bad(mid)) b = mid;
-            else a = mid + 1;
+            if (bad(mid))
+              b = mid;
+            else
+              a = mid + 1;
           }
           return a;
         };
@@ -165,8 +167,10 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
             if (before(parity + 2 * b)) continue;
             while (a < b) {
               const long mid = a + (b - a) / 2;
-              if (before(parity + 2 * mid)) a = mid + 1;
-              else b = mid;
+              if (before(parity + 2 * mid))
+                a = mid + 1;
+              else
+                b = mid;
             }
             const long j = parity + 2 * a;
             const R v = xj(j);

@@ -87,12 +87,12 @@ void fill(const Scene& S, Group& g, void* ctx, NextParticle next) {
 
 /// Where four lanes next meet the boundary, decided as Stadium::next_hit decides it.
 struct HitLanes {
-  B t;          ///< flight time
-  B x, y;       ///< collision point
-  B cx;         ///< centre x of the arc on the side the line leaves |x| <= d/2 (used for arc hits)
-  M straight;   ///< the hit is on a straight edge
-  M up;         ///< moving up (the top edge, for a straight hit)
-  M right;      ///< the right arc (for an arc hit)
+  B t;         ///< flight time
+  B x, y;      ///< collision point
+  B cx;        ///< centre x of the arc on the side the line leaves |x| <= d/2 (used for arc hits)
+  M straight;  ///< the hit is on a straight edge
+  M up;        ///< moving up (the top edge, for a straight hit)
+  M right;     ///< the right arc (for an arc hit)
 };
 
 /// The straight edges decide first: a line that crosses y = +-r inside |x| <= d/2 hits that edge;
@@ -128,8 +128,10 @@ inline HitLanes next_hit(const Scene& S, B qx, B qy, B vx, B vy) {
 inline M in_stationary_leak(const Scene& S, const HitLanes& h) {
   const B ZERO(0.0);
   M in(false);
-  for (int w = 0; w < S.n_windows[0]; ++w) in = in | (h.straight & h.up & (h.x >= B(S.lo[0][w])) & (h.x <= B(S.hi[0][w])));
-  for (int w = 0; w < S.n_windows[2]; ++w) in = in | (h.straight & !h.up & (h.x >= B(S.lo[2][w])) & (h.x <= B(S.hi[2][w])));
+  for (int w = 0; w < S.n_windows[0]; ++w)
+    in = in | (h.straight & h.up & (h.x >= B(S.lo[0][w])) & (h.x <= B(S.hi[0][w])));
+  for (int w = 0; w < S.n_windows[2]; ++w)
+    in = in | (h.straight & !h.up & (h.x >= B(S.lo[2][w])) & (h.x <= B(S.hi[2][w])));
   const B rx = h.x - h.cx;
   for (int p = 1; p <= 3; p += 2) {
     const M on = (!h.straight) & (p == 1 ? h.right : !h.right);
@@ -149,7 +151,8 @@ inline M in_moving_leak(const Scene& S, const HitLanes& h, B t) {
   const B HD(S.half_d), ZERO(0.0), ONE(1.0);
   const B prod = B(S.omega_hi) * t;
   // the exact error of hi*t needs a real FMA (xsimd's fms on plain avx2 rounds twice)
-  const B err(_mm256_fmsub_pd(static_cast<__m256d>(B(S.omega_hi)), static_cast<__m256d>(t), static_cast<__m256d>(prod)));
+  const B err(
+      _mm256_fmsub_pd(static_cast<__m256d>(B(S.omega_hi)), static_cast<__m256d>(t), static_cast<__m256d>(prod)));
   B ph = (prod - xsimd::floor(prod)) + xsimd::fma(B(S.omega_lo), t, err) + B(S.start);
   ph = ph - xsimd::floor(ph);
   B s_top = h.x * B(S.inv_L);

@@ -20,8 +20,8 @@ struct Scene {
   bool rotating;
   // stationary leak: windows per piece (0 top, 1 right arc, 2 bottom, 3 left arc)
   int n_windows[4];
-  double lo[4][kMaxWindows], hi[4][kMaxWindows];                  // straight pieces: x ranges
-  double from_x[4][kMaxWindows], from_y[4][kMaxWindows];          // arcs: bounding directions
+  double lo[4][kMaxWindows], hi[4][kMaxWindows];          // straight pieces: x ranges
+  double from_x[4][kMaxWindows], from_y[4][kMaxWindows];  // arcs: bounding directions
   double to_x[4][kMaxWindows], to_y[4][kMaxWindows];
   // moving leak: phase = frac(start + omega t), omega = hi + lo
   double omega_hi, omega_lo, start, half_width;
