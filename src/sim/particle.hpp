@@ -108,6 +108,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
     const R dt = (ey - ps.q.y) / ps.v.y;
     const R dx = ps.v.x * dt;
     const R room = dx > 0 ? R((st.half_d() - ps.q.x) / dx) : dx < 0 ? R((st.half_d() + ps.q.x) / R(-dx)) : R(1e18);
+    // A short phase is cheaper to step; these estimates only choose, the jump itself is exact.
     if (!(room >= R(kMinFastForwardBounces)) || !((m.t_max - ps.t) / dt >= R(kMinFastForwardBounces))) return true;
     const bool stationary = !m.leak.schedule().rotating();
     const bool on_top = ps.q.y > 0;  // edge of bounce 0
@@ -120,6 +121,8 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
       const Vec2<R> q{xj, top ? st.r() : R(-st.r())};
       return m.leak.hit(top ? Piece::top : Piece::bottom, q, tj);
     };
+    // Stretch by stretch: within one, both sums add a fixed increment each bounce (x and t stay in
+    // their binades), so bounce j of the stretch is x + j inc exactly, which one fma gives.
     for (;;) {
       const SumRun<R> rx = next_run(x, dx, kCap), rt = next_run(t, dt, kCap);
       long J = rx.len < rt.len ? rx.len : rt.len;
@@ -128,7 +131,8 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
       int why = 0;  // 1 arc, 2 time, 3 leak
       auto xj = [&](long j) { return std::fma(R(static_cast<double>(j)), rx.inc, x); };
       auto tj = [&](long j) { return std::fma(R(static_cast<double>(j)), rt.inc, t); };
-      {  // x_j and t_j are monotone in j: bisect for the first out-of-range bounce
+      {  // x_j and t_j are monotone in j (a fixed increment, correctly rounded fma): so "left the
+         // straight edges" and "past t_max" are false up to some j and true after, and bisection finds it
         auto first = [&](auto bad) {
           if (!bad(J)) return J + 1;
           long a = 1, b = J;
@@ -150,7 +154,9 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
         if (j_time < stop) stop = j_time, why = 2;
       }
       if (stationary) {
-        // windows by the parity of the bounce: j with edge_top(k + j)
+        // A stationary leak is a fixed set of x windows per edge, and consecutive bounces alternate
+        // edges: bounces of one parity meet one edge's windows, at monotone x, so the first bounce
+        // inside a window is again a bisection -- no per-bounce test over millions of bounces.
         for (int parity = 1; parity <= 2; ++parity) {
           const bool top = edge_top(k + parity);
           const auto& pw = m.leak.windows(top ? Piece::top : Piece::bottom);
@@ -178,6 +184,8 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
           }
         }
       } else {
+        // A moving leak has no fixed windows: test the phase at every bounce time (no geometry,
+        // a few flops each), up to the first stop found above.
         const long upto = stop <= J ? stop - 1 : J;
         for (long j = 1; j <= upto; ++j)
           if (in_leak(k + j, xj(j), tj(j))) {
@@ -191,7 +199,9 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
         k += J;
         continue;
       }
-      const long last = why == 3 ? stop : stop - 1;  // bounce the particle is at when this ends
+      // Leaving the edges or passing t_max happens on the flight after bounce stop - 1, which the
+      // caller's next step computes as stepping would; an escape happens at bounce stop itself.
+      const long last = why == 3 ? stop : stop - 1;
       x = xj(last);
       t = tj(last);
       k += last;
