@@ -10,6 +10,7 @@
 #include <mpfi.h>
 #include <mpfr.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -47,6 +48,7 @@ inline void init_limbs(mpfr_ptr x, mp_limb_t* buf, mpfr_prec_t bits) {
     mpfr_custom_init_set(x, MPFR_ZERO_KIND, 0, bits, buf);
   } else {
     mpfr_init2(x, bits);
+    mpfr_set_zero(x, 1);
   }
 }
 inline bool on_heap(mpfr_srcptr x, const mp_limb_t* buf) { return mpfr_custom_get_significand(x) != buf; }
@@ -63,7 +65,9 @@ inline void copy_limbs(mpfr_ptr dst, mp_limb_t* dst_buf, mpfr_srcptr src, const 
   const int kind = mpfr_custom_get_kind(src);
   const mpfr_prec_t bits = mpfr_get_prec(src);
   if (kind == MPFR_REGULAR_KIND || kind == -MPFR_REGULAR_KIND) {
-    __builtin_memcpy(dst_buf, src_buf, mpfr_custom_get_size(bits));
+    // the whole inline buffer, a constant size the compiler copies in a few moves (a call to
+    // memcpy for the used limbs alone costs more than the copy)
+    __builtin_memcpy(dst_buf, src_buf, sizeof(mp_limb_t) * kInlineLimbs);
     mpfr_custom_init_set(dst, kind, mpfr_custom_get_exp(src), bits, dst_buf);
   } else {
     mpfr_custom_init_set(dst, kind, 0, bits, dst_buf);
@@ -89,9 +93,19 @@ inline void move_limbs(mpfr_ptr dst, mp_limb_t* dst_buf, mpfr_ptr src, mp_limb_t
 class Mpfr {
  public:
   Mpfr() { init(); }
-  Mpfr(double x) { init(), mpfr_set_d(v_, x, MPFR_RNDN); }  // NOLINT: implicit like a built-in
-  Mpfr(int x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }    // NOLINT
-  Mpfr(long x) { init(), mpfr_set_si(v_, x, MPFR_RNDN); }   // NOLINT
+  // init() leaves +0, so the core's many zeros cost no MPFR call
+  Mpfr(double x) {  // NOLINT: implicit like a built-in
+    init();
+    if (x != 0 || std::signbit(x)) mpfr_set_d(v_, x, MPFR_RNDN);
+  }
+  Mpfr(int x) {  // NOLINT
+    init();
+    if (x != 0) mpfr_set_si(v_, x, MPFR_RNDN);
+  }
+  Mpfr(long x) {  // NOLINT
+    init();
+    if (x != 0) mpfr_set_si(v_, x, MPFR_RNDN);
+  }
   Mpfr(const Mpfr& o) {
     detail::init_limbs(v_, buf_, mpfr_get_prec(o.v_));
     detail::copy_limbs(v_, buf_, o.v_, o.buf_);
@@ -138,7 +152,13 @@ class Mpfr {
 #undef ROTLEAK_MPFR_BINARY
   friend Mpfr operator-(const Mpfr& a) {
     Mpfr r;
-    mpfr_neg(r.v_, a.v_, MPFR_RNDN);
+    if (mpfr_get_prec(a.v_) == mpfr_get_prec(r.v_) && !mpfr_nan_p(a.v_)) {
+      // exact at equal precision: the limbs copied and the sign flipped, without mpfr_neg's general path
+      detail::copy_limbs(r.v_, r.buf_, a.v_, a.buf_);
+      mpfr_setsign(r.v_, r.v_, !mpfr_signbit(a.v_), MPFR_RNDN);
+    } else {
+      mpfr_neg(r.v_, a.v_, MPFR_RNDN);
+    }
     return r;
   }
   friend bool operator<(const Mpfr& a, const Mpfr& b) { return mpfr_less_p(a.v_, b.v_); }
