@@ -72,7 +72,9 @@ TEST_P(MpfrStorage, CopiesAndMovesAcrossPrecisionsKeepTheValue) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Bits, MpfrStorage, ::testing::Values(256L, 512L, 513L, 4096L),
-                         [](const ::testing::TestParamInfo<long>& info) { return std::to_string(info.param) + "_bits"; });
+                         [](const ::testing::TestParamInfo<long>& bits) {
+                           return std::to_string(bits.param) + "_bits";
+                         });
 
 }  // namespace
 }  // namespace rotleak

@@ -27,12 +27,7 @@ std::string density_csv(const Scene& scene, const Tally& tally) {
   std::string out = "s";
   std::vector<std::uint64_t> totals(spec.windows.size(), 0);
   for (std::size_t w = 0; w < spec.windows.size(); ++w) {
-    // appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string here
-    std::string tag = "[";
-    tag += shortest(spec.windows[w].from);
-    tag += ':';
-    tag += shortest(spec.windows[w].to);
-    tag += ']';
+    const std::string tag = "[" + shortest(spec.windows[w].from) + ":" + shortest(spec.windows[w].to) + "]";
     out += ",fc" + tag + ",count" + tag;
     for (std::size_t b = 0; b < bins; ++b) totals[w] += tally.collision_density[w * bins + b];
   }
