@@ -1,6 +1,8 @@
 // The command line as a user meets it: exit status 2 and one line naming the key on bad input,
 // no run directory left behind, JSON alone on stdout with --json.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -129,6 +131,49 @@ TEST(Cli, RefusesToReplaceADirectoryThatIsNotARun) {
   const Outcome o = run("simulate " + scene.string() + " --out " + precious.string() + " --force");
   EXPECT_EQ(o.status, 2);
   EXPECT_TRUE(fs::exists(precious / "notes.txt"));
+}
+
+// A trailing slash names the same directory: replacing "o" through "o/" keeps a complete run there
+// (it once deleted the old run and wrote nothing).
+TEST(Cli, TrailingSlashReplacesTheRunInPlace) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path o = scratch() / "slash";
+  fs::remove_all(o);
+  ASSERT_EQ(run("simulate " + scene.string() + " --out " + o.string()).status, 0);
+  const Outcome again = run("simulate " + scene.string() + " --out " + o.string() + "/ --force --set ensemble.seed=3");
+  EXPECT_EQ(again.status, 0) << again.err;
+  ASSERT_TRUE(fs::exists(o / "summary.json"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(o / "summary.json"))["seed"], 3);
+}
+
+// A directory held by a live run is refused (the lock), and what a killed run left is cleaned by the
+// next run into the same target.
+TEST(Cli, ASecondRunIntoTheSameDirectoryIsRefusedAndLeftoversAreCleaned) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path o = scratch() / "locked";
+  fs::remove_all(o);
+  const int fd = ::open((scratch() / ".locked.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);  // as a running rotleak holds it
+  const Outcome held = run("simulate " + scene.string() + " --out " + o.string());
+  EXPECT_EQ(held.status, 2);
+  EXPECT_NE(held.err.find("another rotleak run"), std::string::npos) << held.err;
+  EXPECT_FALSE(fs::exists(o));
+  ::close(fd);
+  fs::create_directories(scratch() / ".locked.partial-999999");  // as a killed run leaves it
+  const Outcome free = run("simulate " + scene.string() + " --out " + o.string());
+  EXPECT_EQ(free.status, 0) << free.err;
+  EXPECT_FALSE(fs::exists(scratch() / ".locked.partial-999999"));
+  EXPECT_FALSE(fs::exists(scratch() / ".locked.lock"));
+}
+
+// An input error found after the output was staged leaves no directory behind, parents included.
+TEST(Cli, AFailedRunLeavesNoParentsBehind) {
+  const fs::path top = scratch() / "np";
+  fs::remove_all(top);
+  const Outcome o = run("covering --omega 2/3 --delta 1e-20 --out " + (top / "a" / "b" / "c").string());
+  EXPECT_EQ(o.status, 2);
+  EXPECT_FALSE(fs::exists(top));
 }
 
 class CliOmegaBadInput : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};

@@ -1,5 +1,9 @@
 #include "io/files.hpp"
 
+#include <fcntl.h>
+#include <stdio.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <charconv>
@@ -34,34 +38,118 @@ std::string shortest(double x) {
   return std::string(buf, r.ptr);
 }
 
-RunDirectory::RunDirectory(fs::path final, bool force) : final_(std::move(final)) {
-  if (final_.empty()) throw InputError("--out", "\"\"", "must name a directory");
-  std::error_code ec;
-  if (fs::exists(final_, ec)) {
-    if (!force) throw InputError("--out", "\"" + final_.string() + "\"", "already exists; pass --force to replace it");
-    if (!fs::is_directory(final_) || (!fs::is_empty(final_) && !fs::exists(final_ / "summary.json")))
-      throw InputError("--out", "\"" + final_.string() + "\"",
-                       "exists and is not a rotleak run directory (no summary.json); refusing to replace it");
-  }
-  fs::path parent = final_.parent_path();
-  if (!parent.empty()) fs::create_directories(parent, ec);
-  staging_ = final_.string() + ".partial-" + std::to_string(::getpid());
-  fs::remove_all(staging_, ec);
-  if (!fs::create_directory(staging_, ec))
-    throw InputError("--out", "\"" + final_.string() + "\"", "cannot create a directory there (" + ec.message() + ")");
+fs::path RunDirectory::normalise(const fs::path& out) {
+  fs::path p = out.lexically_normal();
+  if (!p.empty() && p.filename().empty()) p = p.parent_path();  // "o/" -> "o"
+  return p;
 }
 
-RunDirectory::~RunDirectory() {
-  if (!committed_) {
-    std::error_code ec;
-    fs::remove_all(staging_, ec);
+RunDirectory::RunDirectory(fs::path final, bool force) : final_(normalise(final)) {
+  const std::string shown = "\"" + final.string() + "\"";
+  if (final_.empty() || final_.filename() == "." || final_.filename() == ".." || final_ == final_.root_path())
+    throw InputError("--out", shown, "must name a directory to create (not empty, '.', '..' or '/')");
+  std::error_code ec;
+  // refuse what cannot be replaced before creating anything
+  if (fs::exists(final_, ec)) {
+    if (!force) throw InputError("--out", shown, "already exists; pass --force to replace it");
+    if (!fs::is_directory(final_) || (!fs::is_empty(final_) && !fs::exists(final_ / "summary.json")))
+      throw InputError("--out", shown,
+                       "exists and is not a rotleak run directory (no summary.json); refusing to replace it");
   }
+  // parents: remember the ones this run creates, to remove them if it fails
+  fs::path parent = final_.parent_path();
+  std::vector<fs::path> missing;
+  for (fs::path p = parent; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (!fs::create_directory(*it, ec) && ec)
+      throw InputError("--out", shown, "cannot create " + it->string() + " (" + ec.message() + ")");
+    created_parents_.push_back(*it);
+  }
+  const fs::path dir = parent.empty() ? fs::path(".") : parent;
+  const std::string name = final_.filename().string();
+  lock_path_ = dir / ("." + name + ".lock");
+  staging_ = dir / ("." + name + ".partial-" + std::to_string(::getpid()));
+  try {
+    lock();
+    remove_stale_staging();
+    if (!fs::create_directory(staging_, ec))
+      throw InputError("--out", shown, "cannot create a directory there (" + ec.message() + ")");
+  } catch (...) {
+    release();  // a throwing constructor runs no destructor: undo what was made (lock, parents) here
+    throw;
+  }
+}
+
+void RunDirectory::lock() {
+  // flock on a file beside the target; after taking it, make sure the file is still the one at the
+  // path (a finishing run unlinks it), else take the new one.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (lock_fd_ < 0)
+      throw InputError("--out", "\"" + final_.string() + "\"", "cannot create the lock file " + lock_path_.string());
+    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(lock_fd_);
+      lock_fd_ = -1;
+      throw InputError("--out", "\"" + final_.string() + "\"",
+                       "another rotleak run is writing this directory now; wait for it or choose another --out");
+    }
+    struct stat held {
+    }, at_path{};
+    if (::fstat(lock_fd_, &held) == 0 && ::stat(lock_path_.c_str(), &at_path) == 0 && held.st_ino == at_path.st_ino &&
+        held.st_dev == at_path.st_dev)
+      return;
+    ::close(lock_fd_);  // unlinked under us: try the file now at the path
+    lock_fd_ = -1;
+  }
+  throw InputError("--out", "\"" + final_.string() + "\"", "cannot take the lock " + lock_path_.string());
+}
+
+void RunDirectory::remove_stale_staging() const {
+  // Holding the lock, no live run is writing this target: any staging directory of it is left over
+  // from a run that was killed, and so is a swapped-out old run that was not removed.
+  const fs::path dir = staging_.parent_path();
+  const std::string prefix = "." + final_.filename().string() + ".partial-";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().rfind(prefix, 0) == 0) fs::remove_all(e.path(), ec);
+}
+
+RunDirectory::~RunDirectory() { release(); }
+
+void RunDirectory::release() {
+  std::error_code ec;
+  if (!committed_) fs::remove_all(staging_, ec);
+  if (lock_fd_ >= 0) {
+    ::unlink(lock_path_.c_str());  // before the unlock: a run that opened it then re-checks the path (lock())
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+  }
+  if (!committed_)
+    for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it)
+      fs::remove(*it, ec);  // only if empty
+  created_parents_.clear();
 }
 
 void RunDirectory::commit() {
   std::error_code ec;
-  if (fs::exists(final_, ec)) fs::remove_all(final_);
-  fs::rename(staging_, final_);
+  if (fs::exists(final_, ec)) {
+    // atomic swap: the target holds the new run, the staging name the old one, which then goes
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, final_.c_str(), RENAME_EXCHANGE) == 0) {
+      fs::remove_all(staging_, ec);
+      committed_ = true;
+      return;
+    }
+    // a file system without RENAME_EXCHANGE: move the old run aside first, never delete it first
+    const fs::path old = staging_.string() + "-old";
+    fs::rename(final_, old);
+    fs::rename(staging_, final_);
+    fs::remove_all(old, ec);
+  } else {
+    fs::rename(staging_, final_);
+  }
   committed_ = true;
 }
 

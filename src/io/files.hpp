@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace rotleak {
 
@@ -12,24 +13,40 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& con
 /// Shortest decimal that reads back to the same double (std::to_chars).
 std::string shortest(double x);
 
-/// A run directory built under a staging name and renamed into place when complete, so an
-/// interrupted run never leaves a directory that looks finished.
+/// A run directory as a transaction. The target path is normalised (a trailing slash names the same
+/// directory); an exclusive lock (flock on `.<name>.lock` beside it) is held from construction to
+/// the end, so a second run into the same target is refused; the run is built in a staging
+/// directory beside the target (`.<name>.partial-<pid>`), where stale staging left by killed runs is
+/// removed first; commit() swaps the staging directory into place atomically (renameat2
+/// RENAME_EXCHANGE), so the target is at every moment either the old complete run or the new one.
+/// Without commit() the destructor removes the staging directory and any parent directories it
+/// created.
 class RunDirectory {
  public:
-  /// Throws InputError (key --out) if `final` exists and force is false, or exists with force but
-  /// is neither empty nor a rotleak run directory (has summary.json).
+  /// Throws InputError (key --out) if `final` exists and force is false; if it exists with force but
+  /// is neither empty nor a rotleak run directory (has summary.json); if another run holds it.
   RunDirectory(std::filesystem::path final, bool force);
-  ~RunDirectory();  ///< removes the staging directory unless commit() ran
+  ~RunDirectory();
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;
 
   std::filesystem::path file(const std::string& name) const { return staging_ / name; }
   const std::filesystem::path& final_path() const { return final_; }
-  /// Moves the staging directory to its final name (replacing an old run with --force).
+  /// Puts the staging directory in the target's place (replacing an old run with --force).
   void commit();
 
+  /// The target as the user meant it: lexically normal, without a trailing separator.
+  static std::filesystem::path normalise(const std::filesystem::path& out);
+
  private:
-  std::filesystem::path final_, staging_;
+  void lock();
+  void remove_stale_staging() const;
+  /// Unless committed: the staging directory and the parents this run created go; the lock is released.
+  void release();
+
+  std::filesystem::path final_, staging_, lock_path_;
+  std::vector<std::filesystem::path> created_parents_;  ///< made by this run, removed if it fails
+  int lock_fd_ = -1;
   bool committed_ = false;
 };
 
