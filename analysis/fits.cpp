@@ -92,7 +92,8 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
     }
   const LinearFit f = fit_line(c, idx, x);
   k.points = idx.size();
-  if (!f.ok) return k;
+  // no escape among the fitted points: the decay was not measured (one particle gave "-0 +- 0")
+  if (!f.ok || c.survivors[idx.front()] == c.survivors[idx.back()]) return k;
   k.ok = true;
   k.value = -f.slope;
   k.std_error = std::sqrt(f.var_slope);

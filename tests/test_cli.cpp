@@ -84,8 +84,30 @@ INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput,
                                            std::pair{std::string("--particles 0"), std::string("--particles")},
                                            std::pair{std::string("--set leak.colour=red"), std::string("leak.colour")},
                                            std::pair{std::string("--threads -1"), std::string("--threads")},
+                                           // once silently ignored
+                                           std::pair{std::string("--particles -5"), std::string("--particles")},
+                                           // an undecidable value once exited 1 without the key
+                                           std::pair{std::string("--set stadium.d=pi-pi"), std::string("stadium.d")},
                                            std::pair{std::string("--bogus"), std::string("--bogus")}),
                          rotleak::test::IndexedName());
+
+TEST(Cli, ADirectoryIsNotAScene) {  // it once ran a default scene, exit 0
+  const Outcome o = run("simulate " + scratch().string() + " --out " + (scratch() / "from_dir").string());
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("SCENE"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(scratch() / "from_dir"));
+}
+
+TEST(Cli, JsonWithPlotKeepsStdoutOneDocument) {  // "drew ..." once followed the JSON on stdout
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path o = scratch() / "json_plot";
+  fs::remove_all(o);
+  const Outcome r = run("simulate " + scene.string() + " --out " + o.string() + " --json --plot");
+  ASSERT_EQ(r.status, 0) << r.err;
+  nlohmann::json doc;
+  EXPECT_NO_THROW(doc = nlohmann::json::parse(r.out)) << r.out;
+  EXPECT_TRUE(doc.contains("kappa"));
+}
 
 TEST(Cli, MissingSceneFileIsBadInput) {
   const Outcome o = run("simulate /nonexistent/scene.toml --out " + (scratch() / "x").string());
@@ -198,7 +220,8 @@ INSTANTIATE_TEST_SUITE_P(
                       std::pair{std::string("covering --omega 2/3 --delta 1"), std::string("--delta")},
                       std::pair{std::string("covering --omega 2/3 --lambda 1.5"), std::string("--lambda")},
                       std::pair{std::string("covering --omega 2/3 --lambda 0"), std::string("--lambda")},
-                      std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")}),
+                      std::pair{std::string("covering --omega 2/3 --delta 1e-20"), std::string("--delta")},
+                      std::pair{std::string("omega pi-pi"), std::string("omega")}),
     rotleak::test::IndexedName());
 
 TEST(Cli, OmegaAndCoveringJson) {

@@ -26,6 +26,19 @@ TEST(ExactParse, RejectsWhatIsNotAValue) {
   }
 }
 
+// Deep nesting once overflowed the stack (SIGSEGV): every form is refused with a reason instead.
+TEST(ExactParse, DeepNestingIsRefusedNotACrash) {
+  const std::string parens = std::string(20000, '(') + "1" + std::string(20000, ')');
+  const std::string minus = std::string(200000, '-') + "1";
+  std::string sqrts, chain = "pi";
+  for (int i = 0; i < 20000; ++i) sqrts += "sqrt(";
+  sqrts += "2" + std::string(20000, ')');
+  for (int i = 0; i < 100000; ++i) chain += "+pi";
+  for (const std::string& s : {parens, minus, sqrts, chain}) EXPECT_THROW(ExactReal::parse(s), ExactParseError);
+  EXPECT_NO_THROW(ExactReal::parse("((((2/3))))"));  // ordinary nesting still reads
+  EXPECT_NO_THROW(ExactReal::parse("-(-(-(ln(19))))"));
+}
+
 TEST(ExactParse, NamedValuesAreIrrational) {
   for (const char* s : {"ln(19)", "sqrt(2)", "pi", "e", "golden", "liouville(10)", "2*ln(19)"})
     EXPECT_FALSE(ExactReal::parse(s).is_rational()) << s;

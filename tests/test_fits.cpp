@@ -57,6 +57,18 @@ TEST(FitKappa, RecoversTheRateOfAPureExponential) {
 
 // 200 independent samples: the z-scores (fit - truth) / reported error should have unit spread.
 // The sample s.d. of 200 z-scores has relative standard error 1/sqrt(400) = 5%; bounds are +-25%.
+// One particle (P = 1 until it escapes, then 0) once gave "kappa = -0 +- 0": with no escape among
+// the fitted points there is no decay to measure.
+TEST(FitKappa, UnresolvedWithoutAnEscapeInTheWindow) {
+  SurvivalCurve c;
+  c.particles = 1;
+  for (int k = 0; k <= 400; ++k) {
+    c.t.push_back(k);
+    c.survivors.push_back(k < 350 ? 1 : 0);
+  }
+  EXPECT_FALSE(fit_kappa(c, 0, 300).ok);
+}
+
 TEST(FitKappa, StandardErrorIsCalibrated) {
   std::mt19937_64 gen(2);
   std::exponential_distribution<double> life(kKappa);

@@ -24,10 +24,11 @@ Command add_certify(CLI::App& app);
 inline constexpr int kExitBadInput = 2;
 
 /// Runs scripts/<script> on a directory with Debian's python3 (matplotlib); returns its exit status.
-int run_plot_script(const std::string& script, const std::string& dir);
+/// With quiet_stdout its stdout goes to stderr (stdout then carries one JSON document only).
+int run_plot_script(const std::string& script, const std::string& dir, bool quiet_stdout = false);
 /// Draws a simulate run directory (survival.png, fc.png).
 int draw_plots(const std::string& run_dir);
 /// A plot script after a completed run: stdout flushed first, a failure reported (exit 1), the run kept.
-int plot_after_run(const std::string& run_dir, const std::string& script = "plot_run.py");
+int plot_after_run(const std::string& run_dir, const std::string& script = "plot_run.py", bool quiet_stdout = false);
 
 }  // namespace rotleak::cli

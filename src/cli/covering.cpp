@@ -72,7 +72,7 @@ int run_covering(const CoveringArgs& a) {
                 a.d.c_str(), a.r.c_str());
     std::fputs(covering_text(a.omegas, results).c_str(), stdout);
   }
-  return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_covering.py") : 0;
+  return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_covering.py", a.json_out) : 0;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // rotleak <command>: a thin shell over the library. Bad input: one line on stderr, exit status 2.
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -29,7 +30,12 @@ int main(int argc, char** argv) {
     std::cerr << "rotleak: error: " << e.what() << "\n";
     return rotleak::cli::kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "rotleak: failed: " << e.what() << "\n";
+    // one line, of a readable length, whatever the message quotes (an exact value can be 100 KB)
+    std::string what = e.what();
+    for (char& c : what)
+      if (c == '\n') c = ' ';
+    if (what.size() > 300) what = what.substr(0, 240) + "... (" + std::to_string(what.size()) + " characters)";
+    std::cerr << "rotleak: failed: " << what << "\n";
     return 1;
   }
   return 1;

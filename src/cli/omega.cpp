@@ -39,7 +39,12 @@ int run_omega(const OmegaArgs& a) {
   opt.digits = a.digits;
   opt.convergents = static_cast<std::size_t>(a.convergents < 0 ? 0 : a.convergents);
   opt.eps = eps;
-  const OmegaReport r = omega_report(a.value, x, opt);
+  OmegaReport r;
+  try {
+    r = omega_report(a.value, x, opt);
+  } catch (const std::domain_error& e) {  // beyond what the certified expansion can reach
+    throw InputError("omega", "\"" + a.value + "\"", e.what());
+  }
   if (a.json_out)
     std::cout << omega_json(r, a.eps).dump(2) << "\n";
   else

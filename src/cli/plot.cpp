@@ -16,7 +16,7 @@ extern char** environ;
 
 namespace rotleak::cli {
 
-int run_plot_script(const std::string& name, const std::string& dir) {
+int run_plot_script(const std::string& name, const std::string& dir, bool quiet_stdout) {
   namespace fs = std::filesystem;
   std::string script = std::string(kSourceDir) + "/scripts/" + name;
   if (const char* s = std::getenv("ROTLEAK_SCRIPTS")) script = std::string(s) + "/" + name;
@@ -28,7 +28,12 @@ int run_plot_script(const std::string& name, const std::string& dir) {
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid;
-  if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return 127;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (quiet_stdout) posix_spawn_file_actions_adddup2(&actions, 2, 1);
+  const int spawned = posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return 127;
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) return 127;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
@@ -41,9 +46,9 @@ int draw_plots(const std::string& run_dir) {
   return run_plot_script("plot_run.py", run_dir);
 }
 
-int plot_after_run(const std::string& run_dir, const std::string& script) {
+int plot_after_run(const std::string& run_dir, const std::string& script, bool quiet_stdout) {
   std::fflush(stdout);  // our lines first, then the plotter's
-  const int rc = run_plot_script(script, run_dir);
+  const int rc = run_plot_script(script, run_dir, quiet_stdout);
   if (rc != 0) {
     std::fprintf(stderr, "rotleak: plotting failed (exit %d); the run itself is complete\n", rc);
     return 1;

@@ -15,14 +15,17 @@ namespace {
 
 struct SimulateArgs {
   SimulateRequest request;
-  long long particles = -1;
+  long long particles = 0;
+  bool particles_given = false;
   int threads = 0;
   bool json_out = false, plot = false, progress = false, no_progress = false;
 };
 
 int run_simulate(SimulateArgs a) {
-  if (a.particles == 0) throw InputError("--particles", "0", "must be an integer >= 1");
-  if (a.particles > 0) a.request.overrides.push_back("ensemble.particles=" + std::to_string(a.particles));
+  if (a.particles_given) {
+    if (a.particles < 1) throw InputError("--particles", std::to_string(a.particles), "must be an integer >= 1");
+    a.request.overrides.push_back("ensemble.particles=" + std::to_string(a.particles));
+  }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
   a.request.run.progress = progress_on_stderr(!a.no_progress && (a.progress || ::isatty(2)));
@@ -33,7 +36,7 @@ int run_simulate(SimulateArgs a) {
     std::cout << out.document.dump(2) << "\n";
   else
     std::printf("%swrote %s/\n", summary_text(out.summary).c_str(), out.dir.c_str());
-  return a.plot ? plot_after_run(out.dir.string()) : 0;
+  return a.plot ? plot_after_run(out.dir.string(), "plot_run.py", a.json_out) : 0;
 }
 
 }  // namespace
@@ -44,7 +47,9 @@ Command add_simulate(CLI::App& app) {
       app.add_subcommand("simulate", "Run a scene's ensemble; write survival.csv, summary.json (and fc.csv)");
   sub->add_option("scene", args->request.scene_path, "Scene file (TOML)")->required();
   sub->add_option("--out", args->request.out, "Run directory to create")->required();
-  sub->add_option("--particles", args->particles, "Override ensemble.particles");
+  sub->add_option("--particles", args->particles, "Override ensemble.particles")->each([args](const std::string&) {
+    args->particles_given = true;
+  });
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key: section.key=value (repeatable)");
   sub->add_option("--engine", args->request.engine,

@@ -115,7 +115,8 @@ std::string summary_text(const RunSummary& r) {
     add(std::snprintf(line, sizeof line, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value,
                       kappa.std_error, kappa.from, kappa.to));
   else
-    add(std::snprintf(line, sizeof line, "kappa: not resolved (too few points in [%g, %g])\n", kappa.from, kappa.to));
+    add(std::snprintf(line, sizeof line, "kappa: not resolved (%s in [%g, %g])\n",
+                      kappa.points < 3 ? "too few grid points" : "no escape", kappa.from, kappa.to));
   if (alpha.value)
     add(std::snprintf(line, sizeof line, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n",
                       *alpha.value, alpha.std_error, alpha.crossing_time, alpha.factor));

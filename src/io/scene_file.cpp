@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -273,6 +274,9 @@ Scene parse_scene(const std::string& text, const std::vector<std::string>& overr
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("SCENE", "\"" + path + "\"", "is a directory; give a TOML scene file");
   std::ifstream f(path);
   if (!f) throw InputError("SCENE", "\"" + path + "\"", "must be a readable TOML file");
   std::stringstream ss;

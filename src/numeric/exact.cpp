@@ -99,6 +99,28 @@ class Parser {
  private:
   std::string_view s_;
   std::size_t pos_ = 0;
+  // Bounds that keep parsing and evaluation off the end of the stack (both recurse): parentheses,
+  // signs and function calls nested at most kMaxNesting deep, at most kMaxOperations irrational
+  // nodes (a chain pi+pi+...+pi is a tree as deep as it is long).
+  static constexpr int kMaxNesting = 200;
+  static constexpr int kMaxOperations = 2000;
+  int nesting_ = 0, operations_ = 0;
+
+  /// Counts one level of nesting for the duration of a scope.
+  struct Nest {
+    Parser& p;
+    explicit Nest(Parser& parser) : p(parser) {
+      if (++p.nesting_ > kMaxNesting)
+        throw ExactParseError("nested deeper than " + std::to_string(kMaxNesting) +
+                              " levels (parentheses, signs, functions)");
+    }
+    ~Nest() { --p.nesting_; }
+  };
+  NodePtr counted(NodePtr n) {
+    if (!is_rat(n) && ++operations_ > kMaxOperations)
+      throw ExactParseError("more than " + std::to_string(kMaxOperations) + " operations on irrational values");
+    return n;
+  }
 
   [[noreturn]] void fail(const std::string& what) const {
     throw ExactParseError(what + " at position " + std::to_string(pos_ + 1) +
@@ -120,9 +142,9 @@ class Parser {
     NodePtr n = term();
     for (;;) {
       if (eat('+'))
-        n = fold_binary(Kind::add, n, term());
+        n = counted(fold_binary(Kind::add, n, term()));
       else if (eat('-'))
-        n = fold_binary(Kind::sub, n, term());
+        n = counted(fold_binary(Kind::sub, n, term()));
       else
         return n;
     }
@@ -131,20 +153,24 @@ class Parser {
     NodePtr n = unary();
     for (;;) {
       if (eat('*'))
-        n = fold_binary(Kind::mul, n, unary());
+        n = counted(fold_binary(Kind::mul, n, unary()));
       else if (eat('/'))
-        n = fold_binary(Kind::div, n, unary());
+        n = counted(fold_binary(Kind::div, n, unary()));
       else
         return n;
     }
   }
   NodePtr unary() {
     if (eat('-')) {
+      Nest nest(*this);
       NodePtr a = unary();
       if (is_rat(a)) return make_rational(-a->q);
-      return make_node(Kind::neg, a);
+      return counted(make_node(Kind::neg, a));
     }
-    if (eat('+')) return unary();
+    if (eat('+')) {
+      Nest nest(*this);
+      return unary();
+    }
     return primary();
   }
   NodePtr primary() {
@@ -153,6 +179,7 @@ class Parser {
     const char c = s_[pos_];
     if (c == '(') {
       ++pos_;
+      Nest nest(*this);
       NodePtr n = expr();
       if (!eat(')')) fail("missing ')'");
       return n;
@@ -196,9 +223,10 @@ class Parser {
     if (name == "golden") return make_node(Kind::golden);
     if (name == "ln" || name == "log" || name == "sqrt" || name == "liouville") {
       if (!eat('(')) fail("'" + name + "' needs an argument in parentheses");
+      Nest nest(*this);
       NodePtr arg = expr();
       if (!eat(')')) fail("missing ')'");
-      if (name == "sqrt") return fold_sqrt(arg);
+      if (name == "sqrt") return counted(fold_sqrt(arg));
       if (name == "liouville") {
         if (!is_rat(arg) || arg->q.get_den() != 1 || arg->q < 2 || !arg->q.get_num().fits_ulong_p())
           throw ExactParseError("liouville(b) needs an integer base b >= 2");
@@ -207,7 +235,7 @@ class Parser {
         n->base = arg->q.get_num().get_ui();
         return n;
       }
-      return fold_ln(arg);
+      return counted(fold_ln(arg));
     }
     pos_ = start;
     fail("unknown name '" + name + "'");

@@ -13,19 +13,32 @@ namespace rotleak {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& allowed)
-      : std::runtime_error(key + " = " + value + ": " + allowed), key_(key) {}
+      : std::runtime_error(key + " = " + quoted_prefix(value) + ": " + allowed), key_(key) {}
   const std::string& key() const { return key_; }
 
  private:
+  /// A value longer than 120 bytes is quoted by its first 100 and its length: the message stays one readable line.
+  static std::string quoted_prefix(const std::string& value) {
+    if (value.size() <= 120) return value;
+    std::size_t cut = 100;
+    while (cut > 0 && (static_cast<unsigned char>(value[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+    return value.substr(0, cut) + "... (" + std::to_string(value.size()) + " characters)";
+  }
+
   std::string key_;
 };
 
-/// An exact value read from user text; bad text is an InputError naming `key`.
+/// An exact value read from user text; bad text, and a value whose sign cannot be decided (pi-pi: a
+/// zero that no precision proves), are an InputError naming `key`.
 inline ExactReal parse_exact_input(const std::string& key, const std::string& text) {
   try {
-    return ExactReal::parse(text);
+    ExactReal x = ExactReal::parse(text);
+    (void)x.sign();  // every use compares it with something: decide it now, with the key at hand
+    return x;
   } catch (const ExactParseError& e) {
     throw InputError(key, "\"" + text + "\"", e.what());
+  } catch (const std::domain_error& e) {
+    throw InputError(key, "\"" + text + "\"", std::string("cannot be used: ") + e.what());
   }
 }
 
