@@ -24,20 +24,6 @@ u128 to_u128(const mpz_class& z) {
   return (static_cast<u128>(hi.get_ui()) << 64) | static_cast<u128>(lo.get_ui());
 }
 
-mpz_class floor_exact(const ExactReal& x) {
-  mpz_class z;
-  if (x.is_rational()) {
-    mpz_fdiv_q(z.get_mpz_t(), x.as_rational().get_num_mpz_t(), x.as_rational().get_den_mpz_t());
-    return z;
-  }
-  mpfr_t v;
-  mpfr_init2(v, 256);
-  x.round(v, MPFR_RNDD);
-  mpfr_get_z(z.get_mpz_t(), v, MPFR_RNDD);
-  mpfr_clear(v);
-  return z;
-}
-
 // Nearest integer to x * 2^bits (x >= 0), from a correctly rounded value with ample bits.
 mpz_class scaled_round(const ExactReal& x, int bits) {
   mpz_class pow = mpz_class(1) << bits;

@@ -11,7 +11,8 @@ scene=$(realpath "$(dirname "$0")/../data/scenes/quickstart.toml")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-common=(--particles 100000 --no-progress --set run.t_max=2000 --set observe.survival_dt=0.005)
+common=(--particles 100000 --no-progress --set run.t_max=2000 --set observe.survival_dt=0.005
+        --set 'observe.collision_density={bins=1000, windows=[[0, 2000]]}')
 "$bin" simulate "$scene" --out target "${common[@]}" --set ensemble.seed=1 >/dev/null
 check() {  # the target is a complete run with seed 1 or 2
   [ -f target/summary.json ] || { echo "trial $1: target has no summary.json"; return 1; }

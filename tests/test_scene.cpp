@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "io/scene_file.hpp"
+#include "leak/leak.hpp"
 #include "names.hpp"
 
 using namespace rotleak;
@@ -84,8 +85,23 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"[observe]\ncollision_density = { windows = [[5, 1]] }\n", "", "observe.collision_density.windows"},
         BadCase{"[fit]\nkappa_window = [300, 0]\n", "", "fit.kappa_window"},
         BadCase{"[run]\ntier = \"quad\"\n", "", "run.tier"}, BadCase{"", "leak.omega=", "leak.omega"},
-        BadCase{"", "leak.omgea=1", "leak.omgea"}, BadCase{"", "omega=1", "--set"}, BadCase{"[leak\n", "", "TOML"}),
+        BadCase{"", "leak.omgea=1", "leak.omgea"}, BadCase{"", "omega=1", "--set"}, BadCase{"[leak\n", "", "TOML"},
+        // nonsense that was once accepted (a hang, an empty run, wrong physics)
+        BadCase{"", "ensemble.creation_window=1e300", "ensemble.creation_window"},
+        BadCase{"[observe]\ncollision_density = { windows = [[0, 30000]] }\n", "", "observe.collision_density.windows"},
+        BadCase{"", "stadium.r=1e-300", "stadium.r"}, BadCase{"", "leak.omega=1e100000", "leak.omega"},
+        BadCase{"", "stadium.d=pi-pi", "stadium.d"}, BadCase{"", "leak.start=1e100000+ln(2)", "leak.start"}),
     rotleak::test::IndexedName());
+
+// A large start is reduced modulo 1 exactly: 1e30 + 1/2 is the leak at 1/2 (it was once rounded
+// with a 64-bit floor and no particle escaped).
+TEST(Scene, LargeStartIsReducedExactly) {
+  const Scene big = parse_scene("", {"leak.start=1e30+1/2"}), half = parse_scene("", {"leak.start=1/2"});
+  const LeakSchedule<double> a(big.start, big.omega), b(half.start, half.omega);
+  EXPECT_EQ(a.start(), b.start());
+  const LeakSchedule<double> c(ExactReal::parse("1e30+ln(2)"), ExactReal::parse("0"));
+  EXPECT_EQ(c.start(), round_exact<double>(ExactReal::parse("ln(2)")));
+}
 
 TEST(Scene, TomlRoundTrip) {
   const Scene a = parse_scene(

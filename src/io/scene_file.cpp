@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -171,6 +172,41 @@ void apply_override(toml::table& root, const std::string& assignment) {
   parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
 }
 
+std::string shortest_text(double x) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+/// Values that make the run meaningless or endless, refused with the allowed range.
+void check_physics(const Scene& s) {
+  // omega beyond 1e15 turns per unit time: 1e100000 once became inf in double and no particle
+  // escaped. Below the bound the audit's scalar check says up to where each tier resolves the phase
+  // (double loses it near omega t_max = 2^53; dd keeps omega = 1e12 at t_max = 2e4).
+  if ((ExactReal::parse("1e15") - (s.omega.sign() < 0 ? -s.omega : s.omega)).sign() < 0)
+    throw InputError("leak.omega", "\"" + s.omega_text + "\"",
+                     "must be within [-10^15, 10^15] turns per unit time (rotleak audit tells which tiers resolve the "
+                     "leak phase at a given omega and t_max)");
+  try {
+    (void)floor_exact(s.start);  // the leak's start is reduced modulo 1 exactly: it must be decidable
+  } catch (const std::domain_error& e) {
+    throw InputError("leak.start", "\"" + s.start_text + "\"", e.what());
+  }
+  // collisions per particle ~ t_max / mean free path (pi area / perimeter): a tiny r or d makes it endless
+  const double d = s.d.to_double(), r = s.r.to_double();
+  const double pi = 3.141592653589793;
+  const double mfp = pi * (2 * r * d + pi * r * r) / (2 * d + 2 * pi * r);
+  const double per_particle = s.t_max / mfp;
+  if (!(per_particle <= 1e9)) {
+    char why[300];
+    std::snprintf(why, sizeof why,
+                  "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
+                  "at most 1e9 are allowed: make the stadium larger or t_max smaller",
+                  s.d_text.c_str(), s.r_text.c_str(), shortest_text(s.t_max).c_str(), per_particle, mfp);
+    throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
+  }
+}
+
 Scene build(const toml::table& root, const std::string& source) {
   check_known_keys(root);
   Reader in{root};
@@ -190,13 +226,14 @@ Scene build(const toml::table& root, const std::string& source) {
   s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");
   s.init =
       in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow : InitKind::birkhoff;
-  s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
-  if (s.creation_window < 0)
-    throw InputError("ensemble.creation_window", std::to_string(s.creation_window), "must be >= 0");
-
   s.t_max = in.number("run", "t_max", s.t_max);
   if (!(s.t_max > 0) || s.t_max > 1e12)
     throw InputError("run.t_max", shown(*in.find("run", "t_max")), "must be a number in (0, 1e12]");
+  s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
+  if (s.creation_window < 0 || s.creation_window > s.t_max)
+    throw InputError("ensemble.creation_window", shown(*in.find("ensemble", "creation_window")),
+                     "must be in [0, run.t_max] = [0, " + shortest_text(s.t_max) + "]");
+  check_physics(s);
   if (const toml::node* n = in.find("run", "tier")) {
     const auto name = n->as_string();
     const auto tier = name ? Tier::parse(name->get()) : std::nullopt;
@@ -213,7 +250,7 @@ Scene build(const toml::table& root, const std::string& source) {
   }
   s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
   if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
-    throw InputError("observe.survival_dt", std::to_string(s.survival_dt),
+    throw InputError("observe.survival_dt", shown(*in.find("observe", "survival_dt")),
                      "must be > 0 with t_max / survival_dt <= 1e8 bins");
   if (const toml::node* n = in.find("observe", "collision_density")) {
     auto t = n->as_table();
@@ -236,7 +273,12 @@ Scene build(const toml::table& root, const std::string& source) {
       if (!a || a->empty())
         throw InputError("observe.collision_density.windows", shown(*w),
                          "must be a non-empty list of [from, to] pairs");
-      for (auto&& item : *a) spec.windows.push_back(Reader::window("observe.collision_density.windows", item));
+      for (auto&& item : *a) {
+        spec.windows.push_back(Reader::window("observe.collision_density.windows", item));
+        if (spec.windows.back().to > s.t_max)
+          throw InputError("observe.collision_density.windows", shown(item),
+                           "must lie within [0, run.t_max] = [0, " + shortest_text(s.t_max) + "]");
+      }
     } else {
       spec.windows.push_back({0, s.t_max});
     }

@@ -18,16 +18,9 @@ class LeakSchedule {
  public:
   LeakSchedule(const ExactReal& start, const ExactReal& omega)
       : omega_(split_exact<R>(omega)), rotating_(omega.sign() != 0) {
-    // s0 reduced exactly into [0,1) before rounding.
-    ExactReal s = start;
-    const mpfr_prec_t guard = 64;
-    mpfr_t f;
-    mpfr_init2(f, guard);
-    s.round(f, MPFR_RNDD);
-    mpz_class k;
-    mpfr_get_z(k.get_mpz_t(), f, MPFR_RNDD);
-    mpfr_clear(f);
-    s = s - ExactReal::rational(mpq_class(k));
+    // s0 reduced exactly into [0,1) before rounding (a floor at any fixed precision is wrong for a
+    // large s0: 1e30 + 1/2 once came out as 0 and no particle escaped)
+    const ExactReal s = start - ExactReal::rational(mpq_class(floor_exact(start)));
     start_ = round_exact<R>(s);
     if (start_ >= 1) start_ -= 1;
     if (start_ < 0) start_ += 1;

@@ -520,4 +520,24 @@ ExactReal operator-(const ExactReal& a) {
   return ExactReal(make_node(Kind::neg, a.node_));
 }
 
+mpz_class floor_exact(const ExactReal& x) {
+  mpz_class k;
+  if (x.is_rational()) {
+    const mpq_class& q = x.as_rational();
+    mpz_fdiv_q(k.get_mpz_t(), q.get_num_mpz_t(), q.get_den_mpz_t());
+    return k;
+  }
+  for (mpfr_prec_t bits = 64; bits <= kMaxWorkingBits; bits *= 2) {
+    mpfi_t box;
+    mpfi_init2(box, bits);
+    x.enclose(box, bits);
+    mpz_class lo, hi;
+    mpfr_get_z(lo.get_mpz_t(), &box->left, MPFR_RNDD);
+    mpfr_get_z(hi.get_mpz_t(), &box->right, MPFR_RNDD);
+    mpfi_clear(box);
+    if (lo == hi) return lo;
+  }
+  throw std::domain_error("cannot decide the integer part of " + x.text());
+}
+
 }  // namespace rotleak

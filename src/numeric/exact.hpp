@@ -65,6 +65,10 @@ class ExactReal {
 /// Exact rational partial sum sum_{k=1..K} b^(-k!) of the Liouville number with base b.
 mpq_class liouville_partial_sum(unsigned long base, unsigned K);
 
+/// floor(x), exactly: by integer division for rationals, for other values from enclosures at rising
+/// precision until both ends agree. Throws std::domain_error when no working precision decides it.
+mpz_class floor_exact(const ExactReal& x);
+
 /// Reads a decimal literal ("12", "-0.01", "1e-4", "2.5E+3") into an exact rational; throws
 /// ExactParseError on anything else (including nan and inf).
 mpq_class parse_decimal(std::string_view text);

@@ -13,14 +13,15 @@ namespace rotleak {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& allowed)
-      : std::runtime_error(key + " = " + quoted_prefix(value) + ": " + allowed), key_(key) {}
+      : std::runtime_error(key + " = " + quoted_prefix(value, 120) + ": " + quoted_prefix(allowed, 400)), key_(key) {}
   const std::string& key() const { return key_; }
 
  private:
-  /// A value longer than 120 bytes is quoted by its first 100 and its length: the message stays one readable line.
-  static std::string quoted_prefix(const std::string& value) {
-    if (value.size() <= 120) return value;
-    std::size_t cut = 100;
+  /// A text longer than `limit` bytes is quoted by a prefix and its length: the message stays one readable
+  /// line even when it quotes an exact value of 100 KB.
+  static std::string quoted_prefix(const std::string& value, std::size_t limit) {
+    if (value.size() <= limit) return value;
+    std::size_t cut = limit - 20;
     while (cut > 0 && (static_cast<unsigned char>(value[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
     return value.substr(0, cut) + "... (" + std::to_string(value.size()) + " characters)";
   }
