@@ -86,6 +86,11 @@ INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput,
                                            std::pair{std::string("--threads -1"), std::string("--threads")},
                                            // once silently ignored
                                            std::pair{std::string("--particles -5"), std::string("--particles")},
+                                           // once started 10000 threads / aborted in bad_alloc
+                                           std::pair{std::string("--threads 10000"), std::string("--threads")},
+                                           std::pair{std::string("--set ensemble.particles=10000000000000 --set "
+                                                                 "observe.escapes=true"),
+                                                     std::string("ensemble.particles")},
                                            // an undecidable value once exited 1 without the key
                                            std::pair{std::string("--set stadium.d=pi-pi"), std::string("stadium.d")},
                                            std::pair{std::string("--bogus"), std::string("--bogus")}),

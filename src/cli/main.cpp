@@ -1,5 +1,6 @@
 // rotleak <command>: a thin shell over the library. Bad input: one line on stderr, exit status 2.
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ int main(int argc, char** argv) {
   } catch (const rotleak::InputError& e) {
     std::cerr << "rotleak: error: " << e.what() << "\n";
     return rotleak::cli::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr
+        << "rotleak: failed: out of memory (the inputs passed the memory estimate; try fewer particles or threads)\n";
+    return 1;
   } catch (const std::exception& e) {
     // one line, of a readable length, whatever the message quotes (an exact value can be 100 KB)
     std::string what = e.what();

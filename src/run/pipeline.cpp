@@ -25,6 +25,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
 
 SimulateOutcome simulate(const SimulateRequest& req) {
   const Scene scene = load_scene(req.scene_path, req.overrides);
+  check_resources(scene, req.run.threads);                                       // before any directory is made
   if (!scene.tier.automatic()) engine_from_name("--engine", req.engine, scene);  // a bad engine fails before any work
   RunDirectory dir(req.out, req.force);                                          // validated and staged before any work
   SimulateOutcome out;

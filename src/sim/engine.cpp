@@ -1,6 +1,7 @@
 #include "sim/engine.hpp"
 
 #include <omp.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -261,7 +262,44 @@ Engine engine_from_name(const std::string& key, const std::string& name, const S
   return e;
 }
 
+void check_resources(const Scene& scene, int threads) {
+  const int procs = omp_get_num_procs();
+  if (threads > kThreadsPerCore * procs)
+    throw InputError("--threads", std::to_string(threads),
+                     "at most " + std::to_string(kThreadsPerCore) +
+                         " per core: <= " + std::to_string(kThreadsPerCore * procs) + " on this machine (" +
+                         std::to_string(procs) + " cores; 0: one per core)");
+  const double n_threads = threads > 0 ? threads : omp_get_max_threads();
+  const double survival = 8.0 * static_cast<double>(scene.survival_bins());
+  const double density = scene.collision_density ? 8.0 * static_cast<double>(scene.collision_density->bins) *
+                                                       static_cast<double>(scene.collision_density->windows.size())
+                                                 : 0.0;
+  const double records =
+      scene.escape_records ? static_cast<double>(sizeof(EscapeRecord)) * static_cast<double>(scene.particles) : 0.0;
+  const double need = (survival + density) * (n_threads + 1) + records;  // a tally per thread and the merged one
+  double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  struct rlimit as {};
+  if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    have = std::min(have, static_cast<double>(as.rlim_cur));
+  if (need <= 0.8 * have) return;
+  char why[300];
+  std::snprintf(why, sizeof why, "the run would need %.3g GB for its tallies (%.0f threads) but may use %.3g GB here",
+                need / 1e9, n_threads, 0.8 * have / 1e9);
+  if (records >= survival * (n_threads + 1) && records >= density * (n_threads + 1))
+    throw InputError(
+        "ensemble.particles", std::to_string(scene.particles),
+        std::string(why) + "; observe.escapes keeps 32 bytes per particle: fewer particles, or no escape records");
+  if (density > survival)
+    throw InputError("observe.collision_density",
+                     std::to_string(scene.collision_density->bins) + " bins x " +
+                         std::to_string(scene.collision_density->windows.size()) + " windows",
+                     std::string(why) + "; fewer bins or windows (or fewer --threads)");
+  throw InputError("observe.survival_dt", std::to_string(scene.survival_bins()) + " bins",
+                   std::string(why) + "; a coarser survival_dt (or fewer --threads)");
+}
+
 RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
+  check_resources(scene, options.threads);
   if (!scene.tier.automatic() && !scene.tier.ensemble())
     throw std::invalid_argument("the ensemble engine runs float, double or long_double, not " + scene.tier.name());
   return with_tier(scene.tier, [&](auto type) -> RunResult {

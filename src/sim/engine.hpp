@@ -57,6 +57,15 @@ std::string to_string(Engine e);
 /// Engine by name (auto, scalar, simd), checked against the scene and this CPU; an InputError naming `key` otherwise.
 Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene);
 
+/// Threads allowed per core (`--threads` above kThreadsPerCore x the cores is refused).
+inline constexpr int kThreadsPerCore = 8;
+
+/// Refuses, before anything is allocated, what this machine cannot hold: threads beyond
+/// kThreadsPerCore x the cores, and tallies (survival bins and collision-density bins per thread,
+/// escape records per particle) beyond 80% of the memory the process may use (physical memory, or
+/// the address-space limit when lower). The InputError names the key that asks for most of it.
+void check_resources(const Scene& scene, int threads);
+
 /// Runs the scene's ensemble in its tier (an ensemble tier; auto must be resolved first).
 RunResult run_ensemble(const Scene& scene, const RunOptions& options);
 
