@@ -6,7 +6,7 @@ import os
 
 import matplotlib.pyplot as plt
 
-from plot_run import load_run, read_csv, save  # same folder: the shared helpers
+from plot_run import load_run, read_csv, run_main, save  # same folder: the shared helpers
 
 
 def main():
@@ -36,4 +36,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    run_main(main)

@@ -19,9 +19,27 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def save(fig, path):
     tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=120)
-    os.replace(tmp, path)  # written whole or not at all
-    plt.close(fig)
+    try:
+        fig.savefig(tmp, dpi=120)
+        os.replace(tmp, path)  # written whole or not at all
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)  # a full disk leaves no half picture behind
+        raise
+    finally:
+        plt.close(fig)
+
+
+def run_main(main):
+    """Runs a plot script's main: a failure is one line on stderr (what failed and why) and exit 1,
+    not a traceback."""
+    try:
+        main()
+    except SystemExit:
+        raise
+    except Exception as e:  # noqa: BLE001 -- every failure of a plot is reported the same way
+        name = os.path.basename(sys.argv[0])
+        sys.exit(f"{name}: cannot draw: {type(e).__name__}: {e}")
 
 
 def load_run(usage):
@@ -114,4 +132,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    run_main(main)

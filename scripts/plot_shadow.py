@@ -7,7 +7,7 @@ import os
 
 import matplotlib.pyplot as plt
 
-from plot_run import load_run, read_csv, save
+from plot_run import load_run, read_csv, run_main, save
 
 
 def main():
@@ -40,4 +40,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    run_main(main)

@@ -114,6 +114,34 @@ TEST(Cli, JsonWithPlotKeepsStdoutOneDocument) {  // "drew ..." once followed the
   EXPECT_TRUE(doc.contains("kappa"));
 }
 
+// Messages quote what the user wrote: a whole UTF-8 character, a float with its point; a long
+// expansion that needs more than the default working precision is computed, not refused.
+TEST(Cli, MessagesQuoteInputAsWritten) {
+  const Outcome half = run("omega '\xc2\xbd'");
+  EXPECT_EQ(half.status, 2);
+  EXPECT_NE(half.err.find("'\xc2\xbd'"), std::string::npos) << half.err;
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const Outcome dt =
+      run("simulate " + scene.string() + " --out " + (scratch() / "dt").string() + " --set observe.survival_dt=-1.0");
+  EXPECT_EQ(dt.status, 2);
+  EXPECT_NE(dt.err.find("= -1.0:"), std::string::npos) << dt.err;
+  const Outcome terms = run("omega 'ln(19)' --terms 20000 --json");
+  ASSERT_EQ(terms.status, 0) << terms.err;
+  EXPECT_EQ(nlohmann::json::parse(terms.out)["omega"]["certified_terms"], 20000);
+}
+
+// A plot that cannot be drawn is one line on stderr and exit 1, no traceback, no half picture.
+TEST(Cli, PlotFailureIsOneLine) {
+  const fs::path bad = scratch() / "bad_run";
+  fs::create_directories(bad);
+  std::ofstream(bad / "summary.json") << "{";
+  const Outcome o = run("plot " + bad.string());
+  EXPECT_EQ(o.status, 1);
+  EXPECT_EQ(o.err.find("Traceback"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("cannot draw"), std::string::npos) << o.err;
+  for (const auto& e : fs::directory_iterator(bad)) EXPECT_EQ(e.path().extension(), ".json") << e.path();
+}
+
 TEST(Cli, MissingSceneFileIsBadInput) {
   const Outcome o = run("simulate /nonexistent/scene.toml --out " + (scratch() / "x").string());
   EXPECT_EQ(o.status, 2);

@@ -33,7 +33,9 @@ std::string shown(const toml::node& n) {
   else if (auto f = n.as_floating_point()) {
     char buf[64];
     auto r = std::to_chars(buf, buf + sizeof buf, f->get());
-    os << std::string(buf, r.ptr);
+    std::string text(buf, r.ptr);
+    if (text.find_first_of(".en") == std::string::npos) text += ".0";  // 1000.0 as written, not 1000
+    os << text;
   } else if (n.is_table()) {
     os << "{...}";
   } else {

@@ -1,5 +1,6 @@
 #include "numeric/exact.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <limits>
@@ -186,7 +187,12 @@ class Parser {
     }
     if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return number();
     if (std::isalpha(static_cast<unsigned char>(c))) return named();
-    fail("unexpected '" + std::string(1, c) + "'");
+    // a non-ASCII character is quoted whole (its UTF-8 continuation bytes with it), not as a lone byte
+    std::size_t len = 1;
+    while ((static_cast<unsigned char>(c) & 0x80) && pos_ + len < s_.size() &&
+           (static_cast<unsigned char>(s_[pos_ + len]) & 0xC0) == 0x80)
+      ++len;
+    fail("unexpected '" + std::string(s_.substr(pos_, len)) + "'");
   }
   NodePtr number() {
     const std::size_t start = pos_;
@@ -443,9 +449,13 @@ const mpq_class& ExactReal::as_rational() const {
 std::string ExactReal::text() const { return node_text(*node_); }
 
 void ExactReal::enclose(mpfi_t out, mpfr_prec_t prec) const {
-  for (mpfr_prec_t p = prec; p <= kMaxWorkingBits; p *= 2)
+  // at least the precision asked for (the continued fraction asks for more than kMaxWorkingBits
+  // when it needs 10^4 terms: that once failed as "a singularity")
+  const mpfr_prec_t most = std::max(prec, kMaxWorkingBits);
+  for (mpfr_prec_t p = prec; p <= most; p *= 2)
     if (enclose_node(*node_, out, p)) return;
-  throw std::domain_error("cannot enclose " + text() + " away from a singularity");
+  throw std::domain_error("cannot enclose " + text() + " away from a singularity (tried up to " + std::to_string(most) +
+                          " bits)");
 }
 
 void ExactReal::round(mpfr_t out, mpfr_rnd_t rnd) const {
