@@ -101,6 +101,30 @@ TEST(FindAlpha, UpperBoundWhenThereIsNoTail) {
 
 // Exponential core plus a power-law tail of weight w: the sampled alpha agrees with the alpha of
 // the noise-free curve within its reported error, and the tail exponent is recovered.
+// alpha from its definition, derived here without find_alpha's loop: on a designed curve
+// P = (1 - w) e^{-kt} + w (1 + t/t0)^{-z} (noise-free, 10^13 particles), the crossing of 10x the fitted
+// exponential A e^{-kappa t} is the root of P(t) = 10 A e^{-kappa t}, found by bisection on the
+// continuous curve; alpha is P at the first grid time after it. (A crossing at 5x, or a factor applied
+// to the wrong side, lands hundreds of time units away.)
+TEST(FindAlpha, IsPAtTheFirstTenfoldCrossingOfADesignedCurve) {
+  const double w = 5e-4, z = 1.0, t0 = 1000;
+  auto P = [&](double t) { return (1 - w) * std::exp(-kKappa * t) + w * std::pow(1 + t / t0, -z); };
+  const SurvivalCurve c = exact_curve(1e13, 20000, P);
+  const KappaFit k = fit_kappa(c, 0, 300);
+  ASSERT_TRUE(k.ok);
+  auto excess = [&](double t) { return std::log(P(t)) - (k.log_amplitude - k.value * t) - std::log(10.0); };
+  double lo = 300, hi = 20000;
+  ASSERT_LT(excess(lo), 0);
+  ASSERT_GT(excess(hi), 0);
+  for (int i = 0; i < 200; ++i) (excess(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double t_cross = std::ceil(hi);
+  const AlphaResult a = find_alpha(c, k);
+  ASSERT_TRUE(a.value.has_value());
+  // survivor counts are P rounded to integers of 10^13: the grid crossing may differ by one step
+  EXPECT_NEAR(a.crossing_time, t_cross, 1.0);
+  EXPECT_NEAR(*a.value, P(t_cross), 1e-2 * P(t_cross));  // one grid step moves P by ~kappa + |dlnP/dt| < 1%
+}
+
 TEST(FindAlpha, MatchesTheNoiseFreeCurveWithinItsError) {
   const double w = 5e-4, z = 1.0, t0 = 1000;
   auto P = [&](double t) { return (1 - w) * std::exp(-kKappa * t) + w * std::pow(1 + t / t0, -z); };
