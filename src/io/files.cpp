@@ -44,16 +44,16 @@ fs::path RunDirectory::normalise(const fs::path& out) {
   return p;
 }
 
-RunDirectory::RunDirectory(fs::path final, bool force) : final_(normalise(final)) {
-  const std::string shown = "\"" + final.string() + "\"";
+RunDirectory::RunDirectory(fs::path final, bool force)
+    : final_(normalise(final)), shown_("\"" + final.string() + "\"") {
   if (final_.empty() || final_.filename() == "." || final_.filename() == ".." || final_ == final_.root_path())
-    throw InputError("--out", shown, "must name a directory to create (not empty, '.', '..' or '/')");
+    throw InputError("--out", shown_, "must name a directory to create (not empty, '.', '..' or '/')");
   std::error_code ec;
   // refuse what cannot be replaced before creating anything
   if (fs::exists(final_, ec)) {
-    if (!force) throw InputError("--out", shown, "already exists; pass --force to replace it");
+    if (!force) throw InputError("--out", shown_, "already exists; pass --force to replace it");
     if (!fs::is_directory(final_) || (!fs::is_empty(final_) && !fs::exists(final_ / "summary.json")))
-      throw InputError("--out", shown,
+      throw InputError("--out", shown_,
                        "exists and is not a rotleak run directory (no summary.json); refusing to replace it");
   }
   // parents: remember the ones this run creates, to remove them if it fails
@@ -65,7 +65,7 @@ RunDirectory::RunDirectory(fs::path final, bool force) : final_(normalise(final)
   }
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
     if (!fs::create_directory(*it, ec) && ec)
-      throw InputError("--out", shown, "cannot create " + it->string() + " (" + ec.message() + ")");
+      throw InputError("--out", shown_, "cannot create " + it->string() + " (" + ec.message() + ")");
     created_parents_.push_back(*it);
   }
   const fs::path dir = parent.empty() ? fs::path(".") : parent;
@@ -76,7 +76,7 @@ RunDirectory::RunDirectory(fs::path final, bool force) : final_(normalise(final)
     lock();
     remove_stale_staging();
     if (!fs::create_directory(staging_, ec))
-      throw InputError("--out", shown, "cannot create a directory there (" + ec.message() + ")");
+      throw InputError("--out", shown_, "cannot create a directory there (" + ec.message() + ")");
   } catch (...) {
     release();  // a throwing constructor runs no destructor: undo what was made (lock, parents) here
     throw;
@@ -88,12 +88,11 @@ void RunDirectory::lock() {
   // path (a finishing run unlinks it), else take the new one.
   for (int attempt = 0; attempt < 100; ++attempt) {
     lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock_fd_ < 0)
-      throw InputError("--out", "\"" + final_.string() + "\"", "cannot create the lock file " + lock_path_.string());
+    if (lock_fd_ < 0) throw InputError("--out", shown_, "cannot create the lock file " + lock_path_.string());
     if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(lock_fd_);
       lock_fd_ = -1;
-      throw InputError("--out", "\"" + final_.string() + "\"",
+      throw InputError("--out", shown_,
                        "another rotleak run is writing this directory now; wait for it or choose another --out");
     }
     struct stat held {
@@ -104,7 +103,7 @@ void RunDirectory::lock() {
     ::close(lock_fd_);  // unlinked under us: try the file now at the path
     lock_fd_ = -1;
   }
-  throw InputError("--out", "\"" + final_.string() + "\"", "cannot take the lock " + lock_path_.string());
+  throw InputError("--out", shown_, "cannot take the lock " + lock_path_.string());
 }
 
 void RunDirectory::remove_stale_staging() const {

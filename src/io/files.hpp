@@ -45,6 +45,7 @@ class RunDirectory {
   void release();
 
   std::filesystem::path final_, staging_, lock_path_;
+  std::string shown_;                                   ///< the target as the user wrote it, quoted, for messages
   std::vector<std::filesystem::path> created_parents_;  ///< made by this run, removed if it fails
   int lock_fd_ = -1;
   bool committed_ = false;

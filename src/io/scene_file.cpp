@@ -1,6 +1,7 @@
 #include "io/scene_file.hpp"
 
 #include <toml++/toml.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include "io/files.hpp"
 
 namespace rotleak {
 
@@ -26,16 +28,19 @@ const std::map<std::string, std::set<std::string>> kSchema = {
 const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
 
+/// A float as TOML writes it: the shortest decimal that reads back, with a point (1000.0, not 1000).
+std::string toml_float(double x) {
+  std::string text = shortest(x);
+  if (text.find_first_of(".en") == std::string::npos) text += ".0";
+  return text;
+}
+
 std::string shown(const toml::node& n) {
   std::ostringstream os;
   if (auto s = n.as_string())
     os << '"' << s->get() << '"';
   else if (auto f = n.as_floating_point()) {
-    char buf[64];
-    auto r = std::to_chars(buf, buf + sizeof buf, f->get());
-    std::string text(buf, r.ptr);
-    if (text.find_first_of(".en") == std::string::npos) text += ".0";  // 1000.0 as written, not 1000
-    os << text;
+    os << toml_float(f->get());  // 1000.0 as written, not 1000
   } else if (n.is_table()) {
     os << "{...}";
   } else {
@@ -174,12 +179,6 @@ void apply_override(toml::table& root, const std::string& assignment) {
   parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
 }
 
-std::string shortest_text(double x) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof buf, x);
-  return std::string(buf, r.ptr);
-}
-
 /// Values that make the run meaningless or endless, refused with the allowed range.
 void check_physics(const Scene& s) {
   // omega beyond 1e15 turns per unit time: 1e100000 once became inf in double and no particle
@@ -204,7 +203,7 @@ void check_physics(const Scene& s) {
     std::snprintf(why, sizeof why,
                   "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
                   "at most 1e9 are allowed: make the stadium larger or t_max smaller",
-                  s.d_text.c_str(), s.r_text.c_str(), shortest_text(s.t_max).c_str(), per_particle, mfp);
+                  s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
     throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
   }
 }
@@ -234,7 +233,7 @@ Scene build(const toml::table& root, const std::string& source) {
   s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
   if (s.creation_window < 0 || s.creation_window > s.t_max)
     throw InputError("ensemble.creation_window", shown(*in.find("ensemble", "creation_window")),
-                     "must be in [0, run.t_max] = [0, " + shortest_text(s.t_max) + "]");
+                     "must be in [0, run.t_max] = [0, " + shortest(s.t_max) + "]");
   check_physics(s);
   if (const toml::node* n = in.find("run", "tier")) {
     const auto name = n->as_string();
@@ -279,7 +278,7 @@ Scene build(const toml::table& root, const std::string& source) {
         spec.windows.push_back(Reader::window("observe.collision_density.windows", item));
         if (spec.windows.back().to > s.t_max)
           throw InputError("observe.collision_density.windows", shown(item),
-                           "must lie within [0, run.t_max] = [0, " + shortest_text(s.t_max) + "]");
+                           "must lie within [0, run.t_max] = [0, " + shortest(s.t_max) + "]");
       }
     } else {
       spec.windows.push_back({0, s.t_max});
@@ -355,13 +354,8 @@ namespace {
 /// a decimal point so they read back as floats, arrays and objects inline.
 std::string toml_value(const json& v) {
   switch (v.type()) {
-    case json::value_t::number_float: {
-      char buf[64];
-      auto r = std::to_chars(buf, buf + sizeof buf, v.get<double>());
-      std::string out(buf, r.ptr);
-      if (out.find_first_of(".en") == std::string::npos) out += ".0";
-      return out;
-    }
+    case json::value_t::number_float:
+      return toml_float(v.get<double>());
     case json::value_t::array: {
       std::string out = "[";
       for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + toml_value(v[i]);
