@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "io/files.hpp"
+#include "io/text.hpp"
 
 namespace rotleak {
 
@@ -68,17 +69,18 @@ std::string covering_text(const std::vector<std::string>& omegas, const std::vec
   std::string out;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const Covering& c = results[i];
-    char how[64], line[1024];
-    std::snprintf(how, sizeof how, c.exact ? "exact" : "certified, points within %.1e", c.error_bound);
-    std::snprintf(
-        line, sizeof line,
-        "omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
-        "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
-        omegas[i].c_str(), static_cast<unsigned long long>(c.N), how, c.zero_measure, c.max_zero_gap,
-        static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
-        static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
-        c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
-    out += line;
+    std::string how = "exact";
+    if (!c.exact) {
+      how.clear();
+      appendf(how, "certified, points within %.1e", c.error_bound);
+    }
+    appendf(out,
+            "omega = %s: N = %llu, %s, zero measure %.4g, longest zero gap %.4g, %llu clusters, f_L in [%llu, %llu], "
+            "mean %.4g, cv %.3g, discrepancy %.3g, %zu gap lengths%s (%.3f s)\n",
+            omegas[i].c_str(), static_cast<unsigned long long>(c.N), how.c_str(), c.zero_measure, c.max_zero_gap,
+            static_cast<unsigned long long>(c.clusters), static_cast<unsigned long long>(c.min),
+            static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
+            c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
   }
   return out;
 }

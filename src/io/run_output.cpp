@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "io/scene_file.hpp"
+#include "io/text.hpp"
 #include "version.hpp"
 
 namespace rotleak {
@@ -103,33 +104,29 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
 
 std::string summary_text(const RunSummary& r) {
   std::string out;
-  char line[512];
-  auto add = [&](int n) { out.append(line, static_cast<std::size_t>(n < 0 ? 0 : std::min<int>(n, sizeof line - 1))); };
-  add(std::snprintf(line, sizeof line, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n",
-                    r.scene.source.c_str(), static_cast<unsigned long long>(r.scene.particles),
-                    to_string(r.scene.tier).c_str(), r.result.threads, r.result.wall_seconds,
-                    r.collisions_per_second()));
+  appendf(out, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n", r.scene.source.c_str(),
+          static_cast<unsigned long long>(r.scene.particles), to_string(r.scene.tier).c_str(), r.result.threads,
+          r.result.wall_seconds, r.collisions_per_second());
   const KappaFit& kappa = r.kappa;
   const AlphaResult& alpha = r.alpha;
   if (kappa.ok)
-    add(std::snprintf(line, sizeof line, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value,
-                      kappa.std_error, kappa.from, kappa.to));
+    appendf(out, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value, kappa.std_error,
+            kappa.from, kappa.to);
   else
-    add(std::snprintf(line, sizeof line, "kappa: not resolved (%s in [%g, %g])\n",
-                      kappa.points < 3 ? "too few grid points" : "no escape", kappa.from, kappa.to));
+    appendf(out, "kappa: not resolved (%s in [%g, %g])\n", kappa.points < 3 ? "too few grid points" : "no escape",
+            kappa.from, kappa.to);
   if (alpha.value)
-    add(std::snprintf(line, sizeof line, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n",
-                      *alpha.value, alpha.std_error, alpha.crossing_time, alpha.factor));
+    appendf(out, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n", *alpha.value,
+            alpha.std_error, alpha.crossing_time, alpha.factor);
   else if (alpha.upper_bound)
-    add(std::snprintf(line, sizeof line, "alpha < %.3g   (no crossing up to t = %g while >= %llu survive)\n",
-                      *alpha.upper_bound, alpha.resolved_until, static_cast<unsigned long long>(alpha.min_survivors)));
+    appendf(out, "alpha < %.3g   (no crossing up to t = %g while >= %llu survive)\n", *alpha.upper_bound,
+            alpha.resolved_until, static_cast<unsigned long long>(alpha.min_survivors));
   if (r.tail.z)
-    add(std::snprintf(line, sizeof line, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error,
-                      r.tail.from, r.tail.to));
+    appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
+            r.tail.to);
   if (r.result.tally.stuck)
-    add(std::snprintf(line, sizeof line,
-                      "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
-                      static_cast<unsigned long long>(r.result.tally.stuck)));
+    appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
+            static_cast<unsigned long long>(r.result.tally.stuck));
   return out;
 }
 
