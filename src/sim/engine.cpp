@@ -59,13 +59,20 @@ struct DensityObserver {
   }
 };
 
+/// The initial data of particle i of a run: the scene's draw of id first_id + i, or a given list.
+struct DrawSource {
+  const InitialConditions* ic;
+  std::uint64_t first_id;
+  const std::vector<InitialDraw>* draws;
+  InitialDraw operator()(std::uint64_t i) const { return draws ? (*draws)[i] : ic->draw(first_id + i); }
+};
+
 /// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
 /// measured slower here: the loop is bound by branch mispredictions, not by its dependency chain.)
 template <class R, class Observer, class Record>
-void run_block(const Model<R>& model, const InitialConditions& ic, std::uint64_t first_id, std::uint64_t lo,
-               std::uint64_t hi, Observer& observe, Record& record) {
-  for (std::uint64_t i = lo; i < hi; ++i)
-    record(i, run_particle(model, initial_state(model.stadium, ic.draw(first_id + i)), observe));
+void run_block(const Model<R>& model, const DrawSource& draw, std::uint64_t lo, std::uint64_t hi, Observer& observe,
+               Record& record) {
+  for (std::uint64_t i = lo; i < hi; ++i) record(i, run_particle(model, initial_state(model.stadium, draw(i)), observe));
 }
 
 /// The vectorised kernel's view of a double model.
@@ -104,8 +111,8 @@ simd::Scene simd_scene(const Model<double>& m) {
 
 struct SimdContext {
   const Model<double>* model;
-  const InitialConditions* ic;
-  std::uint64_t first_id, next, hi;
+  DrawSource draw;
+  std::uint64_t next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
   std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
 };
@@ -120,7 +127,7 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   }
   if (ctx->next >= ctx->hi) return false;
   *id = ctx->next++;
-  const ParticleState<double> ps = initial_state(ctx->model->stadium, ctx->ic->draw(ctx->first_id + *id));
+  const ParticleState<double> ps = initial_state(ctx->model->stadium, ctx->draw(*id));
   *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t};
   return true;
 }
@@ -152,6 +159,10 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
   model.fast_forward = scene.fast_forward;
   const InitialConditions ic = initial_conditions(scene);
+  if (opt.draws && opt.draws->size() != scene.particles)
+    throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
+                                std::to_string(scene.particles) + " particles");
+  const DrawSource source{&ic, opt.first_id, opt.draws};
   RunResult result;
   result.tally.resize(scene);
   if (scene.escape_records) result.records.resize(scene.particles);
@@ -205,13 +216,13 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
       const std::uint64_t before = local.collisions;
       if (use_simd) {
         if constexpr (std::is_same_v<R, double>) {
-          SimdContext ctx{&model, &ic, opt.first_id, lo, hi, record, {}};
+          SimdContext ctx{&model, source, lo, hi, record, {}};
           simd::run(kernel_scene, &ctx, simd_next, simd_finish);
         }
       } else if (scene.collision_density) {
-        run_block(model, ic, opt.first_id, lo, hi, density, record);
+        run_block(model, source, lo, hi, density, record);
       } else {
-        run_block(model, ic, opt.first_id, lo, hi, none, record);
+        run_block(model, source, lo, hi, none, record);
       }
       const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
       const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sim/fate.hpp"
+#include "sim/initial.hpp"
 #include "sim/scene.hpp"
 
 namespace rotleak {
@@ -37,6 +38,9 @@ struct RunOptions {
   int threads = 0;                    ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
   std::uint64_t first_id = 0;         ///< particles are ids [first_id, first_id + scene.particles)
+  /// When set, particle i starts from (*draws)[i] instead of the scene's draw of its id (its size
+  /// must be scene.particles): how verify replays chosen trajectories through the engine.
+  const std::vector<InitialDraw>* draws = nullptr;
   /// Called from one thread at a time, at most after every block of particles: particles done of
   /// total, collisions so far; once more with final = true at the end. Empty: no reports.
   std::function<void(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final)> progress;
