@@ -66,9 +66,12 @@ TEST(Covering, SweepAgreesWithDirectCounting) {
   const std::uint64_t seed = 99;
   std::mt19937_64 gen(seed);
   for (const char* omega : {"2/3", "22/23", "70/71", "1008/1009", "3/7"}) {
-    const Covering c = mupo_covering(input(omega, "1e-4", "0.05"));  // N = 100
+    const Covering c = mupo_covering(input(omega, "1e-4", "0.05"));
     ASSERT_TRUE(c.exact);
-    const mpq_class x(c.x_text), half(1, 40);
+    // x and N from SPEC section 6 directly, not from the code's own x_text: t_c = 2r(1 + delta),
+    // x = t_c omega (direct_count reduces n x itself), N = (d / 2r) / sqrt(delta) = (2/2) / (1/100)
+    const mpq_class x = mpq_class(2) * (mpq_class(1) + mpq_class(1, 10000)) * mpq_class(omega), half(1, 40);
+    ASSERT_EQ(c.N, 100u);
     std::uniform_int_distribution<std::size_t> pick(0, c.segments.size() - 1);
     for (int i = 0; i < 40; ++i) {
       const Segment& seg = c.segments[pick(gen)];

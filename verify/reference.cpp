@@ -1,9 +1,10 @@
 #include "verify/reference.hpp"
 
 #include <gmpxx.h>
-#include <omp.h>
 #include <mpfr.h>
+#include <omp.h>
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -16,7 +17,6 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <toml++/toml.h>
 
 #include "io/files.hpp"
 #include "io/json.hpp"
@@ -192,10 +192,15 @@ struct ParsedStep {
   Big t, s, p;
   double resolution = 0;  ///< what the stored digits cannot say, in the metric
   double t_abs = 0;
+  double junction = 0;  ///< distance along the boundary to the nearest junction (which piece is hit)
 };
 
 std::vector<ParsedStep> parse_steps(const RefCase& c, double L) {
   std::vector<ParsedStep> out(c.steps.size());
+  MpfrPrecision working(kCompareBits);
+  const Stadium<Mpfr> stadium(c.scene.d, c.scene.r);
+  Big j[4];
+  for (int k = 0; k < 4; ++k) mpfr_set(j[k].v, stadium.junction(k).data(), MPFR_RNDN);
   for (std::size_t i = 0; i < c.steps.size(); ++i) {
     const RefStep& st = c.steps[i];
     parse_big(out[i].t, st.t);
@@ -204,6 +209,8 @@ std::vector<ParsedStep> parse_steps(const RefCase& c, double L) {
     out[i].t_abs = std::abs(mpfr_get_d(out[i].t.v, MPFR_RNDN));
     const int d = std::min({digits_of(st.t), digits_of(st.s), digits_of(st.p)});
     out[i].resolution = std::pow(10.0, 1 - d) * std::max({out[i].t_abs, L, 1.0});
+    out[i].junction = L * std::min({distance(out[i].s, j[0], true), distance(out[i].s, j[1], true),
+                                    distance(out[i].s, j[2], true), distance(out[i].s, j[3], true)});
   }
   return out;
 }
@@ -213,11 +220,14 @@ bool decision_required(const RefStep& st, double u, double L, double omega) {
   return std::abs(st.margin) * L > kSafety * u * st.gain * (1 + std::abs(omega) * L);
 }
 
-std::size_t horizon(const RefCase& c, double u) {
+/// The last collision a run at roundoff u can follow: its predicted error below kHorizonTolerance,
+/// and every hit so far further from a junction than that error (else which piece it hits is moot).
+std::size_t horizon(const RefCase& c, const std::vector<ParsedStep>& ref, double u) {
   std::size_t h = 0;
-  for (const RefStep& st : c.steps) {
-    if (u * st.gain > kHorizonTolerance) break;
-    h = st.k;
+  for (std::size_t i = 0; i < c.steps.size(); ++i) {
+    const double e = u * c.steps[i].gain;
+    if (e > kHorizonTolerance || ref[i].junction <= kSafety * e) break;
+    h = c.steps[i].k;
   }
   return h;
 }
@@ -285,14 +295,17 @@ InitialDraw choose_draw(const CaseSpec& spec, std::optional<std::uint64_t>& id, 
   if (!spec.search.empty()) {
     std::optional<Candidate> best;
     for (std::uint64_t i = 0; i < spec.search_ids; ++i) {
-      const auto score = search_score(spec.search, spec.scene, ic.draw(i), spec.collisions);
+      const auto score = search_score(spec.search, spec.scene, ic.draw(i),
+                                      spec.search == "bouncing_ball" ? spec.collisions : spec.search_collisions);
       if (score && (!best || *score < best->score)) best = Candidate{*score, i};
     }
     if (!best) throw std::runtime_error(spec.name + ": no ensemble member fits search \"" + spec.search + "\"");
     id = best->id;
     char buf[200];
-    std::snprintf(buf, sizeof buf, "; chosen among ids [0, %llu) by %s (score %.3g in double)",
-                  static_cast<unsigned long long>(spec.search_ids), spec.search.c_str(), best->score);
+    std::snprintf(buf, sizeof buf,
+                  "; chosen among ids [0, %llu) by %s in the first %zu collisions (score %.3g in double)",
+                  static_cast<unsigned long long>(spec.search_ids), spec.search.c_str(),
+                  spec.search == "bouncing_ball" ? spec.collisions : spec.search_collisions, best->score);
     note += buf;
     return ic.draw(best->id);
   }
@@ -538,6 +551,7 @@ std::vector<CaseSpec> read_case_specs(const std::string& path) {
     if (auto p = (*t)["p"].value<std::string>()) spec.p = *p;
     spec.search = (*t)["search"].value_or(std::string{});
     spec.search_ids = static_cast<std::uint64_t>((*t)["search_ids"].value_or(int64_t{20000}));
+    spec.search_collisions = static_cast<std::size_t>((*t)["search_collisions"].value_or(int64_t{20}));
     const int ways = (spec.id ? 1 : 0) + (spec.s || spec.p ? 1 : 0) + (spec.search.empty() ? 0 : 1);
     if (ways != 1 || (spec.s.has_value() != spec.p.has_value()))
       throw InputError(key, "particle/s,p/search", "exactly one of: particle = ID, s and p, search = ...");
@@ -589,7 +603,7 @@ void write_reference(const std::string& dir, const ReferenceSet& set) {
     j["kind"] = c.kind;
     j["note"] = c.note;
     j["particle"] = nullable(c.id);
-    j["draw"] = {{"s", hex(c.draw.s)}, {"p", hex(c.draw.p)}, {"x", hex(c.draw.x)},    {"y", hex(c.draw.y)},
+    j["draw"] = {{"s", hex(c.draw.s)}, {"p", hex(c.draw.p)},     {"x", hex(c.draw.x)}, {"y", hex(c.draw.y)},
                  {"u", hex(c.draw.u)}, {"tau", hex(c.draw.tau)}, {"flow", c.draw.flow}};
     j["bits"] = c.bits;
     j["collisions_requested"] = c.requested;
@@ -674,9 +688,10 @@ TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits)
     // its width allows: those where the reference's own enclosure, scaled to these bits, is below the
     // horizon tolerance and every leak margin is wider than it.
     const double scale = std::ldexp(1.0, static_cast<int>(c.bits - parsed->bits));
-    for (const RefStep& st : c.steps) {
+    for (std::size_t i = 0; i < c.steps.size(); ++i) {
+      const RefStep& st = c.steps[i];
       const double w = kSafety * st.radius * scale;
-      if (w > kHorizonTolerance || std::abs(st.margin) * L <= w) break;
+      if (w > kHorizonTolerance || std::abs(st.margin) * L <= w || ref[i].junction <= w) break;
       out.must_reach = st.k;
     }
     bool contained = true;
@@ -693,7 +708,7 @@ TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits)
             mpfr_set(lo.v, &x.data()->left, MPFR_RNDD);
             mpfr_set(hi.v, &x.data()->right, MPFR_RNDU);
             return mpfr_cmp(lo.v, r.v) <= 0 ? (mpfr_cmp(r.v, hi.v) <= 0 || distance(r, hi) * stretch <= slack)
-                                             : distance(lo, r) * stretch <= slack;
+                                            : distance(lo, r) * stretch <= slack;
           };
           const bool ok = st.piece == c.steps[i].piece && st.in_leak == c.steps[i].in_leak &&
                           inside(st.t, ref[i].t, 1) && inside(s, ref[i].s, L) && inside(p, ref[i].p, 1);
@@ -716,7 +731,7 @@ TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits)
   }
 
   const double u = unit_roundoff(tier);
-  out.must_reach = horizon(c, u);
+  out.must_reach = horizon(c, ref, u);
   const auto fp = c.fingerprints.find(tier);
   const bool have_fp = check_bits && fp != c.fingerprints.end();
   std::size_t fp_next = 0;
@@ -780,7 +795,8 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
   out.engine = to_string(engine) + (fast_forward ? "+ff" : "");
   out.case_name = c.name;
   const double u = unit_roundoff("double"), L = perimeter(c.scene), omega = omega_of(c.scene);
-  std::size_t h = std::min(horizon(c, u), c.steps.size() > 0 ? c.steps.size() - 1 : 0);
+  const std::vector<ParsedStep> ref = parse_steps(c, L);
+  std::size_t h = std::min(horizon(c, ref, u), c.steps.size() > 0 ? c.steps.size() - 1 : 0);
   if (engine == Engine::simd && !simd::available()) {
     out.expected = "not run: this CPU has no AVX2 and FMA";
     return out;
@@ -813,7 +829,6 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
   }
   out.checked = true;
   out.horizon = h;
-  const std::vector<ParsedStep> ref = parse_steps(c, L);
   Scene sc = c.scene;
   sc.particles = 1;
   sc.tier = Tier::double_;
@@ -839,15 +854,18 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
     std::snprintf(buf, sizeof buf, "escape at collision %zu, t within %.3g of %.17g", *escape, tol,
                   mpfr_get_d(ref[*escape - 1].t.v, MPFR_RNDN));
     out.expected = buf;
-    std::snprintf(buf, sizeof buf, "%s at collision %llu, t = %.17g", rec.fate == Fate::escaped ? "escape" : "no escape",
-                  static_cast<unsigned long long>(rec.collisions), rec.t);
+    std::snprintf(buf, sizeof buf, "%s at collision %llu, t = %.17g",
+                  rec.fate == Fate::escaped ? "escape" : "no escape", static_cast<unsigned long long>(rec.collisions),
+                  rec.t);
     out.got = buf;
     out.pass = rec.fate == Fate::escaped && rec.collisions == *escape && dt <= tol;
   } else {
     std::snprintf(buf, sizeof buf, "alive after %zu collisions at t_max = %.17g", h, sc.t_max);
     out.expected = buf;
     std::snprintf(buf, sizeof buf, "%s after %llu collisions",
-                  rec.fate == Fate::survived ? "alive" : rec.fate == Fate::escaped ? "escaped" : "stuck",
+                  rec.fate == Fate::survived  ? "alive"
+                  : rec.fate == Fate::escaped ? "escaped"
+                                              : "stuck",
                   static_cast<unsigned long long>(rec.collisions));
     out.got = buf;
     out.pass = rec.fate == Fate::survived && rec.collisions == h;
@@ -975,8 +993,7 @@ std::string verify_text(const VerifyReport& rep) {
         checked += e.checked;
         agree += e.checked && e.pass;
         ok = ok && e.pass;
-        if (!e.pass)
-          failures.push_back(e.engine + " " + e.case_name + ": expected " + e.expected + ", got " + e.got);
+        if (!e.pass) failures.push_back(e.engine + " " + e.case_name + ": expected " + e.expected + ", got " + e.got);
       }
       appendf(out, "%-12s %6zu %8zu %7zu  %s\n", name.c_str(), cases, checked, agree, ok ? "pass" : "FAIL");
     }
@@ -1031,8 +1048,8 @@ std::vector<std::string> compare_references(const ReferenceSet& before, const Re
     std::optional<std::size_t> moved;
     double by = 0;
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-      const double d = std::max({distance(a[i].t, b[i].t), L * distance(a[i].s, b[i].s, true),
-                                 distance(a[i].p, b[i].p)});
+      const double d =
+          std::max({distance(a[i].t, b[i].t), L * distance(a[i].s, b[i].s, true), distance(a[i].p, b[i].p)});
       const double allowed = o.steps[i].radius + c.steps[i].radius + a[i].resolution + b[i].resolution;
       if (o.steps[i].piece != c.steps[i].piece || o.steps[i].in_leak != c.steps[i].in_leak || d > allowed) {
         moved = i + 1;

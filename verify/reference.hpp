@@ -34,13 +34,13 @@
 
 namespace rotleak {
 
-inline constexpr double kSafety = 64;               ///< error-model safety factor (measured margin: see README)
-inline constexpr double kHorizonTolerance = 1e-6;   ///< a tier's horizon: predicted error below this
+inline constexpr double kSafety = 64;              ///< error-model safety factor (measured margin: see README)
+inline constexpr double kHorizonTolerance = 1e-6;  ///< a tier's horizon: predicted error below this
 /// precisions of the runs that measure the gains (none is a tier's own), and the divergence at
 /// which a gain run stops counting (saturation is near 1)
 inline constexpr long kGainBits[] = {72, 90, 110, 128, 150, 180, 220, 270, 330, 400, 512};
 inline constexpr double kGainSaturation = 1e-4;
-inline constexpr long kReferenceStartBits = 1024;   ///< MPFI precision tried first (doubled until certified)
+inline constexpr long kReferenceStartBits = 1024;    ///< MPFI precision tried first (doubled until certified)
 inline constexpr long kReferenceMaxBits = 1L << 15;  ///< give up certifying collisions above this
 
 /// One collision of the reference.
@@ -82,10 +82,13 @@ struct CaseSpec {
   std::string name, kind, note;
   Scene scene;
   std::size_t collisions = 200;
-  std::optional<std::uint64_t> id;           ///< an ensemble member
-  std::optional<std::string> s, p;           ///< explicit Birkhoff start (a double, "junctionK" for junction K)
-  std::string search;                        ///< grazing, junction, bouncing_ball, near_edge_escape
-  std::uint64_t search_ids = 20000;          ///< ensemble ids searched
+  std::optional<std::uint64_t> id;   ///< an ensemble member
+  std::optional<std::string> s, p;   ///< explicit Birkhoff start (a double, "junctionK" for junction K)
+  std::string search;                ///< grazing, junction, bouncing_ball, near_edge_escape
+  std::uint64_t search_ids = 20000;  ///< ensemble ids searched
+  /// collisions a search looks at: the event must happen where double still follows the true orbit,
+  /// or the certified trajectory would not have it (bouncing_ball: all `collisions`)
+  std::size_t search_collisions = 20;
 };
 
 /// Reads cases.toml (scenes relative to its directory). InputError on a bad entry.

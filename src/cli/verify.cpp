@@ -16,19 +16,21 @@ namespace rotleak::cli {
 
 namespace {
 
+std::string default_reference() { return std::string(kSourceDir) + "/data/trajectories"; }
+
 struct VerifyArgs {
   std::vector<std::string> tiers{"all"}, engines{"all"};
-  std::string reference = std::string(kSourceDir) + "/data/trajectories";
+  std::string reference = default_reference();
   bool json_out = false, ignore_bits = false, regenerate = false;
   int threads = 0;
 };
 
-std::string provenance(const std::string& dir) {
+std::string provenance(const std::string& dir, bool default_dir) {
   char date[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   json p;
-  p["command"] = "rotleak verify --regenerate --reference " + dir;
+  p["command"] = "rotleak verify --regenerate" + (default_dir ? std::string() : " --reference " + dir);
   p["version"] = std::string(kVersion) + " (" + kGitDescribe + ")";
   p["compiler"] = __VERSION__;
   p["date"] = date;
@@ -46,9 +48,9 @@ int regenerate(const VerifyArgs& a) {
   } catch (const std::runtime_error&) {
     // no earlier set (or an unreadable one): everything is new
   }
-  const ReferenceSet after = build_reference(specs, provenance(a.reference), a.threads, [](std::size_t d, std::size_t n) {
-    std::fprintf(stderr, "\rverify: %zu of %zu cases certified", d, n);
-  });
+  const ReferenceSet after = build_reference(
+      specs, provenance(a.reference, a.reference == default_reference()), a.threads,
+      [](std::size_t d, std::size_t n) { std::fprintf(stderr, "\rverify: %zu of %zu cases certified", d, n); });
   std::fprintf(stderr, "\n");
   write_reference(a.reference, after);
   const auto lines = before ? compare_references(*before, after) : std::vector<std::string>{"(no earlier reference)"};
@@ -72,12 +74,12 @@ int run_verify(const VerifyArgs& a) {
       continue;
     }
     const auto tier = Tier::parse(t);
-    if (!tier || tier->automatic())
-      throw InputError("--tier", t, "allowed: all, " + tier_names_allowed(true));
+    if (!tier || tier->automatic()) throw InputError("--tier", t, "allowed: all, " + tier_names_allowed(true));
     opt.tiers.push_back(t);
   }
   for (const std::string& e : a.engines) {
-    if (e == "all" || e == "scalar") opt.engines.insert(opt.engines.end(), {{Engine::scalar, false}, {Engine::scalar, true}});
+    if (e == "all" || e == "scalar")
+      opt.engines.insert(opt.engines.end(), {{Engine::scalar, false}, {Engine::scalar, true}});
     if (e == "all" || e == "simd") opt.engines.insert(opt.engines.end(), {{Engine::simd, false}, {Engine::simd, true}});
     if (e != "all" && e != "scalar" && e != "simd" && e != "none")
       throw InputError("--engine", e, "allowed: all, scalar, simd, none");
@@ -98,11 +100,12 @@ Command add_verify(CLI::App& app) {
   auto a = std::make_shared<VerifyArgs>();
   CLI::App* sub = app.add_subcommand(
       "verify", "Replay the certified reference trajectories through every tier and engine (exit 1 on a shortfall)");
-  sub->add_option("--tier", a->tiers, "A tier, or all (repeatable; default all: " + [] {
-    std::string s;
-    for (const auto& n : reference_tiers()) s += n + ",";
-    return s + "mpfi:256)";
-  }());
+  sub->add_option(
+      "--tier", a->tiers, "A tier, or all (repeatable; default all: " + [] {
+        std::string s;
+        for (const auto& n : reference_tiers()) s += n + ",";
+        return s + "mpfi:256)";
+      }());
   sub->add_option("--engine", a->engines, "scalar, simd, all or none (repeatable; default all)");
   sub->add_option("--reference", a->reference, "Reference directory (default: the source tree's data/trajectories)");
   sub->add_flag("--ignore-bits", a->ignore_bits,

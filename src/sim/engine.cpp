@@ -72,7 +72,8 @@ struct DrawSource {
 template <class R, class Observer, class Record>
 void run_block(const Model<R>& model, const DrawSource& draw, std::uint64_t lo, std::uint64_t hi, Observer& observe,
                Record& record) {
-  for (std::uint64_t i = lo; i < hi; ++i) record(i, run_particle(model, initial_state(model.stadium, draw(i)), observe));
+  for (std::uint64_t i = lo; i < hi; ++i)
+    record(i, run_particle(model, initial_state(model.stadium, draw(i)), observe));
 }
 
 /// The vectorised kernel's view of a double model.
