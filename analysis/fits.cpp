@@ -17,6 +17,14 @@ struct LinearFit {
 // Var = sum_k (g_k - g_{k-1}) (sum_{i>=k} u_i)^2 with g = (1 - P) / (N P).
 double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
   const std::size_t n = idx.size();
+  if (c.weighted) {  // no independent increments: the full double sum over the covariance
+    double var = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      var += u[i] * u[i] * c.log_cov(idx[i], idx[i]);
+      for (std::size_t j = i + 1; j < n; ++j) var += 2 * u[i] * u[j] * c.log_cov(idx[i], idx[j]);
+    }
+    return var;
+  }
   std::vector<double> tail(n + 1, 0.0);
   for (std::size_t k = n; k-- > 0;) tail[k] = tail[k + 1] + u[k];
   double var = 0, g_prev = 0;
@@ -115,12 +123,24 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
   const double lf = std::log(factor);
   std::size_t last = 0;
   for (std::size_t i = 0; i < c.t.size(); ++i) {
-    if (c.survivors[i] < min_survivors) break;
+    if (c.effective(i) < static_cast<double>(min_survivors)) break;
     last = i;
     if (c.t[i] < k.from) continue;
-    const double excess = std::log(c.P(i)) - (k.log_amplitude - k.value * c.t[i]);
+    const double line = k.log_amplitude - k.value * c.t[i];
+    const double excess = std::log(c.P(i)) - line;
     if (excess > lf) {
-      const double P = c.P(i);
+      // The crossing counts only if P there lies more than 3 standard errors (its own and the
+      // extrapolated line's) above the line: a lucky particle of tiny weight is not a tail.
+      const double P = c.P(i), fit = std::exp(line);
+      const double se = std::hypot(c.P_err(i), fit * k.log_se_at(c.t[i]));
+      if (!(P - fit > 3 * se)) {
+        a.resolved_until = c.t[i];
+        a.upper_bound = P + 3 * c.P_err(i);
+        a.note =
+            "P crosses factor x the fit here, but is not 3 standard errors above the fit: not significant; P + 3 "
+            "errors bounds alpha from above";
+        return a;
+      }
       a.value = P;
       a.crossing_time = c.t[i];
       a.resolved_until = c.t[i];
@@ -129,7 +149,7 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
       const double s = log_slope_at(c, i);
       const double rel = k.value + s;
       const double dln_fit = rel > 0 ? std::abs(s) * k.log_se_at(c.t[i]) / rel : 0.0;
-      const double binom = std::sqrt(P * (1 - P) / static_cast<double>(c.particles)) / P;
+      const double binom = c.P_err(i) / P;
       a.std_error = P * std::sqrt(binom * binom + dln_fit * dln_fit);
       a.note = "first grid time where P exceeds the extrapolated exponential fit by the factor";
       return a;
@@ -137,7 +157,7 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
   }
   a.resolved_until = c.t[last];
   a.upper_bound = c.P(last);
-  a.note = "no crossing while at least min_survivors survive; P there bounds alpha from above";
+  a.note = "no significant crossing while at least min_survivors (effective) survive; P there bounds alpha from above";
   return a;
 }
 
@@ -148,7 +168,7 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   std::size_t end = 0, start = c.t.size();
   for (std::size_t i = 0; i < c.t.size(); ++i) {
     if (c.t[i] >= a.crossing_time && start == c.t.size()) start = i;
-    if (c.survivors[i] >= a.min_survivors) end = i;
+    if (c.effective(i) >= static_cast<double>(a.min_survivors)) end = i;
   }
   if (start >= end || c.t[end] < 2 * c.t[start]) return f;  // less than a factor 2 in time: no exponent
   std::vector<std::size_t> idx;

@@ -29,7 +29,9 @@ struct KappaFit {
 };
 
 struct AlphaResult {
-  std::optional<double> value;        ///< P at the first crossing of 10x the exponential fit
+  /// P at the first crossing of 10x the exponential fit that lies more than 3 standard errors (P's
+  /// and the extrapolated line's) above it, while at least min_survivors effective survivors remain
+  std::optional<double> value;
   double std_error = 0;               ///< binomial and fit-extrapolation errors combined
   double crossing_time = 0;           ///< t of that crossing (when resolved)
   std::optional<double> upper_bound;  ///< when no crossing before statistics run out

@@ -61,10 +61,15 @@ def survival(run, summary):
     _, rows = read_csv(os.path.join(run, "survival.csv"))
     t = [float(r[0]) for r in rows if int(r[1]) > 0]
     P = [float(r[2]) for r in rows if int(r[1]) > 0]
+    err = [float(r[3]) for r in rows if int(r[1]) > 0] if rows and len(rows[0]) > 3 else None
     kappa, alpha = summary["kappa"], summary["alpha"]
+    scheme = summary.get("sampling", {}).get("scheme", "uniform")
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     for ax, loglog in ((ax1, True), (ax2, False)):
-        ax.plot(t, P, lw=1.2, label="P(t), N = %g" % summary["particles"])
+        ax.plot(t, P, lw=1.2, label="P(t), N = %g%s" % (summary["particles"], "" if scheme == "uniform" else ", " + scheme))
+        if err is not None:  # one standard error either side, where it stays below P
+            lo = [max(p - e, p * 1e-3) for p, e in zip(P, err)]
+            ax.fill_between(t, lo, [p + e for p, e in zip(P, err)], alpha=0.25, lw=0, color="C0")
         if kappa["value"] is not None:
             k, lna = kappa["value"], kappa["log_amplitude"]
             tt = [x for x in t if x <= min(t[-1], 6 / k)]

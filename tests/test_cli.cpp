@@ -162,7 +162,7 @@ TEST(Cli, ExistingOutputNeedsForceAndJsonIsAloneOnStdout) {
   EXPECT_TRUE(j["kappa"].contains("error"));
   EXPECT_TRUE(j["alpha"].contains("value"));
   EXPECT_EQ(j["particles"], 2000);
-  EXPECT_EQ(slurp(outdir / "survival.csv").substr(0, 14), "t,survivors,P\n");
+  EXPECT_EQ(slurp(outdir / "survival.csv").substr(0, 20), "t,survivors,P,P_err\n");
   EXPECT_EQ(nlohmann::json::parse(slurp(outdir / "summary.json")), j);
 
   const Outcome again = run("simulate " + scene.string() + " --out " + outdir.string());

@@ -41,6 +41,7 @@ json estimate_json(const LyapunovEstimate& e) {
 json shadow_json(const ShadowResult& r, double tolerance) {
   json doc;
   doc["particle"] = r.id;
+  doc["weight"] = r.weight;
   doc["initial"] = {{"s", r.draw.s}, {"p", r.draw.p}, {"tau", r.draw.tau}};
   doc["collisions"] = r.horizon_collisions;
   doc["tolerance"] = tolerance;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "numeric/tier_dispatch.hpp"
+#include "sim/sampling.hpp"
 #include "verify/line_fit.hpp"
 #include "verify/trace.hpp"
 
@@ -138,9 +139,11 @@ TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDr
 }  // namespace
 
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& opt) {
-  const InitialConditions ic = initial_conditions(scene);
-  ShadowResult res = shadow_from(scene, ic.draw(id), opt);
+  // the particle as the ensemble draws it, by the scene's sampling scheme, with its weight
+  const std::unique_ptr<Sampler> sampler = make_sampler(scene);
+  ShadowResult res = shadow_from(scene, sampler->draw(id), opt);
   res.id = id;
+  res.weight = sampler->weight(res.draw);
   return res;
 }
 

@@ -55,6 +55,7 @@ struct TierShadow {
 struct ShadowResult {
   std::uint64_t id = 0;
   InitialDraw draw;
+  double weight = 1;  ///< its importance weight under the scene's sampling scheme (1: uniform)
   std::size_t horizon_collisions = 0;
   TruthTrace truth;
   std::vector<TierShadow> tiers;

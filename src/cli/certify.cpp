@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "io/scene_file.hpp"
+#include "sim/sampling.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -25,9 +26,8 @@ int run_certify(const CertifyArgs& a) {
   if (a.bits < Tier::kMinBits || a.bits > a.max_bits || a.max_bits > (1L << 22))
     throw InputError("--bits", std::to_string(a.bits),
                      "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits], and --max-bits <= 2^22");
-  const InitialConditions ic = initial_conditions(scene);
-  const auto attempts = certify(scene, ic.draw(static_cast<std::uint64_t>(a.particle)), a.bits, a.max_bits,
-                                static_cast<std::size_t>(a.collisions));
+  const auto attempts = certify(scene, make_sampler(scene)->draw(static_cast<std::uint64_t>(a.particle)), a.bits,
+                                a.max_bits, static_cast<std::size_t>(a.collisions));
   if (a.json_out)
     std::cout << certify_json(static_cast<std::uint64_t>(a.particle), attempts).dump(2) << "\n";
   else

@@ -9,14 +9,16 @@
 namespace rotleak {
 
 std::string survival_csv(const SurvivalCurve& curve) {
-  std::string out = "t,survivors,P\n";
-  out.reserve(curve.survivors.size() * 32);
+  std::string out = "t,survivors,P,P_err\n";
+  out.reserve(curve.survivors.size() * 48);
   for (std::size_t k = 0; k < curve.survivors.size(); ++k) {
     out += shortest(curve.t[k]);
     out += ',';
     out += std::to_string(curve.survivors[k]);
     out += ',';
     out += shortest(curve.P(k));
+    out += ',';
+    out += shortest(curve.P_err(k));
     out += '\n';
   }
   return out;
@@ -27,18 +29,26 @@ std::string density_csv(const Scene& scene, const Tally& tally) {
   const std::size_t bins = static_cast<std::size_t>(spec.bins);
   std::string out = "s";
   std::vector<std::uint64_t> totals(spec.windows.size(), 0);
+  std::vector<FixedSum> weight_totals(spec.windows.size());
   for (std::size_t w = 0; w < spec.windows.size(); ++w) {
     const std::string tag = "[" + shortest(spec.windows[w].from) + ":" + shortest(spec.windows[w].to) + "]";
     out += ",fc" + tag + ",count" + tag;
     for (std::size_t b = 0; b < bins; ++b) totals[w] += tally.collision_density[w * bins + b];
+    if (tally.weighted)
+      for (std::size_t b = 0; b < bins; ++b) weight_totals[w].merge(tally.collision_density_w[w * bins + b]);
   }
   out += '\n';
   for (std::size_t b = 0; b < bins; ++b) {
     out += shortest((static_cast<double>(b) + 0.5) / static_cast<double>(bins));
     for (std::size_t w = 0; w < spec.windows.size(); ++w) {
       const std::uint64_t c = tally.collision_density[w * bins + b];
+      // weighted runs: f_c from the weights (the count column stays the raw number of collisions)
       const double density =
-          totals[w] ? static_cast<double>(c) * static_cast<double>(bins) / static_cast<double>(totals[w]) : 0.0;
+          tally.weighted ? (weight_totals[w].value() > 0 ? tally.collision_density_w[w * bins + b].value() *
+                                                               static_cast<double>(bins) / weight_totals[w].value()
+                                                         : 0.0)
+          : totals[w]    ? static_cast<double>(c) * static_cast<double>(bins) / static_cast<double>(totals[w])
+                         : 0.0;
       out += ',' + shortest(density) + ',' + std::to_string(c);
     }
     out += '\n';
@@ -55,6 +65,27 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
            (r.fate == Fate::escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions) + '\n';
   }
   return out;
+}
+
+json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
+  json j = {{"scheme", to_string(scene.sampling.kind)}};
+  if (!curve.weighted) return j;
+  j["eps"] = scene.sampling.eps;
+  j["p_range"] = {scene.sampling.p_min, scene.sampling.p_max};
+  j["max_weight"] = 1 / scene.sampling.eps;
+  // effective sample size (sum w)^2 / sum w^2 of the survivors at a few times
+  json ess = json::array();
+  const std::size_t n = curve.t.size();
+  for (std::size_t den : {8, 4, 2, 1}) {
+    const std::size_t i = (n - 1) / den;
+    ess.push_back({{"t", curve.t[i]},
+                   {"survivors", curve.survivors[i]},
+                   {"P", curve.P(i)},
+                   {"P_err", curve.P_err(i)},
+                   {"effective_survivors", curve.effective(i)}});
+  }
+  j["effective_survivors"] = ess;
+  return j;
 }
 
 json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
@@ -79,6 +110,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["escaped"] = r.result.tally.escaped;
   s["survivors_at_t_max"] = r.result.tally.survived;
   s["stuck"] = r.result.tally.stuck;
+  s["sampling"] = sampling_json(scene, r.curve);
   s["kappa"] = {{"value", kappa.ok ? json(kappa.value) : json(nullptr)},
                 {"error", kappa.std_error},
                 {"window", {kappa.from, kappa.to}},
@@ -109,6 +141,12 @@ std::string summary_text(const RunSummary& r) {
           r.result.wall_seconds, r.collisions_per_second());
   const KappaFit& kappa = r.kappa;
   const AlphaResult& alpha = r.alpha;
+  if (r.curve.weighted)
+    appendf(
+        out,
+        "sampling: mupo, eps = %g, |p| log-uniform in [%g, %g]; %.3g effective survivors at t_max (%llu particles)\n",
+        r.scene.sampling.eps, r.scene.sampling.p_min, r.scene.sampling.p_max, r.curve.effective(r.curve.t.size() - 1),
+        static_cast<unsigned long long>(r.curve.survivors.back()));
   if (kappa.ok)
     appendf(out, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value, kappa.std_error,
             kappa.from, kappa.to);

@@ -20,6 +20,8 @@ std::string density_csv(const Scene& scene, const Tally& tally);
 std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records);
 
 /// summary.json of a run whose directory holds `files`.
+/// The sampling scheme and, for weighted runs, its parameters and the effective survivors at a few times.
+json sampling_json(const Scene& scene, const SurvivalCurve& curve);
 json summary_json(const RunSummary& s, const std::vector<std::string>& files);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);

@@ -20,7 +20,7 @@ namespace {
 const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
-    {"ensemble", {"particles", "seed", "init", "creation_window"}},
+    {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
     {"run", {"t_max", "tier", "fast_forward"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window"}},
@@ -235,6 +235,27 @@ Scene build(const toml::table& root, const std::string& source) {
     throw InputError("ensemble.creation_window", shown(*in.find("ensemble", "creation_window")),
                      "must be in [0, run.t_max] = [0, " + shortest(s.t_max) + "]");
   check_physics(s);
+  s.sampling.kind = in.word("ensemble", "sampling", "uniform", {"uniform", "mupo"}) == "mupo" ? SamplingKind::mupo
+                                                                                              : SamplingKind::uniform;
+  if (const toml::node* n = in.find("ensemble", "sampling_eps")) {
+    if (s.sampling.kind == SamplingKind::uniform)
+      throw InputError("ensemble.sampling_eps", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
+    s.sampling.eps = Reader::as_number("ensemble.sampling_eps", *n);
+    if (!(s.sampling.eps >= 0.01 && s.sampling.eps <= 1))
+      throw InputError("ensemble.sampling_eps", shown(*n),
+                       "must be in [0.01, 1] (the uniform share; no weight exceeds 1 / eps)");
+  }
+  if (const toml::node* n = in.find("ensemble", "sampling_p")) {
+    if (s.sampling.kind == SamplingKind::uniform)
+      throw InputError("ensemble.sampling_p", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
+    const auto a = n->as_array();
+    const std::string allowed = "must be [p_min, p_max] with 1e-300 <= p_min < p_max < 1";
+    if (!a || a->size() != 2) throw InputError("ensemble.sampling_p", shown(*n), allowed);
+    s.sampling.p_min = Reader::as_number("ensemble.sampling_p", *a->get(0));
+    s.sampling.p_max = Reader::as_number("ensemble.sampling_p", *a->get(1));
+    if (!(s.sampling.p_min >= 1e-300 && s.sampling.p_min < s.sampling.p_max && s.sampling.p_max < 1))
+      throw InputError("ensemble.sampling_p", shown(*n), allowed);
+  }
   if (const toml::node* n = in.find("run", "tier")) {
     const auto name = n->as_string();
     const auto tier = name ? Tier::parse(name->get()) : std::nullopt;
@@ -336,6 +357,11 @@ json scene_json(const Scene& s) {
                    {"seed", s.seed},
                    {"init", to_string(s.init)},
                    {"creation_window", s.creation_window}};
+  if (s.sampling.kind != SamplingKind::uniform) {
+    j["ensemble"]["sampling"] = to_string(s.sampling.kind);
+    j["ensemble"]["sampling_eps"] = s.sampling.eps;
+    j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};
+  }
   j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}, {"fast_forward", s.fast_forward}};
   json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
   if (s.collision_density) {

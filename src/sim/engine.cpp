@@ -14,6 +14,7 @@
 
 #include "numeric/tier_dispatch.hpp"
 #include "sim/particle.hpp"
+#include "sim/sampling.hpp"
 #include "sim/simd_engine.hpp"
 
 namespace rotleak {
@@ -23,6 +24,12 @@ void Tally::resize(const Scene& scene) {
   if (scene.collision_density)
     collision_density.assign(
         scene.collision_density->windows.size() * static_cast<std::size_t>(scene.collision_density->bins), 0);
+  weighted = scene.sampling.kind != SamplingKind::uniform;
+  if (weighted) {
+    escaped_w.assign(escapes_per_bin.size(), FixedSum{});
+    escaped_w2.assign(escapes_per_bin.size(), FixedSum{});
+    collision_density_w.assign(collision_density.size(), FixedSum{});
+  }
 }
 
 void Tally::merge(const Tally& o) {
@@ -32,6 +39,15 @@ void Tally::merge(const Tally& o) {
   escaped += o.escaped;
   survived += o.survived;
   stuck += o.stuck;
+  if (weighted) {
+    for (std::size_t i = 0; i < escaped_w.size(); ++i) {
+      escaped_w[i].merge(o.escaped_w[i]);
+      escaped_w2[i].merge(o.escaped_w2[i]);
+    }
+    for (std::size_t i = 0; i < collision_density_w.size(); ++i) collision_density_w[i].merge(o.collision_density_w[i]);
+    total_w.merge(o.total_w);
+    total_w2.merge(o.total_w2);
+  }
 }
 
 namespace {
@@ -44,6 +60,8 @@ struct DensityObserver {
   const std::vector<TimeWindow>* windows;
   int bins;
   std::uint64_t* counts;
+  FixedSum* weighted_counts = nullptr;  ///< weighted runs: sums of the particle's weight
+  double weight = 1;                    ///< of the particle in flight
 
   void operator()(Piece p, const Vec2<R>& q, const R& t) {
     const double tt = num_traits<R>::to_double(t);
@@ -55,16 +73,21 @@ struct DensityObserver {
     if (b >= bins) b = bins - 1;
     if (b < 0) b = 0;
     for (std::size_t i = 0; i < windows->size(); ++i)
-      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) ++counts[i * static_cast<std::size_t>(bins) + b];
+      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) {
+        ++counts[i * static_cast<std::size_t>(bins) + b];
+        if (weighted_counts) weighted_counts[i * static_cast<std::size_t>(bins) + b].add(weight);
+      }
   }
 };
 
-/// The initial data of particle i of a run: the scene's draw of id first_id + i, or a given list.
+/// The initial data of particle i of a run: the scene's draw of id first_id + i (by its sampling
+/// scheme), or a given list (weight 1); and its weight.
 struct DrawSource {
-  const InitialConditions* ic;
+  const Sampler* sampler;
   std::uint64_t first_id;
   const std::vector<InitialDraw>* draws;
-  InitialDraw operator()(std::uint64_t i) const { return draws ? (*draws)[i] : ic->draw(first_id + i); }
+  InitialDraw operator()(std::uint64_t i) const { return draws ? (*draws)[i] : sampler->draw(first_id + i); }
+  double weight(const InitialDraw& d) const { return draws ? 1.0 : sampler->weight(d); }
 };
 
 /// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
@@ -72,8 +95,11 @@ struct DrawSource {
 template <class R, class Observer, class Record>
 void run_block(const Model<R>& model, const DrawSource& draw, std::uint64_t lo, std::uint64_t hi, Observer& observe,
                Record& record) {
-  for (std::uint64_t i = lo; i < hi; ++i)
-    record(i, run_particle(model, initial_state(model.stadium, draw(i)), observe));
+  for (std::uint64_t i = lo; i < hi; ++i) {
+    const InitialDraw d = draw(i);
+    if constexpr (Observer::active) observe.weight = draw.weight(d);
+    record(i, run_particle(model, initial_state(model.stadium, d), observe));
+  }
 }
 
 /// The vectorised kernel's view of a double model.
@@ -159,11 +185,11 @@ template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
   model.fast_forward = scene.fast_forward;
-  const InitialConditions ic = initial_conditions(scene);
+  const std::unique_ptr<Sampler> sampler = make_sampler(scene);
   if (opt.draws && opt.draws->size() != scene.particles)
     throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
                                 std::to_string(scene.particles) + " particles");
-  const DrawSource source{&ic, opt.first_id, opt.draws};
+  const DrawSource source{sampler.get(), opt.first_id, opt.draws};
   RunResult result;
   result.tally.resize(scene);
   if (scene.escape_records) result.records.resize(scene.particles);
@@ -190,15 +216,26 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     local.resize(scene);
     DensityObserver<R> density{&model.stadium, scene.collision_density ? &scene.collision_density->windows : nullptr,
                                scene.collision_density ? scene.collision_density->bins : 0,
-                               local.collision_density.data()};
+                               local.collision_density.data(),
+                               local.weighted ? local.collision_density_w.data() : nullptr};
     NoCollisionObserver<R> none;
     auto record = [&](std::uint64_t i, const ParticleEnd& end) {
+      double w = 1;
+      if (local.weighted) {  // the weight is a function of (seed, id): rebuilt here, not carried by lanes
+        w = source.weight(source(i));
+        local.total_w.add(w);
+        local.total_w2.add(w * w);
+      }
       switch (end.fate) {
         case Fate::escaped: {
           std::size_t b = static_cast<std::size_t>(end.t / dt);
           if (b >= nbins) b = nbins - 1;
           ++local.escapes_per_bin[b];
           ++local.escaped;
+          if (local.weighted) {
+            local.escaped_w[b].add(w);
+            local.escaped_w2[b].add(w * w);
+          }
           break;
         }
         case Fate::survived:
@@ -282,10 +319,13 @@ void check_resources(const Scene& scene, int threads) {
                          " per core: <= " + std::to_string(kThreadsPerCore * procs) + " on this machine (" +
                          std::to_string(procs) + " cores; 0: one per core)");
   const double n_threads = threads > 0 ? threads : omp_get_max_threads();
-  const double survival = 8.0 * static_cast<double>(scene.survival_bins());
-  const double density = scene.collision_density ? 8.0 * static_cast<double>(scene.collision_density->bins) *
-                                                       static_cast<double>(scene.collision_density->windows.size())
-                                                 : 0.0;
+  // a count per bin, and for weighted runs two exact sums (24 bytes each) per survival bin and one per density bin
+  const bool weighted = scene.sampling.kind != SamplingKind::uniform;
+  const double survival = (weighted ? 56.0 : 8.0) * static_cast<double>(scene.survival_bins());
+  const double density = scene.collision_density
+                             ? (weighted ? 32.0 : 8.0) * static_cast<double>(scene.collision_density->bins) *
+                                   static_cast<double>(scene.collision_density->windows.size())
+                             : 0.0;
   const double records =
       scene.escape_records ? static_cast<double>(sizeof(EscapeRecord)) * static_cast<double>(scene.particles) : 0.0;
   const double need = (survival + density) * (n_threads + 1) + records;  // a tally per thread and the merged one

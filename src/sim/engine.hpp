@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "numeric/fixed_sum.hpp"
 #include "sim/fate.hpp"
 #include "sim/initial.hpp"
 #include "sim/scene.hpp"
@@ -21,11 +22,18 @@ struct EscapeRecord {
   Fate fate = Fate::survived;
 };
 
-/// Integer counts; merge() is exact and order-independent.
+/// Integer counts and exact fixed-point sums; merge() is exact and order-independent.
 struct Tally {
   std::vector<std::uint64_t> escapes_per_bin;    ///< escapes with t in [k dt, (k+1) dt)
   std::vector<std::uint64_t> collision_density;  ///< windows x bins, row-major
   std::uint64_t collisions = 0, escaped = 0, survived = 0, stuck = 0;
+  // Weighted runs only (a sampling scheme other than uniform; empty otherwise): the sums of the
+  // weights w and of w^2 of the particles escaping in each bin and of all particles, and the
+  // weighted collision density.
+  bool weighted = false;
+  std::vector<FixedSum> escaped_w, escaped_w2;
+  FixedSum total_w, total_w2;
+  std::vector<FixedSum> collision_density_w;
 
   void resize(const Scene& scene);
   void merge(const Tally& other);

@@ -21,6 +21,19 @@ struct TimeWindow {
   double from = 0, to = 0;
 };
 
+/// How initial conditions are drawn (sim/sampling.hpp): the invariant measure, or the defensive
+/// mixture eps u + (1 - eps) g with g concentrated near the bouncing-ball family (|p| log-uniform in
+/// [p_min, p_max] on the straight edges; for flow starts, directions that close to the edges' normal).
+enum class SamplingKind { uniform, mupo };
+
+struct SamplingSpec {
+  SamplingKind kind = SamplingKind::uniform;
+  double eps = 0.5;  ///< weight of the uniform component: no particle weighs more than 1 / eps
+  double p_min = 1e-12, p_max = 0.05;
+};
+
+std::string to_string(SamplingKind k);
+
 struct CollisionDensitySpec {
   int bins = 1000;
   std::vector<TimeWindow> windows;
@@ -36,6 +49,7 @@ struct Scene {
   std::uint64_t seed = 1;
   InitKind init = InitKind::birkhoff;
   double creation_window = 4;  ///< particles are created at times uniform in [0, creation_window]
+  SamplingSpec sampling;
 
   double t_max = 20000;
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)

@@ -1,5 +1,8 @@
 #include "sim/survival.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace rotleak {
 
 std::vector<double> survival_times(const Scene& scene) {
@@ -24,7 +27,43 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
 }
 
 SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
-  return {survival_times(scene), survivors_on_grid(scene, tally), scene.particles};
+  SurvivalCurve c;
+  c.t = survival_times(scene);
+  c.survivors = survivors_on_grid(scene, tally);
+  c.particles = scene.particles;
+  if (tally.weighted) {
+    // exact cumulative sums, rounded once per grid point
+    c.weighted = true;
+    const double n = static_cast<double>(scene.particles);
+    FixedSum w = tally.total_w, w2 = tally.total_w2;
+    c.P_w.push_back(w.value() / n);
+    c.Q.push_back(w2.value() / n);
+    for (std::size_t k = 0; k < tally.escaped_w.size(); ++k) {
+      w = w.minus(tally.escaped_w[k]);
+      w2 = w2.minus(tally.escaped_w2[k]);
+      c.P_w.push_back(w.value() / n);
+      c.Q.push_back(w2.value() / n);
+    }
+  }
+  return c;
+}
+
+double SurvivalCurve::P_err(std::size_t i) const {
+  const double n = static_cast<double>(particles), p = P(i);
+  if (!weighted) return std::sqrt(p * (1 - p) / n);
+  return std::sqrt(std::max(0.0, Q[i] - p * p) / n);
+}
+
+double SurvivalCurve::effective(std::size_t i) const {
+  if (!weighted) return static_cast<double>(survivors[i]);
+  return Q[i] > 0 ? static_cast<double>(particles) * P_w[i] * P_w[i] / Q[i] : 0.0;
+}
+
+double SurvivalCurve::log_cov(std::size_t i, std::size_t j) const {
+  const std::size_t a = std::min(i, j), b = std::max(i, j);
+  const double n = static_cast<double>(particles);
+  if (!weighted) return (1 - P(a)) / (n * P(a));
+  return (Q[b] - P_w[a] * P_w[b]) / (n * P_w[a] * P_w[b]);
 }
 
 }  // namespace rotleak

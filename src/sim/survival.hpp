@@ -12,10 +12,23 @@ namespace rotleak {
 
 struct SurvivalCurve {
   std::vector<double> t;                 ///< grid times, increasing
-  std::vector<std::uint64_t> survivors;  ///< survivors at each time
+  std::vector<std::uint64_t> survivors;  ///< survivors at each time (raw count, weighted runs too)
   std::uint64_t particles = 0;
+  /// Weighted runs: P_w[i] = (1/N) sum of the survivors' weights (the unbiased estimate of P), and
+  /// Q[i] = (1/N) sum of their squared weights (its second moment), from the exact tallies.
+  bool weighted = false;
+  std::vector<double> P_w, Q;
 
-  double P(std::size_t i) const { return static_cast<double>(survivors[i]) / static_cast<double>(particles); }
+  double P(std::size_t i) const {
+    return weighted ? P_w[i] : static_cast<double>(survivors[i]) / static_cast<double>(particles);
+  }
+  /// Standard error of P(t_i): binomial, or (Q - P^2) / N for weighted runs.
+  double P_err(std::size_t i) const;
+  /// Effective number of survivors: the count, or (sum w)^2 / sum w^2 = N P^2 / Q for weighted runs.
+  double effective(std::size_t i) const;
+  /// Cov(ln P(t_i), ln P(t_j)): Greenwood's (1 - P_a) / (N P_a) for a = min(i, j); weighted runs
+  /// (Q_b - P_a P_b) / (N P_a P_b) with b = max(i, j) (the same for unit weights).
+  double log_cov(std::size_t i, std::size_t j) const;
 };
 
 /// Grid times t_k = k dt for k = 0..bins, the last one clamped to t_max.

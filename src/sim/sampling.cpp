@@ -1,0 +1,139 @@
+#include "sim/sampling.hpp"
+
+#include <numbers>
+
+namespace rotleak {
+
+namespace {
+
+class UniformSampler final : public Sampler {
+ public:
+  explicit UniformSampler(const Scene& scene) : ic_(initial_conditions(scene)) {}
+  InitialDraw draw(std::uint64_t id) const override { return ic_.draw(id); }
+  double weight(const InitialDraw&) const override { return 1; }
+  bool weighted() const override { return false; }
+
+ private:
+  InitialConditions ic_;
+};
+
+/// What both MUPO schemes share: the mixture, the log-uniform magnitude, the Philox words.
+class MupoBase : public Sampler {
+ public:
+  MupoBase(const Scene& scene, const SamplingSpec& spec)
+      : ic_(initial_conditions(scene)),
+        seed_(scene.seed),
+        eps_(spec.eps),
+        p_min_(spec.p_min),
+        p_max_(spec.p_max),
+        log_range_(std::log(spec.p_max / spec.p_min)) {}
+  bool weighted() const override { return true; }
+
+ protected:
+  static constexpr std::uint64_t kPurposeMupo = 1;
+
+  /// Philox words of the biased draw, and whether this particle takes the uniform component.
+  bool uniform_component(std::uint64_t id, r123::Philox4x64::ctr_type& w) const {
+    w = sampling_words(seed_, id, kPurposeMupo);
+    return InitialConditions::unit(w[0]) < eps_;
+  }
+  /// |p| log-uniform in [p_min, p_max] from the top 53 bits.
+  double magnitude(std::uint64_t bits) const {
+    const double m = p_min_ * std::exp(InitialConditions::unit(bits) * log_range_);
+    return m < p_min_ ? p_min_ : m > p_max_ ? p_max_ : m;
+  }
+  /// Density of a signed value whose magnitude is log-uniform in [p_min, p_max] (0 outside).
+  double log_uniform_density(double v) const {
+    const double a = std::abs(v);
+    return a >= p_min_ && a <= p_max_ ? 1 / (2 * a * log_range_) : 0.0;
+  }
+  /// u / q with q = eps u + (1 - eps) g.
+  double mixture_weight(double u, double g) const { return u / (eps_ * u + (1 - eps_) * g); }
+
+  InitialConditions ic_;
+  std::uint64_t seed_;
+  double eps_, p_min_, p_max_, log_range_;
+};
+
+/// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, p as above.
+class MupoBirkhoff final : public MupoBase {
+ public:
+  MupoBirkhoff(const Scene& scene, const SamplingSpec& spec) : MupoBase(scene, spec) {
+    const Stadium<double> st(scene.d, scene.r);
+    for (int k = 0; k < 4; ++k) j_[k] = st.junction(k);
+    straight_ = j_[0] + (j_[2] - j_[1]) + (1 - j_[3]);
+  }
+
+  InitialDraw draw(std::uint64_t id) const override {
+    r123::Philox4x64::ctr_type w;
+    if (uniform_component(id, w)) return ic_.draw(id);
+    InitialDraw d = ic_.draw(id);  // its creation time tau
+    // s uniform over the straight parts [0, j0) + [j1, j2) + [j3, 1), laid end to end
+    const double v = InitialConditions::unit(w[1]) * straight_;
+    const double top_right = j_[0], bottom = j_[2] - j_[1];
+    d.s = v < top_right ? v : v < top_right + bottom ? j_[1] + (v - top_right) : j_[3] + (v - top_right - bottom);
+    if (!on_straight(d.s)) d.s = 0;  // rounding at a junction: the edge's midpoint instead (measure zero)
+    const double m = magnitude(w[2]);
+    d.p = (w[3] & 1) ? -m : m;
+    return d;
+  }
+
+  double weight(const InitialDraw& d) const override {
+    const double g = on_straight(d.s) ? log_uniform_density(d.p) / straight_ : 0.0;
+    return mixture_weight(0.5, g);
+  }
+
+ private:
+  bool on_straight(double s) const { return s < j_[0] || s >= j_[3] || (s >= j_[1] && s < j_[2]); }
+  double j_[4];
+  double straight_;
+};
+
+/// Flow starts: u = 1 / area in (x, y) times 1 in u = angle / 2 pi; g: (x, y) uniform in the
+/// rectangle between the straight edges, the angle pi/2 or 3pi/2 (up or down) plus delta with
+/// |delta| log-uniform in [p_min, p_max].
+class MupoFlow final : public MupoBase {
+ public:
+  MupoFlow(const Scene& scene, const SamplingSpec& spec) : MupoBase(scene, spec) {
+    const Stadium<double> st(scene.d, scene.r);
+    half_d_ = st.half_d();
+    r_ = st.r();
+    area_ = st.area();
+  }
+
+  InitialDraw draw(std::uint64_t id) const override {
+    r123::Philox4x64::ctr_type w;
+    if (uniform_component(id, w)) return ic_.draw(id);
+    InitialDraw d = ic_.draw(id);  // its creation time tau
+    d.flow = true;
+    d.x = half_d_ * (2 * InitialConditions::unit(w[1]) - 1);
+    d.y = r_ * (2 * InitialConditions::unit(w[2]) - 1);
+    const double delta = magnitude(w[3]) * ((w[3] & 1) ? -1 : 1);
+    d.u = ((w[3] & 2) ? 0.75 : 0.25) + delta / (2 * std::numbers::pi);
+    return d;
+  }
+
+  double weight(const InitialDraw& d) const override {
+    double g = 0;
+    if (std::abs(d.x) <= half_d_ && std::abs(d.y) < r_) {
+      const double centre = d.u < 0.5 ? 0.25 : 0.75;
+      const double delta = 2 * std::numbers::pi * (d.u - centre);
+      // density in u: 1/2 (up or down) x 2 pi x density of delta
+      g = 1 / (4 * half_d_ * r_) * 0.5 * 2 * std::numbers::pi * log_uniform_density(delta);
+    }
+    return mixture_weight(1 / area_, g);
+  }
+
+ private:
+  double half_d_, r_, area_;
+};
+
+}  // namespace
+
+std::unique_ptr<Sampler> make_sampler(const Scene& scene) {
+  if (scene.sampling.kind == SamplingKind::uniform) return std::make_unique<UniformSampler>(scene);
+  if (scene.init == InitKind::flow) return std::make_unique<MupoFlow>(scene, scene.sampling);
+  return std::make_unique<MupoBirkhoff>(scene, scene.sampling);
+}
+
+}  // namespace rotleak
