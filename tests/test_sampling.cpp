@@ -51,7 +51,8 @@ TEST(FixedSum, IsExactAndOrderIndependent) {
 // 5 standard errors (one test per scheme).
 TEST(Sampling, WeightsIntegrateToOne) {
   for (const char* init : {"birkhoff", "flow"}) {
-    const Scene scene = scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", std::string("ensemble.init=") + init});
+    const Scene scene =
+        scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", std::string("ensemble.init=") + init});
     const auto sampler = make_sampler(scene);
     const std::uint64_t n = 1000000;
     double sum = 0, sum2 = 0, biased = 0;
@@ -75,7 +76,8 @@ TEST(Sampling, WeightsIntegrateToOne) {
 // the whole-space mean hardly moves). Same error model, 5 standard errors per region.
 TEST(Sampling, WeightsGiveTheUniformMeasureOfRegions) {
   for (const char* init : {"birkhoff", "flow"}) {
-    const Scene scene = scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", std::string("ensemble.init=") + init});
+    const Scene scene =
+        scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", std::string("ensemble.init=") + init});
     const auto sampler = make_sampler(scene);
     const bool flow = std::string(init) == "flow";
     const double d = 2, r = 1, L = 2 * d + 2 * M_PI * r, A = 2 * r * d + M_PI * r * r;
@@ -88,8 +90,8 @@ TEST(Sampling, WeightsGiveTheUniformMeasureOfRegions) {
     auto measure = [&](double lo, double hi) {
       return flow ? (2 * r * d / A) * (4 * (hi - lo) / (2 * M_PI)) : (2 * d / L) * (hi - lo);
     };
-    const std::vector<Region> regions = {{1e-6, 1e-3, measure(1e-6, 1e-3)}, {1e-11, 1e-9, measure(1e-11, 1e-9)},
-                                         {1e-3, 0.05, measure(1e-3, 0.05)}};
+    const std::vector<Region> regions = {
+        {1e-6, 1e-3, measure(1e-6, 1e-3)}, {1e-11, 1e-9, measure(1e-11, 1e-9)}, {1e-3, 0.05, measure(1e-3, 0.05)}};
     const std::uint64_t n = 1000000;
     std::vector<double> sum(regions.size()), sum2(regions.size());
     for (std::uint64_t id = 0; id < n; ++id) {

@@ -20,10 +20,10 @@ class FixedSum {
     if (!(x >= 0) || !(x < 0x1p63)) throw std::domain_error("FixedSum::add: term outside [0, 2^63)");
     if (x == 0) return;
     int e = 0;
-    const double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+    const double m = std::frexp(x, &e);                               // x = m 2^e, m in [0.5, 1)
     const auto mant = static_cast<std::uint64_t>(std::ldexp(m, 53));  // x = mant 2^(e - 53), exact
-    const int shift = e - 53 + kFractionBits;                          // bit position of mant's lowest bit
-    if (shift <= -64) return;                                          // below the grid
+    const int shift = e - 53 + kFractionBits;                         // bit position of mant's lowest bit
+    if (shift <= -64) return;                                         // below the grid
     std::uint64_t part[3] = {0, 0, 0};
     if (shift < 0) {
       part[0] = mant >> -shift;
