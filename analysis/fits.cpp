@@ -83,6 +83,15 @@ double log_slope_at(const SurvivalCurve& c, std::size_t i) {
   return (std::log(c.P(b)) - std::log(c.P(a))) / (c.t[b] - c.t[a]);
 }
 
+/// P's standard error at the alpha crossing. Weighted runs: the sample's own error can miss what it
+/// has not sampled -- the exponential part, carried only by the mixture's uniform component (weight
+/// up to max_weight), whose survivors near the crossing are a handful or none -- so it is at least
+/// that part's Poisson error, sqrt(max_weight * fit / N), with the fitted exponential as its size.
+double alpha_p_err(const SurvivalCurve& c, std::size_t i, double fit) {
+  if (!c.weighted) return c.P_err(i);
+  return std::max(c.P_err(i), std::sqrt(c.max_weight * fit / static_cast<double>(c.particles)));
+}
+
 }  // namespace
 
 double KappaFit::log_se_at(double t) const { return std::sqrt(std::max(0.0, var_a + t * t * var_b + 2 * t * cov_ab)); }
@@ -103,6 +112,10 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
   // no escape among the fitted points: the decay was not measured (one particle gave "-0 +- 0")
   if (!f.ok || c.survivors[idx.front()] == c.survivors[idx.back()]) return k;
   k.ok = true;
+  if (c.weighted)
+    k.method =
+        "least squares of ln P(t) on the grid points in the window; standard error from the covariance of the "
+        "weighted ln P (exact second-moment tallies, delta method)";
   k.value = -f.slope;
   k.std_error = std::sqrt(f.var_slope);
   k.log_amplitude = f.intercept;
@@ -123,7 +136,10 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
   const double lf = std::log(factor);
   std::size_t last = 0;
   for (std::size_t i = 0; i < c.t.size(); ++i) {
-    if (c.effective(i) < static_cast<double>(min_survivors)) break;
+    // unresolved points are skipped, not the end: a weighted run's effective survivors can dip
+    // (the exponential part dying out) and recover (the tail its scheme samples well); raw counts
+    // only fall, so for uniform runs this is the old stop
+    if (c.effective(i) < static_cast<double>(min_survivors)) continue;
     last = i;
     if (c.t[i] < k.from) continue;
     const double line = k.log_amplitude - k.value * c.t[i];
@@ -132,10 +148,11 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
       // The crossing counts only if P there lies more than 3 standard errors (its own and the
       // extrapolated line's) above the line: a lucky particle of tiny weight is not a tail.
       const double P = c.P(i), fit = std::exp(line);
-      const double se = std::hypot(c.P_err(i), fit * k.log_se_at(c.t[i]));
+      const double se = std::hypot(alpha_p_err(c, i, fit), fit * k.log_se_at(c.t[i]));
       if (!(P - fit > 3 * se)) {
         a.resolved_until = c.t[i];
-        a.upper_bound = P + 3 * c.P_err(i);
+        a.crossing_not_significant = true;
+        a.upper_bound = P + 3 * alpha_p_err(c, i, fit);
         a.note =
             "P crosses factor x the fit here, but is not 3 standard errors above the fit: not significant; P + 3 "
             "errors bounds alpha from above";
@@ -149,15 +166,34 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
       const double s = log_slope_at(c, i);
       const double rel = k.value + s;
       const double dln_fit = rel > 0 ? std::abs(s) * k.log_se_at(c.t[i]) / rel : 0.0;
-      const double binom = c.P_err(i) / P;
+      const double binom = alpha_p_err(c, i, fit) / P;
       a.std_error = P * std::sqrt(binom * binom + dln_fit * dln_fit);
       a.note = "first grid time where P exceeds the extrapolated exponential fit by the factor";
       return a;
     }
   }
   a.resolved_until = c.t[last];
-  a.upper_bound = c.P(last);
-  a.note = "no significant crossing while at least min_survivors (effective) survive; P there bounds alpha from above";
+  // No crossing while P is resolved. P never grows, so a crossing at t* > t gives alpha = P(t*) <= P(t):
+  // every grid time where the data exclude P >= factor x fit (P's upper limit below it) bounds alpha by
+  // that upper limit. Go on past the resolved range (the upper limits only widen there) until a time
+  // is not excluded. The upper limit is P + 3 standard errors (the line's included), and at least
+  // P + 6 max_weight / N: zero survivors among N draws exclude a probability above 6 / N at 99.75%
+  // (Poisson), and a survivor nobody drew could carry weight up to max_weight.
+  const double zero_events = 6 * c.max_weight / static_cast<double>(c.particles);
+  double best = c.P(last);
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] < k.from) continue;
+    const double fit = std::exp(k.log_amplitude - k.value * c.t[i]);
+    const double se = std::hypot(alpha_p_err(c, i, fit), factor * fit * k.log_se_at(c.t[i]));
+    const double ub = c.P(i) + std::max(3 * se, zero_events);
+    if (!(ub < factor * fit)) break;
+    best = std::min(best, ub);
+    a.bound_until = c.t[i];
+  }
+  a.upper_bound = best;
+  a.note =
+      "no significant crossing: until bound_until, P's upper limit (P + 3 errors, at least 6 max_weight / N) stays "
+      "below factor x the fit, and the smallest of them bounds alpha from above";
   return a;
 }
 

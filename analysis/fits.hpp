@@ -32,10 +32,12 @@ struct AlphaResult {
   /// P at the first crossing of 10x the exponential fit that lies more than 3 standard errors (P's
   /// and the extrapolated line's) above it, while at least min_survivors effective survivors remain
   std::optional<double> value;
-  double std_error = 0;               ///< binomial and fit-extrapolation errors combined
-  double crossing_time = 0;           ///< t of that crossing (when resolved)
-  std::optional<double> upper_bound;  ///< when no crossing before statistics run out
-  double resolved_until = 0;          ///< last t with at least min_survivors survivors
+  double std_error = 0;                   ///< binomial and fit-extrapolation errors combined
+  double crossing_time = 0;               ///< t of that crossing (when resolved)
+  std::optional<double> upper_bound;      ///< when no crossing before statistics run out
+  double resolved_until = 0;              ///< last t with at least min_survivors survivors
+  double bound_until = 0;                 ///< no crossing: last t where P's upper limit lies below factor x the fit
+  bool crossing_not_significant = false;  ///< P crossed factor x the fit at resolved_until, within 3 errors of it
   double factor = 10;
   std::uint64_t min_survivors = 100;
   std::string note;

@@ -94,8 +94,12 @@ TEST(FindAlpha, UpperBoundWhenThereIsNoTail) {
   const AlphaResult a = find_alpha(c, fit_kappa(c, 0, 300));
   EXPECT_FALSE(a.value.has_value());
   ASSERT_TRUE(a.upper_bound.has_value());
-  // the bound is P where min_survivors remain: about 100 / 10^6
-  EXPECT_NEAR(*a.upper_bound, 1e-4, 2e-5);
+  // P's upper limit stays below 10x the fit until the zero-event limit 6 / N meets it: the bound is
+  // the smallest upper limit, at least 6 / N, at most 10 x the fit where the scan stops (about 6 / N
+  // again); far below P at 100 survivors (1e-4)
+  EXPECT_GE(*a.upper_bound, 6e-6);
+  EXPECT_LT(*a.upper_bound, 1.2e-5);
+  EXPECT_GT(a.bound_until, a.resolved_until);
   EXPECT_FALSE(fit_tail(c, a).z.has_value());
 }
 

@@ -117,14 +117,16 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
                 {"points", kappa.points},
                 {"log_amplitude", kappa.log_amplitude},
                 {"method", kappa.method}};
-  s["alpha"] = {{"value", nullable(alpha.value)},
-                {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
-                {"upper_bound", nullable(alpha.upper_bound)},
-                {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
-                {"factor", alpha.factor},
-                {"min_survivors", alpha.min_survivors},
-                {"resolved_until", alpha.resolved_until},
-                {"note", alpha.note}};
+  s["alpha"] = {
+      {"value", nullable(alpha.value)},
+      {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
+      {"upper_bound", nullable(alpha.upper_bound)},
+      {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
+      {"factor", alpha.factor},
+      {"min_survivors", alpha.min_survivors},
+      {"resolved_until", alpha.resolved_until},
+      {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
+      {"note", alpha.note}};
   s["tail_exponent"] = {{"value", nullable(tail.z)},
                         {"error", tail.z ? json(tail.std_error) : json(nullptr)},
                         {"window", {tail.from, tail.to}},
@@ -156,9 +158,13 @@ std::string summary_text(const RunSummary& r) {
   if (alpha.value)
     appendf(out, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n", *alpha.value,
             alpha.std_error, alpha.crossing_time, alpha.factor);
+  else if (alpha.upper_bound && alpha.crossing_not_significant)
+    appendf(out, "alpha < %.3g   (P crosses %g x the fit at t = %g, but not 3 standard errors above the fit)\n",
+            *alpha.upper_bound, alpha.factor, alpha.resolved_until);
   else if (alpha.upper_bound)
-    appendf(out, "alpha < %.3g   (no crossing up to t = %g while >= %llu survive)\n", *alpha.upper_bound,
-            alpha.resolved_until, static_cast<unsigned long long>(alpha.min_survivors));
+    appendf(out, "alpha < %.3g   (P + 3 errors stays below %g x the fit up to t = %g; >= %llu survive until t = %g)\n",
+            *alpha.upper_bound, alpha.factor, alpha.bound_until, static_cast<unsigned long long>(alpha.min_survivors),
+            alpha.resolved_until);
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);

@@ -34,6 +34,7 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   if (tally.weighted) {
     // exact cumulative sums, rounded once per grid point
     c.weighted = true;
+    c.max_weight = 1 / scene.sampling.eps;
     const double n = static_cast<double>(scene.particles);
     FixedSum w = tally.total_w, w2 = tally.total_w2;
     c.P_w.push_back(w.value() / n);

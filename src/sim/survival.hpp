@@ -18,6 +18,7 @@ struct SurvivalCurve {
   /// Q[i] = (1/N) sum of their squared weights (its second moment), from the exact tallies.
   bool weighted = false;
   std::vector<double> P_w, Q;
+  double max_weight = 1;  ///< the largest weight a particle can have (1 / eps for the mupo mixture)
 
   double P(std::size_t i) const {
     return weighted ? P_w[i] : static_cast<double>(survivors[i]) / static_cast<double>(particles);

@@ -1,0 +1,49 @@
+#!/usr/bin/env python3
+"""Draw bench_sampling's CSV: P(t) of the uniform and the "mupo" runs of the same scene with their
+error bands (one standard error), log-log, each down to the smallest P it resolves (uniform: at least
+one survivor; mupo: at least 10 effective survivors).
+
+Usage: plot_sampling.py SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from plot_run import run_main, save  # noqa: E402
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: plot_sampling.py SAMPLING.csv OUT.png")
+    with open(sys.argv[1], newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit("plot_sampling.py: " + sys.argv[1] + " has no rows")
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    for scheme, ok, color in (
+        ("uniform", lambda r: int(r["survivors_uniform"]) >= 1, "C0"),
+        ("mupo", lambda r: float(r["effective_mupo"]) >= 10, "C3"),
+    ):
+        pts = [r for r in rows if float(r["t"]) > 0 and ok(r)]
+        t = [float(r["t"]) for r in pts]
+        P = [float(r["P_" + scheme]) for r in pts]
+        e = [float(r["err_" + scheme]) for r in pts]
+        lo = [max(p - s, p * 1e-3) for p, s in zip(P, e)]
+        hi = [p + s for p, s in zip(P, e)]
+        ax.loglog(t, P, color=color, lw=1, label=f"{scheme} (down to P = {min(P):.2g})")
+        ax.fill_between(t, lo, hi, color=color, alpha=0.25, lw=0)
+    ax.set_xlabel("t")
+    ax.set_ylabel("P(t)")
+    ax.set_title("s_L = 0, stationary: uniform vs importance-sampled starts (bands: 1 standard error)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    save(fig, sys.argv[2])
+    print("drew " + sys.argv[2])
+
+
+if __name__ == "__main__":
+    run_main(main)
