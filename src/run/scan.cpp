@@ -1,0 +1,332 @@
+#include "run/scan.hpp"
+
+#include <mpfr.h>
+
+#include <gmpxx.h>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "io/files.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/exact.hpp"
+#include "numeric/input.hpp"
+
+namespace rotleak {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t");
+  if (a == std::string::npos) return "";
+  const auto b = s.find_last_not_of(" \t");
+  return s.substr(a, b - a + 1);
+}
+
+/// Splits at commas outside parentheses; throws on unbalanced parentheses.
+std::vector<std::string> split_top(const std::string& option, const std::string& text) {
+  std::vector<std::string> items;
+  std::string cur;
+  int depth = 0;
+  for (char ch : text) {
+    if (ch == '(') ++depth;
+    if (ch == ')' && --depth < 0) throw InputError(option, text, "unbalanced ')'");
+    if (ch == ',' && depth == 0) {
+      items.push_back(trim(cur));
+      cur.clear();
+    } else {
+      cur += ch;
+    }
+  }
+  if (depth != 0) throw InputError(option, text, "unbalanced '('");
+  items.push_back(trim(cur));
+  return items;
+}
+
+/// A rational as the text a scene reads exactly: a terminating decimal when the denominator is
+/// 2^i 5^j, else p/q.
+std::string exact_text(const mpq_class& q) {
+  mpz_class den = q.get_den();
+  unsigned twos = 0, fives = 0;
+  while (mpz_divisible_ui_p(den.get_mpz_t(), 2)) {
+    den /= 2;
+    ++twos;
+  }
+  while (mpz_divisible_ui_p(den.get_mpz_t(), 5)) {
+    den /= 5;
+    ++fives;
+  }
+  if (den != 1) return q.get_num().get_str() + "/" + q.get_den().get_str();
+  const unsigned digits = std::max(twos, fives);
+  mpz_class ten_d;
+  mpz_ui_pow_ui(ten_d.get_mpz_t(), 10, digits);
+  const mpz_class scaled = q.get_num() * ten_d / q.get_den();  // exact: the denominator divides 10^digits
+  const bool neg = scaled < 0;
+  std::string s = (neg ? mpz_class(-scaled) : scaled).get_str();
+  if (digits > 0) {
+    if (s.size() <= digits) s.insert(0, digits + 1 - s.size(), '0');
+    s.insert(s.size() - digits, ".");
+  }
+  return neg ? "-" + s : s;
+}
+
+std::vector<std::string> range_values(const std::string& option, const std::string& item, bool log) {
+  const std::string name = log ? "logspace" : "linspace";
+  const std::string usage = name + "(a, b, n): decimal ends" + (log ? " > 0" : "") + " and an integer n in [1, 10000]";
+  if (item.back() != ')') throw InputError(option, item, usage);
+  const std::vector<std::string> args = split_top(option, item.substr(name.size() + 1, item.size() - name.size() - 2));
+  if (args.size() != 3) throw InputError(option, item, usage);
+  mpq_class a, b;
+  long n = 0;
+  try {
+    a = parse_decimal(args[0]);
+    b = parse_decimal(args[1]);
+    std::size_t used = 0;
+    n = std::stol(args[2], &used);
+    if (used != args[2].size()) throw std::invalid_argument("n");
+  } catch (const std::exception&) {
+    throw InputError(option, item, usage);
+  }
+  if (n < 1 || n > 10000) throw InputError(option, item, usage);
+  if (log && (sgn(a) <= 0 || sgn(b) <= 0)) throw InputError(option, item, usage);
+  std::vector<std::string> out;
+  for (long k = 0; k < n; ++k) {
+    if (k == 0 || (k == n - 1)) {
+      out.push_back(k == 0 ? args[0] : args[1]);  // the ends exactly as written
+      continue;
+    }
+    if (!log) {
+      out.push_back(exact_text(a + (b - a) * k / (n - 1)));
+      continue;
+    }
+    // 10^(log10 a + k/(n-1) (log10 b - log10 a)) = a (b/a)^(k/(n-1)), in MPFR, printed to 6 digits
+    mpfr_t x, y, e;
+    mpfr_inits2(128, x, y, e, static_cast<mpfr_ptr>(nullptr));
+    const mpq_class ratio = b / a;
+    mpfr_set_q(x, ratio.get_mpq_t(), MPFR_RNDN);
+    mpfr_set_si(e, k, MPFR_RNDN);
+    mpfr_div_si(e, e, n - 1, MPFR_RNDN);
+    mpfr_pow(x, x, e, MPFR_RNDN);
+    mpfr_set_q(y, a.get_mpq_t(), MPFR_RNDN);
+    mpfr_mul(x, x, y, MPFR_RNDN);
+    char buf[64];
+    mpfr_snprintf(buf, sizeof buf, "%.5Re", x);
+    mpfr_clears(x, y, e, static_cast<mpfr_ptr>(nullptr));
+    out.push_back(buf);
+  }
+  if (n == 1) out.resize(1);
+  return out;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string csv_number(const json& v) {
+  if (v.is_null()) return "";
+  if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
+  if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+  return shortest(v.get<double>());
+}
+
+/// A CSV field: quoted when it holds a comma or a quote.
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::vector<std::string> expand_values(const std::string& option, const std::string& text) {
+  std::vector<std::string> values;
+  for (const std::string& item : split_top(option, text)) {
+    if (item.empty()) throw InputError(option, text, "an empty value in the list");
+    if (item.rfind("linspace(", 0) == 0 || item.rfind("logspace(", 0) == 0) {
+      for (std::string& v : range_values(option, item, item[1] == 'o')) values.push_back(std::move(v));
+    } else {
+      values.push_back(item);
+    }
+  }
+  return values;
+}
+
+ScanAxis parse_axis(const std::string& text) {
+  const auto eq = text.find('=');
+  const std::string allowed =
+      "KEY=VALUES with KEY a scene key section.key and VALUES a comma list of values, linspace(a, b, n) or "
+      "logspace(a, b, n)";
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) throw InputError("--over", text, allowed);
+  ScanAxis axis;
+  axis.key = trim(text.substr(0, eq));
+  if (axis.key.find('.') == std::string::npos) throw InputError("--over", text, allowed);
+  axis.values = expand_values("--over " + axis.key, text.substr(eq + 1));
+  return axis;
+}
+
+std::string point_slug(std::size_t index, std::size_t count, const std::vector<ScanAxis>& axes,
+                       const std::vector<std::size_t>& choice) {
+  const int width = static_cast<int>(std::to_string(count > 0 ? count - 1 : 0).size());
+  char head[32];
+  std::snprintf(head, sizeof head, "p%0*zu", width, index);
+  std::string slug = head;
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    const std::string& key = axes[a].key;
+    slug += "_" + key.substr(key.rfind('.') + 1) + "-";
+    for (char ch : axes[a].values[choice[a]]) {
+      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '+' || ch == '-')
+        slug += ch;
+      else if (ch == '/')
+        slug += 'o';  // 2/3 -> 2o3
+      else
+        slug += '_';
+    }
+  }
+  if (slug.size() > 120) slug.resize(120);  // the index keeps it unique
+  return slug;
+}
+
+std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries) {
+  std::string out;
+  for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
+  out += "kappa,kappa_err,alpha,alpha_err,alpha_bound,particles,collisions\n";
+  for (const json& s : summaries) {
+    const json& swept = s.at("scan_values");
+    for (const ScanAxis& a : axes) out += csv_field(swept.at(a.key).get<std::string>()) + ",";
+    const json& k = s.at("kappa");
+    const json& al = s.at("alpha");
+    out += csv_number(k.at("value")) + "," + (k.at("value").is_null() ? "" : csv_number(k.at("error"))) + ",";
+    out += csv_number(al.at("value")) + "," + csv_number(al.at("error")) + "," + csv_number(al.at("upper_bound")) + ",";
+    out += csv_number(s.at("particles")) + "," + csv_number(s.at("collisions")) + "\n";
+  }
+  return out;
+}
+
+ScanOutcome scan(const ScanRequest& req) {
+  if (req.axes.empty()) throw InputError("--over", "", "at least one KEY=VALUES");
+  for (std::size_t a = 0; a < req.axes.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (req.axes[a].key == req.axes[b].key) throw InputError("--over", req.axes[a].key, "each key swept once");
+
+  // The points (the last axis varies fastest), each validated before any work.
+  std::size_t count = 1;
+  for (const ScanAxis& a : req.axes) count *= a.values.size();
+  if (count > 100000) throw InputError("--over", std::to_string(count) + " points", "at most 100000 points");
+  struct Point {
+    std::vector<std::string> overrides;
+    std::string slug, inputs;
+    json values;
+  };
+  std::vector<Point> points(count);
+  std::vector<std::size_t> choice(req.axes.size(), 0);
+  for (std::size_t i = 0; i < count; ++i) {
+    std::size_t rest = i;
+    for (std::size_t a = req.axes.size(); a-- > 0;) {
+      choice[a] = rest % req.axes[a].values.size();
+      rest /= req.axes[a].values.size();
+    }
+    Point& p = points[i];
+    p.overrides = req.overrides;
+    p.values = json::object();
+    for (std::size_t a = 0; a < req.axes.size(); ++a) {
+      p.overrides.push_back(req.axes[a].key + "=" + req.axes[a].values[choice[a]]);
+      p.values[req.axes[a].key] = req.axes[a].values[choice[a]];
+    }
+    p.slug = point_slug(i, count, req.axes, choice);
+    const Scene scene = load_scene(req.scene_path, p.overrides);  // InputError names the key and value
+    check_resources(scene, req.run.threads);
+    p.inputs = scene_to_toml(scene) + "# engine = " + req.engine + "\n";
+  }
+
+  const fs::path dir = RunDirectory::normalise(req.out);
+  const fs::path points_dir = dir / "points", manifest_path = dir / "points.json";
+  fs::create_directories(points_dir);
+  // points.json: slug -> the inputs its run was made from, updated after each point commits. A point
+  // counts as done only when its directory is complete and its recorded inputs equal this point's.
+  json manifest = json::object();
+  if (fs::exists(manifest_path)) {
+    try {
+      manifest = json::parse(read_text(manifest_path));
+    } catch (const std::exception&) {
+      manifest = json::object();  // unreadable: every point is redone
+    }
+  }
+
+  ScanOutcome out;
+  out.dir = dir;
+  out.points = count;
+  json timing = json::array();
+  double spent = 0;
+  std::size_t done_now = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Point& p = points[i];
+    const fs::path pdir = points_dir / p.slug;
+    const bool complete = fs::exists(pdir / "summary.json") && manifest.contains(p.slug) &&
+                          manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs;
+    if (complete && !req.force) {
+      ++out.skipped;
+      if (req.note)
+        req.note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug +
+                 ": complete, skipped");
+      continue;
+    }
+    if (req.note)
+      req.note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug + ": running");
+    SimulateRequest sr;
+    sr.scene_path = req.scene_path;
+    sr.overrides = p.overrides;
+    sr.out = pdir;
+    sr.force = true;  // an incomplete or outdated point is replaced
+    sr.engine = req.engine;
+    sr.run = req.run;
+    sr.note = req.note;
+    const auto t0 = std::chrono::steady_clock::now();
+    simulate(sr);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    manifest[p.slug] = p.inputs;
+    write_file_atomic(manifest_path, manifest.dump(1) + "\n");
+    ++out.ran;
+    ++done_now;
+    spent += sec;
+    if (req.note) {
+      const std::size_t left = count - i - 1;
+      char line[200];
+      std::snprintf(line, sizeof line, "[scan] point %zu/%zu done in %.1f s; %zu of %zu points complete; ETA %.0f s",
+                    i + 1, count, sec, i + 1, count, spent / static_cast<double>(done_now) * static_cast<double>(left));
+      req.note(line);
+    }
+  }
+
+  // The table and scan.json from the points on disk, whether run now or before.
+  std::vector<json> summaries;
+  json rows = json::array();
+  for (const Point& p : points) {
+    json s = json::parse(read_text(points_dir / p.slug / "summary.json"));
+    json row = {{"point", p.slug}, {"values", p.values}};
+    row["kappa"] = s.at("kappa");
+    row["alpha"] = s.at("alpha");
+    row["particles"] = s.at("particles");
+    row["collisions"] = s.at("collisions");
+    row["wall_seconds"] = s.at("wall_seconds");
+    rows.push_back(row);
+    s["scan_values"] = p.values;
+    summaries.push_back(std::move(s));
+  }
+  out.csv = scan_table_csv(req.axes, summaries);
+  json axes = json::array();
+  for (const ScanAxis& a : req.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
+  out.document = {{"command", "scan"}, {"scene", req.scene_path}, {"overrides", req.overrides}, {"axes", axes},
+                  {"points", rows},    {"ran", out.ran},          {"skipped", out.skipped}};
+  write_file_atomic(dir / "table.csv", out.csv);
+  write_file_atomic(dir / "scan.json", out.document.dump(2) + "\n");
+  return out;
+}
+
+}  // namespace rotleak

@@ -1,0 +1,69 @@
+// Families of scenes: `rotleak scan SCENE --over KEY=VALUES ... --out DIR` runs the product of the
+// listed values, each point an ordinary run directory DIR/points/<slug> (run by simulate(), so
+// everything that reads a run reads a point), then writes DIR/table.csv and DIR/scan.json from the
+// points' summary.json files. Points run one after another with all threads inside each, so the
+// table depends only on the inputs. A point whose directory holds a complete run of the same scene
+// (its scene.toml compared with the point's scene, not assumed) is skipped: an interrupted scan
+// resumes at its unfinished point.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/json.hpp"
+#include "run/pipeline.hpp"
+
+namespace rotleak {
+
+/// One swept key and its values, each an exact text handed to the scene like `--set KEY=VALUE`.
+struct ScanAxis {
+  std::string key;
+  std::vector<std::string> values;
+};
+
+/// Expands a value list: comma-separated items (commas inside parentheses belong to the item),
+/// each a literal value kept verbatim (`2/3`, `ln(19)`, `4001/7000`), or
+/// `linspace(a, b, n)`: n exact values a + k (b - a) / (n - 1) from decimal a, b (rational
+/// arithmetic; printed as a terminating decimal when there is one, else p/q), or
+/// `logspace(a, b, n)`: n values from a to b (a, b > 0 decimals) equally spaced in log, the ends as
+/// written and the others rounded to 6 significant digits (computed in MPFR, 128 bits).
+/// Throws InputError naming `option` and the offending text.
+std::vector<std::string> expand_values(const std::string& option, const std::string& text);
+
+/// "KEY=VALUES" (the --over argument). Throws InputError("--over", ...).
+ScanAxis parse_axis(const std::string& text);
+
+/// The directory name of a point: its index (zero-padded) and its values, in [A-Za-z0-9.+-_] only.
+std::string point_slug(std::size_t index, std::size_t count, const std::vector<ScanAxis>& axes,
+                       const std::vector<std::size_t>& choice);
+
+struct ScanRequest {
+  std::string scene_path;
+  std::vector<std::string> overrides;  ///< --set, applied before the swept keys
+  std::vector<ScanAxis> axes;
+  std::filesystem::path out;
+  bool force = false;  ///< redo every point
+  std::string engine = "auto";
+  RunOptions run;  ///< threads and the per-point progress line
+  Note note;       ///< per-point status lines (points done, ETA)
+};
+
+struct ScanOutcome {
+  std::filesystem::path dir;
+  std::size_t points = 0, ran = 0, skipped = 0;
+  json document;    ///< scan.json as written
+  std::string csv;  ///< table.csv as written
+};
+
+/// Validates every point's scene first (a bad value fails before any work), runs the points that
+/// are not complete, writes table.csv and scan.json atomically.
+ScanOutcome scan(const ScanRequest& request);
+
+/// table.csv from a scan directory's points (the swept keys, then kappa, kappa_err, alpha,
+/// alpha_err, alpha_bound, particles, collisions); inputs-only, so byte-identical for any thread
+/// count and for a resumed scan. Timings are in scan.json only.
+std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries);
+
+}  // namespace rotleak
