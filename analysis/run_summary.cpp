@@ -12,6 +12,9 @@ RunSummary summarise(const Scene& scene, RunResult result) {
   s.kappa = fit_kappa(s.curve, scene.kappa_window.from, scene.kappa_window.to);
   s.alpha = find_alpha(s.curve, s.kappa);
   s.tail = fit_tail(s.curve, s.alpha);
+  s.tail_class = classify_tail(scene, s.curve, s.alpha);
+  s.leak_times = leak_times(scene);
+  s.rate_jumps = decay_rate_jumps(s.curve, 100);
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "analysis/fits.hpp"
+#include "analysis/regimes.hpp"
 #include "sim/engine.hpp"
 #include "sim/scene.hpp"
 #include "sim/survival.hpp"
@@ -20,6 +21,9 @@ struct RunSummary {
   KappaFit kappa;
   AlphaResult alpha;
   TailFit tail;
+  TailClass tail_class;                    ///< none / transient / persistent and the regime, from the measured P(t)
+  LeakTimes leak_times;                    ///< the geometry's predicted time scales
+  std::vector<RateJump> rate_jumps;        ///< measured jumps of the decay rate (window 100)
   std::optional<std::string> tier_choice;  ///< why, when the scene asked for run.tier = auto
 
   double collisions_per_second() const {

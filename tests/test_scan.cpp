@@ -85,7 +85,9 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   EXPECT_EQ(whole.ran, 4u);
   const std::string table = read(base / "whole" / "table.csv");
   EXPECT_EQ(table.substr(0, table.find('\n')),
-            "leak.omega,leak.width,kappa,kappa_err,alpha,alpha_err,alpha_bound,particles,collisions");
+            "leak.omega,leak.width,kappa,kappa_err,alpha,alpha_err,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_"
+            "sweep,particles,"
+            "collisions");
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
 
   // One thread, and then as if killed during point 2 (its directory never committed) and with point 3

@@ -132,6 +132,19 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
                         {"window", {tail.from, tail.to}},
                         {"points", tail.points},
                         {"method", tail.method}};
+  const TailClass& tc = r.tail_class;
+  s["tail"] = {{"class", tc.tail},
+               {"regime", tc.regime},
+               {"tail_end", nullable(tc.tail_end)},
+               {"end_exponent", tc.end_exponent},
+               {"rule", tc.note}};
+  json jumps = json::array();
+  for (const RateJump& j : r.rate_jumps)
+    jumps.push_back({{"t", j.t}, {"rate_before", j.rate_before}, {"rate_after", j.rate_after}});
+  s["rate_jumps"] = jumps;
+  s["predicted"] = {{"tau1", nullable(r.leak_times.tau1)},
+                    {"tau2", nullable(r.leak_times.tau2)},
+                    {"omega_sweep", r.leak_times.omega_sweep}};
   s["files"] = files;
   return s;
 }
@@ -168,6 +181,12 @@ std::string summary_text(const RunSummary& r) {
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);
+  appendf(out, "tail  = %s, regime %s", r.tail_class.tail.c_str(), r.tail_class.regime.c_str());
+  if (r.tail_class.tail_end) appendf(out, " (gone by t = %g)", *r.tail_class.tail_end);
+  if (r.leak_times.tau1)
+    appendf(out, "; predicted: leading edge on the lower edge from tau1 = %.6g to tau2 = %.6g", *r.leak_times.tau1,
+            *r.leak_times.tau2);
+  out += "\n";
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
             static_cast<unsigned long long>(r.result.tally.stuck));

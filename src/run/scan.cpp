@@ -196,7 +196,8 @@ std::string point_slug(std::size_t index, std::size_t count, const std::vector<S
 std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries) {
   std::string out;
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
-  out += "kappa,kappa_err,alpha,alpha_err,alpha_bound,particles,collisions\n";
+  out +=
+      "kappa,kappa_err,alpha,alpha_err,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
     for (const ScanAxis& a : axes) out += csv_field(swept.at(a.key).get<std::string>()) + ",";
@@ -204,6 +205,12 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
     const json& al = s.at("alpha");
     out += csv_number(k.at("value")) + "," + (k.at("value").is_null() ? "" : csv_number(k.at("error"))) + ",";
     out += csv_number(al.at("value")) + "," + csv_number(al.at("error")) + "," + csv_number(al.at("upper_bound")) + ",";
+    const json& tail = s.at("tail");
+    const json& pred = s.at("predicted");
+    out += tail.at("class").get<std::string>() + "," + tail.at("regime").get<std::string>() + "," +
+           csv_number(tail.at("tail_end")) + ",";
+    out += csv_number(pred.at("tau1")) + "," + csv_number(pred.at("tau2")) + "," + csv_number(pred.at("omega_sweep")) +
+           ",";
     out += csv_number(s.at("particles")) + "," + csv_number(s.at("collisions")) + "\n";
   }
   return out;
@@ -312,6 +319,9 @@ ScanOutcome scan(const ScanRequest& req) {
     json row = {{"point", p.slug}, {"values", p.values}};
     row["kappa"] = s.at("kappa");
     row["alpha"] = s.at("alpha");
+    row["tail"] = s.at("tail");
+    row["predicted"] = s.at("predicted");
+    row["rate_jumps"] = s.at("rate_jumps");
     row["particles"] = s.at("particles");
     row["collisions"] = s.at("collisions");
     row["wall_seconds"] = s.at("wall_seconds");

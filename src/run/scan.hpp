@@ -62,8 +62,8 @@ struct ScanOutcome {
 ScanOutcome scan(const ScanRequest& request);
 
 /// table.csv from a scan directory's points (the swept keys, then kappa, kappa_err, alpha,
-/// alpha_err, alpha_bound, particles, collisions); inputs-only, so byte-identical for any thread
-/// count and for a resumed scan. Timings are in scan.json only.
+/// alpha_err, alpha_bound, tail, regime, tail_end, tau1, tau2, omega_sweep, particles, collisions); inputs-only, so
+/// byte-identical for any thread count and for a resumed scan. Timings are in scan.json only.
 std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries);
 
 }  // namespace rotleak

@@ -1,0 +1,132 @@
+#include "analysis/regimes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace rotleak {
+
+namespace {
+
+double frac(double x) { return x - std::floor(x); }
+
+/// Variance of sum_k u_k ln P(i_k) from the curve's covariance of ln P.
+double log_var(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
+  double v = 0;
+  for (std::size_t a = 0; a < idx.size(); ++a)
+    for (std::size_t b = 0; b < idx.size(); ++b) v += u[a] * u[b] * c.log_cov(idx[a], idx[b]);
+  return std::max(0.0, v);
+}
+
+}  // namespace
+
+LeakTimes leak_times(const Scene& scene) {
+  LeakTimes lt;
+  const double d = scene.d.to_double(), r = scene.r.to_double(), lambda = scene.width.to_double();
+  const double s0 = scene.start.to_double(), omega = scene.omega.to_double();
+  lt.omega_sweep = lambda / (2 * r);
+  if (omega == 0) return lt;
+  lt.rotating = true;
+  const double L = 2 * d + 2 * std::numbers::pi * r;
+  const double lower_start = (d / 2 + std::numbers::pi * r) / L, lower_end = (1.5 * d + std::numbers::pi * r) / L;
+  if (omega > 0) {  // leading edge s_L + lambda/2 moving towards +s
+    const double lead = s0 + lambda / 2;
+    lt.tau1 = frac(lower_start - lead) / omega;
+    lt.tau2 = *lt.tau1 + (lower_end - lower_start) / omega;
+  } else {  // leading edge s_L - lambda/2 moving towards -s: it meets the lower edge's end first
+    const double lead = s0 - lambda / 2;
+    lt.tau1 = frac(lead - lower_end) / -omega;
+    lt.tau2 = *lt.tau1 + (lower_end - lower_start) / -omega;
+  }
+  return lt;
+}
+
+std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, double min_effective) {
+  std::vector<RateJump> out;
+  if (c.t.size() < 3) return out;
+  const double dt = c.t[1] - c.t[0];
+  const std::size_t W = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(window / dt)));
+  struct Cand {
+    double score;
+    std::size_t i;
+    RateJump j;
+  };
+  std::vector<Cand> cands;
+  for (std::size_t i = W; i + W < c.t.size(); ++i) {
+    const std::size_t a = i - W, b = i, e = i + W;
+    if (!(c.P(e) > 0) || c.effective(e) < min_effective) continue;
+    const double w = c.t[e] - c.t[b], w0 = c.t[b] - c.t[a];
+    const double r1 = (std::log(c.P(a)) - std::log(c.P(b))) / w0, r2 = (std::log(c.P(b)) - std::log(c.P(e))) / w;
+    if (!(r2 > 0) || r2 < 2 * r1) continue;
+    const double sd = std::sqrt(log_var(c, {a, b, e}, {-1 / w0, 1 / w0 + 1 / w, -1 / w}));
+    if (!(r2 - r1 > 3 * sd)) continue;
+    cands.push_back({r1 > 0 ? r2 / r1 : 1e300, i, {c.t[i], r1, r2}});
+  }
+  std::sort(cands.begin(), cands.end(), [](const Cand& x, const Cand& y) { return x.score > y.score; });
+  std::vector<std::size_t> taken;
+  for (const Cand& k : cands) {
+    bool near = false;
+    for (std::size_t t : taken) near = near || (k.i > t ? k.i - t : t - k.i) < 2 * W;
+    if (near) continue;
+    taken.push_back(k.i);
+    out.push_back(k.j);
+  }
+  std::sort(out.begin(), out.end(), [](const RateJump& x, const RateJump& y) { return x.t < y.t; });
+  return out;
+}
+
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha) {
+  TailClass k;
+  const bool rotating = scene.omega.sign() != 0;
+  auto regime = [&](const std::string& tail) {
+    if (!rotating) return std::string("stationary");
+    return std::string(tail == "transient" ? "low" : tail == "persistent" ? "high" : "mid");
+  };
+  if (!alpha.value) {
+    k.note = "no significant crossing of the exponential fit: no tail";
+    k.regime = regime(k.tail);
+    return k;
+  }
+  const double tc = alpha.crossing_time, min_eff = static_cast<double>(alpha.min_survivors);
+  // last resolved time after the crossing, and the first time P is 0 after it
+  std::size_t e = 0, zero = c.t.size();
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] < tc) continue;
+    if (c.P(i) > 0 && c.effective(i) >= min_eff) e = i;
+    if (!(c.P(i) > 0) && zero == c.t.size()) zero = i;
+  }
+  if (e == 0 || c.t[e] < tc) e = static_cast<std::size_t>(std::lower_bound(c.t.begin(), c.t.end(), tc) - c.t.begin());
+  // local exponent over the last resolved stretch [max(t_c, t_e / 1.5), t_e]
+  std::size_t a = e;
+  while (a > 0 && c.t[a - 1] >= std::max(tc, c.t[e] / 1.5)) --a;
+  double z = 0, z_se = 0;
+  if (a < e && c.t[a] > 0) {
+    const double dl = std::log(c.t[e]) - std::log(c.t[a]);
+    z = (std::log(c.P(a)) - std::log(c.P(e))) / dl;
+    z_se = std::sqrt(log_var(c, {a, e}, {1 / dl, -1 / dl}));
+  }
+  k.end_exponent = z;
+  if (zero < c.t.size() && c.t[zero] < scene.t_max) {
+    const double expected = c.effective(e) * std::pow(c.t[e] / c.t[zero], 3.0);
+    if (expected >= 6) {
+      k.tail = "transient";
+      k.tail_end = c.t[zero];
+      k.note = "tail removed: no survivor at t = " + std::to_string(c.t[zero]) +
+               " where an algebraic continuation (exponent <= 3) would keep >= 6 effective survivors";
+      k.regime = regime(k.tail);
+      return k;
+    }
+  }
+  if (z - 6 > 3 * z_se && a < e) {
+    k.tail = "transient";
+    k.tail_end = c.t[a];
+    k.note = "tail removed: the local exponent at the end of the resolved range exceeds 6 by 3 standard errors";
+  } else {
+    k.tail = "persistent";
+    k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
+  }
+  k.regime = regime(k.tail);
+  return k;
+}
+
+}  // namespace rotleak

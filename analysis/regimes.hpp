@@ -1,0 +1,55 @@
+// What a rotating leak does to the tail: the geometry's predicted time scales, the measured jumps of
+// the decay rate, and the tail classification (none / transient / persistent) and regime
+// (stationary / low / mid / high) decided from the measured P(t), never from omega thresholds.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/fits.hpp"
+#include "sim/scene.hpp"
+#include "sim/survival.hpp"
+
+namespace rotleak {
+
+/// Predictions from the geometry alone, for a leak s_L(t) = s_L(0) + omega t moving towards +s.
+struct LeakTimes {
+  bool rotating = false;
+  /// The leak's leading edge s_L + lambda/2 reaches the start of the lower straight edge (tau1) and
+  /// its end (tau2), the first time after t = 0 (mod one turn); null for a stationary leak.
+  std::optional<double> tau1, tau2;
+  /// omega above which the leak advances more than its width lambda between two bounces of a
+  /// bouncing-ball orbit (flight 2r): lambda / (2r). Below it the leak cannot step over such an orbit.
+  double omega_sweep = 0;
+};
+LeakTimes leak_times(const Scene& scene);
+
+/// A time where the local decay rate -d ln P / dt jumps up: the rate over [t, t + w] exceeds the rate
+/// over [t - w, t] by a factor of at least 2 and by 3 standard errors (P's covariance), at a local
+/// maximum of the ratio (one jump per 2w).
+struct RateJump {
+  double t = 0, rate_before = 0, rate_after = 0;
+};
+std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, double min_effective = 100);
+
+struct TailClass {
+  std::string tail = "none";       ///< none, transient, persistent
+  std::string regime;              ///< stationary, low, mid, high
+  std::optional<double> tail_end;  ///< transient: the time the tail was gone (P = 0, or the steep end began)
+  double end_exponent = 0;         ///< local -d ln P / d ln t over the last resolved stretch
+  std::string note;                ///< the rule that decided it, in words
+};
+
+/// The documented rule (docs/output.md):
+/// - none: alpha has no significant crossing (find_alpha);
+/// - transient: a significant crossing at t_c, and later the tail is removed: either P reaches 0 at
+///   t_0 < t_max where the algebraic continuation from the last resolved time (local exponent at most
+///   3) would still have kept at least 6 effective survivors (Poisson: 0 seen with 6 expected has
+///   probability 0.25%), or the local exponent over the last resolved stretch exceeds 6 by 3
+///   standard errors;
+/// - persistent: a significant crossing and neither of those.
+/// regime: stationary for omega = 0, else low (transient), mid (none), high (persistent).
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha);
+
+}  // namespace rotleak

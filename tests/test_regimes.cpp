@@ -1,0 +1,129 @@
+// Tail classification on synthetic P(t) with known answers (pure exponential, exponential + c/t, a tail
+// cut off at a known time, each also at small particle counts), the measured jump of the decay rate,
+// and the predicted tau1, tau2 against a hand calculation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "analysis/regimes.hpp"
+#include "io/scene_file.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+const double kKappa = 4.4e-3;
+
+// Survivor counts on t = 0..t_max (dt = 1) from sampled lifetimes.
+template <class Lifetime>
+SurvivalCurve sample_curve(std::uint64_t n, double t_max, Lifetime&& life, std::mt19937_64& gen) {
+  std::vector<std::uint64_t> escapes(static_cast<std::size_t>(t_max) + 1, 0);
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const double t = life(gen);
+    if (t < t_max) ++escapes[static_cast<std::size_t>(t)];
+  }
+  SurvivalCurve c;
+  c.particles = n;
+  std::uint64_t alive = n;
+  for (std::size_t k = 0; k <= static_cast<std::size_t>(t_max); ++k) {
+    c.t.push_back(static_cast<double>(k));
+    c.survivors.push_back(alive);
+    if (k < escapes.size()) alive -= escapes[k];
+  }
+  return c;
+}
+
+// A fraction w of the particles lives in an algebraic tail P_tail(t) = t0 / (t0 + t) (t0 = 1000); the
+// rest decays exponentially. With cut > 0 the tail is removed at t = cut: its particles then escape at
+// rate `removal` (infinite: all at once).
+struct Mixture {
+  double w, cut = 0, removal = INFINITY;
+  double operator()(std::mt19937_64& g) const {
+    std::uniform_real_distribution<double> u(0, 1);
+    if (u(g) >= w) return std::exponential_distribution<double>(kKappa)(g);
+    double t = 1000 * (1 / (1 - u(g)) - 1);
+    if (cut > 0 && t > cut) t = std::isinf(removal) ? cut : cut + std::exponential_distribution<double>(removal)(g);
+    return t;
+  }
+};
+
+Scene scene(const std::string& omega) { return parse_scene("[leak]\nomega = \"" + omega + "\"\n"); }
+
+TailClass classify(const SurvivalCurve& c, const std::string& omega = "1e-4") {
+  const KappaFit k = fit_kappa(c, 0, 300);
+  return classify_tail(scene(omega), c, find_alpha(c, k));
+}
+
+}  // namespace
+
+TEST(ClassifyTail, PureExponentialHasNone) {
+  std::mt19937_64 gen(1);
+  const TailClass k = classify(sample_curve(1000000, 20000, Mixture{0}, gen));
+  EXPECT_EQ(k.tail, "none");
+  EXPECT_EQ(k.regime, "mid");
+}
+
+TEST(ClassifyTail, AnAlgebraicTailIsPersistent) {
+  std::mt19937_64 gen(2);
+  const TailClass k = classify(sample_curve(1000000, 20000, Mixture{5e-4}, gen));
+  EXPECT_EQ(k.tail, "persistent") << k.note;
+  EXPECT_EQ(k.regime, "high");
+  EXPECT_NEAR(k.end_exponent, 1, 0.5);  // t0 / (t0 + t): local exponent t / (t0 + t) ~ 0.95 at the end
+  EXPECT_EQ(classify(sample_curve(1000000, 20000, Mixture{5e-4}, gen), "0").regime, "stationary");
+  // small counts: 10^5 particles with a stronger tail (500 tail particles, 24 left at t_max)
+  EXPECT_EQ(classify(sample_curve(100000, 20000, Mixture{5e-3}, gen)).tail, "persistent");
+  // a tail too weak for 10^5 particles (crossing below 100 survivors) is not claimed
+  EXPECT_EQ(classify(sample_curve(100000, 20000, Mixture{5e-4}, gen)).tail, "none");
+}
+
+TEST(ClassifyTail, ATailRemovedAtAKnownTimeIsTransient) {
+  std::mt19937_64 gen(3);
+  const TailClass k = classify(sample_curve(1000000, 20000, Mixture{5e-4, 6000}, gen));
+  EXPECT_EQ(k.tail, "transient") << k.note;
+  EXPECT_EQ(k.regime, "low");
+  ASSERT_TRUE(k.tail_end.has_value());
+  EXPECT_NEAR(*k.tail_end, 6001, 1);  // the first grid time with no survivor
+  // removed at a finite rate (0.02: P falls e-fold per 50 time units) and at small counts
+  const TailClass s = classify(sample_curve(200000, 20000, Mixture{2.5e-3, 6000, 0.02}, gen));
+  EXPECT_EQ(s.tail, "transient") << s.note;
+  // the same tail kept to t_max is not called transient at that count
+  EXPECT_EQ(classify(sample_curve(200000, 20000, Mixture{2.5e-3}, gen)).tail, "persistent");
+}
+
+TEST(DecayRateJumps, FindsTheRemovalOfATail) {
+  std::mt19937_64 gen(4);
+  // tail removed at rate 0.002 from t = 4000 (P_tail falls from 2e-4 over the next ~2000)
+  const SurvivalCurve c = sample_curve(4000000, 9000, Mixture{1e-3, 4000, 0.002}, gen);
+  const std::vector<RateJump> j = decay_rate_jumps(c, 100);
+  ASSERT_FALSE(j.empty());
+  bool found = false;
+  for (const RateJump& x : j) found = found || std::abs(x.t - 4000) < 100;
+  EXPECT_TRUE(found) << "first jump at " << j.front().t;
+  // a pure exponential has no upward jump (3 standard errors, factor 2)
+  EXPECT_TRUE(decay_rate_jumps(sample_curve(1000000, 3000, Mixture{0}, gen), 100).empty());
+}
+
+// tau by hand, d = 2, r = 1, lambda = 0.01, omega = 1e-4: L = 4 + 2 pi = 10.2831853; the lower edge is
+// s in [(1 + pi) / L, (3 + pi) / L] = [0.4027539, 0.5972461]; the leading edge s0 + 0.005 reaches it
+// after (0.4027539 - s0 - 0.005) / 1e-4 (mod one turn) and leaves it 0.1944923 / 1e-4 = 1944.923 later.
+// Moving to -s (omega < 0) the leading edge is s0 - 0.005 and meets the edge's end 0.5972461 first:
+// after (s0 - 0.005 - 0.5972461 mod 1) / 1e-4.
+TEST(LeakTimes, TauOneAndTwoByHand) {
+  struct Row {
+    const char *start, *omega;
+    double tau1, tau2;
+  } rows[] = {{"0", "1e-4", 3977.539, 5922.461},
+              {"0.25", "1e-4", 1477.539, 3422.461},
+              {"0.7", "1e-4", 6977.539, 8922.461},
+              {"0.3", "-1e-4", 6977.539, 8922.461}};
+  for (const Row& r : rows) {
+    const Scene s = parse_scene(std::string("[leak]\nstart = \"") + r.start + "\"\nomega = \"" + r.omega + "\"\n");
+    const LeakTimes lt = leak_times(s);
+    ASSERT_TRUE(lt.tau1 && lt.tau2);
+    EXPECT_NEAR(*lt.tau1, r.tau1, 0.01) << r.start << " " << r.omega;
+    EXPECT_NEAR(*lt.tau2, r.tau2, 0.01) << r.start << " " << r.omega;
+    EXPECT_DOUBLE_EQ(lt.omega_sweep, 0.005);
+  }
+  EXPECT_FALSE(leak_times(parse_scene("[leak]\nomega = \"0\"\n")).tau1.has_value());
+}
