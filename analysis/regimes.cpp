@@ -126,6 +126,17 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
     k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
   }
   k.regime = regime(k.tail);
+  const LeakTimes lt = leak_times(scene);
+  std::size_t last = e;  // last time with a survivor
+  for (std::size_t i = e; i < c.t.size(); ++i)
+    if (c.P(i) > 0) last = i;
+  if (k.tail == "persistent" && lt.tau2 && *lt.tau2 > c.t[last]) {
+    // the leak has not swept the lower edge by the end of the resolved range: whether it removes the
+    // tail (low) or not (high) was not observed
+    k.regime = "undecided";
+    k.note += "; the leak's leading edge leaves the lower edge only at tau2 = " + std::to_string(*lt.tau2) +
+              ", after the last survivor: run longer (t_max > tau2) to see whether the tail is removed";
+  }
   return k;
 }
 

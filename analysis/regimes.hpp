@@ -49,7 +49,9 @@ struct TailClass {
 ///   probability 0.25%), or the local exponent over the last resolved stretch exceeds 6 by 3
 ///   standard errors;
 /// - persistent: a significant crossing and neither of those.
-/// regime: stationary for omega = 0, else low (transient), mid (none), high (persistent).
+/// regime: stationary for omega = 0, else low (transient), mid (none), high (persistent), and
+/// undecided for a persistent tail when the leak's leading edge leaves the lower straight edge (tau2)
+/// only after the last survivor: its removal could not have been seen.
 TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha);
 
 }  // namespace rotleak

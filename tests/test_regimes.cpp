@@ -69,6 +69,10 @@ TEST(ClassifyTail, AnAlgebraicTailIsPersistent) {
   const TailClass k = classify(sample_curve(1000000, 20000, Mixture{5e-4}, gen));
   EXPECT_EQ(k.tail, "persistent") << k.note;
   EXPECT_EQ(k.regime, "high");
+  // the same curve with a leak that reaches the lower edge only after t_max: the removal was not observable
+  const SurvivalCurve slow = sample_curve(1000000, 20000, Mixture{5e-4}, gen);
+  EXPECT_EQ(classify(slow, "1e-5").regime, "undecided");
+  EXPECT_EQ(classify(slow, "2/3").regime, "high");
   EXPECT_NEAR(k.end_exponent, 1, 0.5);  // t0 / (t0 + t): local exponent t / (t0 + t) ~ 0.95 at the end
   EXPECT_EQ(classify(sample_curve(1000000, 20000, Mixture{5e-4}, gen), "0").regime, "stationary");
   // small counts: 10^5 particles with a stronger tail (500 tail particles, 24 left at t_max)

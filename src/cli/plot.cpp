@@ -41,8 +41,10 @@ int run_plot_script(const std::string& name, const std::string& dir, bool quiet_
 
 int draw_plots(const std::string& run_dir) {
   namespace fs = std::filesystem;
+  if (fs::exists(fs::path(run_dir) / "scan.json")) return run_plot_script("plot_scan.py", run_dir);
   if (!fs::exists(fs::path(run_dir) / "summary.json"))
-    throw InputError("DIR", "\"" + run_dir + "\"", "must be a complete run directory (with summary.json)");
+    throw InputError("DIR", "\"" + run_dir + "\"",
+                     "must be a complete run directory (with summary.json) or a scan directory (with scan.json)");
   return run_plot_script("plot_run.py", run_dir);
 }
 
@@ -59,7 +61,7 @@ int plot_after_run(const std::string& run_dir, const std::string& script, bool q
 Command add_plot(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
   CLI::App* sub = app.add_subcommand("plot", "Draw P(t) (log-log and semi-log, with the fit) and f_c(s) as PNG");
-  sub->add_option("dir", *dir, "Run directory written by rotleak simulate")->required();
+  sub->add_option("dir", *dir, "Run directory (rotleak simulate) or scan directory (rotleak scan)")->required();
   return {sub, [dir] { return draw_plots(*dir); }};
 }
 

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/continued_fraction.hpp"
+#include "analysis/covering.hpp"
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/exact.hpp"
@@ -145,6 +147,32 @@ std::string csv_field(const std::string& s) {
 
 }  // namespace
 
+json omega_number_theory(const Scene& scene) {
+  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
+  json out;
+  const CertifiedExpansion cf = certified_cf(x, kScanPartialQuotients);
+  std::string terms;
+  for (std::size_t i = 0; i < cf.terms.size() && i < kScanPartialQuotients; ++i)
+    terms += (i ? " " : "") + cf.terms[i].get_str();
+  out["cf_2r_omega"] = terms;
+  const BestApproximations best = best_approximations(x, mpz_class(static_cast<unsigned long>(kScanMaxDen)));
+  if (!best.list.empty()) {
+    out["best_approximation"] = best.list.back().text();
+    out["best_error"] = signed_error(x, best.list.back()).approx;
+  }
+  CoveringInput in;
+  in.omega = scene.omega;
+  in.delta = ExactReal::parse(kScanCoveringDelta);
+  in.lambda = scene.width;
+  in.d = scene.d;
+  in.r = scene.r;
+  const Covering c = mupo_covering(in);
+  out["covering_delta"] = kScanCoveringDelta;
+  out["covering_zero_measure"] = c.zero_measure;
+  out["covering_max_zero_gap"] = c.max_zero_gap;
+  return out;
+}
+
 std::vector<std::string> expand_values(const std::string& option, const std::string& text) {
   std::vector<std::string> values;
   for (const std::string& item : split_top(option, text)) {
@@ -211,6 +239,10 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
            csv_number(tail.at("tail_end")) + ",";
     out += csv_number(pred.at("tau1")) + "," + csv_number(pred.at("tau2")) + "," + csv_number(pred.at("omega_sweep")) +
            ",";
+    const json& nt = s.at("number_theory");
+    out += nt.at("cf_2r_omega").get<std::string>() + "," + nt.value("best_approximation", std::string()) + "," +
+           (nt.contains("best_error") ? csv_number(nt.at("best_error")) : std::string()) + "," +
+           csv_number(nt.at("covering_zero_measure")) + "," + csv_number(nt.at("covering_max_zero_gap")) + ",";
     out += csv_number(s.at("particles")) + "," + csv_number(s.at("collisions")) + "\n";
   }
   return out;
@@ -229,7 +261,7 @@ ScanOutcome scan(const ScanRequest& req) {
   struct Point {
     std::vector<std::string> overrides;
     std::string slug, inputs;
-    json values;
+    json values, number_theory;
   };
   std::vector<Point> points(count);
   std::vector<std::size_t> choice(req.axes.size(), 0);
@@ -250,6 +282,7 @@ ScanOutcome scan(const ScanRequest& req) {
     const Scene scene = load_scene(req.scene_path, p.overrides);  // InputError names the key and value
     check_resources(scene, req.run.threads);
     p.inputs = scene_to_toml(scene) + "# engine = " + req.engine + "\n";
+    p.number_theory = omega_number_theory(scene);
   }
 
   const fs::path dir = RunDirectory::normalise(req.out);
@@ -322,11 +355,13 @@ ScanOutcome scan(const ScanRequest& req) {
     row["tail"] = s.at("tail");
     row["predicted"] = s.at("predicted");
     row["rate_jumps"] = s.at("rate_jumps");
+    row["number_theory"] = p.number_theory;
     row["particles"] = s.at("particles");
     row["collisions"] = s.at("collisions");
     row["wall_seconds"] = s.at("wall_seconds");
     rows.push_back(row);
     s["scan_values"] = p.values;
+    s["number_theory"] = p.number_theory;
     summaries.push_back(std::move(s));
   }
   out.csv = scan_table_csv(req.axes, summaries);

@@ -57,12 +57,23 @@ struct ScanOutcome {
   std::string csv;  ///< table.csv as written
 };
 
+/// The number theory beside a point's omega: the first kScanPartialQuotients certified partial quotients of
+/// x = 2 r omega (space-separated), its best approximation of the first kind with denominator <=
+/// kScanMaxDen and the signed error x - p/q, and the MUPO covering's zero measure and largest zero gap
+/// at delta = kScanCoveringDelta (analysis/covering.hpp).
+inline constexpr std::size_t kScanPartialQuotients = 8;
+inline constexpr unsigned long kScanMaxDen = 20;  // the small denominators that keep a tail
+inline constexpr const char* kScanCoveringDelta = "1e-7";
+json omega_number_theory(const Scene& scene);
+
 /// Validates every point's scene first (a bad value fails before any work), runs the points that
 /// are not complete, writes table.csv and scan.json atomically.
 ScanOutcome scan(const ScanRequest& request);
 
 /// table.csv from a scan directory's points (the swept keys, then kappa, kappa_err, alpha,
-/// alpha_err, alpha_bound, tail, regime, tail_end, tau1, tau2, omega_sweep, particles, collisions); inputs-only, so
+/// alpha_err, alpha_bound, tail, regime, tail_end, tau1, tau2, omega_sweep, cf_2r_omega,
+/// best_approximation, best_error, covering_zero_measure, covering_max_zero_gap, particles,
+/// collisions); summaries carry "scan_values" and "number_theory" beside summary.json's fields; inputs-only, so
 /// byte-identical for any thread count and for a resumed scan. Timings are in scan.json only.
 std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries);
 

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""Draw a rotleak scan directory: scan_survival.png (every point's P(t), log-log and semi-log, error
+bands where the run has them), and per swept key scan_<key>.png (kappa and alpha against the key,
+bounds drawn as downward arrows, log axes where the key spans decades) with the regime of each point
+as a coloured strip along the key, and the predicted omega_sweep marked when the key is leak.omega.
+
+Usage: plot_scan.py SCAN_DIR     (rotleak plot SCAN_DIR calls this)
+Needs Debian's python3-matplotlib (run with /usr/bin/python3)."""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from plot_run import exact_text, read_csv, run_main, save  # noqa: E402
+
+REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4"}
+
+
+def value_of(text):
+    """A swept value as a float for drawing ("2/3", "1e-4"); irrationals by name are None."""
+    v = exact_text(text)
+    if v is None:
+        try:
+            v = float(text)
+        except ValueError:
+            return None
+    return v
+
+
+def curves(scan_dir, doc):
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5))
+    for k, point in enumerate(doc["points"]):
+        _, rows = read_csv(os.path.join(scan_dir, "points", point["point"], "survival.csv"))
+        rows = [r for r in rows if int(r[1]) > 0 and float(r[0]) > 0]
+        t = [float(r[0]) for r in rows]
+        P = [float(r[2]) for r in rows]
+        label = ", ".join("%s = %s" % (key.split(".")[-1], v) for key, v in point["values"].items())
+        for ax in (ax1, ax2):
+            ax.plot(t, P, lw=1, color="C%d" % (k % 10), label=label)
+            if rows and len(rows[0]) > 3:
+                e = [float(r[3]) for r in rows]
+                ax.fill_between(t, [max(p - s, p * 1e-3) for p, s in zip(P, e)], [p + s for p, s in zip(P, e)],
+                                color="C%d" % (k % 10), alpha=0.2, lw=0)
+    for ax, title in ((ax1, "log-log"), (ax2, "semi-log")):
+        ax.set_yscale("log")
+        ax.set_xlabel("t")
+        ax.set_ylabel("P(t)")
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+    ax1.set_xscale("log")
+    ax2.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    save(fig, os.path.join(scan_dir, "scan_survival.png"))
+
+
+def against_key(scan_dir, doc, key):
+    pts = []
+    for point in doc["points"]:
+        x = value_of(point["values"][key])
+        if x is not None:
+            pts.append((x, point))
+    if not pts:
+        return None
+    xs = [x for x, _ in pts]
+    logx = min(xs) > 0 and max(xs) / min(xs) >= 30
+    fig, (ax_k, ax_a, ax_r) = plt.subplots(3, 1, figsize=(8, 8), sharex=True,
+                                           gridspec_kw={"height_ratios": [3, 3, 0.6]})
+    kx = [(x, p["kappa"]) for x, p in pts if p["kappa"]["value"] is not None]
+    ax_k.errorbar([x for x, _ in kx], [k["value"] for _, k in kx], yerr=[k["error"] for _, k in kx], fmt="o-", ms=4)
+    ax_k.set_ylabel("kappa")
+    ax_k.grid(True, which="both", alpha=0.3)
+    val = [(x, p["alpha"]) for x, p in pts if p["alpha"]["value"] is not None]
+    bnd = [(x, p["alpha"]) for x, p in pts if p["alpha"]["value"] is None and p["alpha"]["upper_bound"] is not None]
+    if val:
+        ax_a.errorbar([x for x, _ in val], [a["value"] for _, a in val], yerr=[a["error"] for _, a in val], fmt="o",
+                      ms=4, label="alpha")
+    if bnd:
+        ax_a.scatter([x for x, _ in bnd], [a["upper_bound"] for _, a in bnd], marker="v", color="C1",
+                     label="upper bound (no tail resolved)")
+    ax_a.set_yscale("log")
+    ax_a.set_ylabel("alpha")
+    ax_a.grid(True, which="both", alpha=0.3)
+    ax_a.legend(fontsize=8)
+    for x, p in pts:  # the regime strip
+        ax_r.scatter([x], [0], marker="s", s=120, color=REGIME_COLOURS.get(p["tail"]["regime"], "k"))
+    for name, colour in REGIME_COLOURS.items():
+        ax_r.scatter([], [], marker="s", color=colour, label=name)
+    ax_r.set_yticks([])
+    ax_r.legend(fontsize=7, ncol=5, loc="upper center", bbox_to_anchor=(0.5, -0.6))
+    sweep = doc["points"][0]["predicted"]["omega_sweep"]
+    if key == "leak.omega" and min(xs) / 2 <= sweep <= max(xs) * 2:  # only where it is on the axis
+        for ax in (ax_k, ax_a, ax_r):
+            ax.axvline(sweep, color="k", ls=":", lw=1)
+        ax_a.text(sweep, ax_a.get_ylim()[1], " omega_sweep", fontsize=7, va="top")
+    if logx:
+        ax_r.set_xscale("log")
+    ax_r.set_xlabel(key)
+    fig.suptitle("scan over %s" % key)
+    fig.tight_layout()
+    name = "scan_%s.png" % key.replace(".", "_")
+    save(fig, os.path.join(scan_dir, name))
+    return name
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: plot_scan.py SCAN_DIR")
+    scan_dir = sys.argv[1]
+    with open(os.path.join(scan_dir, "scan.json")) as f:
+        doc = json.load(f)
+    curves(scan_dir, doc)
+    drew = ["scan_survival.png"]
+    for axis in doc["axes"]:
+        name = against_key(scan_dir, doc, axis["key"])
+        if name:
+            drew.append(name)
+    print("drew " + ", ".join(os.path.join(scan_dir, d) for d in drew))
+
+
+if __name__ == "__main__":
+    run_main(main)
