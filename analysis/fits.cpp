@@ -125,9 +125,11 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
   return k;
 }
 
-AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor, std::uint64_t min_survivors) {
+AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor, double sigma,
+                       std::uint64_t min_survivors) {
   AlphaResult a;
   a.factor = factor;
+  a.sigma = sigma;
   a.min_survivors = min_survivors;
   if (!k.ok) {
     a.note = "no kappa fit";
@@ -149,10 +151,10 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
       // extrapolated line's) above the line: a lucky particle of tiny weight is not a tail.
       const double P = c.P(i), fit = std::exp(line);
       const double se = std::hypot(alpha_p_err(c, i, fit), fit * k.log_se_at(c.t[i]));
-      if (!(P - fit > 3 * se)) {
+      if (!(P - fit > sigma * se)) {
         a.resolved_until = c.t[i];
         a.crossing_not_significant = true;
-        a.upper_bound = P + 3 * alpha_p_err(c, i, fit);
+        a.upper_bound = P + sigma * alpha_p_err(c, i, fit);
         a.note =
             "P crosses factor x the fit here, but is not 3 standard errors above the fit: not significant; P + 3 "
             "errors bounds alpha from above";
@@ -185,7 +187,7 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
     if (c.t[i] < k.from) continue;
     const double fit = std::exp(k.log_amplitude - k.value * c.t[i]);
     const double se = std::hypot(alpha_p_err(c, i, fit), factor * fit * k.log_se_at(c.t[i]));
-    const double ub = c.P(i) + std::max(3 * se, zero_events);
+    const double ub = c.P(i) + std::max(sigma * se, zero_events);
     if (!(ub < factor * fit)) break;
     best = std::min(best, ub);
     a.bound_until = c.t[i];

@@ -39,6 +39,7 @@ struct AlphaResult {
   double bound_until = 0;                 ///< no crossing: last t where P's upper limit lies below factor x the fit
   bool crossing_not_significant = false;  ///< P crossed factor x the fit at resolved_until, within 3 errors of it
   double factor = 10;
+  double sigma = 3;  ///< standard errors P must lie above the fit for the crossing to count
   std::uint64_t min_survivors = 100;
   std::string note;
 };
@@ -53,7 +54,7 @@ struct TailFit {
 };
 
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
-AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10,
+AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10, double sigma = 3,
                        std::uint64_t min_survivors = 100);
 TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a);
 

@@ -33,5 +33,8 @@ struct RunSummary {
 
 /// The curve and the three fits (kappa on the scene's window, alpha, the tail exponent).
 RunSummary summarise(const Scene& scene, RunResult result);
+/// The fits, the tail class, the predictions and the rate jumps of s.curve under s.scene's fit keys
+/// (summarise calls it; `rotleak fit` calls it on a curve read back from survival.csv).
+void fit_curve(RunSummary& s);
 
 }  // namespace rotleak

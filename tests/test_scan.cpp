@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "numeric/input.hpp"
+#include "run/refit.hpp"
 #include "run/scan.hpp"
 
 namespace rotleak {
@@ -118,6 +119,58 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   bad.axes = {parse_axis("leak.width=0.01,-3")};
   EXPECT_THROW(scan(bad), InputError);
   EXPECT_FALSE(fs::exists(base / "bad"));
+  fs::remove_all(base);
+}
+
+}  // namespace
+}  // namespace rotleak
+
+namespace rotleak {
+namespace {
+
+// rotleak fit: a saved run refitted under its own keys reproduces the summary simulate wrote; under
+// new fit keys it equals a run simulated with them; a scan re-run with new fit keys refits its points
+// (no simulation) to the table a fresh scan with those keys writes.
+TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
+  const fs::path base = fs::temp_directory_path() / ("rotleak_refit_test_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  const std::string scene = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  auto sim = [&](const fs::path& out, std::vector<std::string> sets) {
+    SimulateRequest r;
+    r.scene_path = scene;
+    r.overrides = {"ensemble.particles=200000"};
+    for (auto& s : sets) r.overrides.push_back(s);
+    r.out = out;
+    return simulate(r).document;
+  };
+  const json original = sim(base / "a", {});
+  const json same = refit(base / "a", {}).document;
+  for (const char* key : {"kappa", "alpha", "tail_exponent", "tail", "rate_jumps", "predicted", "scene"})
+    EXPECT_EQ(same.at(key), original.at(key)) << key;
+  EXPECT_TRUE(fs::exists(base / "a" / "summary.prev.json"));
+
+  const std::vector<std::string> keys = {"fit.kappa_window=[100, 500]", "fit.alpha_factor=5", "fit.alpha_sigma=4"};
+  const json refitted = refit(base / "a", keys).document;
+  const json direct = sim(base / "b", keys);
+  for (const char* key : {"kappa", "alpha", "tail_exponent", "tail"})
+    EXPECT_EQ(refitted.at(key), direct.at(key)) << key;
+  EXPECT_NE(refitted.at("kappa"), original.at("kappa"));
+  EXPECT_EQ(refitted.at("alpha").at("factor"), 5.0);
+  EXPECT_THROW(refit(base / "a", {"ensemble.particles=5"}), InputError);
+
+  ScanRequest r = request(base / "scan", 2);
+  const std::string table10 = scan(r).csv;
+  r.overrides.push_back("fit.alpha_factor=5");
+  const ScanOutcome again = scan(r);
+  EXPECT_EQ(again.ran, 0u) << "a change of fit keys must not simulate again";
+  ScanRequest f = request(base / "fresh", 2);
+  f.overrides.push_back("fit.alpha_factor=5");
+  scan(f);
+  EXPECT_EQ(read(base / "scan" / "table.csv"), read(base / "fresh" / "table.csv"));
+  EXPECT_NE(read(base / "scan" / "table.csv"), table10);
+  // `rotleak fit` on the scan directory, back to factor 10, gives the first table again
+  refit(base / "scan", {"fit.alpha_factor=10"});
+  EXPECT_EQ(read(base / "scan" / "table.csv"), table10);
   fs::remove_all(base);
 }
 

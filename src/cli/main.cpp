@@ -12,11 +12,11 @@ int main(int argc, char** argv) {
   CLI::App app{"rotleak: open chaotic billiards with a rotating leak"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + ")");
-  const std::vector<rotleak::cli::Command> commands{rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),
-                                                    rotleak::cli::add_omega(app),    rotleak::cli::add_covering(app),
-                                                    rotleak::cli::add_shadow(app),   rotleak::cli::add_lyapunov(app),
-                                                    rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app),
-                                                    rotleak::cli::add_verify(app),   rotleak::cli::add_scan(app)};
+  const std::vector<rotleak::cli::Command> commands{
+      rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),    rotleak::cli::add_omega(app),
+      rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),  rotleak::cli::add_lyapunov(app),
+      rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app), rotleak::cli::add_verify(app),
+      rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

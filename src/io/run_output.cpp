@@ -24,6 +24,36 @@ std::string survival_csv(const SurvivalCurve& curve) {
   return out;
 }
 
+SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
+  SurvivalCurve c;
+  c.particles = scene.particles;
+  c.weighted = scene.sampling.kind != SamplingKind::uniform;
+  c.max_weight = c.weighted ? 1 / scene.sampling.eps : 1;
+  const double n = static_cast<double>(scene.particles);
+  std::size_t pos = text.find('\n');
+  if (pos == std::string::npos || text.compare(0, pos, "t,survivors,P,P_err") != 0)
+    throw std::runtime_error("survival.csv: expected the header t,survivors,P,P_err");
+  std::size_t line = 1;
+  while (++pos < text.size()) {
+    const std::size_t end = text.find('\n', pos);
+    const std::string row = text.substr(pos, end - pos);
+    ++line;
+    double t = 0, P = 0, err = 0;
+    unsigned long long k = 0;
+    if (std::sscanf(row.c_str(), "%lf,%llu,%lf,%lf", &t, &k, &P, &err) != 4)
+      throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
+    c.t.push_back(t);
+    c.survivors.push_back(k);
+    if (c.weighted) {
+      c.P_w.push_back(P);
+      c.Q.push_back(err * err * n + P * P);  // P_err = sqrt((Q - P^2) / N)
+    }
+    if (end == std::string::npos) break;
+    pos = end;
+  }
+  return c;
+}
+
 std::string density_csv(const Scene& scene, const Tally& tally) {
   const auto& spec = *scene.collision_density;
   const std::size_t bins = static_cast<std::size_t>(spec.bins);
@@ -88,29 +118,10 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   return j;
 }
 
-json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
-  const Scene& scene = r.scene;
+void put_fits(json& s, const RunSummary& r) {
   const KappaFit& kappa = r.kappa;
   const AlphaResult& alpha = r.alpha;
   const TailFit& tail = r.tail;
-  json s;
-  s["rotleak"] = {{"version", kVersion}, {"git", kGitDescribe}};
-  s["command"] = "simulate";
-  s["scene"] = scene_json(scene);
-  s["seed"] = scene.seed;
-  s["tier"] = to_string(scene.tier);
-  if (r.tier_choice)
-    s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
-  s["engine"] = to_string(r.result.engine);
-  s["threads"] = r.result.threads;
-  s["particles"] = scene.particles;
-  s["wall_seconds"] = r.result.wall_seconds;
-  s["collisions"] = r.result.tally.collisions;
-  s["collisions_per_second"] = r.collisions_per_second();
-  s["escaped"] = r.result.tally.escaped;
-  s["survivors_at_t_max"] = r.result.tally.survived;
-  s["stuck"] = r.result.tally.stuck;
-  s["sampling"] = sampling_json(scene, r.curve);
   s["kappa"] = {{"value", kappa.ok ? json(kappa.value) : json(nullptr)},
                 {"error", kappa.std_error},
                 {"window", {kappa.from, kappa.to}},
@@ -123,6 +134,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
       {"upper_bound", nullable(alpha.upper_bound)},
       {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
       {"factor", alpha.factor},
+      {"sigma", alpha.sigma},
       {"min_survivors", alpha.min_survivors},
       {"resolved_until", alpha.resolved_until},
       {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
@@ -145,6 +157,29 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["predicted"] = {{"tau1", nullable(r.leak_times.tau1)},
                     {"tau2", nullable(r.leak_times.tau2)},
                     {"omega_sweep", r.leak_times.omega_sweep}};
+}
+
+json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
+  const Scene& scene = r.scene;
+  json s;
+  s["rotleak"] = {{"version", kVersion}, {"git", kGitDescribe}};
+  s["command"] = "simulate";
+  s["scene"] = scene_json(scene);
+  s["seed"] = scene.seed;
+  s["tier"] = to_string(scene.tier);
+  if (r.tier_choice)
+    s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
+  s["engine"] = to_string(r.result.engine);
+  s["threads"] = r.result.threads;
+  s["particles"] = scene.particles;
+  s["wall_seconds"] = r.result.wall_seconds;
+  s["collisions"] = r.result.tally.collisions;
+  s["collisions_per_second"] = r.collisions_per_second();
+  s["escaped"] = r.result.tally.escaped;
+  s["survivors_at_t_max"] = r.result.tally.survived;
+  s["stuck"] = r.result.tally.stuck;
+  s["sampling"] = sampling_json(scene, r.curve);
+  put_fits(s, r);
   s["files"] = files;
   return s;
 }
@@ -172,12 +207,12 @@ std::string summary_text(const RunSummary& r) {
     appendf(out, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n", *alpha.value,
             alpha.std_error, alpha.crossing_time, alpha.factor);
   else if (alpha.upper_bound && alpha.crossing_not_significant)
-    appendf(out, "alpha < %.3g   (P crosses %g x the fit at t = %g, but not 3 standard errors above the fit)\n",
-            *alpha.upper_bound, alpha.factor, alpha.resolved_until);
+    appendf(out, "alpha < %.3g   (P crosses %g x the fit at t = %g, but not %g standard errors above the fit)\n",
+            *alpha.upper_bound, alpha.factor, alpha.resolved_until, alpha.sigma);
   else if (alpha.upper_bound)
-    appendf(out, "alpha < %.3g   (P + 3 errors stays below %g x the fit up to t = %g; >= %llu survive until t = %g)\n",
-            *alpha.upper_bound, alpha.factor, alpha.bound_until, static_cast<unsigned long long>(alpha.min_survivors),
-            alpha.resolved_until);
+    appendf(out, "alpha < %.3g   (P + %g errors stays below %g x the fit up to t = %g; >= %llu survive until t = %g)\n",
+            *alpha.upper_bound, alpha.sigma, alpha.factor, alpha.bound_until,
+            static_cast<unsigned long long>(alpha.min_survivors), alpha.resolved_until);
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);

@@ -19,6 +19,12 @@ std::string density_csv(const Scene& scene, const Tally& tally);
 /// escapes.csv: id,fate,t,s,collisions.
 std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records);
 
+/// A survival.csv back as a curve of the scene that wrote it (weighted runs: the second moment from
+/// P_err, Q = N P_err^2 + P^2). Throws std::runtime_error naming the line on a malformed row.
+SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene);
+/// The fit objects of summary.json (kappa, alpha, tail_exponent, tail, rate_jumps, predicted), set in
+/// place: `rotleak fit` replaces them in a saved summary.json keeping every other field.
+void put_fits(json& s, const RunSummary& r);
 /// summary.json of a run whose directory holds `files`.
 /// The sampling scheme and, for weighted runs, its parameters and the effective survivors at a few times.
 json sampling_json(const Scene& scene, const SurvivalCurve& curve);

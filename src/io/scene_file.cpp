@@ -23,7 +23,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
     {"run", {"t_max", "tier", "fast_forward"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
-    {"fit", {"kappa_window"}},
+    {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors"}},
 };
 const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
@@ -316,6 +316,13 @@ Scene build(const toml::table& root, const std::string& source) {
     if (s.kappa_window.to > s.t_max) throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
   }
   if (s.kappa_window.to > s.t_max) s.kappa_window.to = s.t_max;
+  s.alpha_factor = in.number("fit", "alpha_factor", s.alpha_factor);
+  if (!(s.alpha_factor > 1 && s.alpha_factor <= 1e6))
+    throw InputError("fit.alpha_factor", shown(*in.find("fit", "alpha_factor")), "must be in (1, 1e6]");
+  s.alpha_sigma = in.number("fit", "alpha_sigma", s.alpha_sigma);
+  if (!(s.alpha_sigma >= 1 && s.alpha_sigma <= 10))
+    throw InputError("fit.alpha_sigma", shown(*in.find("fit", "alpha_sigma")), "must be in [1, 10] standard errors");
+  s.min_survivors = in.count("fit", "min_survivors", s.min_survivors, 1, "must be an integer >= 1");
   return s;
 }
 
@@ -370,7 +377,10 @@ json scene_json(const Scene& s) {
     obs["collision_density"] = {{"bins", s.collision_density->bins}, {"windows", w}};
   }
   j["observe"] = obs;
-  j["fit"] = {{"kappa_window", {s.kappa_window.from, s.kappa_window.to}}};
+  j["fit"] = {{"kappa_window", {s.kappa_window.from, s.kappa_window.to}},
+              {"alpha_factor", s.alpha_factor},
+              {"alpha_sigma", s.alpha_sigma},
+              {"min_survivors", s.min_survivors}};
   return j;
 }
 

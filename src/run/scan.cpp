@@ -14,6 +14,7 @@
 #include "io/scene_file.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/input.hpp"
+#include "run/refit.hpp"
 
 namespace rotleak {
 
@@ -261,7 +262,8 @@ ScanOutcome scan(const ScanRequest& req) {
   struct Point {
     std::vector<std::string> overrides;
     std::string slug, inputs;
-    json values, number_theory;
+    json values, number_theory, fit;
+    Scene scene;
   };
   std::vector<Point> points(count);
   std::vector<std::size_t> choice(req.axes.size(), 0);
@@ -281,7 +283,15 @@ ScanOutcome scan(const ScanRequest& req) {
     p.slug = point_slug(i, count, req.axes, choice);
     const Scene scene = load_scene(req.scene_path, p.overrides);  // InputError names the key and value
     check_resources(scene, req.run.threads);
-    p.inputs = scene_to_toml(scene) + "# engine = " + req.engine + "\n";
+    // the inputs of the simulation: the fit keys are left out (a point whose fits differ is refitted,
+    // not simulated again)
+    Scene physics = scene;
+    physics.kappa_window = {0, 0};
+    physics.alpha_factor = physics.alpha_sigma = 0;
+    physics.min_survivors = 0;
+    p.inputs = scene_to_toml(physics) + "# engine = " + req.engine + "\n";
+    p.fit = scene_json(scene).at("fit");
+    p.scene = scene;
     p.number_theory = omega_number_theory(scene);
   }
 
@@ -312,9 +322,12 @@ ScanOutcome scan(const ScanRequest& req) {
                           manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs;
     if (complete && !req.force) {
       ++out.skipped;
+      const json saved = json::parse(read_text(pdir / "summary.json"));
+      const bool same_fit = saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit;
+      if (!same_fit) refit_run(pdir, p.scene);
       if (req.note)
         req.note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug +
-                 ": complete, skipped");
+                 (same_fit ? ": complete, skipped" : ": complete, refitted under the new fit keys"));
       continue;
     }
     if (req.note)

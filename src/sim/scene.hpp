@@ -60,6 +60,10 @@ struct Scene {
   bool escape_records = false;
 
   TimeWindow kappa_window{0, 300};
+  /// alpha's rule (analysis/fits.hpp find_alpha): the crossing of alpha_factor x the fit counts when P
+  /// lies alpha_sigma standard errors above the fit with at least min_survivors effective survivors.
+  double alpha_factor = 10, alpha_sigma = 3;
+  std::uint64_t min_survivors = 100;
 
   std::string source;  ///< file it came from, if any
 

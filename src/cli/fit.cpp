@@ -1,0 +1,62 @@
+// rotleak fit RUN_OR_SCAN_DIR [--set fit.key=value]... [--json]
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "run/refit.hpp"
+
+namespace rotleak::cli {
+
+namespace {
+
+struct FitArgs {
+  std::string dir;
+  std::vector<std::string> overrides;
+  bool json_out = false;
+};
+
+int run_fit(const FitArgs& a) {
+  const Note note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  const RefitOutcome out = refit(a.dir, a.overrides, a.json_out ? Note{} : note);
+  if (a.json_out) {
+    std::cout << out.document.dump(2) << "\n";
+    return 0;
+  }
+  if (out.scan) {
+    std::printf(
+        "refitted %zu points; wrote %s/table.csv and scan.json (each point's previous summary kept as "
+        "summary.prev.json)\n",
+        out.runs, a.dir.c_str());
+    return 0;
+  }
+  const json& s = out.document;
+  const json &k = s.at("kappa"), &al = s.at("alpha"), &t = s.at("tail");
+  if (!k.at("value").is_null())
+    std::printf("kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", k.at("value").get<double>(),
+                k.at("error").get<double>(), k.at("window")[0].get<double>(), k.at("window")[1].get<double>());
+  if (!al.at("value").is_null())
+    std::printf(
+        "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit, %g standard errors above it)\n",
+        al.at("value").get<double>(), al.at("error").get<double>(), al.at("crossing_time").get<double>(),
+        al.at("factor").get<double>(), al.at("sigma").get<double>());
+  else if (!al.at("upper_bound").is_null())
+    std::printf("alpha < %.3g   (%s)\n", al.at("upper_bound").get<double>(), al.at("note").get<std::string>().c_str());
+  std::printf("tail  = %s, regime %s\nrewrote %s/summary.json (the previous one is summary.prev.json)\n",
+              t.at("class").get<std::string>().c_str(), t.at("regime").get<std::string>().c_str(), a.dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command add_fit(CLI::App& app) {
+  auto args = std::make_shared<FitArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "fit", "Re-analyse saved runs (a run or every point of a scan) under new fit.* keys, without simulating");
+  sub->add_option("dir", args->dir, "Run directory (rotleak simulate) or scan directory (rotleak scan)")->required();
+  sub->add_option("--set", args->overrides,
+                  "fit.kappa_window=[a, b], fit.alpha_factor=F, fit.alpha_sigma=S, fit.min_survivors=N (repeatable)");
+  sub->add_flag("--json", args->json_out, "Print the new summary.json (or scan.json) on stdout");
+  return {sub, [args] { return run_fit(*args); }};
+}
+
+}  // namespace rotleak::cli

@@ -1,0 +1,92 @@
+#include "run/refit.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "analysis/run_summary.hpp"
+#include "io/files.hpp"
+#include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/input.hpp"
+#include "run/scan.hpp"
+
+namespace rotleak {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + p.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+void check_fit_overrides(const std::vector<std::string>& overrides) {
+  for (const std::string& o : overrides)
+    if (o.rfind("fit.", 0) != 0)
+      throw InputError("--set", o, "only fit.* keys change without simulating (run simulate again for the others)");
+}
+
+Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides) {
+  if (!fs::exists(dir / "summary.json") || !fs::exists(dir / "survival.csv"))
+    throw InputError("DIR", "\"" + dir.string() + "\"",
+                     "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
+  Scene scene = load_scene((dir / "scene.toml").string(), overrides);
+  const json old = json::parse(read_text(dir / "summary.json"));
+  scene.source = old.at("scene").value("source", scene.source);
+  return scene;
+}
+
+json refit_run(const fs::path& dir, const Scene& scene) {
+  const std::string old_text = read_text(dir / "summary.json");
+  json s = json::parse(old_text);
+  RunSummary r;
+  r.scene = scene;
+  r.curve = read_survival_csv(read_text(dir / "survival.csv"), scene);
+  fit_curve(r);
+  s["scene"] = scene_json(scene);
+  put_fits(s, r);
+  write_file_atomic(dir / "summary.prev.json", old_text);
+  write_file_atomic(dir / "scene.toml", scene_to_toml(scene));
+  write_file_atomic(dir / "summary.json", s.dump(2) + "\n");  // last: the run is consistent again
+  return s;
+}
+
+RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& overrides, const Note& note) {
+  check_fit_overrides(overrides);
+  RefitOutcome out;
+  if (!fs::exists(dir / "scan.json")) {
+    out.document = refit_run(dir, saved_scene(dir, overrides));
+    out.runs = 1;
+    return out;
+  }
+  out.scan = true;
+  json doc = json::parse(read_text(dir / "scan.json"));
+  std::vector<ScanAxis> axes;
+  for (const json& a : doc.at("axes")) axes.push_back({a.at("key"), a.at("values").get<std::vector<std::string>>()});
+  std::vector<json> summaries;
+  for (json& row : doc.at("points")) {
+    const fs::path pdir = dir / "points" / row.at("point").get<std::string>();
+    json s = refit_run(pdir, saved_scene(pdir, overrides));
+    for (const char* key : {"kappa", "alpha", "tail", "predicted", "rate_jumps"}) row[key] = s.at(key);
+    s["scan_values"] = row.at("values");
+    s["number_theory"] = row.at("number_theory");
+    summaries.push_back(std::move(s));
+    ++out.runs;
+    if (note) note("[fit] " + pdir.filename().string() + " refitted");
+  }
+  json given = doc.value("fit_overrides", json::array());
+  for (const std::string& o : overrides) given.push_back(o);
+  doc["fit_overrides"] = given;
+  write_file_atomic(dir / "table.csv", scan_table_csv(axes, summaries));
+  write_file_atomic(dir / "scan.json", doc.dump(2) + "\n");
+  out.document = doc;
+  return out;
+}
+
+}  // namespace rotleak
