@@ -125,6 +125,22 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
   return k;
 }
 
+void add_window_systematic(KappaFit& k, const SurvivalCurve& c, double t_max) {
+  if (!k.ok) return;
+  const double a = k.from, b = k.to;
+  double lo = k.value, hi = k.value;
+  for (double start : {a, a + (b - a) / 6})
+    for (double end : {a + (b - a) * 2 / 3, b, std::min(t_max, a + (b - a) * 4 / 3)}) {
+      if (!(end > start)) continue;
+      const KappaFit f = fit_kappa(c, start, end);
+      if (!f.ok) continue;
+      k.window_family.push_back({start, end, f.value});
+      lo = std::min(lo, f.value);
+      hi = std::max(hi, f.value);
+    }
+  k.window_systematic = (hi - lo) / 2;
+}
+
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor, double sigma,
                        std::uint64_t min_survivors) {
   AlphaResult a;

@@ -26,7 +26,19 @@ struct KappaFit {
   /// Standard error of the fitted ln P at time t (extrapolation uncertainty).
   double log_se_at(double t) const;
   double var_a = 0, var_b = 0, cov_ab = 0;  ///< covariance of (ln A, -kappa)
+  /// Window systematic: half the spread of kappa over the family of windows (window_family), beside
+  /// the statistical std_error (ln P is nowhere exactly straight, so kappa depends on the window).
+  std::optional<double> window_systematic;
+  struct FamilyMember {
+    double from, to, value;
+  };
+  std::vector<FamilyMember> window_family;
 };
+
+/// kappa's window systematic for the window [from, to]: kappa fitted on the six windows with start
+/// from or from + (to - from)/6 and end 2to/3, to or 4to/3 (clamped to t_max); the systematic is half
+/// of (largest - smallest) over those that fit. Sets k.window_systematic and k.window_family.
+void add_window_systematic(KappaFit& k, const SurvivalCurve& c, double t_max);
 
 struct AlphaResult {
   /// P at the first crossing of 10x the exponential fit that lies more than 3 standard errors (P's

@@ -16,6 +16,7 @@ RunSummary summarise(const Scene& scene, RunResult result) {
 void fit_curve(RunSummary& s) {
   const Scene& scene = s.scene;
   s.kappa = fit_kappa(s.curve, scene.kappa_window.from, scene.kappa_window.to);
+  add_window_systematic(s.kappa, s.curve, scene.t_max);
   s.alpha = find_alpha(s.curve, s.kappa, scene.alpha_factor, scene.alpha_sigma, scene.min_survivors);
   s.tail = fit_tail(s.curve, s.alpha);
   s.tail_class = classify_tail(scene, s.curve, s.alpha);

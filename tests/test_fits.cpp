@@ -156,3 +156,32 @@ TEST(FindAlpha, MatchesTheNoiseFreeCurveWithinItsError) {
   EXPECT_NEAR(*tail.z, *tail_true.z, 4 * tail.std_error);
   EXPECT_LT(tail.std_error, 0.1);
 }
+
+// kappa's window systematic: on a pure exponential every window of the family measures the same rate
+// (spread within statistics: half-spread below 3 standard errors); with a bouncing-ball-like tail
+// growing under the exponential the local slope drifts and the spread is many standard errors.
+TEST(FitKappa, WindowSystematicSeesACurvedLogP) {
+  std::mt19937_64 gen(7);
+  std::exponential_distribution<double> life(kKappa);
+  const SurvivalCurve pure = sample_curve(1000000, 2000, life, gen);
+  KappaFit k = fit_kappa(pure, 0, 300);
+  add_window_systematic(k, pure, 2000);
+  ASSERT_TRUE(k.window_systematic.has_value());
+  EXPECT_EQ(k.window_family.size(), 6u);
+  EXPECT_LT(*k.window_systematic, 3 * k.std_error);
+  // P = 0.95 e^{-kt} + 0.05 e^{-kt/3}: ln P curves over [0, 400]
+  std::uniform_real_distribution<double> u(0, 1);
+  std::exponential_distribution<double> slow(kKappa / 3);
+  const SurvivalCurve curved = sample_curve(
+      1000000, 2000, [&](std::mt19937_64& g) { return u(g) < 0.05 ? slow(g) : life(g); }, gen);
+  KappaFit c = fit_kappa(curved, 0, 300);
+  add_window_systematic(c, curved, 2000);
+  // the same family on the noise-free curve (10^13 particles)
+  const SurvivalCurve truth =
+      exact_curve(1e13, 2000, [](double t) { return 0.95 * std::exp(-kKappa * t) + 0.05 * std::exp(-kKappa * t / 3); });
+  KappaFit e = fit_kappa(truth, 0, 300);
+  add_window_systematic(e, truth, 2000);
+  EXPECT_GT(*e.window_systematic, 5 * c.std_error);  // the curvature is far above the statistics
+  // the sampled half-spread is a difference of two fits: within 3 x (2 standard errors) of the truth
+  EXPECT_NEAR(*c.window_systematic, *e.window_systematic, 6 * c.std_error);
+}

@@ -128,6 +128,10 @@ void put_fits(json& s, const RunSummary& r) {
                 {"points", kappa.points},
                 {"log_amplitude", kappa.log_amplitude},
                 {"method", kappa.method}};
+  json family = json::array();
+  for (const auto& m : kappa.window_family) family.push_back({{"window", {m.from, m.to}}, {"value", m.value}});
+  s["kappa"]["window_systematic"] = nullable(kappa.window_systematic);
+  s["kappa"]["window_family"] = family;
   s["alpha"] = {
       {"value", nullable(alpha.value)},
       {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
@@ -198,8 +202,8 @@ std::string summary_text(const RunSummary& r) {
         r.scene.sampling.eps, r.scene.sampling.p_min, r.scene.sampling.p_max, r.curve.effective(r.curve.t.size() - 1),
         static_cast<unsigned long long>(r.curve.survivors.back()));
   if (kappa.ok)
-    appendf(out, "kappa = %.5g +- %.2g   (least squares of ln P on [%g, %g])\n", kappa.value, kappa.std_error,
-            kappa.from, kappa.to);
+    appendf(out, "kappa = %.5g +- %.2g (stat.) +- %.2g (window)   (least squares of ln P on [%g, %g])\n", kappa.value,
+            kappa.std_error, kappa.window_systematic.value_or(0), kappa.from, kappa.to);
   else
     appendf(out, "kappa: not resolved (%s in [%g, %g])\n", kappa.points < 3 ? "too few grid points" : "no escape",
             kappa.from, kappa.to);
