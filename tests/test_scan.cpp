@@ -10,6 +10,7 @@
 
 #include "numeric/input.hpp"
 #include "run/refit.hpp"
+#include "run/regimes_search.hpp"
 #include "run/scan.hpp"
 
 namespace rotleak {
@@ -171,6 +172,46 @@ TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
   // `rotleak fit` on the scan directory, back to factor 10, gives the first table again
   refit(base / "scan", {"fit.alpha_factor=10"});
   EXPECT_EQ(read(base / "scan" / "table.csv"), table10);
+  fs::remove_all(base);
+}
+
+}  // namespace
+}  // namespace rotleak
+
+namespace rotleak {
+namespace {
+
+// rotleak regimes on two coarse probes (omega = 1e-4: a tail that forms and is swept away; 1e-3: none)
+// and one bisection step: the low/mid interval lies between them and shrinks, mid/high is null with
+// its reason, and a second invocation simulates nothing (every probe is a complete scan point).
+TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
+  const fs::path base = fs::temp_directory_path() / ("rotleak_regimes_test_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  RegimesRequest r;
+  r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  r.overrides = {"ensemble.particles=100000", "ensemble.sampling=mupo", "run.fast_forward=true", "run.t_max=8000"};
+  r.coarse = "1e-4,1e-3";
+  r.steps = 1;
+  r.out = base;
+  int running = 0;
+  r.note = [&](const std::string& line) { running += line.find(": running") != std::string::npos; };
+  const json doc = find_regimes(r);
+  const json& lm = doc.at("boundaries").at("low_mid");
+  ASSERT_FALSE(lm.is_null()) << doc.dump(1);
+  EXPECT_EQ(lm.at("lo_regime"), "low");
+  EXPECT_EQ(lm.at("hi_regime"), "mid");
+  EXPECT_EQ(lm.at("probes").size(), 1u);
+  const double lo = lm.at("lo"), hi = lm.at("hi");
+  EXPECT_GE(lo, 1e-4);
+  EXPECT_LE(hi, 1e-3);
+  EXPECT_TRUE(lo == 1e-4 || hi == 1e-3);  // one end moved to the probe 3.16e-4
+  EXPECT_LT(hi / lo, 4);
+  EXPECT_TRUE(doc.at("boundaries").at("mid_high").is_null());
+  EXPECT_TRUE(doc.at("reasons").contains("mid_high"));
+  EXPECT_EQ(running, 3);
+  running = 0;
+  EXPECT_EQ(find_regimes(r).at("boundaries"), doc.at("boundaries"));
+  EXPECT_EQ(running, 0) << "a resumed search ran a probe again";
   fs::remove_all(base);
 }
 

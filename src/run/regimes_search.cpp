@@ -1,0 +1,155 @@
+#include "run/regimes_search.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "io/files.hpp"
+#include "numeric/exact.hpp"
+#include "numeric/input.hpp"
+
+namespace rotleak {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Probe {
+  std::string omega;  ///< exact text
+  double value = 0;
+  std::string regime, tail;
+  json alpha;
+  double crossing_time = 0;
+  std::uint64_t particles = 0;
+};
+
+Probe probe_of(const json& row, const std::string& omega) {
+  Probe p;
+  p.omega = omega;
+  p.value = std::strtod(omega.c_str(), nullptr);  // for ordering and reporting; the probe runs the exact text
+  p.regime = row.at("tail").at("regime");
+  p.tail = row.at("tail").at("class");
+  p.alpha = row.at("alpha");
+  if (!p.alpha.at("crossing_time").is_null()) p.crossing_time = p.alpha.at("crossing_time");
+  p.particles = row.at("particles");
+  return p;
+}
+
+/// The geometric mean of two omegas, as an exact decimal with 3 significant digits.
+std::string log_midpoint(double a, double b) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2e", std::sqrt(a * b));
+  return buf;
+}
+
+json probe_json(const Probe& p) {
+  return {{"omega", p.omega}, {"regime", p.regime}, {"tail", p.tail}, {"alpha", p.alpha}, {"particles", p.particles}};
+}
+
+}  // namespace
+
+json find_regimes(const RegimesRequest& req) {
+  const fs::path dir = RunDirectory::normalise(req.out);
+  auto run_scan = [&](const fs::path& out, const std::vector<std::string>& values) {
+    ScanRequest s;
+    s.scene_path = req.scene_path;
+    s.overrides = req.overrides;
+    s.axes = {ScanAxis{"leak.omega", values}};
+    s.out = out;
+    s.run = req.run;
+    s.note = req.note;
+    return scan(s);
+  };
+  const std::vector<std::string> coarse_values = expand_values("--coarse", req.coarse);
+  for (const std::string& v : coarse_values) {
+    const mpq_class q = parse_decimal(v);  // decimals only: the search bisects numerically
+    if (sgn(q) <= 0) throw InputError("--coarse", req.coarse, "positive decimal omegas");
+  }
+  if (req.note) req.note("[regimes] coarse scan over omega = " + req.coarse);
+  const ScanOutcome coarse = run_scan(dir / "coarse", coarse_values);
+  std::vector<Probe> probes;
+  for (std::size_t i = 0; i < coarse_values.size(); ++i)
+    probes.push_back(probe_of(coarse.document.at("points")[i], coarse_values[i]));
+  std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) { return a.value < b.value; });
+
+  auto is_low = [](const Probe& p) { return p.regime == "low" || p.regime == "undecided"; };
+  json boundaries = json::object(), reasons = json::object();
+  // low/mid: the last low (or undecided) probe below the first mid probe after it
+  std::optional<std::size_t> lm;
+  for (std::size_t i = 0; i + 1 < probes.size(); ++i)
+    if (is_low(probes[i]) && probes[i + 1].regime == "mid") {
+      lm = i;
+      break;
+    }
+  // mid/high: the first mid probe followed by a high one, above the low/mid boundary
+  std::optional<std::size_t> mh;
+  for (std::size_t i = lm ? *lm + 1 : 0; i + 1 < probes.size(); ++i)
+    if (probes[i].regime == "mid" && probes[i + 1].regime == "high") {
+      mh = i;
+      break;
+    }
+
+  auto bisect = [&](const std::string& name, Probe lo, Probe hi, auto lower_side) {
+    json steps = json::array();
+    for (int k = 0; k < req.steps && hi.value / lo.value > 1.1; ++k) {
+      const std::string mid = log_midpoint(lo.value, hi.value);
+      if (req.note)
+        req.note("[regimes] " + name + ": probe omega = " + mid + " in [" + lo.omega + ", " + hi.omega + "]");
+      const ScanOutcome o = run_scan(dir / name / ("probe-" + std::to_string(k)), {mid});
+      const Probe p = probe_of(o.document.at("points")[0], mid);
+      steps.push_back(probe_json(p));
+      (lower_side(p) ? lo : hi) = p;
+    }
+    return json{{"lo", lo.value},
+                {"hi", hi.value},
+                {"lo_omega", lo.omega},
+                {"hi_omega", hi.omega},
+                {"lo_regime", lo.regime},
+                {"hi_regime", hi.regime},
+                {"particles", std::max(lo.particles, hi.particles)},
+                {"probes", steps}};
+  };
+  if (lm) {
+    boundaries["low_mid"] = bisect("low_mid", probes[*lm], probes[*lm + 1], is_low);
+  } else {
+    boundaries["low_mid"] = nullptr;
+    reasons["low_mid"] = "the coarse scan has no low (or undecided) omega directly below a mid one";
+  }
+  if (mh) {
+    boundaries["mid_high"] =
+        bisect("mid_high", probes[*mh], probes[*mh + 1], [](const Probe& p) { return p.regime != "high"; });
+  } else {
+    boundaries["mid_high"] = nullptr;
+    reasons["mid_high"] = "the coarse scan has no mid omega directly below a high one (above the low/mid boundary)";
+  }
+
+  // The geometry's predictions: low/mid where the leak reaches the lower edge (tau1) just when the
+  // tail would form (the crossing time of the lowest probe); mid/high at omega_sweep = lambda / 2r.
+  json predicted = json::object();
+  const json& first = coarse.document.at("points")[0];
+  predicted["omega_sweep"] = first.at("predicted").at("omega_sweep");
+  const Probe& slowest = probes.front();
+  if (slowest.crossing_time > 0) {
+    // tau1 * omega is the distance (in s) from the leading edge to the lower edge, the same for every omega
+    const json& row = coarse.document.at("points");
+    double dist = 0;
+    for (const json& r : row)
+      if (r.at("values").at("leak.omega") == slowest.omega)
+        dist = r.at("predicted").at("tau1").get<double>() * slowest.value;
+    predicted["low_mid"] = dist / slowest.crossing_time;
+    predicted["low_mid_rule"] =
+        "omega at which the leak's leading edge reaches the lower straight edge (tau1) at the alpha crossing time "
+        "of the slowest probe, t = " +
+        std::to_string(slowest.crossing_time);
+  }
+  json coarse_rows = json::array();
+  for (const Probe& p : probes) coarse_rows.push_back(probe_json(p));
+  json doc = {{"scene", req.scene_path}, {"overrides", req.overrides}, {"boundaries", boundaries},
+              {"reasons", reasons},      {"predicted", predicted},     {"coarse", coarse_rows}};
+  write_file_atomic(dir / "regimes.json", doc.dump(2) + "\n");
+  return doc;
+}
+
+}  // namespace rotleak
