@@ -71,10 +71,15 @@ def survival(run, summary):
             lo = [max(p - e, p * 1e-3) for p, e in zip(P, err)]
             ax.fill_between(t, lo, [p + e for p, e in zip(P, err)], alpha=0.25, lw=0, color="C0")
         if kappa["value"] is not None:
+            # the fit and alpha's factor x the fit over the whole range (down to the smallest P drawn)
             k, lna = kappa["value"], kappa["log_amplitude"]
-            tt = [x for x in t if x <= min(t[-1], 6 / k)]
-            ax.plot(tt, [math.exp(lna - k * x) for x in tt], "--", lw=1,
+            floor = min(P) / 10 if P else 0
+            factor = alpha.get("factor", 10)
+            tt = [x for x in t if math.exp(lna - k * x) * factor >= floor]
+            ax.plot(tt, [math.exp(lna - k * x) for x in tt], "--", lw=1, color="C1",
                     label="exp fit: kappa = %.4g +- %.1g on [%g, %g]" % (k, kappa["error"], *kappa["window"]))
+            ax.plot(tt, [factor * math.exp(lna - k * x) for x in tt], ":", lw=1, color="C1",
+                    label="%g x the fit (alpha's line)" % factor)
         if alpha["value"] is not None:
             ax.plot([alpha["crossing_time"]], [alpha["value"]], "o", color="C3",
                     label="alpha = %.3g (t = %g)" % (alpha["value"], alpha["crossing_time"]))
