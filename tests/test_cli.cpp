@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "names.hpp"
 
@@ -273,4 +274,21 @@ TEST(Cli, OmegaAndCoveringJson) {
   const Outcome several = run("covering --omega 1 2/3 --json");
   ASSERT_EQ(several.status, 0) << several.err;
   EXPECT_EQ(nlohmann::json::parse(several.out)["covering"].size(), 2u);
+}
+
+// covering with several deltas: each omega at each delta, each entry naming its delta, and the same
+// numbers as separate one-delta calls (ln(19): gaps at delta = 1e-7, none at 1e-9).
+TEST(Cli, CoveringAtSeveralDeltas) {
+  const Outcome both = run("covering --omega 2/3 'ln(19)' --delta 1e-7 1e-9 --json");
+  ASSERT_EQ(both.status, 0) << both.err;
+  const auto doc = nlohmann::json::parse(both.out);
+  ASSERT_EQ(doc.at("covering").size(), 4u);
+  EXPECT_EQ(doc.at("covering")[3].at("delta"), "1e-9");
+  for (const auto& [omega, delta, index] : {std::tuple{"2/3", "1e-7", 0}, std::tuple{"'ln(19)'", "1e-9", 3}}) {
+    const auto one =
+        nlohmann::json::parse(run(std::string("covering --omega ") + omega + " --delta " + delta + " --json").out);
+    EXPECT_EQ(one.at("covering").at("zero_measure"), doc.at("covering")[index].at("zero_measure")) << omega;
+  }
+  EXPECT_GT(doc.at("covering")[2].at("zero_measure").get<double>(), 0.5);  // ln(19) at 1e-7
+  EXPECT_EQ(doc.at("covering")[3].at("zero_measure").get<double>(), 0.0);  // ln(19) at 1e-9
 }

@@ -1,4 +1,4 @@
-// rotleak covering --omega 2/3 [--omega ...] --delta 1e-7 --lambda 0.01 [--d 2 --r 1] [--json] [--out DIR]
+// rotleak covering --omega 2/3 [--omega ...] --delta 1e-7 [1e-9 ...] --lambda 0.01 [--d 2 --r 1] [--json] [--out DIR]
 #include <cstdio>
 #include <iostream>
 
@@ -13,7 +13,8 @@ namespace {
 
 struct CoveringArgs {
   std::vector<std::string> omegas;
-  std::string delta = "1e-7", lambda = "0.01", d = "2", r = "1";
+  std::vector<std::string> deltas{"1e-7"};
+  std::string lambda = "0.01", d = "2", r = "1";
   std::string out;
   int resolution = 10000;
   bool json_out = false, force = false, segments = false, plot = true;
@@ -31,7 +32,7 @@ CoveringInput parse_input(const CoveringArgs& a) {
     return v;
   };
   CoveringInput in;
-  in.delta = exact("--delta", a.delta, true);
+  for (const std::string& delta : a.deltas) in.delta = exact("--delta", delta, true);
   in.lambda = exact("--lambda", a.lambda, true);
   in.d = exact("--d", a.d, false);
   in.r = exact("--r", a.r, false);
@@ -45,20 +46,29 @@ int run_covering(const CoveringArgs& a) {
   std::unique_ptr<RunDirectory> dir;
   if (!a.out.empty()) dir = std::make_unique<RunDirectory>(a.out, a.force);
 
+  // every omega at every delta; with several deltas each entry is labelled "omega @ delta D"
   std::vector<Covering> results;
-  for (const ExactReal& omega : omegas) {
-    in.omega = omega;
-    try {
-      results.push_back(mupo_covering(in));
-    } catch (const std::invalid_argument& e) {
-      throw InputError("--delta", "\"" + a.delta + "\"", e.what());
+  std::vector<std::string> labels;
+  std::string delta_list;
+  for (const std::string& delta : a.deltas) delta_list += (delta_list.empty() ? "" : ",") + delta;
+  for (std::size_t k = 0; k < omegas.size(); ++k)
+    for (const std::string& delta : a.deltas) {
+      in.omega = omegas[k];
+      in.delta = parse_exact_input("--delta", delta);
+      try {
+        results.push_back(mupo_covering(in));
+      } catch (const std::invalid_argument& e) {
+        throw InputError("--delta", "\"" + delta + "\"", e.what());
+      }
+      labels.push_back(a.deltas.size() > 1 ? a.omegas[k] + " @ delta " + delta : a.omegas[k]);
     }
-  }
-  const json doc = covering_document({a.delta, a.lambda, a.d, a.r}, a.omegas, results);
+  json doc = covering_document({delta_list, a.lambda, a.d, a.r}, labels, results);
+  if (a.deltas.size() > 1)  // each entry names its delta
+    for (std::size_t i = 0; i < labels.size(); ++i) doc["covering"][i]["delta"] = a.deltas[i % a.deltas.size()];
 
   if (dir) {
     write_file_atomic(dir->file("f_L.csv"),
-                      covering_profile_csv(a.omegas, results, static_cast<std::size_t>(a.resolution)));
+                      covering_profile_csv(labels, results, static_cast<std::size_t>(a.resolution)));
     if (a.segments)
       for (std::size_t i = 0; i < results.size(); ++i)
         write_file_atomic(dir->file("segments_" + std::to_string(i) + ".csv"), covering_segments_csv(results[i]));
@@ -68,9 +78,9 @@ int run_covering(const CoveringArgs& a) {
   if (a.json_out) {
     std::cout << doc.dump(2) << "\n";
   } else {
-    std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", a.delta.c_str(), a.lambda.c_str(),
+    std::printf("MUPO covering: delta = %s, lambda = %s, d = %s, r = %s\n", delta_list.c_str(), a.lambda.c_str(),
                 a.d.c_str(), a.r.c_str());
-    std::fputs(covering_text(a.omegas, results).c_str(), stdout);
+    std::fputs(covering_text(labels, results).c_str(), stdout);
   }
   return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_covering.py", a.json_out) : 0;
 }
@@ -82,7 +92,7 @@ Command add_covering(CLI::App& app) {
   CLI::App* sub =
       app.add_subcommand("covering", "The MUPO covering f_L(s) of the leak during a bouncing-ball crossing");
   sub->add_option("--omega", a->omegas, "omega (exact; repeat or list several to draw them together)")->required();
-  sub->add_option("--delta", a->delta, "1 + delta = 1/sqrt(1 - p^2) (default 1e-7)");
+  sub->add_option("--delta", a->deltas, "1 + delta = 1/sqrt(1 - p^2) (default 1e-7; several: each omega at each)");
   sub->add_option("--lambda", a->lambda, "leak width in s (default 0.01)");
   sub->add_option("--d", a->d, "straight edge length (default 2)");
   sub->add_option("--r", a->r, "arc radius (default 1)");
