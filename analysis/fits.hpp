@@ -62,7 +62,10 @@ struct TailFit {
   double from = 0, to = 0;
   std::size_t points = 0;
   std::string method =
-      "least squares of ln P against ln t on log-spaced grid points from the alpha crossing to the last resolved time";
+      "least squares of ln P against ln t on log-spaced grid points from the alpha crossing to the end of the "
+      "stable stretch: local exponents over successive factor-1.5 segments of t agree (they differ by less than 30% "
+      "or by less than 3 standard errors) and at least 100 effective survivors remain";
+  std::string note;  ///< why z is not defined, when it is not
 };
 
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);

@@ -185,3 +185,22 @@ TEST(FitKappa, WindowSystematicSeesACurvedLogP) {
   // the sampled half-spread is a difference of two fits: within 3 x (2 standard errors) of the truth
   EXPECT_NEAR(*c.window_systematic, *e.window_systematic, 6 * c.std_error);
 }
+
+// z only where the local slope is stable: a power-law tail (z = 1) cut off at t = 8000 (then falling
+// e-fold per 300) gets its window ended by the cut-off (not at the last resolved time), and z near 1;
+// the same tail without the cut-off is fitted to the end. (Noise-free curves, 10^13 particles.)
+TEST(FitTail, WindowEndsWhereTheLocalSlopeChanges) {
+  auto P = [](double t, bool cut) {
+    const double tail = 2e-4 * 2000 / (2000 + t) * (cut && t > 8000 ? std::exp(-(t - 8000) / 300) : 1.0);
+    return (1 - 2e-4) * std::exp(-kKappa * t) + tail;
+  };
+  const SurvivalCurve kept = exact_curve(1e13, 40000, [&](double t) { return P(t, false); });
+  const SurvivalCurve cut = exact_curve(1e13, 40000, [&](double t) { return P(t, true); });
+  const TailFit fk = fit_tail(kept, find_alpha(kept, fit_kappa(kept, 0, 300)));
+  const TailFit fc = fit_tail(cut, find_alpha(cut, fit_kappa(cut, 0, 300)));
+  ASSERT_TRUE(fk.z && fc.z) << fc.note;
+  EXPECT_GT(fk.to, 25000);       // the last full factor-1.5 segment before t_max
+  EXPECT_GT(fc.to, 8000 / 1.5);  // the segment holding the cut-off is the first one refused
+  EXPECT_LT(fc.to, 8000 * 1.5);
+  EXPECT_NEAR(*fc.z, 0.85, 0.15);  // local exponent t / (2000 + t) over ~[2500, 8000]
+}

@@ -143,11 +143,9 @@ void put_fits(json& s, const RunSummary& r) {
       {"resolved_until", alpha.resolved_until},
       {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
       {"note", alpha.note}};
-  s["tail_exponent"] = {{"value", nullable(tail.z)},
-                        {"error", tail.z ? json(tail.std_error) : json(nullptr)},
-                        {"window", {tail.from, tail.to}},
-                        {"points", tail.points},
-                        {"method", tail.method}};
+  s["tail_exponent"] = {{"value", nullable(tail.z)},      {"error", tail.z ? json(tail.std_error) : json(nullptr)},
+                        {"window", {tail.from, tail.to}}, {"points", tail.points},
+                        {"method", tail.method},          {"note", tail.note}};
   const TailClass& tc = r.tail_class;
   s["tail"] = {{"class", tc.tail},
                {"regime", tc.regime},
