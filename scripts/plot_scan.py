@@ -2,7 +2,8 @@
 """Draw a rotleak scan directory: scan_survival.png (every point's P(t), log-log and semi-log, error
 bands where the run has them), and per swept key scan_<key>.png (kappa and alpha against the key,
 bounds drawn as downward arrows, log axes where the key spans decades) with the regime of each point
-as a coloured strip along the key, and the predicted omega_sweep marked when the key is leak.omega.
+as a coloured strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
+scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L.
 
 Usage: plot_scan.py SCAN_DIR     (rotleak plot SCAN_DIR calls this)
 Needs Debian's python3-matplotlib (run with /usr/bin/python3)."""
@@ -106,6 +107,31 @@ def against_key(scan_dir, doc, key):
     return name
 
 
+def against_covering(scan_dir, doc):
+    """alpha (values and bounds) against the MUPO covering's zero measure of each point's omega."""
+    pts = [p for p in doc["points"] if p.get("number_theory")]
+    if len({p["number_theory"]["covering_zero_measure"] for p in pts}) < 2:
+        return None
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for p in pts:
+        x = p["number_theory"]["covering_zero_measure"]
+        label = ", ".join(p["values"].values())
+        if p["alpha"]["value"] is not None:
+            ax.errorbar([x], [p["alpha"]["value"]], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
+            ax.annotate(label, (x, p["alpha"]["value"]), fontsize=7, xytext=(4, 2), textcoords="offset points")
+        elif p["alpha"]["upper_bound"] is not None:
+            ax.scatter([x], [p["alpha"]["upper_bound"]], marker="v", color="C1")
+            ax.annotate(label, (x, p["alpha"]["upper_bound"]), fontsize=7, xytext=(4, 2), textcoords="offset points")
+    ax.set_yscale("log")
+    ax.set_xlabel("zero measure of f_L (delta = %s)" % pts[0]["number_theory"]["covering_delta"])
+    ax.set_ylabel("alpha (triangles: upper bounds)")
+    ax.set_title("tail weight against the MUPO covering")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    save(fig, os.path.join(scan_dir, "scan_alpha_covering.png"))
+    return "scan_alpha_covering.png"
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: plot_scan.py SCAN_DIR")
@@ -118,6 +144,9 @@ def main():
         name = against_key(scan_dir, doc, axis["key"])
         if name:
             drew.append(name)
+    name = against_covering(scan_dir, doc)
+    if name:
+        drew.append(name)
     print("drew " + ", ".join(os.path.join(scan_dir, d) for d in drew))
 
 
