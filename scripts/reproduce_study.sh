@@ -4,7 +4,7 @@
 # writes docs/study/README.md (scripts/study_report.py): every figure and the published-vs-ours table.
 # Resumable: a re-run skips every complete point (rotleak scan). Usage:
 #   scripts/reproduce_study.sh --quick   # 10^5 particles a point, runs/study-quick, a few minutes on 2 cores
-#   scripts/reproduce_study.sh           # 10^7 particles a point, runs/study (expected time printed first)
+#   scripts/reproduce_study.sh           # 10^7 particles a point, runs/study, docs/study/full (expected time printed first)
 # ROTLEAK (default build/rotleak) names the binary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,9 +14,11 @@ quick=0
 if [ "$quick" = 1 ]; then
   particles=100000
   out=runs/study-quick
+  docs=docs/study
 else
   particles=10000000
   out=runs/study
+  docs=docs/study/full
   # measured: --quick took about 2 minutes on the 2-core development machine; the work grows with
   # the particle count (100x), less the fixed costs
   echo "reproduce_study: full run, 10^7 particles a point: expect about 2-3 hours on 2 cores (resumable)" >&2
@@ -43,4 +45,4 @@ done <data/study/panels.tsv
 # ln(19) at two deltas
 "$rotleak" covering --omega "ln(19)" --delta 1e-7 1e-9 --out "$out/covering_ln19" --force >/dev/null
 seconds=$(($(date +%s) - start))
-/usr/bin/python3 scripts/study_report.py "$out" docs/study "$particles" "$seconds"
+/usr/bin/python3 scripts/study_report.py "$out" "$docs" "$particles" "$seconds"

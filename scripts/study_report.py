@@ -51,19 +51,23 @@ def main():
     out = ["# The study, panel by panel", "",
            "Written by `scripts/reproduce_study.sh%s` (%d particles a point, importance sampling "
            "`ensemble.sampling = \"mupo\"` with fast-forward, on %s, %d cores; this invocation took %d s, complete points being skipped on a "
-           "re-run: a first --quick run from nothing took about 70 s on the 2-core development machine). Each panel is one "
+           "re-run; SIM_TOTAL). Each panel is one "
            "`rotleak scan` of `data/study/study.toml` (d = 2, r = 1, leak width 0.01 at s_L = 0) over the values "
            "in `data/study/panels.tsv`; every point is an ordinary run directory, so `rotleak fit` re-analyses "
            "and `rotleak plot` redraws it." % (" --quick" if particles <= 100000 else "", particles,
                                                   platform.machine(), os.cpu_count() or 0, seconds), ""]
     found = {}
+    sim_total = 0.0
     for name, title, args in panels:
         d = os.path.join(study, name)
         with open(os.path.join(d, "scan.json")) as f:
             doc = json.load(f)
         keys = [a["key"] for a in doc["axes"]]
+        sim = sum(p.get("wall_seconds") or 0 for p in doc["points"])
+        sim_total += sim
         out += ["## %s" % title, "", "`rotleak scan data/study/study.toml %s --particles %d --set "
-                "ensemble.sampling=mupo --set run.fast_forward=true --out %s`" % (args, particles, d), ""]
+                "ensemble.sampling=mupo --set run.fast_forward=true --out %s` (%d points, %.0f s of simulation: the "
+                "sum of the points' wall times)" % (args, particles, d, len(doc["points"]), sim), ""]
         for png in sorted(p for p in os.listdir(d) if p.endswith(".png")):
             target = "%s_%s" % (name, png)
             shutil.copyfile(os.path.join(d, png), os.path.join(img, target))
@@ -126,6 +130,11 @@ def main():
             "rational, 1 - 1e-4 or 4/7 + 1/70000, moves the leak, seen from a bouncing-ball orbit sampling it every "
             "2r, by a slow drift. It then behaves like a slow leak: a tail that forms and is swept away, so it is "
             "classed `low`. `undecided` marks a persistent tail whose removal could not have been seen by t_max.", ""]
+    out[2] = out[2].replace("SIM_TOTAL", "the points' simulations took %.0f s (%.1f h) in all, the sum of their wall "
+                            "times on this machine" % (sim_total, sim_total / 3600))
+    full = os.path.join(docs, "full", "README.md")
+    if particles <= 100000 and os.path.exists(full):
+        out.insert(3, "The full run (10^7 particles a point) is in [full/README.md](full/README.md).\n")
     os.makedirs(docs, exist_ok=True)
     tmp = os.path.join(docs, "README.md.tmp")
     with open(tmp, "w") as f:

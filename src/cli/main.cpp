@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
       rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),    rotleak::cli::add_omega(app),
       rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),  rotleak::cli::add_lyapunov(app),
       rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app), rotleak::cli::add_verify(app),
-      rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),     rotleak::cli::add_regimes(app)};
+      rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),     rotleak::cli::add_regimes(app),
+      rotleak::cli::add_merge(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -6,8 +6,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "numeric/input.hpp"
@@ -16,20 +19,44 @@ namespace rotleak {
 
 namespace fs = std::filesystem;
 
-void write_file_atomic(const fs::path& path, const std::string& content) {
+void write_file_atomic(const fs::path& path, const std::string& content, bool durable) {
   const fs::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-    f.write(content.data(), static_cast<std::streamsize>(content.size()));
-    f.flush();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("write failed: " + tmp.string());
-    }
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
+  std::size_t at = 0;
+  bool ok = true;
+  while (ok && at < content.size()) {
+    const ssize_t w = ::write(fd, content.data() + at, content.size() - at);
+    if (w < 0 && errno == EINTR) continue;
+    ok = w > 0;
+    if (ok) at += static_cast<std::size_t>(w);
+  }
+  const int err = ok ? 0 : errno;
+  if (ok && durable) ok = ::fsync(fd) == 0;
+  ok = (::close(fd) == 0) && ok;
+  if (!ok) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw std::runtime_error("write failed: " + tmp.string() + (err ? std::string(": ") + std::strerror(err) : ""));
   }
   fs::rename(tmp, path);
+  if (durable) {  // the rename itself reaches the disk with the directory
+    const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    const int dfd = ::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      ::fsync(dfd);
+      ::close(dfd);
+    }
+  }
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + p.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (!in && !in.eof()) throw std::runtime_error("cannot read " + p.string());
+  return ss.str();
 }
 
 std::string shortest(double x) {

@@ -8,7 +8,11 @@
 namespace rotleak {
 
 /// Writes content to path via path.tmp-<pid> and rename(2). Throws std::runtime_error on failure.
-void write_file_atomic(const std::filesystem::path& path, const std::string& content);
+/// durable: the data and the rename are flushed to the disk (fsync) before returning, so a power
+/// loss leaves the old file or the new one (checkpoints).
+void write_file_atomic(const std::filesystem::path& path, const std::string& content, bool durable = false);
+/// The whole file. Throws std::runtime_error naming it if it cannot be read.
+std::string read_file(const std::filesystem::path& path);
 
 /// Shortest decimal that reads back to the same double (std::to_chars).
 std::string shortest(double x);

@@ -174,6 +174,8 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["engine"] = to_string(r.result.engine);
   s["threads"] = r.result.threads;
   s["particles"] = scene.particles;
+  if (r.result.of != 0)  // a shard: ids [first, end) of a run of `of` particles (rotleak merge)
+    s["ids"] = {{"first", r.result.first_id}, {"end", r.result.first_id + scene.particles}, {"of", r.result.of}};
   s["wall_seconds"] = r.result.wall_seconds;
   s["collisions"] = r.result.tally.collisions;
   s["collisions_per_second"] = r.collisions_per_second();
@@ -241,7 +243,7 @@ void write_directory_summary(RunDirectory& dir, const std::string& command, cons
   dir.commit();
 }
 
-json write_run(RunDirectory& dir, const RunSummary& r) {
+json write_run(RunDirectory& dir, const RunSummary& r, const std::vector<std::string>& written) {
   std::vector<std::string> files{"survival.csv"};
   write_file_atomic(dir.file("survival.csv"), survival_csv(r.curve));
   if (r.scene.collision_density) {
@@ -249,11 +251,12 @@ json write_run(RunDirectory& dir, const RunSummary& r) {
     files.push_back("fc.csv");
   }
   if (r.scene.escape_records) {
-    write_file_atomic(dir.file("escapes.csv"), escapes_csv(0, r.result.records));
+    write_file_atomic(dir.file("escapes.csv"), escapes_csv(r.result.first_id, r.result.records));
     files.push_back("escapes.csv");
   }
   write_file_atomic(dir.file("scene.toml"), scene_to_toml(r.scene));
   files.push_back("scene.toml");
+  files.insert(files.end(), written.begin(), written.end());
   files.push_back("summary.json");
   const json s = summary_json(r, files);
   write_file_atomic(dir.file("summary.json"), s.dump(2) + "\n");  // last: its presence marks a complete run

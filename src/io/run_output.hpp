@@ -38,6 +38,7 @@ void write_directory_summary(RunDirectory& dir, const std::string& command, cons
                              std::vector<std::string> files);
 
 /// Writes every file of the run into the staged directory and commits it; returns summary.json.
-json write_run(RunDirectory& dir, const RunSummary& s);
+/// `written`: files the caller has already put there (listed in summary.json too).
+json write_run(RunDirectory& dir, const RunSummary& s, const std::vector<std::string>& written = {});
 
 }  // namespace rotleak

@@ -21,7 +21,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
     {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
-    {"run", {"t_max", "tier", "fast_forward"}},
+    {"run", {"t_max", "tier", "fast_forward", "checkpoint_seconds"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors"}},
 };
@@ -270,6 +270,10 @@ Scene build(const toml::table& root, const std::string& source) {
     if (!b) throw InputError("run.fast_forward", shown(*n), "must be true or false");
     s.fast_forward = b->get();
   }
+  s.checkpoint_seconds = in.number("run", "checkpoint_seconds", s.checkpoint_seconds);
+  if (!(s.checkpoint_seconds >= 0) || s.checkpoint_seconds > 1e7)
+    throw InputError("run.checkpoint_seconds", shown(*in.find("run", "checkpoint_seconds")),
+                     "must be a number of seconds in [0, 1e7] (0: no periodic checkpoints)");
   s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
   if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
     throw InputError("observe.survival_dt", shown(*in.find("observe", "survival_dt")),
@@ -369,7 +373,10 @@ json scene_json(const Scene& s) {
     j["ensemble"]["sampling_eps"] = s.sampling.eps;
     j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};
   }
-  j["run"] = {{"t_max", s.t_max}, {"tier", to_string(s.tier)}, {"fast_forward", s.fast_forward}};
+  j["run"] = {{"t_max", s.t_max},
+              {"tier", to_string(s.tier)},
+              {"fast_forward", s.fast_forward},
+              {"checkpoint_seconds", s.checkpoint_seconds}};
   json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
   if (s.collision_density) {
     json w = json::array();
@@ -413,9 +420,20 @@ std::string toml_value(const json& v) {
 
 }  // namespace
 
-std::string scene_to_toml(const Scene& s) {
+std::string scene_to_toml(const Scene& s) { return scene_to_toml(scene_json(s)); }
+
+std::string simulation_inputs(const Scene& scene, const std::string& engine) {
+  Scene physics = scene;
+  physics.kappa_window = {0, 0};
+  physics.alpha_factor = physics.alpha_sigma = 0;
+  physics.min_survivors = 0;
+  json doc = scene_json(physics);
+  doc["run"].erase("checkpoint_seconds");
+  return scene_to_toml(doc) + "# engine = " + engine + "\n";
+}
+
+std::string scene_to_toml(const json& doc) {
   std::string out;
-  const json doc = scene_json(s);
   for (const auto& [section, keys] : doc.items()) {
     if (!keys.is_object()) continue;  // "source": where it came from, not part of the scene
     out += (out.empty() ? "[" : "\n[") + section + "]\n";

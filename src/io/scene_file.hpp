@@ -21,5 +21,12 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
 json scene_json(const Scene& s);
 /// The scene as TOML text that parse_scene reads back to the same scene (scene_json, rendered as TOML).
 std::string scene_to_toml(const Scene& s);
+/// A scene_json document rendered as TOML.
+std::string scene_to_toml(const json& doc);
+/// What decides a run's numbers, as text: the scene without its fit keys (those only re-analyse)
+/// and without run.checkpoint_seconds, plus the engine asked for. Two runs with equal inputs give
+/// the same survival.csv; scans compare it to skip done points, checkpoints and shards to refuse a
+/// resume or merge of a different run.
+std::string simulation_inputs(const Scene& scene, const std::string& engine);
 
 }  // namespace rotleak

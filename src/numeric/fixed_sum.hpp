@@ -62,6 +62,12 @@ class FixedSum {
     return limb_[0] == o.limb_[0] && limb_[1] == o.limb_[1] && limb_[2] == o.limb_[2];
   }
   const std::uint64_t* limbs() const { return limb_; }
+  /// The sum whose limbs() are l (least significant first): how saved tallies are read back.
+  static FixedSum from_limbs(const std::uint64_t* l) {
+    FixedSum f;
+    for (int i = 0; i < 3; ++i) f.limb_[i] = l[i];
+    return f;
+  }
 
  private:
   void add_limbs(const std::uint64_t* p) {

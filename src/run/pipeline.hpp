@@ -3,9 +3,13 @@
 // call run_scene() and the io writers the same way.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/run_summary.hpp"
@@ -17,17 +21,48 @@ namespace rotleak {
 /// Status lines for a person (the command line sends them to stderr); may be empty.
 using Note = std::function<void(const std::string&)>;
 
+/// Whether a run continues from its checkpoint: never (one there is an error, unless --force), yes
+/// (`--resume`: it must be there and match), or when one is there and matches (scan points).
+enum class Resume { no, yes, if_any };
+
+/// A run that outlives its process: checkpoints of the merged tallies at `path` (every
+/// scene.checkpoint_seconds and when stopped), resumed from there; and a shard, ids [lo, hi).
+struct Durability {
+  std::filesystem::path path;  ///< the checkpoint file; empty: none
+  Resume resume = Resume::no;
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> ids;  ///< run only ids [lo, hi) of the scene's particles
+};
+
+/// A run stopped (RunOptions::stop) before its end; its checkpoint holds the blocks done.
+class RunInterrupted : public std::runtime_error {
+ public:
+  RunInterrupted(std::filesystem::path checkpoint, std::uint64_t done, std::uint64_t total);
+  std::filesystem::path checkpoint;
+  std::uint64_t done = 0, total = 0;  ///< particles
+};
+
+/// The checkpoint file of a run directory: DIR.checkpoint beside it.
+std::filesystem::path checkpoint_path(const std::filesystem::path& out);
+
+/// The inputs text (io simulation_inputs) a run's tally files carry: the whole run's scene (tier
+/// resolved) and the engine that ran.
+std::string run_inputs(const Scene& whole, Engine ran);
+
 /// Runs a scene and summarises it, no files: a tier of auto is chosen first (verify/auto_tier),
-/// then the engine is checked against the tier actually run.
-RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine = "auto", const Note& note = {});
+/// then the engine is checked against the tier actually run. With `durable`, checkpoints are kept
+/// and resumed as it says; throws RunInterrupted when RunOptions::stop ended the run early.
+RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine = "auto", const Note& note = {},
+                     const Durability* durable = nullptr);
 
 struct SimulateRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
   std::filesystem::path out;
-  bool force = false;           ///< replace an existing run directory
-  std::string engine = "auto";  ///< auto, scalar, simd
-  RunOptions run;               ///< threads, progress
+  bool force = false;                                          ///< replace an existing run directory
+  std::string engine = "auto";                                 ///< auto, scalar, simd
+  RunOptions run;                                              ///< threads, progress, stop
+  Resume resume = Resume::no;                                  ///< continue from DIR.checkpoint
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> ids;  ///< a shard: ids [lo, hi); DIR/tally.bin for merge
   Note note;
 };
 
@@ -37,7 +72,19 @@ struct SimulateOutcome {
   std::filesystem::path dir;
 };
 
-/// Loads and validates the scene, stages the run directory (before any work), runs, writes, commits.
+/// Loads and validates the scene, stages the run directory (before any work), runs (checkpointing to
+/// DIR.checkpoint, removed once the directory is committed), writes, commits.
 SimulateOutcome simulate(const SimulateRequest& request);
+
+struct MergeRequest {
+  std::vector<std::filesystem::path> shards;  ///< run directories made with ids (each holds tally.bin)
+  std::filesystem::path out;
+  bool force = false;
+  Note note;
+};
+
+/// Combines shards into the run their whole id range would have produced: checks that they share
+/// inputs and tile the range exactly once, merges their exact tallies, writes the run directory.
+SimulateOutcome merge_shards(const MergeRequest& request);
 
 }  // namespace rotleak

@@ -14,18 +14,6 @@ namespace rotleak {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-}  // namespace
-
 void check_fit_overrides(const std::vector<std::string>& overrides) {
   for (const std::string& o : overrides)
     if (o.rfind("fit.", 0) != 0)
@@ -37,17 +25,17 @@ Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides
     throw InputError("DIR", "\"" + dir.string() + "\"",
                      "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
   Scene scene = load_scene((dir / "scene.toml").string(), overrides);
-  const json old = json::parse(read_text(dir / "summary.json"));
+  const json old = json::parse(read_file(dir / "summary.json"));
   scene.source = old.at("scene").value("source", scene.source);
   return scene;
 }
 
 json refit_run(const fs::path& dir, const Scene& scene) {
-  const std::string old_text = read_text(dir / "summary.json");
+  const std::string old_text = read_file(dir / "summary.json");
   json s = json::parse(old_text);
   RunSummary r;
   r.scene = scene;
-  r.curve = read_survival_csv(read_text(dir / "survival.csv"), scene);
+  r.curve = read_survival_csv(read_file(dir / "survival.csv"), scene);
   fit_curve(r);
   s["scene"] = scene_json(scene);
   put_fits(s, r);
@@ -66,7 +54,7 @@ RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& override
     return out;
   }
   out.scan = true;
-  json doc = json::parse(read_text(dir / "scan.json"));
+  json doc = json::parse(read_file(dir / "scan.json"));
   std::vector<ScanAxis> axes;
   for (const json& a : doc.at("axes")) axes.push_back({a.at("key"), a.at("values").get<std::vector<std::string>>()});
   std::vector<json> summaries;

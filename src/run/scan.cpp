@@ -124,13 +124,6 @@ std::vector<std::string> range_values(const std::string& option, const std::stri
   return out;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::string csv_number(const json& v) {
   if (v.is_null()) return "";
   if (v.is_number_unsigned()) return std::to_string(v.get<std::uint64_t>());
@@ -285,11 +278,7 @@ ScanOutcome scan(const ScanRequest& req) {
     check_resources(scene, req.run.threads);
     // the inputs of the simulation: the fit keys are left out (a point whose fits differ is refitted,
     // not simulated again)
-    Scene physics = scene;
-    physics.kappa_window = {0, 0};
-    physics.alpha_factor = physics.alpha_sigma = 0;
-    physics.min_survivors = 0;
-    p.inputs = scene_to_toml(physics) + "# engine = " + req.engine + "\n";
+    p.inputs = simulation_inputs(scene, req.engine);
     p.fit = scene_json(scene).at("fit");
     p.scene = scene;
     p.number_theory = omega_number_theory(scene);
@@ -303,7 +292,7 @@ ScanOutcome scan(const ScanRequest& req) {
   json manifest = json::object();
   if (fs::exists(manifest_path)) {
     try {
-      manifest = json::parse(read_text(manifest_path));
+      manifest = json::parse(read_file(manifest_path));
     } catch (const std::exception&) {
       manifest = json::object();  // unreadable: every point is redone
     }
@@ -322,7 +311,7 @@ ScanOutcome scan(const ScanRequest& req) {
                           manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs;
     if (complete && !req.force) {
       ++out.skipped;
-      const json saved = json::parse(read_text(pdir / "summary.json"));
+      const json saved = json::parse(read_file(pdir / "summary.json"));
       const bool same_fit = saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit;
       if (!same_fit) refit_run(pdir, p.scene);
       if (req.note)
@@ -337,6 +326,9 @@ ScanOutcome scan(const ScanRequest& req) {
     sr.overrides = p.overrides;
     sr.out = pdir;
     sr.force = true;  // an incomplete or outdated point is replaced
+    // a point killed in the middle continues from its checkpoint (points/SLUG.checkpoint) when its
+    // inputs match; --force starts every point afresh
+    sr.resume = req.force ? Resume::no : Resume::if_any;
     sr.engine = req.engine;
     sr.run = req.run;
     sr.note = req.note;
@@ -361,7 +353,7 @@ ScanOutcome scan(const ScanRequest& req) {
   std::vector<json> summaries;
   json rows = json::array();
   for (const Point& p : points) {
-    json s = json::parse(read_text(points_dir / p.slug / "summary.json"));
+    json s = json::parse(read_file(points_dir / p.slug / "summary.json"));
     json row = {{"point", p.slug}, {"values", p.values}};
     row["kappa"] = s.at("kappa");
     row["alpha"] = s.at("alpha");

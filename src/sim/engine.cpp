@@ -195,82 +195,121 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   if (scene.escape_records) result.records.resize(scene.particles);
 
   result.engine = resolve_engine(opt.engine, scene);
+  result.first_id = opt.first_id;
   const bool use_simd = result.engine == Engine::simd;
   simd::Scene kernel_scene{};
   if constexpr (std::is_same_v<R, double>)
     if (use_simd) kernel_scene = simd_scene(model);
   const std::uint64_t n = scene.particles;
-  constexpr std::uint64_t kBlock = 4096;
-  const std::uint64_t blocks = (n + kBlock - 1) / kBlock;
+  const std::uint64_t blocks = block_count(n);
+  auto block_particles = [n](std::uint64_t b) { return std::min(n, (b + 1) * kBlockSize) - b * kBlockSize; };
+  const IntervalSet todo = opt.blocks ? *opt.blocks : IntervalSet::range(0, blocks);
+  if (!todo.empty() && todo.intervals().back().second > blocks)
+    throw std::invalid_argument("RunOptions::blocks names block " + std::to_string(todo.intervals().back().second - 1) +
+                                " of a run of " + std::to_string(blocks));
+  result.done = todo.complement_in(0, blocks);
+  std::uint64_t already = 0;
+  for (const auto& [lo, hi] : result.done.intervals()) already += (hi - lo) * kBlockSize;
+  if (!result.done.empty() && result.done.intervals().back().second == blocks)
+    already -= kBlockSize - block_particles(blocks - 1);
+  if (opt.start) result.tally.merge(*opt.start);
+  if (opt.start_records && scene.escape_records) result.records = *opt.start_records;
   const double dt = scene.survival_dt;
   const std::size_t nbins = result.tally.escapes_per_bin.size();
-  std::atomic<std::uint64_t> done{0}, collisions_done{0};
+  std::atomic<std::uint64_t> done{already}, collisions_done{result.tally.collisions};
   const auto t0 = std::chrono::steady_clock::now();
 
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const std::uint64_t total = todo.size();
+  std::uint64_t at = 0;  // the blocks todo.nth(0 .. at) are done
+  // Epochs: threads take blocks in todo order from a shared counter until all are taken, a stop is
+  // asked for, or the checkpoint time has come; then the tallies are merged and checkpointed.
+  while (true) {
+    const auto deadline =
+        opt.checkpoint_seconds > 0
+            ? std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                     std::chrono::duration<double>(opt.checkpoint_seconds))
+            : std::chrono::steady_clock::time_point::max();
+    std::atomic<std::uint64_t> next{at};
+    std::atomic<bool> halt{false};
 #pragma omp parallel num_threads(threads)
-  {
+    {
 #pragma omp single
-    result.threads = omp_get_num_threads();
-    Tally local;
-    local.resize(scene);
-    DensityObserver<R> density{&model.stadium, scene.collision_density ? &scene.collision_density->windows : nullptr,
-                               scene.collision_density ? scene.collision_density->bins : 0,
-                               local.collision_density.data(),
-                               local.weighted ? local.collision_density_w.data() : nullptr};
-    NoCollisionObserver<R> none;
-    auto record = [&](std::uint64_t i, const ParticleEnd& end) {
-      double w = 1;
-      if (local.weighted) {  // the weight is a function of (seed, id): rebuilt here, not carried by lanes
-        w = source.weight(source(i));
-        local.total_w.add(w);
-        local.total_w2.add(w * w);
-      }
-      switch (end.fate) {
-        case Fate::escaped: {
-          std::size_t b = static_cast<std::size_t>(end.t / dt);
-          if (b >= nbins) b = nbins - 1;
-          ++local.escapes_per_bin[b];
-          ++local.escaped;
-          if (local.weighted) {
-            local.escaped_w[b].add(w);
-            local.escaped_w2[b].add(w * w);
+      result.threads = omp_get_num_threads();
+      Tally local;
+      local.resize(scene);
+      DensityObserver<R> density{&model.stadium, scene.collision_density ? &scene.collision_density->windows : nullptr,
+                                 scene.collision_density ? scene.collision_density->bins : 0,
+                                 local.collision_density.data(),
+                                 local.weighted ? local.collision_density_w.data() : nullptr};
+      NoCollisionObserver<R> none;
+      auto record = [&](std::uint64_t i, const ParticleEnd& end) {
+        double w = 1;
+        if (local.weighted) {  // the weight is a function of (seed, id): rebuilt here, not carried by lanes
+          w = source.weight(source(i));
+          local.total_w.add(w);
+          local.total_w2.add(w * w);
+        }
+        switch (end.fate) {
+          case Fate::escaped: {
+            std::size_t b = static_cast<std::size_t>(end.t / dt);
+            if (b >= nbins) b = nbins - 1;
+            ++local.escapes_per_bin[b];
+            ++local.escaped;
+            if (local.weighted) {
+              local.escaped_w[b].add(w);
+              local.escaped_w2[b].add(w * w);
+            }
+            break;
           }
-          break;
+          case Fate::survived:
+            ++local.survived;
+            break;
+          case Fate::stuck:
+            ++local.stuck;
+            break;
         }
-        case Fate::survived:
-          ++local.survived;
-          break;
-        case Fate::stuck:
-          ++local.stuck;
-          break;
-      }
-      local.collisions += end.collisions;
-      if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
-    };
-#pragma omp for schedule(dynamic, 1)
-    for (std::uint64_t blk = 0; blk < blocks; ++blk) {
-      const std::uint64_t lo = blk * kBlock, hi = std::min(n, lo + kBlock);
-      const std::uint64_t before = local.collisions;
-      if (use_simd) {
-        if constexpr (std::is_same_v<R, double>) {
-          SimdContext ctx{&model, source, lo, hi, record, {}};
-          simd::run(kernel_scene, &ctx, simd_next, simd_finish);
+        local.collisions += end.collisions;
+        if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
+      };
+      while (true) {
+        // the halt check comes before taking a block: every block taken is run
+        if (halt.load(std::memory_order_relaxed) || (opt.stop && opt.stop->load(std::memory_order_relaxed))) break;
+        const std::uint64_t k = next.fetch_add(1);
+        if (k >= total) break;
+        const std::uint64_t blk = todo.nth(k);
+        const std::uint64_t lo = blk * kBlockSize, hi = std::min(n, lo + kBlockSize);
+        const std::uint64_t before = local.collisions;
+        if (use_simd) {
+          if constexpr (std::is_same_v<R, double>) {
+            SimdContext ctx{&model, source, lo, hi, record, {}};
+            simd::run(kernel_scene, &ctx, simd_next, simd_finish);
+          }
+        } else if (scene.collision_density) {
+          run_block(model, source, lo, hi, density, record);
+        } else {
+          run_block(model, source, lo, hi, none, record);
         }
-      } else if (scene.collision_density) {
-        run_block(model, source, lo, hi, density, record);
-      } else {
-        run_block(model, source, lo, hi, none, record);
+        const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
+        const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
+        if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, n, c, false);
+        if (std::chrono::steady_clock::now() >= deadline) halt.store(true, std::memory_order_relaxed);
       }
-      const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
-      const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
-      if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, n, c, false);
-    }
 #pragma omp critical
-    result.tally.merge(local);
+      result.tally.merge(local);
+    }
+    const std::uint64_t end = std::min(next.load(), total);
+    result.done.insert(todo.slice(at, end));  // the todo positions [at, end) are done
+    at = end;
+    if (at >= total) break;
+    if (opt.checkpoint) opt.checkpoint(result.tally, result.done, result.records);
+    if (opt.stop && opt.stop->load()) {
+      result.complete = false;
+      break;
+    }
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (opt.progress) opt.progress(n, n, result.tally.collisions, true);
+  if (opt.progress && result.complete) opt.progress(n, n, result.tally.collisions, true);
   return result;
 }
 

@@ -2,12 +2,14 @@
 // result does not depend on the thread count.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "numeric/fixed_sum.hpp"
+#include "sim/blocks.hpp"
 #include "sim/fate.hpp"
 #include "sim/initial.hpp"
 #include "sim/scene.hpp"
@@ -52,6 +54,22 @@ struct RunOptions {
   /// Called from one thread at a time, at most after every block of particles: particles done of
   /// total, collisions so far; once more with final = true at the end. Empty: no reports.
   std::function<void(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final)> progress;
+
+  // Checkpoints and resume. The run's ids form blocks of kBlockSize (block b: ids first_id + b
+  // kBlockSize ...). Threads take the blocks to run in increasing order; the result never depends on
+  // which thread ran which, nor on how the work was cut into epochs.
+  /// Blocks to run; null: all of them. A resumed run passes the blocks its checkpoint lacks.
+  const IntervalSet* blocks = nullptr;
+  /// The tallies (and escape records) of the blocks already done, merged into the result.
+  const Tally* start = nullptr;
+  const std::vector<EscapeRecord>* start_records = nullptr;
+  /// Every checkpoint_seconds (0: never) the threads finish their blocks and checkpoint() gets the
+  /// merged tallies of all blocks done so far (those of `start` included) and their set.
+  double checkpoint_seconds = 0;
+  std::function<void(const Tally&, const IntervalSet& done, const std::vector<EscapeRecord>& records)> checkpoint;
+  /// Set (by a signal handler, say): the threads finish the blocks they hold and take no more; the
+  /// result then has complete = false and checkpoint() is called.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RunResult {
@@ -60,6 +78,10 @@ struct RunResult {
   double wall_seconds = 0;
   int threads = 1;
   Engine engine = Engine::scalar;  ///< the one that ran
+  std::uint64_t first_id = 0;      ///< the ids run: [first_id, first_id + scene.particles)
+  std::uint64_t of = 0;            ///< a shard (--ids A:B): the whole run's particle count; 0 otherwise
+  IntervalSet done;                ///< blocks whose particles are in the tally
+  bool complete = true;            ///< false when stopped before every block ran
 };
 
 /// The engine `requested` resolves to for this scene on this CPU.

@@ -54,6 +54,8 @@ struct Scene {
   double t_max = 20000;
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
   bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/particle.hpp fast_forward)
+  double checkpoint_seconds =
+      300;  ///< a checkpoint of the merged tallies this often (0: none); not an input of the numbers
 
   double survival_dt = 1;
   std::optional<CollisionDensitySpec> collision_density;

@@ -1,0 +1,201 @@
+#include "io/tally_file.hpp"
+
+#include <bit>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/files.hpp"
+#include "io/json.hpp"
+
+namespace rotleak {
+
+static_assert(std::endian::native == std::endian::little, "tally files are written as little-endian words");
+
+namespace {
+
+constexpr const char* kMagic = "rotleak-tallies 1\n";
+
+std::uint64_t fnv1a(const char* p, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+struct Writer {
+  std::string out;
+  void word(std::uint64_t w) { out.append(reinterpret_cast<const char*>(&w), 8); }
+  void words(const std::vector<std::uint64_t>& v) { out.append(reinterpret_cast<const char*>(v.data()), v.size() * 8); }
+  void sum(const FixedSum& f) {
+    for (int i = 0; i < 3; ++i) word(f.limbs()[i]);
+  }
+  void sums(const std::vector<FixedSum>& v) {
+    for (const FixedSum& f : v) sum(f);
+  }
+};
+
+struct Reader {
+  const std::string& in;
+  std::size_t at;
+  const std::string& where;
+  std::uint64_t word() {
+    if (at + 8 > in.size()) throw std::runtime_error(where + ": tally file ends early");
+    std::uint64_t w;
+    std::memcpy(&w, in.data() + at, 8);
+    at += 8;
+    return w;
+  }
+  void words(std::vector<std::uint64_t>& v) {
+    for (auto& w : v) w = word();
+  }
+  FixedSum sum() {
+    std::uint64_t l[3];
+    for (auto& w : l) w = word();
+    return FixedSum::from_limbs(l);
+  }
+  void sums(std::vector<FixedSum>& v) {
+    for (auto& f : v) f = sum();
+  }
+};
+
+double as_double(std::uint64_t w) { return std::bit_cast<double>(w); }
+std::uint64_t as_word(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+}  // namespace
+
+std::string encode_tally_file(const TallyFile& f) {
+  const Tally& t = f.tally;
+  json done = json::array();
+  for (const auto& [lo, hi] : f.done.intervals()) done.push_back({lo, hi});
+  const json header = {{"inputs", f.inputs},
+                       {"particles", f.particles},
+                       {"first_id", f.first_id},
+                       {"of", f.of},
+                       {"block_size", kBlockSize},
+                       {"done", done},
+                       {"survival_bins", t.escapes_per_bin.size()},
+                       {"density_bins", t.collision_density.size()},
+                       {"weighted", t.weighted},
+                       {"records", f.records.size()}};
+  const std::string h = header.dump();
+  Writer w;
+  w.out = std::string(kMagic) + std::to_string(h.size()) + "\n" + h;
+  w.words(t.escapes_per_bin);
+  w.words(t.collision_density);
+  for (std::uint64_t x : {t.collisions, t.escaped, t.survived, t.stuck}) w.word(x);
+  if (t.weighted) {
+    w.sums(t.escaped_w);
+    w.sums(t.escaped_w2);
+    w.sum(t.total_w);
+    w.sum(t.total_w2);
+    w.sums(t.collision_density_w);
+  }
+  for (const EscapeRecord& r : f.records) {
+    w.word(as_word(r.t));
+    w.word(as_word(r.s));
+    w.word(r.collisions);
+    w.word(static_cast<std::uint64_t>(r.fate));
+  }
+  w.word(fnv1a(w.out.data(), w.out.size()));
+  return w.out;
+}
+
+TallyFile decode_tally_file(const std::string& in, const std::string& where) {
+  const std::size_t magic = std::strlen(kMagic);
+  if (in.compare(0, magic, kMagic) != 0) throw std::runtime_error(where + ": not a rotleak tally file");
+  if (in.size() < magic + 8 || [&] {
+        std::uint64_t sum;
+        std::memcpy(&sum, in.data() + in.size() - 8, 8);
+        return sum != fnv1a(in.data(), in.size() - 8);
+      }())
+    throw std::runtime_error(where + ": tally file damaged (checksum mismatch)");
+  const std::size_t nl = in.find('\n', magic);
+  std::size_t hlen = 0;
+  try {
+    hlen = std::stoull(in.substr(magic, nl - magic));
+  } catch (const std::exception&) {
+    throw std::runtime_error(where + ": tally file header length unreadable");
+  }
+  TallyFile f;
+  json h;
+  try {
+    h = json::parse(in.substr(nl + 1, hlen));
+    if (h.at("block_size").get<std::uint64_t>() != kBlockSize)
+      throw std::runtime_error("written with blocks of " + h.at("block_size").dump() + " particles, this build uses " +
+                               std::to_string(kBlockSize));
+    f.inputs = h.at("inputs").get<std::string>();
+    f.particles = h.at("particles").get<std::uint64_t>();
+    f.first_id = h.at("first_id").get<std::uint64_t>();
+    f.of = h.at("of").get<std::uint64_t>();
+    for (const json& iv : h.at("done"))
+      if (!f.done.insert(iv.at(0).get<std::uint64_t>(), iv.at(1).get<std::uint64_t>()))
+        throw std::runtime_error("overlapping done blocks");
+    f.tally.escapes_per_bin.assign(h.at("survival_bins").get<std::size_t>(), 0);
+    f.tally.collision_density.assign(h.at("density_bins").get<std::size_t>(), 0);
+    f.tally.weighted = h.at("weighted").get<bool>();
+    f.records.resize(h.at("records").get<std::size_t>());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + ": tally file header unreadable: " + e.what());
+  }
+  Reader r{in, nl + 1 + hlen, where};
+  Tally& t = f.tally;
+  r.words(t.escapes_per_bin);
+  r.words(t.collision_density);
+  t.collisions = r.word();
+  t.escaped = r.word();
+  t.survived = r.word();
+  t.stuck = r.word();
+  if (t.weighted) {
+    t.escaped_w.resize(t.escapes_per_bin.size());
+    t.escaped_w2.resize(t.escapes_per_bin.size());
+    t.collision_density_w.resize(t.collision_density.size());
+    r.sums(t.escaped_w);
+    r.sums(t.escaped_w2);
+    t.total_w = r.sum();
+    t.total_w2 = r.sum();
+    r.sums(t.collision_density_w);
+  }
+  for (EscapeRecord& e : f.records) {
+    e.t = as_double(r.word());
+    e.s = as_double(r.word());
+    e.collisions = r.word();
+    e.fate = static_cast<Fate>(r.word());
+  }
+  if (r.at + 8 != in.size()) throw std::runtime_error(where + ": tally file has trailing data");
+  return f;
+}
+
+void write_tally_file(const std::filesystem::path& path, const TallyFile& f) {
+  write_file_atomic(path, encode_tally_file(f), /*durable=*/true);
+}
+
+TallyFile read_tally_file(const std::filesystem::path& path) {
+  return decode_tally_file(read_file(path), path.string());
+}
+
+std::string inputs_difference(const std::string& a, const std::string& b) {
+  if (a == b) return "";
+  std::istringstream sa(a), sb(b);
+  std::string la, lb, section;
+  while (true) {
+    const bool ga = static_cast<bool>(std::getline(sa, la)), gb = static_cast<bool>(std::getline(sb, lb));
+    if (!ga && !gb) return "they differ";
+    if (ga && gb && la == lb) {
+      if (!la.empty() && la[0] == '[') section = la.substr(1, la.size() - 2) + ".";
+      continue;
+    }
+    const std::string key = (ga ? la : lb).substr(0, (ga ? la : lb).find(" = "));
+    const auto value = [](const std::string& line, bool got) {
+      if (!got) return std::string("(absent)");
+      const auto eq = line.find(" = ");
+      return eq == std::string::npos ? line : line.substr(eq + 3);
+    };
+    if (key.rfind("# engine", 0) == 0) return "engine: " + value(la, ga) + " vs " + value(lb, gb);
+    return section + key + ": " + value(la, ga) + " vs " + value(lb, gb);
+  }
+}
+
+}  // namespace rotleak

@@ -1,0 +1,46 @@
+// A run's exact tallies in a file: the checkpoint of an unfinished run (DIR.checkpoint), the tallies
+// of a shard (DIR/tally.bin) that `rotleak merge` combines, and what MPI ranks send to rank 0. One
+// format for all three, so what one writes the others read.
+//
+// Layout: the line "rotleak-tallies 1", the header's length in bytes and a newline, the header (JSON:
+// the run's inputs as text, its ids, block size, the blocks done, the array sizes), then the arrays
+// as little-endian 64-bit words (counts, the three limbs of each exact sum, escape records), then an
+// FNV-1a 64 checksum of everything before it. The counts are integers and the sums fixed-point
+// integers, so a tally read back merges to the same bits as the one written.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sim/blocks.hpp"
+#include "sim/engine.hpp"
+
+namespace rotleak {
+
+struct TallyFile {
+  std::string inputs;           ///< simulation_inputs() of the whole run (tier and engine resolved)
+  std::uint64_t particles = 0;  ///< ids run: [first_id, first_id + particles)
+  std::uint64_t first_id = 0;
+  std::uint64_t of = 0;  ///< the whole run's particle count (a shard's differs from particles)
+  IntervalSet done;      ///< blocks (of kBlockSize ids from first_id) whose particles are in the tally
+  Tally tally;
+  std::vector<EscapeRecord> records;  ///< by id - first_id; entries of blocks not done are zero
+
+  bool complete() const { return done == IntervalSet::range(0, block_count(particles)); }
+};
+
+std::string encode_tally_file(const TallyFile& f);
+/// Throws std::runtime_error naming `where` on a damaged or foreign file.
+TallyFile decode_tally_file(const std::string& bytes, const std::string& where);
+
+/// Atomically (a temporary name, then rename).
+void write_tally_file(const std::filesystem::path& path, const TallyFile& f);
+TallyFile read_tally_file(const std::filesystem::path& path);
+
+/// The first line where two inputs texts differ, as "KEY: A vs B" (for the error that refuses a
+/// resume or a merge); empty when equal.
+std::string inputs_difference(const std::string& a, const std::string& b);
+
+}  // namespace rotleak
