@@ -6,9 +6,12 @@
 
 #include "cli/commands.hpp"
 #include "numeric/input.hpp"
+#include "run/team.hpp"
 #include "version.hpp"
 
 int main(int argc, char** argv) {
+  // under mpirun: MPI is initialised here (it may take its own arguments), finalised at the end
+  const std::unique_ptr<rotleak::Team> team = rotleak::join_team(&argc, &argv);
   CLI::App app{"rotleak: open chaotic billiards with a rotating leak"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + ")");
@@ -29,8 +32,12 @@ int main(int argc, char** argv) {
   try {
     for (const auto& c : commands)
       if (c.app->parsed()) return c.run();
+  } catch (const rotleak::QuietExit& e) {
+    return e.code;
   } catch (const rotleak::InputError& e) {
-    std::cerr << "rotleak: error: " << e.what() << "\n";
+    // every rank reads the same arguments: rank 0 speaks for them (a rank's own trouble is printed
+    // where it is found)
+    if (team->rank() == 0) std::cerr << "rotleak: error: " << e.what() << "\n";
     return rotleak::cli::kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr
@@ -43,6 +50,7 @@ int main(int argc, char** argv) {
       if (c == '\n') c = ' ';
     if (what.size() > 300) what = what.substr(0, 240) + "... (" + std::to_string(what.size()) + " characters)";
     std::cerr << "rotleak: failed: " << what << "\n";
+    team->abort(1);  // other ranks may wait in a collective
     return 1;
   }
   return 1;

@@ -58,8 +58,9 @@ int run_simulate(SimulateArgs a) {
   }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
-  a.request.run.progress = progress_on_stderr(!a.no_progress && (a.progress || ::isatty(2)));
-  if (!a.json_out) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  const bool lead = current_team().rank() == 0;  // under MPI only rank 0 reports
+  a.request.run.progress = progress_on_stderr(lead && !a.no_progress && (a.progress || ::isatty(2)));
+  if (!a.json_out && lead) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
 
   if (!a.resume_dir.empty()) {
     if (!a.request.out.empty() && RunDirectory::normalise(a.request.out) != RunDirectory::normalise(a.resume_dir))
@@ -77,14 +78,17 @@ int run_simulate(SimulateArgs a) {
   try {
     out = simulate(a.request);
   } catch (const RunInterrupted& e) {
+    if (!lead) return 128 + (g_signal ? static_cast<int>(g_signal) : SIGINT);
     std::fprintf(stderr,
                  "rotleak: %s after %llu of %llu particles; checkpoint written to %s\n"
-                 "rotleak: continue with the same command, --out replaced by --resume %s\n",
+                 "rotleak: continue with the same command, --out replaced by --resume %s%s\n",
                  g_signal == SIGTERM ? "terminated" : "interrupted", static_cast<unsigned long long>(e.done),
                  static_cast<unsigned long long>(e.total), e.checkpoint.c_str(),
-                 RunDirectory::normalise(a.request.out).c_str());
+                 RunDirectory::normalise(a.request.out).c_str(),
+                 current_team().size() > 1 ? " (and the same number of MPI ranks)" : "");
     return 128 + (g_signal ? static_cast<int>(g_signal) : SIGINT);
   }
+  if (!lead) return 0;
   if (a.json_out)
     std::cout << out.document.dump(2) << "\n";
   else

@@ -172,7 +172,8 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   if (r.tier_choice)
     s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
   s["engine"] = to_string(r.result.engine);
-  s["threads"] = r.result.threads;
+  s["threads"] = r.result.threads;  // per rank
+  s["ranks"] = r.result.ranks;
   s["particles"] = scene.particles;
   if (r.result.of != 0)  // a shard: ids [first, end) of a run of `of` particles (rotleak merge)
     s["ids"] = {{"first", r.result.first_id}, {"end", r.result.first_id + scene.particles}, {"of", r.result.of}};

@@ -1,6 +1,8 @@
 #include "run/pipeline.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <exception>
 #include <utility>
 
 #include "io/files.hpp"
@@ -19,13 +21,6 @@ std::string particles_text(std::uint64_t done, std::uint64_t total) {
   return std::to_string(done) + " of " + std::to_string(total) + " particles";
 }
 
-/// Particles in a set of blocks of a run of n.
-std::uint64_t particles_in(const IntervalSet& blocks, std::uint64_t n) {
-  std::uint64_t count = 0;
-  for (const auto& [lo, hi] : blocks.intervals()) count += std::min(n, hi * kBlockSize) - std::min(n, lo * kBlockSize);
-  return count;
-}
-
 }  // namespace
 
 RunInterrupted::RunInterrupted(fs::path path, std::uint64_t d, std::uint64_t t)
@@ -34,12 +29,65 @@ RunInterrupted::RunInterrupted(fs::path path, std::uint64_t d, std::uint64_t t)
       done(d),
       total(t) {}
 
-fs::path checkpoint_path(const fs::path& out) {
+fs::path checkpoint_path(const fs::path& out, int rank, int ranks) {
   const fs::path p = RunDirectory::normalise(out);
-  return p.parent_path() / (p.filename().string() + ".checkpoint");
+  std::string name = p.filename().string() + ".checkpoint";
+  if (ranks > 1) name += "-rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
+  return p.parent_path() / name;
 }
 
 std::string run_inputs(const Scene& whole, Engine ran) { return simulation_inputs(whole, to_string(ran)); }
+
+namespace {
+
+/// Collective: a failure on any rank ends the command on every rank. Rank 0's own failure is the
+/// one reported (the others exit quietly); else each failing rank reports its own.
+void agree(const Team& team, const std::exception_ptr& failure) {
+  if (team.size() == 1) {
+    if (failure) std::rethrow_exception(failure);
+    return;
+  }
+  const bool zero_ok = team.all(team.rank() != 0 || !failure);
+  const bool all_ok = team.all(!failure);
+  if (zero_ok && all_ok) return;
+  if (failure && team.rank() == 0) std::rethrow_exception(failure);
+  if (failure && zero_ok) {  // this rank's own trouble: it says so (the command line prints rank 0's errors only)
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "rotleak: rank %d: error: %s\n", team.rank(), e.what());
+    }
+  }
+  throw QuietExit(2);
+}
+
+/// Rank 0: every rank's tally file (same inputs and ids, blocks that tile the run) merged into one result.
+void merge_ranks(RunResult& result, const std::vector<std::string>& parts, std::uint64_t n) {
+  Tally merged;
+  merged.escapes_per_bin.assign(result.tally.escapes_per_bin.size(), 0);
+  merged.collision_density.assign(result.tally.collision_density.size(), 0);
+  merged.weighted = result.tally.weighted;
+  merged.escaped_w.assign(result.tally.escaped_w.size(), FixedSum{});
+  merged.escaped_w2.assign(result.tally.escaped_w2.size(), FixedSum{});
+  merged.collision_density_w.assign(result.tally.collision_density_w.size(), FixedSum{});
+  IntervalSet done;
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    const TallyFile f = decode_tally_file(parts[r], "rank " + std::to_string(r));
+    if (!done.insert(f.done)) throw std::logic_error("rank " + std::to_string(r) + " ran blocks another rank ran");
+    merged.merge(f.tally);
+    if (!result.records.empty())
+      for (const auto& [lo, hi] : f.done.intervals())
+        std::copy(f.records.begin() + static_cast<std::ptrdiff_t>(lo * kBlockSize),
+                  f.records.begin() + static_cast<std::ptrdiff_t>(std::min(n, hi * kBlockSize)),
+                  result.records.begin() + static_cast<std::ptrdiff_t>(lo * kBlockSize));
+  }
+  if (!(done == IntervalSet::range(0, block_count(n))))
+    throw std::logic_error("the ranks' blocks do not cover the run: " + done.text());
+  result.tally = std::move(merged);
+  result.done = std::move(done);
+}
+
+}  // namespace
 
 RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine, const Note& note,
                      const Durability* durable) {
@@ -57,49 +105,83 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
     return s;
   }
 
+  const Team& team = durable->team ? *durable->team : current_team();
+  const int rank = team.rank(), ranks = team.size();
   const std::uint64_t whole = scene.particles;
   const std::string inputs = run_inputs(scene, resolve_engine(options.engine, scene));
   if (durable->ids) {
     scene.particles = durable->ids->second - durable->ids->first;
     options.first_id = durable->ids->first;
   }
+  const std::uint64_t first = options.first_id, n = scene.particles, blocks = block_count(n);
+  // this rank's share: the rank-th of `ranks` equal runs of blocks
+  const std::uint64_t share_lo = blocks * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
+  const std::uint64_t share_hi = blocks * static_cast<std::uint64_t>(rank + 1) / static_cast<std::uint64_t>(ranks);
+  fs::path path = durable->path;
+  if (!path.empty() && ranks > 1) path += "-rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
   TallyFile saved;
-  IntervalSet todo;
-  const fs::path& path = durable->path;
-  const bool have = !path.empty() && fs::exists(path);
-  if (durable->resume == Resume::yes && !have)
-    throw InputError("--resume", path.parent_path().string().empty() ? "." : path.string(),
-                     "no checkpoint there: nothing to resume (the run finished, or never wrote one)");
-  if (durable->resume != Resume::no && have) {
-    saved = read_tally_file(path);
-    std::string why = inputs_difference(saved.inputs, inputs);
-    if (why.empty() && (saved.particles != scene.particles || saved.first_id != options.first_id))
-      why = "ids [" + std::to_string(saved.first_id) + ", " + std::to_string(saved.first_id + saved.particles) +
-            ") vs [" + std::to_string(options.first_id) + ", " + std::to_string(options.first_id + scene.particles) +
-            ")";
-    if (!why.empty() && durable->resume == Resume::yes)
-      throw InputError("--resume", path.string(), "the checkpoint was made with other inputs (" + why + ")");
-    if (why.empty()) {
-      todo = saved.done.complement_in(0, block_count(scene.particles));
-      options.blocks = &todo;
-      options.start = &saved.tally;
-      options.start_records = &saved.records;
-      if (note)
-        note("[rotleak] resuming from " + path.string() + ": " +
-             particles_text(particles_in(saved.done, scene.particles), scene.particles) + " done");
-    } else if (note) {
-      note("[rotleak] " + path.string() + " was made with other inputs (" + why + "): starting over");
+  std::exception_ptr failure;
+  try {
+    const bool have = !path.empty() && fs::exists(path);
+    if (durable->resume == Resume::yes && !have)
+      throw InputError("--resume", path.string(),
+                       ranks > 1 ? "no checkpoint of this rank: was the run made with another number of ranks?"
+                                 : "no checkpoint there: nothing to resume");
+    if (durable->resume != Resume::no && have) {
+      saved = read_tally_file(path);
+      std::string why = inputs_difference(saved.inputs, inputs);
+      if (why.empty() && (saved.particles != n || saved.first_id != first))
+        why = "ids [" + std::to_string(saved.first_id) + ", " + std::to_string(saved.first_id + saved.particles) +
+              ") vs [" + std::to_string(first) + ", " + std::to_string(first + n) + ")";
+      if (why.empty() && !saved.done.empty() &&
+          (saved.done.intervals().front().first < share_lo || saved.done.intervals().back().second > share_hi))
+        why = "blocks of another rank's share (made with another number of ranks)";
+      if (!why.empty() && durable->resume == Resume::yes)
+        throw InputError("--resume", path.string(), "the checkpoint was made with other inputs (" + why + ")");
+      if (!why.empty()) {
+        if (note) note("[rotleak] " + path.string() + " was made with other inputs (" + why + "): starting over");
+        saved = TallyFile{};
+      } else if (note) {
+        note("[rotleak] resuming from " + path.string() + ": " + std::to_string(particles_in(saved.done, n)) + " of " +
+             std::to_string(
+                 share_hi == blocks && share_lo == 0 ? n : particles_in(IntervalSet::range(share_lo, share_hi), n)) +
+             " particles done");
+      }
     }
+  } catch (...) {
+    failure = std::current_exception();
   }
-  const std::uint64_t first = options.first_id, n = scene.particles;
+  agree(team, failure);
+  const IntervalSet todo = saved.done.complement_in(share_lo, share_hi);
+  options.blocks = &todo;
+  options.start_done = &saved.done;
+  if (!saved.done.empty()) {
+    options.start = &saved.tally;
+    options.start_records = &saved.records;
+  }
   if (!path.empty()) {
     options.checkpoint_seconds = scene.checkpoint_seconds;
-    options.checkpoint = [&, first, n](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
+    options.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
       write_tally_file(path, TallyFile{inputs, n, first, whole, done, t, rec});
     };
   }
   RunResult result = run_ensemble(scene, options);
-  if (!result.complete) throw RunInterrupted(path, particles_in(result.done, n), n);
+  if (!team.all(result.complete)) {  // stopped (on some rank): every rank keeps what it has done
+    if (result.complete && !path.empty())
+      write_tally_file(path, TallyFile{inputs, n, first, whole, result.done, result.tally, result.records});
+    throw RunInterrupted(path, particles_in(result.done, n), particles_in(IntervalSet::range(share_lo, share_hi), n));
+  }
+  if (ranks > 1) {
+    const std::vector<std::string> parts =
+        team.gather(encode_tally_file(TallyFile{inputs, n, first, whole, result.done, result.tally, result.records}));
+    if (rank != 0) {  // rank 0 summarises and writes
+      RunSummary s;
+      s.scene = scene;
+      return s;
+    }
+    merge_ranks(result, parts, n);
+    result.ranks = ranks;
+  }
   if (durable->ids) result.of = whole;
   RunSummary s = summarise(scene, std::move(result));
   s.tier_choice = std::move(choice);
@@ -107,41 +189,52 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
 }
 
 SimulateOutcome simulate(const SimulateRequest& req) {
+  const Team& team = req.team ? *req.team : current_team();
   const Scene scene = load_scene(req.scene_path, req.overrides);
   check_resources(scene, req.run.threads);                                       // before any directory is made
   if (!scene.tier.automatic()) engine_from_name("--engine", req.engine, scene);  // a bad engine fails before any work
   if (req.ids && !(req.ids->first < req.ids->second && req.ids->second <= scene.particles))
     throw InputError("--ids", std::to_string(req.ids->first) + ":" + std::to_string(req.ids->second),
                      "must be A:B with 0 <= A < B <= ensemble.particles (" + std::to_string(scene.particles) + ")");
-  Durability durable{checkpoint_path(req.out), req.resume, req.ids};
-  if (req.resume == Resume::yes && !fs::exists(durable.path))
-    throw InputError("--resume", req.out.string(),
-                     fs::exists(RunDirectory::normalise(req.out) / "summary.json")
-                         ? "the run there is complete: nothing to resume"
-                         : "no checkpoint " + durable.path.string() + ": nothing to resume");
-  if (req.resume == Resume::no && fs::exists(durable.path)) {
-    if (!req.force)
+  Durability durable{checkpoint_path(req.out), req.resume, req.ids, &team};
+  const fs::path mine = checkpoint_path(req.out, team.rank(), team.size());
+  std::optional<RunDirectory> dir;
+  std::exception_ptr failure;
+  try {
+    if (req.resume == Resume::yes && fs::exists(RunDirectory::normalise(req.out) / "summary.json")) {
+      fs::remove(mine);  // left by a kill between the commit and its removal
+      throw InputError("--resume", req.out.string(), "the run there is complete: nothing to resume");
+    }
+    if (req.resume == Resume::yes && !fs::exists(mine))
+      throw InputError("--resume", req.out.string(), "no checkpoint " + mine.string() + ": nothing to resume");
+    if (req.resume == Resume::no && fs::exists(mine) && !req.force)
       throw InputError("--out", req.out.string(),
-                       "an unfinished run's checkpoint " + durable.path.string() +
+                       "an unfinished run's checkpoint " + mine.string() +
                            " is there: add --resume to continue it, or --force to start over");
+    if (team.rank() == 0) dir.emplace(req.out, req.force);  // validated and staged before any work
+    if (req.resume == Resume::no) fs::remove(mine);
+  } catch (...) {
+    failure = std::current_exception();
   }
-  // a resumed run's directory was never committed; --force replaces a complete one
-  RunDirectory dir(req.out, req.force);  // validated and staged before any work
-  if (req.resume == Resume::no) fs::remove(durable.path);
+  agree(team, failure);
   SimulateOutcome out;
   out.summary = run_scene(scene, req.run, req.engine, req.note, &durable);
-  std::vector<std::string> extra;
-  if (req.ids) {  // the shard's exact tallies, for rotleak merge
-    Scene whole = out.summary.scene;
-    whole.particles = scene.particles;
-    const RunResult& r = out.summary.result;
-    write_tally_file(dir.file("tally.bin"), TallyFile{run_inputs(whole, r.engine), out.summary.scene.particles,
-                                                      r.first_id, scene.particles, r.done, r.tally, r.records});
-    extra.push_back("tally.bin");
+  if (team.rank() == 0) {
+    std::vector<std::string> extra;
+    if (req.ids) {  // the shard's exact tallies, for rotleak merge
+      Scene whole = out.summary.scene;
+      whole.particles = scene.particles;
+      const RunResult& r = out.summary.result;
+      write_tally_file(dir->file("tally.bin"), TallyFile{run_inputs(whole, r.engine), out.summary.scene.particles,
+                                                         r.first_id, scene.particles, r.done, r.tally, r.records});
+      extra.push_back("tally.bin");
+    }
+    out.document = write_run(*dir, out.summary, extra);
+    out.dir = dir->final_path();
   }
-  out.document = write_run(dir, out.summary, extra);
-  fs::remove(durable.path);  // after the commit: a kill in between leaves a complete run and a stale checkpoint
-  out.dir = dir.final_path();
+  // after the commit: a kill in between leaves a complete run and a stale checkpoint
+  team.all(true);
+  fs::remove(mine);
   return out;
 }
 

@@ -14,6 +14,7 @@
 
 #include "analysis/run_summary.hpp"
 #include "io/json.hpp"
+#include "run/team.hpp"
 #include "sim/engine.hpp"
 
 namespace rotleak {
@@ -31,6 +32,9 @@ struct Durability {
   std::filesystem::path path;  ///< the checkpoint file; empty: none
   Resume resume = Resume::no;
   std::optional<std::pair<std::uint64_t, std::uint64_t>> ids;  ///< run only ids [lo, hi) of the scene's particles
+  /// The processes sharing the run (null: current_team()). Rank r of K runs the r-th of K equal runs of
+  /// blocks and keeps its own checkpoint (path + "-rank<r>-of-<K>"); rank 0 gets the merged tallies.
+  const Team* team = nullptr;
 };
 
 /// A run stopped (RunOptions::stop) before its end; its checkpoint holds the blocks done.
@@ -41,8 +45,9 @@ class RunInterrupted : public std::runtime_error {
   std::uint64_t done = 0, total = 0;  ///< particles
 };
 
-/// The checkpoint file of a run directory: DIR.checkpoint beside it.
-std::filesystem::path checkpoint_path(const std::filesystem::path& out);
+/// The checkpoint file of a run directory: DIR.checkpoint beside it (DIR.checkpoint-rank<r>-of-<K> for
+/// rank r of an MPI run of K ranks).
+std::filesystem::path checkpoint_path(const std::filesystem::path& out, int rank = 0, int ranks = 1);
 
 /// The inputs text (io simulation_inputs) a run's tally files carry: the whole run's scene (tier
 /// resolved) and the engine that ran.
@@ -63,12 +68,13 @@ struct SimulateRequest {
   RunOptions run;                                              ///< threads, progress, stop
   Resume resume = Resume::no;                                  ///< continue from DIR.checkpoint
   std::optional<std::pair<std::uint64_t, std::uint64_t>> ids;  ///< a shard: ids [lo, hi); DIR/tally.bin for merge
+  const Team* team = nullptr;                                  ///< null: current_team(); only its rank 0 writes
   Note note;
 };
 
 struct SimulateOutcome {
-  RunSummary summary;
-  json document;  ///< summary.json as written
+  RunSummary summary;  ///< on rank 0 (other ranks of an MPI run get their scene only)
+  json document;       ///< summary.json as written (null on other ranks)
   std::filesystem::path dir;
 };
 

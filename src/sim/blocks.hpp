@@ -17,6 +17,10 @@ inline constexpr std::uint64_t kBlockSize = 4096;
 /// Blocks of n particles.
 inline std::uint64_t block_count(std::uint64_t n) { return n / kBlockSize + (n % kBlockSize != 0); }
 
+class IntervalSet;
+/// Particles in a set of blocks of a run of n particles (the last block may be short).
+std::uint64_t particles_in(const IntervalSet& blocks, std::uint64_t n);
+
 /// A set of unsigned integers as sorted, disjoint, non-adjacent half-open intervals [lo, hi).
 class IntervalSet {
  public:
@@ -111,5 +115,11 @@ class IntervalSet {
  private:
   std::vector<Interval> iv_;
 };
+
+inline std::uint64_t particles_in(const IntervalSet& blocks, std::uint64_t n) {
+  std::uint64_t count = 0;
+  for (const auto& [lo, hi] : blocks.intervals()) count += std::min(n, hi * kBlockSize) - std::min(n, lo * kBlockSize);
+  return count;
+}
 
 }  // namespace rotleak

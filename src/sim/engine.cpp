@@ -202,16 +202,14 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     if (use_simd) kernel_scene = simd_scene(model);
   const std::uint64_t n = scene.particles;
   const std::uint64_t blocks = block_count(n);
-  auto block_particles = [n](std::uint64_t b) { return std::min(n, (b + 1) * kBlockSize) - b * kBlockSize; };
   const IntervalSet todo = opt.blocks ? *opt.blocks : IntervalSet::range(0, blocks);
   if (!todo.empty() && todo.intervals().back().second > blocks)
     throw std::invalid_argument("RunOptions::blocks names block " + std::to_string(todo.intervals().back().second - 1) +
                                 " of a run of " + std::to_string(blocks));
-  result.done = todo.complement_in(0, blocks);
-  std::uint64_t already = 0;
-  for (const auto& [lo, hi] : result.done.intervals()) already += (hi - lo) * kBlockSize;
-  if (!result.done.empty() && result.done.intervals().back().second == blocks)
-    already -= kBlockSize - block_particles(blocks - 1);
+  if (opt.start_done) result.done = *opt.start_done;
+  if (!result.done.empty() && result.done.intervals().back().second > blocks)
+    throw std::invalid_argument("RunOptions::start_done names blocks beyond the run's " + std::to_string(blocks));
+  const std::uint64_t already = particles_in(result.done, n), goal = already + particles_in(todo, n);
   if (opt.start) result.tally.merge(*opt.start);
   if (opt.start_records && scene.escape_records) result.records = *opt.start_records;
   const double dt = scene.survival_dt;
@@ -292,7 +290,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
         }
         const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
         const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
-        if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, n, c, false);
+        if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, goal, c, false);
         if (std::chrono::steady_clock::now() >= deadline) halt.store(true, std::memory_order_relaxed);
       }
 #pragma omp critical
@@ -309,7 +307,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     }
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (opt.progress && result.complete) opt.progress(n, n, result.tally.collisions, true);
+  if (opt.progress && result.complete) opt.progress(goal, goal, result.tally.collisions, true);
   return result;
 }
 

@@ -58,9 +58,11 @@ struct RunOptions {
   // Checkpoints and resume. The run's ids form blocks of kBlockSize (block b: ids first_id + b
   // kBlockSize ...). Threads take the blocks to run in increasing order; the result never depends on
   // which thread ran which, nor on how the work was cut into epochs.
-  /// Blocks to run; null: all of them. A resumed run passes the blocks its checkpoint lacks.
+  /// Blocks to run; null: all of them. A resumed run passes the blocks its checkpoint lacks, an MPI
+  /// rank its share of them.
   const IntervalSet* blocks = nullptr;
-  /// The tallies (and escape records) of the blocks already done, merged into the result.
+  /// The tallies (and escape records) of the blocks start_done, merged into the result.
+  const IntervalSet* start_done = nullptr;
   const Tally* start = nullptr;
   const std::vector<EscapeRecord>* start_records = nullptr;
   /// Every checkpoint_seconds (0: never) the threads finish their blocks and checkpoint() gets the
@@ -77,6 +79,7 @@ struct RunResult {
   std::vector<EscapeRecord> records;  ///< by id - first_id, when scene.escape_records
   double wall_seconds = 0;
   int threads = 1;
+  int ranks = 1;                   ///< MPI processes that shared the run
   Engine engine = Engine::scalar;  ///< the one that ran
   std::uint64_t first_id = 0;      ///< the ids run: [first_id, first_id + scene.particles)
   std::uint64_t of = 0;            ///< a shard (--ids A:B): the whole run's particle count; 0 otherwise

@@ -1,0 +1,302 @@
+// Runs that outlive their process: block sets, tally files (checkpoints, shards, MPI ranks' tallies),
+// epochs and stops in the engine, resume through the pipeline, shards merged, ids near 10^12. The
+// standard in every test: the resumed, merged or cut run gives exactly the tallies (and the bytes of
+// survival.csv) of the run done in one go; exact integer and fixed-point sums make that a bit-for-bit
+// equality, never a tolerance.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+
+#include "io/files.hpp"
+#include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
+#include "numeric/input.hpp"
+#include "run/pipeline.hpp"
+
+namespace rotleak {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool same(const Tally& a, const Tally& b) {
+  return a.escapes_per_bin == b.escapes_per_bin && a.collision_density == b.collision_density &&
+         a.collisions == b.collisions && a.escaped == b.escaped && a.survived == b.survived && a.stuck == b.stuck &&
+         a.weighted == b.weighted && a.escaped_w == b.escaped_w && a.escaped_w2 == b.escaped_w2 &&
+         a.total_w == b.total_w && a.total_w2 == b.total_w2 && a.collision_density_w == b.collision_density_w;
+}
+
+/// omega = 2/3 (a rotating leak), importance-sampling weights, f_c and escape records: every tally.
+Scene busy_scene(std::uint64_t particles) {
+  return parse_scene(R"(
+[leak]
+omega = "2/3"
+[ensemble]
+particles = )" + std::to_string(particles) +
+                     R"(
+sampling = "mupo"
+[run]
+t_max = 3000
+[observe]
+collision_density = { bins = 50 }
+escapes = true
+)");
+}
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("rotleak_ckpt_" + std::to_string(::getpid()) + "_" +
+                                               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  TempDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+TEST(IntervalSet, InsertJoinsAndRefusesOverlap) {
+  IntervalSet s;
+  EXPECT_TRUE(s.insert(5, 8));
+  EXPECT_TRUE(s.insert(0, 2));
+  EXPECT_TRUE(s.insert(2, 5));  // joins both neighbours
+  EXPECT_EQ(s.text(), "0-8");
+  EXPECT_TRUE(s.insert(10, 12));
+  EXPECT_FALSE(s.insert(7, 9));    // 7 is in
+  EXPECT_FALSE(s.insert(11, 15));  // 11 is in
+  EXPECT_FALSE(s.insert(0, 1));
+  EXPECT_EQ(s.text(), "0-8,10-12");
+  EXPECT_EQ(s.size(), 10u);
+  EXPECT_TRUE(s.contains(7));
+  EXPECT_FALSE(s.contains(8));
+  EXPECT_EQ(s.complement_in(0, 20).text(), "8-10,12-20");
+  EXPECT_EQ(s.complement_in(3, 11).text(), "8-10");
+  EXPECT_EQ(s.nth(8), 10u);
+  EXPECT_EQ(s.slice(6, 9).text(), "6-8,10-11");
+  // blocks of a 10^12-particle run
+  const std::uint64_t blocks = block_count(1000000000000ull);
+  EXPECT_EQ(blocks, 244140625u);
+  IntervalSet big = IntervalSet::range(0, blocks);
+  EXPECT_EQ(particles_in(big, 1000000000000ull), 1000000000000ull);
+  EXPECT_EQ(particles_in(IntervalSet::range(blocks - 1, blocks), 1000000000001ull), kBlockSize);
+  EXPECT_EQ(particles_in(IntervalSet::range(0, block_count(10)), 10), 10u);
+}
+
+TEST(TallyFile, RoundTripsBitForBitAndRefusesDamage) {
+  Scene scene = busy_scene(20000);
+  RunResult r = run_ensemble(scene, {});
+  TallyFile f{simulation_inputs(scene, "scalar"), scene.particles, 7, scene.particles, r.done, r.tally, r.records};
+  const std::string bytes = encode_tally_file(f);
+  const TallyFile back = decode_tally_file(bytes, "mem");
+  EXPECT_TRUE(same(back.tally, r.tally));
+  EXPECT_EQ(back.done, r.done);
+  EXPECT_TRUE(back.complete());
+  EXPECT_EQ(back.first_id, 7u);
+  EXPECT_EQ(back.inputs, f.inputs);
+  ASSERT_EQ(back.records.size(), r.records.size());
+  for (std::size_t i = 0; i < r.records.size(); i += 997) {
+    EXPECT_EQ(back.records[i].t, r.records[i].t);
+    EXPECT_EQ(back.records[i].fate, r.records[i].fate);
+  }
+  EXPECT_EQ(encode_tally_file(back), bytes);
+  std::string bad = bytes;
+  bad[bad.size() / 2] ^= 1;
+  EXPECT_THROW(decode_tally_file(bad, "mem"), std::runtime_error);
+  EXPECT_THROW(decode_tally_file(bytes.substr(0, bytes.size() - 9), "mem"), std::runtime_error);
+  EXPECT_THROW(decode_tally_file("{}", "mem"), std::runtime_error);
+}
+
+TEST(TallyFile, InputsDifferenceNamesTheKey) {
+  Scene a = busy_scene(100), b = busy_scene(100);
+  b.width_text = "0.02";
+  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(a, "simd")), "");
+  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(b, "simd")),
+            "leak.width: \"0.01\" vs \"0.02\"");
+  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(a, "scalar")), "engine: simd vs scalar");
+  // the fit keys and the checkpoint interval are not inputs of the numbers
+  b = a;
+  b.kappa_window = {100, 500};
+  b.checkpoint_seconds = 5;
+  EXPECT_EQ(simulation_inputs(a, "simd"), simulation_inputs(b, "simd"));
+}
+
+TEST(Epochs, CheckpointsAndStopsLeaveTheTalliesUnchanged) {
+  const Scene scene = busy_scene(60000);
+  RunOptions plain;
+  plain.threads = 2;
+  const RunResult whole = run_ensemble(scene, plain);
+
+  // a checkpoint after every block: each is the exact sum of the blocks it names
+  RunOptions every;
+  every.threads = 2;
+  every.checkpoint_seconds = 1e-9;
+  int checkpoints = 0;
+  IntervalSet last;
+  every.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>&) {
+    ++checkpoints;
+    for (const auto& [lo, hi] : last.intervals()) EXPECT_TRUE(done.contains(lo) && done.contains(hi - 1));  // grows
+    EXPECT_GE(done.size(), last.size());
+    EXPECT_EQ(t.escaped + t.survived + t.stuck, particles_in(done, scene.particles));
+    last = done;
+  };
+  const RunResult cut = run_ensemble(scene, every);
+  EXPECT_GE(checkpoints, 3);
+  EXPECT_TRUE(cut.complete);
+  EXPECT_TRUE(same(cut.tally, whole.tally));
+
+  // stopped after the first checkpoint, then resumed from it on one thread
+  std::atomic<bool> stop{false};
+  RunOptions first;
+  first.threads = 2;
+  first.checkpoint_seconds = 1e-9;
+  first.stop = &stop;
+  TallyFile saved;
+  first.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
+    saved.tally = t;
+    saved.done = done;
+    saved.records = rec;
+    stop = true;
+  };
+  const RunResult part = run_ensemble(scene, first);
+  EXPECT_FALSE(part.complete);
+  EXPECT_LT(saved.done.size(), block_count(scene.particles));
+  EXPECT_EQ(saved.done, part.done);
+  const std::string bytes =
+      encode_tally_file({simulation_inputs(scene, "auto"), scene.particles, 0, scene.particles, saved.done, saved.tally,
+                         saved.records});  // through the file format, as a resume reads it
+  const TallyFile read = decode_tally_file(bytes, "checkpoint");
+  const IntervalSet todo = read.done.complement_in(0, block_count(scene.particles));
+  RunOptions rest;
+  rest.threads = 1;
+  rest.blocks = &todo;
+  rest.start_done = &read.done;
+  rest.start = &read.tally;
+  rest.start_records = &read.records;
+  const RunResult resumed = run_ensemble(scene, rest);
+  EXPECT_TRUE(resumed.complete);
+  EXPECT_TRUE(same(resumed.tally, whole.tally));
+  for (std::size_t i = 0; i < whole.records.size(); ++i) {
+    ASSERT_EQ(resumed.records[i].t, whole.records[i].t) << i;
+    ASSERT_EQ(resumed.records[i].collisions, whole.records[i].collisions) << i;
+  }
+}
+
+SimulateRequest request(const TempDir& d, const std::string& out, std::vector<std::string> overrides) {
+  const fs::path scene = d.path / "scene.toml";
+  if (!fs::exists(scene)) write_file_atomic(scene, scene_to_toml(busy_scene(30000)));
+  SimulateRequest r;
+  r.scene_path = scene.string();
+  r.overrides = std::move(overrides);
+  r.out = d.path / out;
+  r.run.threads = 2;
+  return r;
+}
+
+TEST(Pipeline, ResumeFromACheckpointWritesTheSameRun) {
+  TempDir d;
+  const SimulateOutcome whole = simulate(request(d, "whole", {}));
+  // stopped at the first checkpoint: a RunInterrupted, the checkpoint beside the target, no directory
+  std::atomic<bool> stop{false};
+  SimulateRequest cut = request(d, "cut", {"run.checkpoint_seconds=1e-9"});
+  cut.run.stop = &stop;
+  cut.run.progress = [&](std::uint64_t done, std::uint64_t, std::uint64_t, bool) {
+    if (done > 0) stop = true;
+  };
+  EXPECT_THROW(simulate(cut), RunInterrupted);
+  EXPECT_TRUE(fs::exists(d.path / "cut.checkpoint"));
+  EXPECT_FALSE(fs::exists(d.path / "cut"));
+  // --out on it is refused; a resume with other inputs is refused naming the key
+  try {
+    simulate(request(d, "cut", {}));
+    ADD_FAILURE() << "a fresh run over a checkpoint was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--resume"), std::string::npos) << e.what();
+  }
+  SimulateRequest other = request(d, "cut", {"leak.width=0.02"});
+  other.resume = Resume::yes;
+  try {
+    simulate(other);
+    ADD_FAILURE() << "a resume with other inputs was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("leak.width"), std::string::npos) << e.what();
+  }
+  SimulateRequest resume = request(d, "cut", {});
+  resume.resume = Resume::yes;
+  resume.run.threads = 1;
+  simulate(resume);
+  EXPECT_FALSE(fs::exists(d.path / "cut.checkpoint"));
+  for (const char* f : {"survival.csv", "fc.csv", "escapes.csv"})
+    EXPECT_EQ(read_file(d.path / "cut" / f), read_file(d.path / "whole" / f)) << f;
+  EXPECT_EQ(whole.document.at("kappa"), json::parse(read_file(d.path / "cut" / "summary.json")).at("kappa"));
+  try {
+    simulate(resume);
+    ADD_FAILURE() << "a resume of a complete run was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("complete"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Pipeline, ShardsMergeIntoTheWholeRunAndBadTilingsAreRefused) {
+  TempDir d;
+  simulate(request(d, "whole", {}));
+  auto shard = [&](const std::string& name, std::uint64_t a, std::uint64_t b, std::vector<std::string> o = {}) {
+    SimulateRequest r = request(d, name, std::move(o));
+    r.ids = {{a, b}};
+    return simulate(r);
+  };
+  const SimulateOutcome s1 = shard("s1", 0, 10000);
+  shard("s2", 10000, 20001);
+  shard("s3", 20001, 30000);
+  EXPECT_EQ(s1.document.at("ids").at("of"), 30000);
+  EXPECT_EQ(s1.document.at("particles"), 10000);
+  MergeRequest m;
+  m.shards = {d.path / "s3", d.path / "s1", d.path / "s2"};
+  m.out = d.path / "merged";
+  merge_shards(m);
+  for (const char* f : {"survival.csv", "fc.csv", "escapes.csv"})
+    EXPECT_EQ(read_file(d.path / "merged" / f), read_file(d.path / "whole" / f)) << f;
+  const json a = json::parse(read_file(d.path / "whole" / "summary.json"));
+  const json b = json::parse(read_file(d.path / "merged" / "summary.json"));
+  for (const char* k : {"kappa", "alpha", "tail_exponent", "particles", "collisions", "escaped", "sampling"})
+    EXPECT_EQ(a.at(k), b.at(k)) << k;
+
+  shard("other", 20001, 30000, {"leak.width=0.02"});
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"s1", "s3"}, "uncovered"},            // a gap
+      {{"s1", "s1", "s2", "s3"}, "overlap"},  // twice
+      {{"s1", "s2"}, "missing"},              // short of the end
+      {{"s1", "s2", "other"}, "leak.width"},  // other inputs
+      {{"whole"}, "not a shard"}};
+  for (const auto& [dirs, why] : bad) {
+    MergeRequest r;
+    for (const auto& x : dirs) r.shards.push_back(d.path / x);
+    r.out = d.path / "refused";
+    try {
+      merge_shards(r);
+      ADD_FAILURE() << "merged " << why;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(d.path / "refused"));
+  }
+}
+
+TEST(Pipeline, IdsNearTenToTheTwelfth) {
+  // the last 8192 ids of a 10^12-particle run: 64-bit ids, counts and block indices; memory does not
+  // grow with the whole run's size
+  TempDir d;
+  SimulateRequest r = request(d, "tail", {"ensemble.particles=1000000000000", "observe.escapes=false"});
+  r.ids = {{999999991808ull, 1000000000000ull}};
+  const SimulateOutcome out = simulate(r);
+  EXPECT_EQ(out.document.at("particles"), 8192);
+  EXPECT_EQ(out.document.at("ids").at("first"), 999999991808ull);
+  const TallyFile f = read_tally_file(d.path / "tail" / "tally.bin");
+  EXPECT_EQ(f.of, 1000000000000ull);
+  EXPECT_EQ(f.tally.escaped + f.tally.survived + f.tally.stuck, 8192u);
+  // the same ids as the start of a run of their own draw other particles: ids, not positions, decide
+  SimulateRequest s = request(d, "head", {"ensemble.particles=8192", "observe.escapes=false"});
+  simulate(s);
+  EXPECT_NE(read_file(d.path / "tail" / "survival.csv"), read_file(d.path / "head" / "survival.csv"));
+}
+
+}  // namespace
+}  // namespace rotleak
