@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config clang-format git
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
-  libgtest-dev libbenchmark-dev librandom123-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
+  libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
   python3 python3-matplotlib python3-numpy
   libopenmpi-dev openmpi-bin
 )

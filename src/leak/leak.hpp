@@ -76,6 +76,9 @@ class Leak {
 
   const LeakSchedule<R>& schedule() const { return schedule_; }
   const R& half_width() const { return half_width_; }
+  /// Piece k's middle in s and how far from it the leak's centre can be while touching the piece.
+  const R& piece_mid(int k) const { return piece_mid_[static_cast<std::size_t>(k)]; }
+  const R& reach(int k) const { return reach_[static_cast<std::size_t>(k)]; }
 
   /// Is boundary coordinate s inside the leak at time t?
   bool contains(const R& s, const R& t) const {

@@ -131,9 +131,27 @@ simd::Scene simd_scene(const Model<double>& m) {
   s.omega_lo = m.leak.schedule().omega_split().lo;
   s.start = m.leak.schedule().start();
   s.half_width = m.leak.half_width();
+  for (int k = 0; k < 4; ++k) {
+    s.arc_mid[k] = m.leak.piece_mid(k);
+    s.arc_reach[k] = m.leak.reach(k);
+  }
+  s.margin = 1e-12;
+  s.density_windows = 0;
+  s.bins = 1;
   // a jump costs a few hundred ns, about 40 vectorised bounces: hand over only long phases
   s.handoff_bounces = m.fast_forward ? 128 : 0;
   return s;
+}
+
+/// The f_c observer's windows and bins for the kernel.
+void simd_density(simd::Scene& s, const Scene& scene) {
+  if (!scene.collision_density) return;
+  s.density_windows = static_cast<int>(scene.collision_density->windows.size());
+  s.bins = scene.collision_density->bins;
+  for (int w = 0; w < s.density_windows; ++w) {
+    s.win_from[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].from;
+    s.win_to[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].to;
+  }
 }
 
 struct SimdContext {
@@ -142,7 +160,29 @@ struct SimdContext {
   std::uint64_t next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
   std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
+  bool weights = false;                                       ///< lanes carry their weight (weighted f_c)
+  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts
+  FixedSum* density_w = nullptr;                              ///< and weighted sums
+  DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
 };
+
+bool simd_escape(void* c, int piece, double x, double y, double t) {
+  return static_cast<SimdContext*>(c)->model->leak.hit(static_cast<Piece>(piece), {x, y}, t);
+}
+
+double simd_s_of(void* c, int piece, double x, double y) {
+  return static_cast<SimdContext*>(c)->model->stadium.s_of(static_cast<Piece>(piece), {x, y});
+}
+
+void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  for (int i = 0; i < n; ++i) {
+    ++ctx->density[hits[i].index];
+    if (ctx->density_w) ctx->density_w[hits[i].index].add(hits[i].weight);
+  }
+}
+
+constexpr simd::Exact kSimdExact{simd_escape, simd_s_of, simd_density_hits};
 
 bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   auto* ctx = static_cast<SimdContext*>(c);
@@ -154,8 +194,9 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   }
   if (ctx->next >= ctx->hi) return false;
   *id = ctx->next++;
-  const ParticleState<double> ps = initial_state(ctx->model->stadium, ctx->draw(*id));
-  *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t};
+  const InitialDraw d = ctx->draw(*id);
+  const ParticleState<double> ps = initial_state(ctx->model->stadium, d);
+  *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
   return true;
 }
 
@@ -165,9 +206,17 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
                                          // give it back to a lane (or record it, if it ended in the jump)
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
-    if (fast_forward(*ctx->model, f)) {
-      ctx->resume.push_back(
-          {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions)}});
+    bool flying = true;
+    if (ctx->observer) {
+      ctx->observer->weight = ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0;
+      flying = fast_forward(*ctx->model, f, ctx->observer);
+    } else {
+      flying = fast_forward(*ctx->model, f);
+    }
+    if (flying) {
+      ctx->resume.push_back({id,
+                             {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions),
+                              ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0}});
     } else {
       ctx->record(id, f.end);
     }
@@ -199,7 +248,10 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   const bool use_simd = result.engine == Engine::simd;
   simd::Scene kernel_scene{};
   if constexpr (std::is_same_v<R, double>)
-    if (use_simd) kernel_scene = simd_scene(model);
+    if (use_simd) {
+      kernel_scene = simd_scene(model);
+      simd_density(kernel_scene, scene);
+    }
   const std::uint64_t n = scene.particles;
   const std::uint64_t blocks = block_count(n);
   const IntervalSet todo = opt.blocks ? *opt.blocks : IntervalSet::range(0, blocks);
@@ -281,7 +333,13 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
         if (use_simd) {
           if constexpr (std::is_same_v<R, double>) {
             SimdContext ctx{&model, source, lo, hi, record, {}};
-            simd::run(kernel_scene, &ctx, simd_next, simd_finish);
+            if (scene.collision_density) {
+              ctx.weights = local.weighted;
+              ctx.density = local.collision_density.data();
+              ctx.density_w = local.weighted ? local.collision_density_w.data() : nullptr;
+              ctx.observer = &density;
+            }
+            simd::run(kernel_scene, &ctx, simd_next, simd_finish, kSimdExact);
           }
         } else if (scene.collision_density) {
           run_block(model, source, lo, hi, density, record);
@@ -326,11 +384,15 @@ std::string to_string(Engine e) {
 }
 
 Engine resolve_engine(Engine requested, const Scene& scene) {
-  // The kernel has no collision-density observer: f_c runs scalar.
-  const bool fits = scene.tier == Tier::double_ && !scene.collision_density;
+  // The kernel runs the double tier, with f_c for up to kMaxDensityWindows windows.
+  const bool fits = scene.tier == Tier::double_ &&
+                    (!scene.collision_density ||
+                     scene.collision_density->windows.size() <= static_cast<std::size_t>(simd::kMaxDensityWindows));
   if (requested == Engine::simd) {
     if (!simd::available()) throw std::runtime_error("--engine simd: this CPU lacks AVX2 and FMA");
-    if (!fits) throw std::runtime_error("--engine simd runs the double tier without a collision_density observer");
+    if (!fits)
+      throw std::runtime_error("--engine simd runs the double tier (with at most " +
+                               std::to_string(simd::kMaxDensityWindows) + " collision_density windows)");
     return Engine::simd;
   }
   if (requested == Engine::scalar) return Engine::scalar;

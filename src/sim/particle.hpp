@@ -94,9 +94,10 @@ SumRun<R> next_run(R x, R d, long cap) {
 /// repeated rounded additions; next_run() reproduces those sums a binade at a time. Jumps to the
 /// bounce before the particle would reach an arc or pass t_max, or to the first bounce in the leak
 /// (stationary: windows tested on exact bounce positions; moving: the phase at each bounce time, no
-/// geometry). Skipped bounces count as collisions. Returns false when the particle ended.
-template <class R>
-bool fast_forward(const Model<R>& m, Flight<R>& f) {
+/// geometry). Skipped bounces count as collisions, and an active observer sees each of them (as
+/// stepping would show them: f_c counts every collision). Returns false when the particle ended.
+template <class R, class Observer = NoCollisionObserver<R>>
+bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) {
   if constexpr (!std::is_floating_point_v<R>) {
     return true;  // exact emulation needs IEEE binary arithmetic
   } else {
@@ -193,7 +194,17 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
             break;
           }
       }
+      // bounces 1..n of this stretch are collisions: shown to the observer one by one
+      auto show = [&](long n) {
+        if constexpr (Observer::active)
+          if (observe)
+            for (long j = 1; j <= n; ++j) {
+              const bool top = edge_top(k + j);
+              (*observe)(top ? Piece::top : Piece::bottom, Vec2<R>{xj(j), top ? st.r() : R(-st.r())}, tj(j));
+            }
+      };
       if (why == 0) {  // the whole stretch is free bounces
+        show(J);
         x = xj(J);
         t = tj(J);
         k += J;
@@ -202,6 +213,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f) {
       // Leaving the edges or passing t_max happens on the flight after bounce stop - 1, which the
       // caller's next step computes as stepping would; an escape happens at bounce stop itself.
       const long last = why == 3 ? stop : stop - 1;
+      show(last);
       x = xj(last);
       t = tj(last);
       k += last;
@@ -245,7 +257,8 @@ inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
   }
   f.ps.v = m.stadium.reflect(h.piece, h.q, f.ps.v);
   f.ps.q = h.q;
-  if (m.fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom) && !fast_forward(m, f)) return false;
+  if (m.fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom) && !fast_forward(m, f, &observe))
+    return false;
   if (h.t > 0) {
     f.zero_flights = 0;
   } else if (++f.zero_flights > kMaxZeroFlights) {

@@ -7,13 +7,20 @@
 //   one rounding per operation (xsimd's fma/fms on the plain avx2 arch are a multiply then an add,
 //   as the scalar build with -ffp-contract=off), and the escape test is the same window test, so
 //   per-particle results, escape records and tallies equal the scalar engine's exactly.
-// - Moving leak: the geometry is the same bits, but the boundary coordinate of an arc hit comes
-//   from xsimd's atan2, not libm's; the two may differ in the last bit, so a particle may part from
-//   the scalar run at a leak edge. Tested: first collisions identical, > 90% of particles
-//   identical, escape-time distributions equal (KS) and kappa within errors.
+// - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle:
+//   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2, documented error <= 3.5 ulp) where libm's (< 1 ulp)
+//   runs in the core. The two angles differ by at most 4.5 ulp (< 2e-15 for angles in [0, pi]), s
+//   by less than 1e-15 after scaling by r/L and its one rounding, and so the leak test |offset| <=
+//   half_width or the f_c bin floor(s bins) can come out differently only within that distance of
+//   the leak's ends or of a bin edge. Lanes within `margin` (1e-12, a thousandfold safety) of one
+//   ask the core (simd::Exact), so every decision is the core's. The angle is computed only for
+//   arc hits that can matter: when the leak is within reach of that arc (the core's own skip) or
+//   when f_c counts the collision.
 // The one deliberate FMA is the exact product error of the leak phase, which the scalar core also
 // takes from a true fma.
 #include "sim/simd_engine.hpp"
+
+#include <sleef.h>
 
 #include <xsimd/xsimd.hpp>
 
@@ -29,9 +36,10 @@ using B = xsimd::batch<double, xsimd::avx2>;
 using M = B::batch_bool_type;
 constexpr int W = 4;
 constexpr int kGroups = ROTLEAK_SIMD_GROUPS;
+constexpr int kDensityBuffer = 1024;
 
 struct Lanes {
-  alignas(32) double qx[W], qy[W], vx[W], vy[W], t[W], coll[W], zero[W];
+  alignas(32) double qx[W], qy[W], vx[W], vy[W], t[W], coll[W], zero[W], w[W];
   std::uint64_t id[W];
   bool live[W];
 };
@@ -75,10 +83,12 @@ void fill(const Scene& S, Group& g, void* ctx, NextParticle next) {
       g.L.live[k] = true;
       g.L.qx[k] = st.qx, g.L.qy[k] = st.qy, g.L.vx[k] = st.vx, g.L.vy[k] = st.vy, g.L.t[k] = st.t;
       g.L.coll[k] = st.collisions;
+      g.L.w[k] = st.weight;
       ++g.live;
     } else {
       park(S, g.L, k);
       g.L.coll[k] = 0;
+      g.L.w[k] = 0;
     }
     g.L.zero[k] = 0;
   }
@@ -144,28 +154,89 @@ inline M in_stationary_leak(const Scene& S, const HitLanes& h) {
   return in;
 }
 
-/// Moving leak: the phase frac(start + omega t) as LeakSchedule::phase computes it, the boundary
-/// coordinate s of the hit as Stadium::s_of (an atan2 on the arcs, clamped to [0, pi]), and the
-/// circular distance from the leak's centre against its half width.
-inline M in_moving_leak(const Scene& S, const HitLanes& h, B t) {
+/// The boundary coordinate s of the four hits as Stadium::s_of computes it, the arcs' angle from
+/// SLEEF's atan2 (evaluated only when a lane in `arcs` needs it; other arc lanes get s = -1).
+inline B s_of(const Scene& S, const HitLanes& h, M arcs) {
   const B HD(S.half_d), ZERO(0.0), ONE(1.0);
+  B s_top = h.x * B(S.inv_L);
+  s_top = xsimd::select(s_top < ZERO, s_top + ONE, s_top);
+  s_top = xsimd::select(s_top >= ONE, ZERO, s_top);
+  const B s_bottom = xsimd::fma(HD - h.x, B(S.inv_L), B(S.junction[1]));  // a multiply, then an add
+  B s_arc(-1.0);
+  if (bits(arcs)) {
+    // right arc: atan2(x - d/2, y); left arc: atan2(-(x + d/2), -y); one call for both
+    const B ay = xsimd::select(h.right, h.x - HD, -(h.x + HD));
+    const B ax = xsimd::select(h.right, h.y, -h.y);
+    B ang(Sleef_atan2d4_u35avx2(static_cast<__m256d>(ay), static_cast<__m256d>(ax)));
+    ang = xsimd::min(xsimd::max(ang, ZERO), B(S.pi));
+    s_arc = xsimd::fma(ang, B(S.r_over_L), xsimd::select(h.right, B(S.junction[0]), B(S.junction[2])));
+  }
+  return xsimd::select(h.straight, xsimd::select(h.up, s_top, s_bottom), s_arc);
+}
+
+/// Per-lane answers from the core for the lanes in `ask`, replacing `m` there.
+template <class F>
+inline M ask_core(M m, M ask, F core) {
+  alignas(32) double v[W];
+  const unsigned am = bits(ask), mm = bits(m);
+  for (int i = 0; i < W; ++i) v[i] = ((am >> i) & 1) ? (core(i) ? 1.0 : 0.0) : (((mm >> i) & 1) ? 1.0 : 0.0);
+  return load(v) != B(0.0);
+}
+
+/// Moving leak: the phase frac(start + omega t) as LeakSchedule::phase computes it, then Leak::hit:
+/// on an arc nothing unless the leak's centre is within reach of the arc's middle; else the
+/// circular distance of s from the centre against the half width, lanes near a leak end decided
+/// by the core.
+inline M in_moving_leak(const Scene& S, const HitLanes& h, B t, M live, void* ctx, const Exact& exact) {
+  const B ZERO(0.0);
   const B prod = B(S.omega_hi) * t;
   // the exact error of hi*t needs a real FMA (xsimd's fms on plain avx2 rounds twice)
   const B err(
       _mm256_fmsub_pd(static_cast<__m256d>(B(S.omega_hi)), static_cast<__m256d>(t), static_cast<__m256d>(prod)));
   B ph = (prod - xsimd::floor(prod)) + xsimd::fma(B(S.omega_lo), t, err) + B(S.start);
   ph = ph - xsimd::floor(ph);
-  B s_top = h.x * B(S.inv_L);
-  s_top = xsimd::select(s_top < ZERO, s_top + ONE, s_top);
-  const B s_bottom = xsimd::fma(HD - h.x, B(S.inv_L), B(S.junction[1]));
-  const B PI(S.pi);
-  B ang_r = xsimd::atan2(h.x - HD, h.y), ang_l = xsimd::atan2(-(h.x + HD), -h.y);
-  ang_r = xsimd::min(xsimd::max(ang_r, ZERO), PI);
-  ang_l = xsimd::min(xsimd::max(ang_l, ZERO), PI);
-  const B s_right = xsimd::fma(ang_r, B(S.r_over_L), B(S.junction[0]));
-  const B s_left = xsimd::fma(ang_l, B(S.r_over_L), B(S.junction[2]));
-  const B s = xsimd::select(h.straight, xsimd::select(h.up, s_top, s_bottom), xsimd::select(h.right, s_right, s_left));
-  return xsimd::abs(offset(s, ph)) <= B(S.half_width);
+  const B mid = xsimd::select(h.right, B(S.arc_mid[1]), B(S.arc_mid[3]));
+  const B reach = xsimd::select(h.right, B(S.arc_reach[1]), B(S.arc_reach[3]));
+  const M near_arc = (!h.straight) & (xsimd::abs(offset(mid, ph)) <= reach) & live;
+  const B s = s_of(S, h, near_arc);
+  const B off = xsimd::abs(offset(s, ph));
+  M in = (h.straight | near_arc) & (off <= B(S.half_width));
+  const M unsure = near_arc & (xsimd::abs(off - B(S.half_width)) <= B(S.margin));
+  if (bits(unsure)) {
+    alignas(32) double x[W], y[W], tt[W];
+    h.x.store_aligned(x), h.y.store_aligned(y), t.store_aligned(tt);
+    const unsigned rm = bits(h.right);
+    in = ask_core(in, unsure, [&](int i) { return exact.escape(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i], tt[i]); });
+  }
+  return in;
+}
+
+/// f_c: the lanes in `count` (alive, t inside a window) add one collision to bin floor(s bins) of
+/// each window that holds t; arc lanes near a bin edge take s from the core.
+inline void observe_density(const Scene& S, const Group& g, const HitLanes& h, B t, M count, void* ctx,
+                            const Exact& exact, DensityHit* buf, int& used) {
+  const B s = s_of(S, h, count & !h.straight);
+  const B sb = s * B(static_cast<double>(S.bins));
+  const M unsure = count & !h.straight & (xsimd::abs(sb - xsimd::nearbyint(sb)) <= B(S.margin * S.bins));
+  alignas(32) double sv[W], tv[W], x[W], y[W];
+  s.store_aligned(sv), t.store_aligned(tv);
+  const unsigned cm = bits(count), um = bits(unsure), rm = bits(h.right);
+  if (um) h.x.store_aligned(x), h.y.store_aligned(y);
+  for (int i = 0; i < W; ++i) {
+    if (!((cm >> i) & 1)) continue;
+    const double si = ((um >> i) & 1) ? exact.s_of(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i]) : sv[i];
+    int b = static_cast<int>(si * S.bins);  // as DensityObserver bins it
+    if (b >= S.bins) b = S.bins - 1;
+    if (b < 0) b = 0;
+    for (int w = 0; w < S.density_windows; ++w)
+      if (tv[i] >= S.win_from[w] && tv[i] <= S.win_to[w]) {
+        if (used == kDensityBuffer) {
+          exact.density(ctx, buf, used);
+          used = 0;
+        }
+        buf[used++] = {static_cast<std::uint32_t>(w * S.bins + b), g.L.w[i]};
+      }
+  }
 }
 
 /// Reports the lanes in `done` to finish() and refills them from next() (or parks them).
@@ -196,10 +267,12 @@ void retire(const Scene& S, Group& g, const HitLanes& h, M done, M esc, M stuck,
     if (next(ctx, &st, &L.id[i])) {
       L.qx[i] = st.qx, L.qy[i] = st.qy, L.vx[i] = st.vx, L.vy[i] = st.vy, L.t[i] = st.t;
       L.coll[i] = st.collisions;
+      L.w[i] = st.weight;
     } else {
       park(S, L, i);
       --g.live;
       L.coll[i] = 0;
+      L.w[i] = 0;
     }
     L.zero[i] = 0;
   }
@@ -209,14 +282,22 @@ void retire(const Scene& S, Group& g, const HitLanes& h, M done, M esc, M stuck,
 /// One collision for the four lanes of g, in the scalar core's order (particle.hpp advance):
 /// next hit, time check, escape test, reflection, zero-flight count; lanes that end are reported
 /// and refilled.
-inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish finish) {
+inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
+                 DensityHit* buf, int& used) {
   const B R(S.r), HD(S.half_d), TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const B vx = g.vx, vy = g.vy;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
   const B t = g.t + h.t;
   const M over = t > TMAX;
   g.coll = g.coll + xsimd::select(over, ZERO, ONE);  // a flight past t_max is not a collision
-  const M esc = (S.rotating ? in_moving_leak(S, h, t) : in_stationary_leak(S, h)) & !over;
+  if (S.density_windows > 0) {                       // parked lanes sit past t_max: `over` excludes them
+    M in_window(false);
+    for (int w = 0; w < S.density_windows; ++w)
+      in_window = in_window | ((t >= B(S.win_from[w])) & (t <= B(S.win_to[w])));
+    const M count = in_window & !over;
+    if (bits(count)) observe_density(S, g, h, t, count, ctx, exact, buf, used);
+  }
+  const M esc = (S.rotating ? in_moving_leak(S, h, t, !over, ctx, exact) : in_stationary_leak(S, h)) & !over;
 
   // reflect: about the radius vector as it is, not divided by r (see Stadium::reflect)
   const B wx = h.x - h.cx;
@@ -238,19 +319,22 @@ inline void step(const Scene& S, Group& g, void* ctx, NextParticle next, Finish 
 
 }  // namespace
 
-void run(const Scene& S, void* ctx, NextParticle next, Finish finish) {
+void run(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
   // Independent groups side by side: each collision is a long dependent chain (division, square
   // root, division), and several chains at once keep the core busy.
   Group g[kGroups];
+  DensityHit buf[kDensityBuffer];
+  int used = 0;
   for (Group& x : g) fill(S, x, ctx, next);
   for (;;) {
     int live = 0;
     for (Group& x : g) {
-      step(S, x, ctx, next, finish);
+      step(S, x, ctx, next, finish, exact, buf, used);
       live += x.live;
     }
     if (live == 0) break;
   }
+  if (used) exact.density(ctx, buf, used);
 }
 
 }  // namespace rotleak::simd

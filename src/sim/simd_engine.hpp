@@ -11,6 +11,8 @@
 namespace rotleak::simd {
 
 inline constexpr int kMaxWindows = 3;
+/// Time windows of the f_c observer the kernel takes (more: the scalar engine runs).
+inline constexpr int kMaxDensityWindows = 8;
 
 /// Everything the kernel needs, in doubles, from a Model<double>.
 struct Scene {
@@ -25,6 +27,16 @@ struct Scene {
   double to_x[4][kMaxWindows], to_y[4][kMaxWindows];
   // moving leak: phase = frac(start + omega t), omega = hi + lo
   double omega_hi, omega_lo, start, half_width;
+  /// the arcs (pieces 1, 3): the leak can touch an arc only when its centre lies within reach of
+  /// the arc's middle (Leak::hit skips the angle otherwise)
+  double arc_mid[4], arc_reach[4];
+  /// a vector atan2 (SLEEF, 3.5 ulp) may decide differently from libm's only this close to a leak
+  /// end or a bin edge (in s); such lanes ask Exact for the core's answer
+  double margin;
+  // f_c: collisions with t in any window [win_from, win_to] counted in `bins` bins of s
+  int density_windows;
+  int bins;
+  double win_from[kMaxDensityWindows], win_to[kMaxDensityWindows];
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
   /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;
@@ -33,6 +45,21 @@ struct Scene {
 struct Start {
   double qx, qy, vx, vy, t;
   double collisions = 0;  ///< already made (a particle coming back from the fast-forward)
+  double weight = 1;      ///< the particle's sampling weight (for the weighted f_c)
+};
+
+/// One counted collision of the f_c observer: bin index window * bins + bin, and the weight.
+struct DensityHit {
+  std::uint32_t index;
+  double weight;
+};
+
+/// The scalar core's own answers, asked for the rare lanes where the vector atan2 cannot settle it
+/// (so every decision is still the core's), and the sink of f_c's counted collisions.
+struct Exact {
+  bool (*escape)(void* ctx, int piece, double x, double y, double t);  ///< Leak<double>::hit
+  double (*s_of)(void* ctx, int piece, double x, double y);            ///< Stadium<double>::s_of
+  void (*density)(void* ctx, const DensityHit* hits, int n);           ///< add these to the tallies
 };
 
 struct End {
@@ -50,6 +77,6 @@ using Finish = void (*)(void* ctx, std::uint64_t id, const End& end);
 bool available();
 
 /// Runs particles until next() has none left; requires available().
-void run(const Scene& scene, void* ctx, NextParticle next, Finish finish);
+void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 
 }  // namespace rotleak::simd
