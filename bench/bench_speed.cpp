@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 
+#include "bench/plain.hpp"
 #include "io/scene_file.hpp"
 #include "sim/engine.hpp"
 #include "sim/particle.hpp"
@@ -30,68 +31,17 @@ Scene scene_for(const std::string& omega, std::uint64_t particles, double t_max 
                      std::to_string(particles) + "\n[run]\nt_max = " + std::to_string(t_max) + "\n");
 }
 
-// The plain loop: what one writes first. Unit velocity, a branch per piece, and the leak decided
-// from s, which on the arcs needs an atan2 at every collision.
-std::uint64_t plain_particle(double qx, double qy, double vx, double vy, double t, double omega, double t_max) {
-  const double hd = 1, r = 1, L = 4 + 2 * M_PI, half = 0.005;
-  std::uint64_t n = 0;
-  for (;;) {
-    double th, hx, hy, cx = 0;
-    bool straight = false;
-    if (vy != 0) {
-      const double ey = vy > 0 ? r : -r;
-      th = (ey - qy) / vy;
-      hx = qx + vx * th;
-      hy = ey;
-      straight = std::abs(hx) <= hd;
-      cx = hx > 0 ? hd : -hd;
-    } else {
-      cx = vx > 0 ? hd : -hd;
-    }
-    if (!straight) {
-      const double dx = qx - cx, b = dx * vx + qy * vy, c = dx * dx + qy * qy - r * r;
-      th = -b + std::sqrt(std::max(b * b - c, 0.0));
-      hx = qx + th * vx;
-      hy = qy + th * vy;
-    }
-    t += th;
-    if (t > t_max) return n;
-    ++n;
-    double s;
-    if (straight)
-      s = hy > 0 ? (hx >= 0 ? hx / L : 1 + hx / L) : (hd + M_PI * r + (hd - hx)) / L;
-    else if (cx > 0)
-      s = (hd + r * std::atan2(hx - hd, hy)) / L;
-    else
-      s = (3 * hd + M_PI * r + r * std::atan2(-(hx + hd), -hy)) / L;
-    double off = s - omega * t;
-    off -= std::floor(off + 0.5);
-    if (std::abs(off) <= half) return n;
-    if (straight) {
-      vy = -vy;
-    } else {
-      const double nx = hx - cx, ny = hy, k = 2 * (vx * nx + vy * ny);
-      vx -= k * nx;
-      vy -= k * ny;
-      const double len = std::sqrt(vx * vx + vy * vy);
-      vx /= len;
-      vy /= len;
-    }
-    qx = hx;
-    qy = hy;
-  }
-}
-
 void BM_plain(benchmark::State& state, const char* omega) {
   const Scene s = scene_for(omega, 1);
   const Model<double> model(s.d, s.r, s.width, s.start, s.omega, s.t_max);
   const InitialConditions ic = initial_conditions(s);
-  const double w = s.omega.to_double();
+  bench::PlainScene plain;
+  plain.omega = s.omega.to_double();
   std::uint64_t id = 0, collisions = 0, particles = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const ParticleState<double> ps = initial_state(model.stadium, ic.draw(id++));
-    collisions += plain_particle(ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, w, s.t_max);
+    collisions += bench::plain_particle(ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, plain);
     ++particles;
   }
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# MPI scaling on this machine: the same run as one process (all threads), as mpirun -np 1, -np 2
+# (one thread per rank) and -np 4 --oversubscribe (one thread per rank); wall seconds of each and
+# whether survival.csv is the same bytes. Reports, never fails.
+# Usage: bench/bench_mpi.sh [ROTLEAK (build/rotleak)] [PARTICLES (2000000)] [OMEGA (2/3)]
+set -euo pipefail
+bin=$(realpath "${1:-build/rotleak}")
+particles=${2:-2000000}
+omega=${3:-2/3}
+scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader
+args=("$scene" --particles "$particles" --set leak.omega="$omega" --no-progress)
+run() {  # name, command...
+  local name=$1
+  shift
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$@" >/dev/null
+  t1=$(date +%s.%N)
+  awk -v n="$name" -v a="$t0" -v b="$t1" 'BEGIN { printf "| %s | %.2f |", n, b - a }'
+  if cmp -s one/survival.csv "$name/survival.csv"; then echo " same |"; else echo " DIFFERENT |"; fi
+}
+echo "bench_mpi: $particles particles, omega = $omega, $(nproc) cores"
+echo
+echo "| run | wall s | survival.csv vs one process |"
+echo "|---|---|---|"
+run one "$bin" simulate "${args[@]}" --out one
+run np1 mpirun -np 1 "$bin" simulate "${args[@]}" --out np1
+run np2 mpirun -np 2 "$bin" simulate "${args[@]}" --threads 1 --out np2
+run np4 mpirun -np 4 --oversubscribe "$bin" simulate "${args[@]}" --threads 1 --out np4

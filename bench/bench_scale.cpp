@@ -1,0 +1,138 @@
+// The default engine against the plain scalar simulator (bench/plain.hpp), both on all cores, in one
+// process, rounds interleaved so that a noisy machine slows both alike: collisions per second on
+// s_L = 0, s_L = 0.25, omega = 2/3, omega = 1e-4 and the quick-start scene with its f_c; and the
+// cost of checkpoints (every second, written to disk) on omega = 2/3. Reports, never fails.
+// Usage: bench_scale [PARTICLES (default 10^6)] [ROUNDS (default 3)] [THREADS (default all)]
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/plain.hpp"
+#include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
+#include "sim/engine.hpp"
+#include "sim/initial.hpp"
+#include "sim/particle.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Case {
+  const char* name;
+  std::string toml;
+};
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// The plain simulator over the scene's particles (same initial conditions), OpenMP over ids.
+double plain_rate(const Scene& s, int threads, std::uint64_t& collisions) {
+  const Model<double> model(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  const InitialConditions ic = initial_conditions(s);
+  bench::PlainScene base;
+  base.omega = s.omega.to_double();
+  base.start = s.start.to_double();
+  base.width = s.width.to_double();
+  base.t_max = s.t_max;
+  if (s.collision_density) {
+    base.bins = s.collision_density->bins;
+    for (const auto& w : s.collision_density->windows) base.windows.push_back({w.from, w.to});
+  }
+  collisions = 0;
+  const auto t0 = Clock::now();
+  std::uint64_t total = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : total)
+  {
+    bench::PlainScene p = base;
+    std::vector<std::uint64_t> density(p.windows.size() * static_cast<std::size_t>(std::max(p.bins, 1)));
+    if (s.collision_density) p.density = density.data();
+#pragma omp for schedule(dynamic, 4096)
+    for (std::uint64_t id = 0; id < s.particles; ++id) {
+      const ParticleState<double> ps = initial_state(model.stadium, ic.draw(id));
+      total += bench::plain_particle(ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, p);
+    }
+  }
+  const double sec = seconds_since(t0);
+  collisions = total;
+  return static_cast<double>(total) / sec;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::uint64_t particles = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 1000000;
+  const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
+  const int threads = argc > 3 ? std::atoi(argv[3]) : omp_get_max_threads();
+  const std::string n = std::to_string(particles);
+  const std::vector<Case> cases = {
+      {"s_L = 0", "[leak]\nstart = \"0\"\n"},
+      {"s_L = 0.25", "[leak]\nstart = \"0.25\"\n"},
+      {"omega = 2/3", "[leak]\nomega = \"2/3\"\n"},
+      {"omega = 1e-4", "[leak]\nomega = \"1e-4\"\n"},
+      {"quick-start with f_c",
+       "[observe]\ncollision_density = { bins = 1000, windows = [[0, 20000], [2000, 20000]] }\n"}};
+  std::printf("bench_scale: %s particles, %d threads, %d interleaved rounds; median of the per-round ratios\n\n",
+              n.c_str(), threads, rounds);
+  std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (const Case& c : cases) {
+    const Scene s = parse_scene(c.toml + "[ensemble]\nparticles = " + n + "\n");
+    RunOptions o;
+    o.threads = threads;
+    std::vector<double> ratios, er, pr;
+    Engine ran = Engine::scalar;
+    for (int k = 0; k < rounds; ++k) {
+      std::uint64_t pc = 0;
+      const double p = plain_rate(s, threads, pc);
+      const RunResult r = run_ensemble(s, o);
+      ran = r.engine;
+      const double e = static_cast<double>(r.tally.collisions) / r.wall_seconds;
+      er.push_back(e);
+      pr.push_back(p);
+      ratios.push_back(e / p);
+    }
+    std::string all;
+    for (double x : ratios) all += (all.empty() ? "" : ", ") + std::to_string(x).substr(0, 5);
+    std::printf("| %s | %s | %.3g | %.3g | %.2f | %s |\n", c.name, to_string(ran).c_str(), median(er), median(pr),
+                median(ratios), all.c_str());
+    std::fflush(stdout);
+  }
+
+  // checkpoints: every second the merged tallies go to disk (atomically, fsync), against none
+  const Scene s = parse_scene("[leak]\nomega = \"2/3\"\n[ensemble]\nparticles = " + n + "\n");
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "bench_scale.checkpoint";
+  std::vector<double> overhead;
+  int written = 0;
+  for (int k = 0; k < rounds; ++k) {
+    RunOptions plain_opt;
+    plain_opt.threads = threads;
+    const RunResult a = run_ensemble(s, plain_opt);
+    RunOptions ck = plain_opt;
+    ck.checkpoint_seconds = 1;
+    ck.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
+      write_tally_file(file, TallyFile{"bench", s.particles, 0, s.particles, done, t, rec});
+      ++written;
+    };
+    const RunResult b = run_ensemble(s, ck);
+    overhead.push_back(b.wall_seconds / a.wall_seconds - 1);
+  }
+  std::filesystem::remove(file);
+  std::printf("\ncheckpoints every 1 s on omega = 2/3 (%d written): wall time %+.1f%% (median; rounds:", written,
+              100 * median(overhead));
+  for (double x : overhead) std::printf(" %+.1f%%", 100 * x);
+  std::printf(")\n");
+  return 0;
+}
