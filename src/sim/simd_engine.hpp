@@ -4,6 +4,7 @@
 // instructions), and asks the caller for new particles and hands back the ended ones.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "sim/fate.hpp"
@@ -75,6 +76,10 @@ using Finish = void (*)(void* ctx, std::uint64_t id, const End& end);
 
 /// True when this CPU has AVX2 and FMA.
 bool available();
+
+/// The kernel's rough atan2 (the moving leak's first look), for its test: out[i] for (ay[i], ax[i]),
+/// n a multiple of 4; requires available().
+void rough_angles(const double* ay, const double* ax, double* out, std::size_t n);
 
 /// Runs particles until next() has none left; requires available().
 void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
