@@ -31,7 +31,15 @@ int main(int argc, char** argv) {
   }
   try {
     for (const auto& c : commands)
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) {
+        // under mpirun only simulate shares its work between ranks; any other command would run
+        // K times over and race on its files
+        if (team->size() > 1 && c.app->get_name() != "simulate")
+          throw rotleak::InputError("mpirun -np", std::to_string(team->size()),
+                                    "only `rotleak simulate` runs under MPI; run `rotleak " + c.app->get_name() +
+                                        "` as one process (its runs use all cores of the machine)");
+        return c.run();
+      }
   } catch (const rotleak::QuietExit& e) {
     return e.code;
   } catch (const rotleak::InputError& e) {
