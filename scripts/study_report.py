@@ -36,6 +36,17 @@ def same_omega(a, b):
         return a == b
 
 
+def cpu_model():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.machine()
+
+
 def main():
     if len(sys.argv) != 5:
         sys.exit("usage: study_report.py STUDY_DIR DOCS_DIR PARTICLES SECONDS")
@@ -55,7 +66,7 @@ def main():
            "`rotleak scan` of `data/study/study.toml` (d = 2, r = 1, leak width 0.01 at s_L = 0) over the values "
            "in `data/study/panels.tsv`; every point is an ordinary run directory, so `rotleak fit` re-analyses "
            "and `rotleak plot` redraws it." % (" --quick" if particles <= 100000 else "", particles,
-                                                  platform.machine(), os.cpu_count() or 0, seconds), ""]
+                                                  cpu_model(), os.cpu_count() or 0, seconds), ""]
     found = {}
     sim_total = 0.0
     for name, title, args in panels:
