@@ -168,7 +168,9 @@ TEST(Simd, RoughAngleWithinItsBound) {
     ay[i] = r * std::sin(th);
     ax[i] = r * std::cos(th);
   }
-  for (double v : {0.0, 1.0, -1.0}) ay[0] = v, ax[1] = v;
+  const double axes[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};  // the axes exactly
+  for (int k = 0; k < 4; ++k)
+    ay[static_cast<std::size_t>(k)] = axes[k][0], ax[static_cast<std::size_t>(k)] = axes[k][1];
   simd::rough_angles(ay.data(), ax.data(), out.data(), n);
   double worst = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -184,7 +186,9 @@ TEST(Simd, RefusesWhatItCannotRun) {
   Scene s = scene("0", "0");
   s.collision_density = CollisionDensitySpec{};
   s.collision_density->windows.assign(simd::kMaxDensityWindows, TimeWindow{0, 100});
-  if (simd::available()) EXPECT_EQ(resolve_engine(Engine::automatic, s), Engine::simd);  // f_c runs vectorised
+  if (simd::available()) {
+    EXPECT_EQ(resolve_engine(Engine::automatic, s), Engine::simd);  // f_c runs vectorised
+  }
   s.collision_density->windows.push_back({0, 100});
   EXPECT_EQ(resolve_engine(Engine::automatic, s), Engine::scalar);  // more windows than the kernel takes
   EXPECT_THROW(resolve_engine(Engine::simd, s), std::runtime_error);
