@@ -27,11 +27,20 @@ Scene scene(const std::string& start, const std::string& omega, std::uint64_t n 
                      "\nseed = 5\n[run]\nt_max = 3000\n[observe]\nescapes = true\n[fit]\nkappa_window = [0, 200]\n");
 }
 
-RunResult run(const Scene& s, Engine e, int threads = 2) {
+RunResult run(const Scene& s, Engine e, int threads = 2, int lanes = 0) {
   RunOptions o;
   o.engine = e;
   o.threads = threads;
+  o.simd_lanes = lanes;
   return run_ensemble(s, o);
+}
+
+/// The kernels this CPU runs (4: AVX2, 8: AVX-512): each must give the core's bits.
+std::vector<int> widths() {
+  std::vector<int> w;
+  for (int lanes : {4, 8})
+    if (simd::lanes_available(lanes)) w.push_back(lanes);
+  return w;
 }
 
 // Two-sample KS: the largest gap between the two empirical escape-time distributions, against the
@@ -64,11 +73,15 @@ class SimdStationary : public ::testing::TestWithParam<const char*> {};
 TEST_P(SimdStationary, BitIdenticalToTheScalarCore) {
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
   const Scene s = scene(GetParam(), "0");
-  const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
-  EXPECT_EQ(b.engine, Engine::simd);
-  EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, b.records));
-  EXPECT_EQ(survival_csv(survival_curve(s, a.tally)), survival_csv(survival_curve(s, b.tally)));
-  EXPECT_EQ(a.tally.collisions, b.tally.collisions);
+  const RunResult a = run(s, Engine::scalar);
+  for (int lanes : widths()) {
+    const RunResult b = run(s, Engine::simd, 2, lanes);
+    EXPECT_EQ(b.engine, Engine::simd);
+    EXPECT_EQ(b.simd_lanes, lanes);
+    EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, b.records)) << lanes << " lanes";
+    EXPECT_EQ(survival_csv(survival_curve(s, a.tally)), survival_csv(survival_curve(s, b.tally))) << lanes;
+    EXPECT_EQ(a.tally.collisions, b.tally.collisions) << lanes;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(LeakPositions, SimdStationary,
@@ -89,7 +102,13 @@ TEST(Simd, RotatingLeaksBitIdenticalToTheScalarCore) {
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
   for (const char* omega : {"2/3", "ln(19)", "1008/1009", "1e-4"}) {
     const Scene s = scene("0.3", omega, 40000);
-    const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
+    const RunResult a = run(s, Engine::scalar);
+    for (int lanes : widths()) {
+      const RunResult c = run(s, Engine::simd, 2, lanes);
+      EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, c.records)) << omega << ", " << lanes << " lanes";
+      EXPECT_EQ(a.tally.collisions, c.tally.collisions) << omega << ", " << lanes << " lanes";
+    }
+    const RunResult b = run(s, Engine::simd);
     EXPECT_EQ(escapes_csv(0, a.records), escapes_csv(0, b.records)) << omega;
     EXPECT_EQ(a.tally.collisions, b.tally.collisions) << omega;
     const auto ta = escape_times(a), tb = escape_times(b);
@@ -116,12 +135,45 @@ TEST(Simd, CollisionDensityBitIdenticalToTheScalarCore) {
       if (weighted) s.sampling.kind = SamplingKind::mupo;
       const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
       ASSERT_EQ(b.engine, Engine::simd);
+      for (int lanes : widths()) {
+        const RunResult c = run(s, Engine::simd, 2, lanes);
+        EXPECT_EQ(a.tally.collision_density, c.tally.collision_density) << omega << ", " << lanes << " lanes";
+        EXPECT_TRUE(a.tally.collision_density_w == c.tally.collision_density_w) << omega << ", " << lanes;
+      }
       EXPECT_EQ(density_csv(s, a.tally), density_csv(s, b.tally)) << omega << " weighted " << weighted;
       EXPECT_EQ(a.tally.collision_density, b.tally.collision_density) << omega;
       EXPECT_TRUE(a.tally.collision_density_w == b.tally.collision_density_w) << omega;
       std::uint64_t counted = 0;
       for (std::size_t i = 0; i < 250; ++i) counted += b.tally.collision_density[i];  // the window [0, t_max]
       EXPECT_EQ(counted, b.tally.collisions) << omega << ": every collision is in the first window";
+    }
+  }
+}
+
+// The kernel counts each f_c collision once, in its time cell, and the engine adds the cell to every
+// window that holds its times. Checked here at the edges themselves (from and to are inclusive),
+// with windows that share edges, nest, touch and repeat.
+TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
+  const std::vector<std::vector<std::pair<double, double>>> sets = {{{0, 20000}, {2000, 20000}},
+                                                                    {{0, 1000}, {1000, 2000}, {500, 1500}, {0, 2000}},
+                                                                    {{10, 20}, {10, 20}, {5, 10}, {20, 30}, {0, 40}},
+                                                                    {{0, 3000}, {500, 3000}, {1000, 2000}}};
+  for (const auto& set : sets) {
+    const int n = static_cast<int>(set.size());
+    std::vector<double> from, to, times;
+    for (const auto& [a, b] : set) {
+      from.push_back(a), to.push_back(b);
+      for (double x : {a, b}) times.insert(times.end(), {std::nextafter(x, -1e9), x, std::nextafter(x, 1e9), x + 0.5});
+    }
+    std::vector<unsigned> cells(static_cast<std::size_t>(2 * n + 1));
+    density_cells(n, from.data(), to.data(), cells.data());
+    for (double t : times) {
+      int c = 0;  // as the kernel finds it
+      for (int v = 0; v < n; ++v) c += (t >= from[static_cast<std::size_t>(v)]) + (t > to[static_cast<std::size_t>(v)]);
+      unsigned want = 0;
+      for (int w = 0; w < n; ++w)
+        if (t >= from[static_cast<std::size_t>(w)] && t <= to[static_cast<std::size_t>(w)]) want |= 1u << w;
+      EXPECT_EQ(cells[static_cast<std::size_t>(c)], want) << "t = " << t << ", " << n << " windows";
     }
   }
 }
@@ -143,7 +195,7 @@ TEST(Simd, FastForwardedBouncesAreCountedInTheDensity) {
 TEST(Simd, FirstCollisionsAgreeExactly) {
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
   const Scene s = scene("0.5", "0", 20000, "0.999");
-  const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
+  const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd, 2, 4);
   std::size_t first = 0;
   for (std::size_t i = 0; i < a.records.size(); ++i) {
     if (a.records[i].collisions != 1) continue;
@@ -171,15 +223,17 @@ TEST(Simd, RoughAngleWithinItsBound) {
   const double axes[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};  // the axes exactly
   for (int k = 0; k < 4; ++k)
     ay[static_cast<std::size_t>(k)] = axes[k][0], ax[static_cast<std::size_t>(k)] = axes[k][1];
-  simd::rough_angles(ay.data(), ax.data(), out.data(), n);
-  double worst = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    double d = std::abs(out[i] - std::atan2(ay[i], ax[i]));
-    d = std::min(d, 2 * M_PI - d);  // -pi and pi are one direction
-    worst = std::max(worst, d);
+  for (int lanes : widths()) {
+    simd::rough_angles(lanes, ay.data(), ax.data(), out.data(), n);
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double d = std::abs(out[i] - std::atan2(ay[i], ax[i]));
+      d = std::min(d, 2 * M_PI - d);  // -pi and pi are one direction
+      worst = std::max(worst, d);
+    }
+    EXPECT_LT(worst, 2e-5) << lanes << " lanes";
+    std::printf("rough atan2, %d lanes: largest error %.3g rad\n", lanes, worst);
   }
-  EXPECT_LT(worst, 2e-5);
-  std::printf("rough atan2: largest error %.3g rad\n", worst);
 }
 
 TEST(Simd, RefusesWhatItCannotRun) {

@@ -172,7 +172,8 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   if (r.tier_choice)
     s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
   s["engine"] = to_string(r.result.engine);
-  s["threads"] = r.result.threads;  // per rank
+  if (r.result.simd_lanes > 0) s["simd_lanes"] = r.result.simd_lanes;  // 4: AVX2, 8: AVX-512 (same bits)
+  s["threads"] = r.result.threads;                                     // per rank
   s["ranks"] = r.result.ranks;
   s["particles"] = scene.particles;
   if (r.result.of != 0)  // a shard: ids [first, end) of a run of `of` particles (rotleak merge)

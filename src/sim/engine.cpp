@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -154,6 +155,23 @@ void simd_density(simd::Scene& s, const Scene& scene) {
   }
 }
 
+/// The kernel's f_c counts by time cell (simd::DensityHit), folded into the windows' counts.
+struct DensityCells {
+  int bins = 0;
+  unsigned windows[2 * simd::kMaxDensityWindows + 1] = {};  ///< bit w: window w holds the cell's times
+
+  /// counts[c bins + b] into density[w bins + b] for each window w of cell c; counts zeroed
+  void fold(std::uint64_t* counts, std::uint64_t* density, std::size_t cells) const {
+    const auto nb = static_cast<std::size_t>(bins);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (unsigned m = windows[c]; m; m &= m - 1) {
+        const auto w = static_cast<std::size_t>(__builtin_ctz(m));
+        for (std::size_t b = 0; b < nb; ++b) density[w * nb + b] += counts[c * nb + b];
+      }
+    std::fill(counts, counts + cells * nb, 0);
+  }
+};
+
 struct SimdContext {
   const Model<double>* model;
   DrawSource draw;
@@ -164,6 +182,7 @@ struct SimdContext {
   std::uint64_t* density = nullptr;                           ///< this thread's f_c counts
   FixedSum* density_w = nullptr;                              ///< and weighted sums
   DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
+  const DensityCells* cells = nullptr;                        ///< the kernel's time cells
 };
 
 bool simd_escape(void* c, int piece, double x, double y, double t) {
@@ -176,9 +195,14 @@ double simd_s_of(void* c, int piece, double x, double y) {
 
 void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
   auto* ctx = static_cast<SimdContext*>(c);
+  const std::uint32_t bins = static_cast<std::uint32_t>(ctx->cells->bins);
   for (int i = 0; i < n; ++i) {
-    ++ctx->density[hits[i].index];
-    if (ctx->density_w) ctx->density_w[hits[i].index].add(hits[i].weight);
+    const std::uint32_t cell = hits[i].index / bins, b = hits[i].index % bins;
+    for (unsigned m = ctx->cells->windows[cell]; m; m &= m - 1) {
+      const std::uint32_t k = static_cast<std::uint32_t>(__builtin_ctz(m)) * bins + b;
+      ++ctx->density[k];
+      if (ctx->density_w) ctx->density_w[k].add(hits[i].weight);
+    }
   }
 }
 
@@ -207,16 +231,16 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
     bool flying = true;
+    const double weight = ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0;
     if (ctx->observer) {
-      ctx->observer->weight = ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0;
+      ctx->observer->weight = weight;
       flying = fast_forward(*ctx->model, f, ctx->observer);
     } else {
       flying = fast_forward(*ctx->model, f);
     }
     if (flying) {
-      ctx->resume.push_back({id,
-                             {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions),
-                              ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0}});
+      ctx->resume.push_back(
+          {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions), weight}});
     } else {
       ctx->record(id, f.end);
     }
@@ -247,10 +271,19 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
   result.first_id = opt.first_id;
   const bool use_simd = result.engine == Engine::simd;
   simd::Scene kernel_scene{};
+  DensityCells cells;
   if constexpr (std::is_same_v<R, double>)
     if (use_simd) {
       kernel_scene = simd_scene(model);
       simd_density(kernel_scene, scene);
+      cells.bins = kernel_scene.bins;
+      density_cells(kernel_scene.density_windows, kernel_scene.win_from, kernel_scene.win_to, cells.windows);
+      kernel_scene.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : simd::widest_lanes();
+      if (!simd::lanes_available(kernel_scene.lanes))
+        throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
+                                    ": this CPU runs the vectorised kernel with 4 lanes (AVX2)" +
+                                    (simd::lanes_available(8) ? " or 8 (AVX-512)" : ""));
+      result.simd_lanes = kernel_scene.lanes;
     }
   const std::uint64_t n = scene.particles;
   const std::uint64_t blocks = block_count(n);
@@ -293,6 +326,10 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
                                  local.collision_density.data(),
                                  local.weighted ? local.collision_density_w.data() : nullptr};
       NoCollisionObserver<R> none;
+      const std::size_t n_cells = 2 * static_cast<std::size_t>(cells.bins > 0 ? kernel_scene.density_windows : 0) + 1;
+      std::vector<std::uint64_t> cell_counts;  // the kernel's unweighted f_c, by time cell
+      if (use_simd && scene.collision_density && !local.weighted)
+        cell_counts.assign(n_cells * static_cast<std::size_t>(cells.bins), 0);
       auto record = [&](std::uint64_t i, const ParticleEnd& end) {
         double w = 1;
         if (local.weighted) {  // the weight is a function of (seed, id): rebuilt here, not carried by lanes
@@ -338,8 +375,12 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
               ctx.density = local.collision_density.data();
               ctx.density_w = local.weighted ? local.collision_density_w.data() : nullptr;
               ctx.observer = &density;
+              ctx.cells = &cells;
             }
-            simd::run(kernel_scene, &ctx, simd_next, simd_finish, kSimdExact);
+            simd::Exact exact = kSimdExact;
+            if (!cell_counts.empty()) exact.counts = cell_counts.data();
+            simd::run(kernel_scene, &ctx, simd_next, simd_finish, exact);
+            if (!cell_counts.empty()) cells.fold(cell_counts.data(), local.collision_density.data(), n_cells);
           }
         } else if (scene.collision_density) {
           run_block(model, source, lo, hi, density, record);
@@ -370,6 +411,21 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
 }
 
 }  // namespace
+
+// With c(x) the cell of time x (non-decreasing in x), t >= from_w exactly when c(t) >= c(from_w)
+// (below from_w, from_w's own edge is not passed), and t <= to_w exactly when c(t) <= c(to_w).
+void density_cells(int windows, const double* from, const double* to, unsigned* cells) {
+  const auto cell_of = [&](double x) {
+    int c = 0;
+    for (int v = 0; v < windows; ++v) c += (x >= from[v]) + (x > to[v]);
+    return c;
+  };
+  for (int c = 0; c <= 2 * windows; ++c) {
+    cells[c] = 0;
+    for (int w = 0; w < windows; ++w)
+      if (cell_of(from[w]) <= c && c <= cell_of(to[w])) cells[c] |= 1u << w;
+  }
+}
 
 std::string to_string(Engine e) {
   switch (e) {

@@ -41,13 +41,17 @@ struct Tally {
   void merge(const Tally& other);
 };
 
-/// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes).
+/// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes a register,
+/// or AVX-512, 8).
 enum class Engine { automatic, scalar, simd };
 
 struct RunOptions {
   int threads = 0;                    ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
-  std::uint64_t first_id = 0;         ///< particles are ids [first_id, first_id + scene.particles)
+  /// The vectorised kernel's lanes a register: 0 the widest this CPU runs, 4 (AVX2) or 8 (AVX-512).
+  /// Every width gives the same bits; tests and benchmarks pick one.
+  int simd_lanes = 0;
+  std::uint64_t first_id = 0;  ///< particles are ids [first_id, first_id + scene.particles)
   /// When set, particle i starts from (*draws)[i] instead of the scene's draw of its id (its size
   /// must be scene.particles): how verify replays chosen trajectories through the engine.
   const std::vector<InitialDraw>* draws = nullptr;
@@ -81,11 +85,16 @@ struct RunResult {
   int threads = 1;
   int ranks = 1;                   ///< MPI processes that shared the run
   Engine engine = Engine::scalar;  ///< the one that ran
+  int simd_lanes = 0;              ///< its lanes a register (simd: 4 or 8; scalar: 0)
   std::uint64_t first_id = 0;      ///< the ids run: [first_id, first_id + scene.particles)
   std::uint64_t of = 0;            ///< a shard (--ids A:B): the whole run's particle count; 0 otherwise
   IntervalSet done;                ///< blocks whose particles are in the tally
   bool complete = true;            ///< false when stopped before every block ran
 };
+
+/// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
+/// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
+void density_cells(int windows, const double* from, const double* to, unsigned* cells);
 
 /// The engine `requested` resolves to for this scene on this CPU.
 Engine resolve_engine(Engine requested, const Scene& scene);

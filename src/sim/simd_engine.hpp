@@ -1,7 +1,8 @@
-// The vectorised double engine: four particles per AVX2 register, branch-free piece selection, lanes
-// refilled from the id stream as particles end. Its translation unit alone is compiled for AVX2/FMA
-// and selected at run time; it sees only the plain structs below (no shared inline code gets AVX2
-// instructions), and asks the caller for new particles and hands back the ended ones.
+// The vectorised double engine: four (AVX2) or eight (AVX-512) particles per register, branch-free
+// piece selection, lanes refilled from the id stream as particles end. Its translation units alone
+// are compiled for those instruction sets and selected at run time; they see only the plain structs
+// below (no shared inline code gets vector instructions), and ask the caller for new particles and
+// hand back the ended ones.
 #pragma once
 
 #include <cstddef>
@@ -41,6 +42,8 @@ struct Scene {
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
   /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;
+  /// the kernel: 4 (AVX2) or 8 (AVX-512) lanes a register; lanes_available(lanes) must hold
+  int lanes = 4;
 };
 
 struct Start {
@@ -49,7 +52,11 @@ struct Start {
   double weight = 1;      ///< the particle's sampling weight (for the weighted f_c)
 };
 
-/// One counted collision of the f_c observer: bin index window * bins + bin, and the weight.
+/// One counted collision of the f_c observer: index cell * bins + bin, and the weight. The time
+/// cell of t is the number of window edges it has passed, counting from_w when t >= from_w and to_w
+/// when t > to_w: 0 .. 2 density_windows; it fixes the set of windows that hold t (density_cells),
+/// so the kernel counts each collision once and the caller adds the cell to each of its windows
+/// (sim/engine.cpp density_cells).
 struct DensityHit {
   std::uint32_t index;
   double weight;
@@ -61,6 +68,9 @@ struct Exact {
   bool (*escape)(void* ctx, int piece, double x, double y, double t);  ///< Leak<double>::hit
   double (*s_of)(void* ctx, int piece, double x, double y);            ///< Stadium<double>::s_of
   void (*density)(void* ctx, const DensityHit* hits, int n);           ///< add these to the tallies
+  /// When set (f_c unweighted): the thread's f_c counts, which the kernel increments itself instead
+  /// of sending the hits to density().
+  std::uint64_t* counts = nullptr;
 };
 
 struct End {
@@ -77,11 +87,18 @@ using Finish = void (*)(void* ctx, std::uint64_t id, const End& end);
 /// True when this CPU has AVX2 and FMA.
 bool available();
 
-/// The kernel's rough atan2 (the moving leak's first look), for its test: out[i] for (ay[i], ax[i]),
-/// n a multiple of 4; requires available().
-void rough_angles(const double* ay, const double* ax, double* out, std::size_t n);
+/// The widest kernel this CPU runs: 8 (AVX-512F/DQ), 4 (AVX2+FMA) or 0 (none).
+int widest_lanes();
 
-/// Runs particles until next() has none left; requires available().
+/// True when this CPU runs the kernel of `lanes` (4 or 8) lanes a register.
+bool lanes_available(int lanes);
+
+/// The kernel's rough atan2 (the moving leak's first look), for its test: out[i] for (ay[i], ax[i]),
+/// any n, by the kernel of `lanes` lanes; requires lanes_available(lanes).
+void rough_angles(int lanes, const double* ay, const double* ax, double* out, std::size_t n);
+
+/// Runs particles until next() has none left, by the kernel of scene.lanes; requires
+/// lanes_available(scene.lanes).
 void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 
 }  // namespace rotleak::simd

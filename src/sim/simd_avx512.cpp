@@ -1,0 +1,36 @@
+// The AVX-512 kernel: 8 lanes a register, the same kernel as the AVX2 one (sim/simd_kernel.ipp);
+// this file alone is compiled with -mavx512f -mavx512dq -mfma and runs only where the CPU has them.
+#include <sleef.h>
+
+#include <utility>
+#include <xsimd/xsimd.hpp>
+
+#include "sim/simd_engine.hpp"
+
+#ifndef ROTLEAK_SIMD512_GROUPS
+#define ROTLEAK_SIMD512_GROUPS 4
+#endif
+
+namespace rotleak::simd::avx512_kernel {
+
+namespace {
+using B = xsimd::batch<double, xsimd::avx512f>;
+using M = B::batch_bool_type;
+constexpr int W = 8;
+constexpr int G = ROTLEAK_SIMD512_GROUPS;
+inline unsigned bits(const M& m) { return static_cast<unsigned>(static_cast<__mmask8>(m)); }
+inline B fused_fms(const B& a, const B& b, const B& c) {
+  return B(_mm512_fmsub_pd(static_cast<__m512d>(a), static_cast<__m512d>(b), static_cast<__m512d>(c)));
+}
+inline B sleef_atan2(const B& y, const B& x) {
+  return B(Sleef_atan2d8_u35avx512f(static_cast<__m512d>(y), static_cast<__m512d>(x)));
+}
+}  // namespace
+
+bool available() {
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("fma");
+}
+
+#include "sim/simd_kernel.ipp"
+
+}  // namespace rotleak::simd::avx512_kernel
