@@ -2,7 +2,8 @@
 # The same run as 1 process, as `mpirun -np 2` and as `mpirun -np 3 --oversubscribe` (one thread per
 # rank, and 2 threads in the single process): survival.csv, fc.csv and escapes.csv must be
 # byte-identical, and summary.json's fitted numbers equal. The scene has every tally: a rotating
-# leak, importance-sampling weights (exact sums), f_c, escape records.
+# leak, importance-sampling weights (exact sums), f_c, escape records. Then a scan of three omegas
+# as 1 process and as `mpirun -np 2`: table.csv and every point's survival.csv byte-identical.
 # Usage: scripts/mpi_equivalence.sh ROTLEAK_BINARY [MPIRUN]      Exit 1 on the first difference.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -34,3 +35,20 @@ if b["ranks"] != {"two": 2, "three": 3}[run]:
 PY
   echo "$run ranks: survival.csv, fc.csv, escapes.csv and the fits identical to one process"
 done
+
+scan=("$scene" --over "leak.omega=2/3,1/7,ln(19)" --particles 60000 --set run.t_max=3000 --no-progress)
+"$bin" scan "${scan[@]}" --threads 2 --out scan1 >/dev/null
+"$mpirun" -np 2 "$bin" scan "${scan[@]}" --threads 1 --out scan2 >/dev/null
+cmp -s scan1/table.csv scan2/table.csv || { echo "scan under 2 ranks: table.csv differs"; exit 1; }
+for p in scan1/points/*/; do
+  q=scan2/points/$(basename "$p")
+  cmp -s "$p/survival.csv" "$q/survival.csv" || { echo "scan under 2 ranks: $(basename "$p") survival.csv differs"; exit 1; }
+  grep -q '"ranks": 2' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
+done
+echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
+# any other command is refused under mpirun with one line (it would run K times over its files)
+set +e
+msg=$("$mpirun" -np 2 "$bin" omega 2/3 2>&1 >/dev/null)
+set -e
+grep -q "only \`rotleak simulate\` and \`rotleak scan\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
+echo "other commands under mpirun: refused with one line"

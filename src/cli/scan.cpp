@@ -8,6 +8,7 @@
 #include "io/progress.hpp"
 #include "numeric/input.hpp"
 #include "run/scan.hpp"
+#include "run/team.hpp"
 
 namespace rotleak::cli {
 
@@ -33,6 +34,7 @@ int run_scan(ScanArgs a) {
   a.request.run.progress = progress_on_stderr(!a.no_progress && ::isatty(2));
   if (!a.no_progress) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   const ScanOutcome out = scan(a.request);
+  if (current_team().rank() != 0) return 0;  // under MPI rank 0 reports
   if (a.json_out)
     std::cout << out.document.dump(2) << "\n";
   else

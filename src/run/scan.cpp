@@ -15,6 +15,7 @@
 #include "numeric/exact.hpp"
 #include "numeric/input.hpp"
 #include "run/refit.hpp"
+#include "run/team.hpp"
 
 namespace rotleak {
 
@@ -284,9 +285,13 @@ ScanOutcome scan(const ScanRequest& req) {
     p.number_theory = omega_number_theory(scene);
   }
 
+  const Team& team = req.team ? *req.team : current_team();
+  const bool lead = team.rank() == 0;  // under MPI rank 0 writes and reports; every rank runs every point
+  const Note note = lead ? req.note : Note{};
   const fs::path dir = RunDirectory::normalise(req.out);
   const fs::path points_dir = dir / "points", manifest_path = dir / "points.json";
-  fs::create_directories(points_dir);
+  if (lead) fs::create_directories(points_dir);
+  team.all(true);  // the directory is there before any rank looks
   // points.json: slug -> the inputs its run was made from, updated after each point commits. A point
   // counts as done only when its directory is complete and its recorded inputs equal this point's.
   json manifest = json::object();
@@ -307,20 +312,21 @@ ScanOutcome scan(const ScanRequest& req) {
   for (std::size_t i = 0; i < count; ++i) {
     const Point& p = points[i];
     const fs::path pdir = points_dir / p.slug;
-    const bool complete = fs::exists(pdir / "summary.json") && manifest.contains(p.slug) &&
-                          manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs;
+    // every rank must take the same way: a point is skipped only where every rank finds it complete
+    const bool complete = team.all(fs::exists(pdir / "summary.json") && manifest.contains(p.slug) &&
+                                   manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs);
     if (complete && !req.force) {
       ++out.skipped;
+      if (!lead) continue;
       const json saved = json::parse(read_file(pdir / "summary.json"));
       const bool same_fit = saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit;
       if (!same_fit) refit_run(pdir, p.scene);
-      if (req.note)
-        req.note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug +
-                 (same_fit ? ": complete, skipped" : ": complete, refitted under the new fit keys"));
+      if (note)
+        note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug +
+             (same_fit ? ": complete, skipped" : ": complete, refitted under the new fit keys"));
       continue;
     }
-    if (req.note)
-      req.note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug + ": running");
+    if (note) note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug + ": running");
     SimulateRequest sr;
     sr.scene_path = req.scene_path;
     sr.overrides = p.overrides;
@@ -331,23 +337,26 @@ ScanOutcome scan(const ScanRequest& req) {
     sr.resume = req.force ? Resume::no : Resume::if_any;
     sr.engine = req.engine;
     sr.run = req.run;
-    sr.note = req.note;
+    if (!lead) sr.run.progress = {};
+    sr.note = note;
+    sr.team = &team;
     const auto t0 = std::chrono::steady_clock::now();
-    simulate(sr);
+    simulate(sr);  // every rank: the point's blocks shared among them, rank 0 writes
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     manifest[p.slug] = p.inputs;
-    write_file_atomic(manifest_path, manifest.dump(1) + "\n");
+    if (lead) write_file_atomic(manifest_path, manifest.dump(1) + "\n");
     ++out.ran;
     ++done_now;
     spent += sec;
-    if (req.note) {
+    if (note) {
       const std::size_t left = count - i - 1;
       char line[200];
       std::snprintf(line, sizeof line, "[scan] point %zu/%zu done in %.1f s; %zu of %zu points complete; ETA %.0f s",
                     i + 1, count, sec, i + 1, count, spent / static_cast<double>(done_now) * static_cast<double>(left));
-      req.note(line);
+      note(line);
     }
   }
+  if (!lead) return out;
 
   // The table and scan.json from the points on disk, whether run now or before.
   std::vector<json> summaries;

@@ -48,6 +48,9 @@ struct ScanRequest {
   std::string engine = "auto";
   RunOptions run;  ///< threads and the per-point progress line
   Note note;       ///< per-point status lines (points done, ETA)
+  /// The processes sharing the scan (null: current_team()): under mpirun every point's particles are
+  /// shared by all ranks (as `rotleak simulate` shares them); rank 0 alone writes and reports.
+  const Team* team = nullptr;
 };
 
 struct ScanOutcome {
@@ -67,7 +70,8 @@ inline constexpr const char* kScanCoveringDelta = "1e-7";
 json omega_number_theory(const Scene& scene);
 
 /// Validates every point's scene first (a bad value fails before any work), runs the points that
-/// are not complete, writes table.csv and scan.json atomically.
+/// are not complete, writes table.csv and scan.json atomically. Under MPI every rank calls it; the
+/// outcome's document and csv are rank 0's (other ranks get the counts only).
 ScanOutcome scan(const ScanRequest& request);
 
 /// table.csv from a scan directory's points (the swept keys, then kappa, kappa_err, alpha,
