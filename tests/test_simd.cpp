@@ -150,6 +150,26 @@ TEST(Simd, CollisionDensityBitIdenticalToTheScalarCore) {
   }
 }
 
+// Windows with a gap between them (times in the gap are counted nowhere) and windows that start late.
+TEST(Simd, CollisionDensityWithGapsBitIdentical) {
+  if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
+  for (const bool weighted : {false, true}) {
+    Scene s = scene("0", "2/3", 20000, "0.01");
+    s.collision_density = CollisionDensitySpec{200, {{100, 400}, {1000, 2000}, {1500, 1600}}};
+    if (weighted) s.sampling.kind = SamplingKind::mupo;
+    const RunResult a = run(s, Engine::scalar);
+    for (int lanes : widths()) {
+      const RunResult b = run(s, Engine::simd, 2, lanes);
+      EXPECT_EQ(a.tally.collision_density, b.tally.collision_density) << lanes << " lanes, weighted " << weighted;
+      EXPECT_TRUE(a.tally.collision_density_w == b.tally.collision_density_w) << lanes << " lanes";
+    }
+    std::uint64_t first = 0;
+    for (std::size_t i = 0; i < 200; ++i) first += a.tally.collision_density[i];
+    EXPECT_GT(first, 0u);
+    EXPECT_LT(first, a.tally.collisions);  // the gap's collisions are not in the first window
+  }
+}
+
 // The kernel counts each f_c collision once, in its time cell, and the engine adds the cell to every
 // window that holds its times. Checked here at the edges themselves (from and to are inclusive),
 // with windows that share edges, nest, touch and repeat.

@@ -152,6 +152,8 @@ void simd_density(simd::Scene& s, const Scene& scene) {
   for (int w = 0; w < s.density_windows; ++w) {
     s.win_from[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].from;
     s.win_to[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].to;
+    s.win_span_from = w == 0 ? s.win_from[w] : std::min(s.win_span_from, s.win_from[w]);
+    s.win_span_to = w == 0 ? s.win_to[w] : std::max(s.win_span_to, s.win_to[w]);
   }
 }
 

@@ -39,6 +39,7 @@ struct Scene {
   int density_windows;
   int bins;
   double win_from[kMaxDensityWindows], win_to[kMaxDensityWindows];
+  double win_span_from, win_span_to;  ///< the least from and the greatest to
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
   /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;

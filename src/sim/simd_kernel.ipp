@@ -298,15 +298,19 @@ inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
   return in;
 }
 
-/// The boundary coordinate s of the hits as Stadium::s_of computes it, the arcs' angle from SLEEF's
-/// atan2 (evaluated only for the registers with a lane in `arcs`; other arc lanes get s = -1).
-inline V s_of(const Scene& S, const HitLanes& h, const MV& arcs) {
+/// The boundary coordinate s of the straight hits as Stadium::s_of computes it (arc lanes: junk).
+inline V straight_s(const Scene& S, const HitLanes& h) {
   const V HD(S.half_d), ZERO(0.0), ONE(1.0);
   V s_top = h.x * V(S.inv_L);
   s_top = select(s_top < ZERO, s_top + ONE, s_top);
   s_top = select(s_top >= ONE, ZERO, s_top);
   const V s_bottom = fma(HD - h.x, V(S.inv_L), V(S.junction[1]));  // a multiply, then an add
-  V s_arc(-1.0);
+  return select(h.up, s_top, s_bottom);
+}
+
+/// s of the arc hits as Stadium::s_of computes it, the angle from SLEEF's atan2, evaluated only for
+/// the registers with a lane in `arcs`; their other lanes keep `s`.
+inline V arc_s(const Scene& S, const HitLanes& h, const MV& arcs, V s) {
   each([&](int i) {
     if (!bits(arcs.m[i])) return;
     // right arc: atan2(x - d/2, y); left arc: atan2(-(x + d/2), -y); one call for both
@@ -316,9 +320,15 @@ inline V s_of(const Scene& S, const HitLanes& h, const MV& arcs) {
     const B ax = xsimd::select(right, y, -y);
     B ang = sleef_atan2(ay, ax);
     ang = xsimd::min(xsimd::max(ang, B(0.0)), B(S.pi));
-    s_arc.b[i] = ang * B(S.r_over_L) + xsimd::select(right, B(S.junction[0]), B(S.junction[2]));  // two roundings
+    const B sa = ang * B(S.r_over_L) + xsimd::select(right, B(S.junction[0]), B(S.junction[2]));  // two roundings
+    s.b[i] = xsimd::select(arcs.m[i], sa, s.b[i]);
   });
-  return select(h.straight, select(h.up, s_top, s_bottom), s_arc);
+  return s;
+}
+
+/// s of every hit: straight_s, and arc_s for the arc lanes in `arcs` (other arc lanes get -1).
+inline V s_of(const Scene& S, const HitLanes& h, const MV& arcs) {
+  return arc_s(S, h, arcs, select(h.straight, straight_s(S, h), V(-1.0)));
 }
 
 /// A cheap angle atan2(ay, ax) in [-pi, pi] for the moving leak's first look: octant reduction and
@@ -395,8 +405,8 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
                             const Exact& exact, DensityHit* buf, int& used) {
   const V bins(static_cast<double>(S.bins)), ZERO(0.0);
   const MV arcs = count & !h.straight;
-  V s = s_of(S, h, MV(false));  // the straight hits' s (arc lanes: below)
-  MV fine = arcs;                // arc lanes that need more than the rough angle
+  V s = straight_s(S, h);  // arc lanes: below
+  MV fine = arcs;          // arc lanes that need more than the rough angle
   if (bits(arcs)) {
     const V HD(S.half_d);
     const V ang =
@@ -407,7 +417,7 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
     s = select(arcs, s_rough, s);
   }
   if (bits(fine)) {
-    s = select(fine, s_of(S, h, fine), s);
+    s = arc_s(S, h, fine, s);
     const V sb = s * bins;
     if (const unsigned um = bits(fine & (abs(sb - nearbyint(sb)) <= V(S.margin * S.bins)))) {
       alignas(sizeof(B)) double sv[N], x[N], y[N];
@@ -485,10 +495,9 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
   const MV over = t > TMAX;
   g.coll = g.coll + select(over, ZERO, ONE);  // a flight past t_max is not a collision
   if (S.density_windows > 0) {                // parked lanes sit past t_max: `over` excludes them
-    MV in_window(false);
-    for (int w = 0; w < S.density_windows; ++w)
-      in_window = in_window | ((t >= V(S.win_from[w])) & (t <= V(S.win_to[w])));
-    const MV count = in_window & !over;
+    // within the windows' span [first from, last to]; a time in a gap between windows has a cell
+    // that no window holds, so it is counted nowhere
+    const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & !over;
     if (bits(count)) observe_density(S, g, h, t, count, ctx, exact, buf, used);
   }
   const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over, ctx, exact) : in_stationary_leak(S, h)) & !over;
