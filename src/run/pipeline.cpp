@@ -62,14 +62,10 @@ void agree(const Team& team, const std::exception_ptr& failure) {
 }
 
 /// Rank 0: every rank's tally file (same inputs and ids, blocks that tile the run) merged into one result.
-void merge_ranks(RunResult& result, const std::vector<std::string>& parts, std::uint64_t n) {
+void merge_ranks(RunResult& result, const std::vector<std::string>& parts, const Scene& scene) {
+  const std::uint64_t n = scene.particles;
   Tally merged;
-  merged.escapes_per_bin.assign(result.tally.escapes_per_bin.size(), 0);
-  merged.collision_density.assign(result.tally.collision_density.size(), 0);
-  merged.weighted = result.tally.weighted;
-  merged.escaped_w.assign(result.tally.escaped_w.size(), FixedSum{});
-  merged.escaped_w2.assign(result.tally.escaped_w2.size(), FixedSum{});
-  merged.collision_density_w.assign(result.tally.collision_density_w.size(), FixedSum{});
+  merged.resize(scene);
   IntervalSet done;
   for (std::size_t r = 0; r < parts.size(); ++r) {
     const TallyFile f = decode_tally_file(parts[r], "rank " + std::to_string(r));
@@ -159,27 +155,30 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
     options.start = &saved.tally;
     options.start_records = &saved.records;
   }
+  // this run's tallies as a tally file (checkpoints, the ranks' parts)
+  const auto tally_file = [&](const IntervalSet& done, const Tally& t, const std::vector<EscapeRecord>& rec) {
+    return TallyFile{inputs, n, first, whole, done, t, rec};
+  };
   if (!path.empty()) {
     options.checkpoint_seconds = scene.checkpoint_seconds;
     options.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
-      write_tally_file(path, TallyFile{inputs, n, first, whole, done, t, rec});
+      write_tally_file(path, tally_file(done, t, rec));
     };
   }
   RunResult result = run_ensemble(scene, options);
   if (!team.all(result.complete)) {  // stopped (on some rank): every rank keeps what it has done
-    if (result.complete && !path.empty())
-      write_tally_file(path, TallyFile{inputs, n, first, whole, result.done, result.tally, result.records});
+    if (result.complete && !path.empty()) write_tally_file(path, tally_file(result.done, result.tally, result.records));
     throw RunInterrupted(path, particles_in(result.done, n), particles_in(IntervalSet::range(share_lo, share_hi), n));
   }
   if (ranks > 1) {
     const std::vector<std::string> parts =
-        team.gather(encode_tally_file(TallyFile{inputs, n, first, whole, result.done, result.tally, result.records}));
+        team.gather(encode_tally_file(tally_file(result.done, result.tally, result.records)));
     if (rank != 0) {  // rank 0 summarises and writes
       RunSummary s;
       s.scene = scene;
       return s;
     }
-    merge_ranks(result, parts, n);
+    merge_ranks(result, parts, scene);
     result.ranks = ranks;
   }
   if (durable->ids) result.of = whole;
