@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # MPI scaling on this machine: the same run as one process (all threads), as mpirun -np 1, -np 2
-# (one thread per rank) and -np 4 --oversubscribe (one thread per rank); wall seconds of each and
+# (one thread per rank) and -np 4 --oversubscribe (one thread per rank), and -np 1 --bind-to none
+# (Open MPI's default binding puts a lone rank's threads on one core); wall seconds of each and
 # whether survival.csv is the same bytes. Reports, never fails.
 # Usage: bench/bench_mpi.sh [ROTLEAK (build/rotleak)] [PARTICLES (2000000)] [OMEGA (2/3)]
 set -euo pipefail
@@ -29,5 +30,7 @@ echo "| run | wall s | survival.csv vs one process |"
 echo "|---|---|---|"
 run one "$bin" simulate "${args[@]}" --out one
 run np1 mpirun -np 1 "$bin" simulate "${args[@]}" --out np1
+# Open MPI binds a rank to one core by default (np <= 2): its threads then share that core
+run np1-unbound mpirun -np 1 --bind-to none "$bin" simulate "${args[@]}" --out np1-unbound
 run np2 mpirun -np 2 "$bin" simulate "${args[@]}" --threads 1 --out np2
 run np4 mpirun -np 4 --oversubscribe "$bin" simulate "${args[@]}" --threads 1 --out np4
