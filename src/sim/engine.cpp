@@ -232,15 +232,9 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
                                          // give it back to a lane (or record it, if it ended in the jump)
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
-    bool flying = true;
     const double weight = ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0;
-    if (ctx->observer) {
-      ctx->observer->weight = weight;
-      flying = fast_forward(*ctx->model, f, ctx->observer);
-    } else {
-      flying = fast_forward(*ctx->model, f);
-    }
-    if (flying) {
+    if (ctx->observer) ctx->observer->weight = weight;
+    if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
       ctx->resume.push_back(
           {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions), weight}});
     } else {
@@ -328,7 +322,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
                                  local.collision_density.data(),
                                  local.weighted ? local.collision_density_w.data() : nullptr};
       NoCollisionObserver<R> none;
-      const std::size_t n_cells = 2 * static_cast<std::size_t>(cells.bins > 0 ? kernel_scene.density_windows : 0) + 1;
+      const std::size_t n_cells = 2 * static_cast<std::size_t>(kernel_scene.density_windows) + 1;
       std::vector<std::uint64_t> cell_counts;  // the kernel's unweighted f_c, by time cell
       if (use_simd && scene.collision_density && !local.weighted)
         cell_counts.assign(n_cells * static_cast<std::size_t>(cells.bins), 0);

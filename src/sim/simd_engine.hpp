@@ -69,8 +69,8 @@ struct Exact {
   bool (*escape)(void* ctx, int piece, double x, double y, double t);  ///< Leak<double>::hit
   double (*s_of)(void* ctx, int piece, double x, double y);            ///< Stadium<double>::s_of
   void (*density)(void* ctx, const DensityHit* hits, int n);           ///< add these to the tallies
-  /// When set (f_c unweighted): the thread's f_c counts, which the kernel increments itself instead
-  /// of sending the hits to density().
+  /// When set (f_c unweighted): the thread's f_c counts by time cell, indexed as DensityHit::index,
+  /// which the kernel increments itself instead of sending the hits to density().
   std::uint64_t* counts = nullptr;
 };
 

@@ -198,7 +198,6 @@ struct Lanes {
 struct Pack {
   Lanes L{};
   V qx, qy, vx, vy, t, coll, zero;
-  int live = 0;
   unsigned live_mask = 0;  ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
 };
 
@@ -214,25 +213,24 @@ void reload(Pack& g) {
   g.coll = load(g.L.coll), g.zero = load(g.L.zero);
 }
 
-/// Lane k takes the next particle, or is parked when there is none; true when it took one.
-bool take(const Scene& S, Pack& g, int k, void* ctx, NextParticle next) {
+/// Lane k takes the next particle, or is parked when there is none (its bit of live_mask follows).
+void take(const Scene& S, Pack& g, int k, void* ctx, NextParticle next) {
   Lanes& L = g.L;
   Start st;
   L.zero[k] = 0;
   if (!next(ctx, &st, &L.id[k])) {
     park(S, L, k);
     g.live_mask &= ~(1u << k);
-    return false;
+    return;
   }
   g.live_mask |= 1u << k;
   L.qx[k] = st.qx, L.qy[k] = st.qy, L.vx[k] = st.vx, L.vy[k] = st.vy, L.t[k] = st.t;
   L.coll[k] = st.collisions;
   L.w[k] = st.weight;
-  return true;
 }
 
 void fill(const Scene& S, Pack& g, void* ctx, NextParticle next) {
-  for (int k = 0; k < N; ++k) g.live += take(S, g, k, ctx, next) ? 1 : 0;
+  for (int k = 0; k < N; ++k) take(S, g, k, ctx, next);
   reload(g);
 }
 
@@ -351,6 +349,15 @@ inline V rough_atan2(const V& ay, const V& ax) {
   return select(ay < ZERO, -t, t);
 }
 
+/// s of the arc hits as arc_s computes it but from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L
+/// < 0.16), of the core's.
+inline V rough_arc_s(const Scene& S, const HitLanes& h) {
+  const V HD(S.half_d);
+  const V ang =
+      min(max(rough_atan2(select(h.right, h.x - HD, -(h.x + HD)), select(h.right, h.y, -h.y)), V(0.0)), V(S.pi));
+  return fma(ang, V(S.r_over_L), select(h.right, V(S.junction[0]), V(S.junction[2])));
+}
+
 /// Per-lane answers from the core for the lanes in `ask`, replacing `m` there.
 template <class F>
 inline MV ask_core(const MV& m, const MV& ask, F core) {
@@ -366,7 +373,6 @@ inline MV ask_core(const MV& m, const MV& ask, F core) {
 /// by the core.
 inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
                          const Exact& exact) {
-  const V ZERO(0.0);
   const V prod = V(S.omega_hi) * t;
   V err;  // the exact error of hi*t: a true fused multiply-subtract
   each([&](int i) { err.b[i] = fused_fms(B(S.omega_hi), t.b[i], prod.b[i]); });
@@ -377,11 +383,8 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
   MV near_arc = (!h.straight) & (abs(offset(mid, ph)) <= reach) & live;
   if (bits(near_arc)) {
     // first look with the rough angle: a hit more than kRoughMargin (in s) outside the leak is out
-    // for any angle within 2e-5 rad (4e-6 in s) of it; only the rest get the exact angle
-    const V HD(S.half_d);
-    const V ang =
-        min(max(rough_atan2(select(h.right, h.x - HD, -(h.x + HD)), select(h.right, h.y, -h.y)), ZERO), V(S.pi));
-    const V s_rough = fma(ang, V(S.r_over_L), select(h.right, V(S.junction[0]), V(S.junction[2])));
+    // for any angle within 2e-5 rad (3.2e-6 in s) of it; only the rest get the exact angle
+    const V s_rough = rough_arc_s(S, h);
     near_arc = near_arc & (abs(offset(s_rough, ph)) <= V(S.half_width + kRoughMargin));
   }
   const V s = s_of(S, h, near_arc);
@@ -397,8 +400,8 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
   return in;
 }
 
-/// f_c: the lanes in `count` (alive, t inside a window) add one collision to bin floor(s bins) of
-/// their time cell (see simd::DensityHit). An arc hit's bin comes from the rough angle when its s is more than
+/// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
+/// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window). An arc hit's bin comes from the rough angle when its s is more than
 /// kRoughBinMargin from a bin edge (for any angle within rough_atan2's bound the bin is the same);
 /// the rest take SLEEF's angle, and those within `margin` of an edge take s from the core.
 inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
@@ -408,10 +411,7 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
   V s = straight_s(S, h);  // arc lanes: below
   MV fine = arcs;          // arc lanes that need more than the rough angle
   if (bits(arcs)) {
-    const V HD(S.half_d);
-    const V ang =
-        min(max(rough_atan2(select(h.right, h.x - HD, -(h.x + HD)), select(h.right, h.y, -h.y)), ZERO), V(S.pi));
-    const V s_rough = fma(ang, V(S.r_over_L), select(h.right, V(S.junction[0]), V(S.junction[2])));
+    const V s_rough = rough_arc_s(S, h);
     const V sb = s_rough * bins;
     fine = arcs & (abs(sb - nearbyint(sb)) <= V(kRoughBinMargin * S.bins));
     s = select(arcs, s_rough, s);
@@ -479,7 +479,7 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
     e.piece = ((straight_m >> i) & 1) ? (((up_m >> i) & 1) ? 0 : 2) : (((right_m >> i) & 1) ? 1 : 3);
     e.collisions = static_cast<std::uint64_t>(L.coll[i]);
     finish(ctx, L.id[i], e);
-    if (!take(S, g, i, ctx, next)) --g.live;
+    take(S, g, i, ctx, next);
   });
   reload(g);
 }
@@ -527,7 +527,7 @@ void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, con
   DensityHit buf[kDensityBuffer];
   int used = 0;
   fill(S, g, ctx, next);
-  while (g.live > 0) step(S, g, ctx, next, finish, exact, buf, used);
+  while (g.live_mask) step(S, g, ctx, next, finish, exact, buf, used);
   if (used) exact.density(ctx, buf, used);
 }
 
