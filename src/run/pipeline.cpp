@@ -29,11 +29,17 @@ RunInterrupted::RunInterrupted(fs::path path, std::uint64_t d, std::uint64_t t)
       done(d),
       total(t) {}
 
+namespace {
+/// A rank's own checkpoint beside the run's: PATH-rank<r>-of-<K> (PATH itself for a single process).
+fs::path rank_checkpoint(fs::path path, int rank, int ranks) {
+  if (ranks > 1) path += "-rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
+  return path;
+}
+}  // namespace
+
 fs::path checkpoint_path(const fs::path& out, int rank, int ranks) {
   const fs::path p = RunDirectory::normalise(out);
-  std::string name = p.filename().string() + ".checkpoint";
-  if (ranks > 1) name += "-rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
-  return p.parent_path() / name;
+  return rank_checkpoint(p.parent_path() / (p.filename().string() + ".checkpoint"), rank, ranks);
 }
 
 std::string run_inputs(const Scene& whole, Engine ran) { return simulation_inputs(whole, to_string(ran)); }
@@ -113,8 +119,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
   // this rank's share: the rank-th of `ranks` equal runs of blocks
   const std::uint64_t share_lo = blocks * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
   const std::uint64_t share_hi = blocks * static_cast<std::uint64_t>(rank + 1) / static_cast<std::uint64_t>(ranks);
-  fs::path path = durable->path;
-  if (!path.empty() && ranks > 1) path += "-rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
+  const fs::path path = durable->path.empty() ? fs::path{} : rank_checkpoint(durable->path, rank, ranks);
   TallyFile saved;
   std::exception_ptr failure;
   try {
