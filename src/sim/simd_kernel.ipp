@@ -350,8 +350,9 @@ inline V rough_atan2(const V& ay, const V& ax) {
 }
 
 /// s of the arc hits as arc_s computes it but from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L
-/// < 0.16), of the core's.
-inline V rough_arc_s(const Scene& S, const HitLanes& h) {
+/// < 0.16), of the core's. Inlined by force: as a call it returns its pack through memory (omega =
+/// 2/3 measured 4% slower).
+[[gnu::always_inline]] inline V rough_arc_s(const Scene& S, const HitLanes& h) {
   const V HD(S.half_d);
   const V ang =
       min(max(rough_atan2(select(h.right, h.x - HD, -(h.x + HD)), select(h.right, h.y, -h.y)), V(0.0)), V(S.pi));
