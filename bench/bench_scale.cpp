@@ -3,6 +3,7 @@
 // s_L = 0, s_L = 0.25, omega = 2/3, omega = 1e-4 and the quick-start scene with its f_c; and the
 // cost of checkpoints (every 0.2 s, written to disk) on omega = 2/3. Reports, never fails.
 // Usage: bench_scale [PARTICLES (default 10^6)] [ROUNDS (default 3)] [THREADS (default all)]
+//        [LANES (the vectorised kernel: 0 the widest this CPU runs (default), 4 AVX2, 8 AVX-512)]
 #include <omp.h>
 
 #include <algorithm>
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
   const std::uint64_t particles = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 1000000;
   const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
   const int threads = argc > 3 ? std::atoi(argv[3]) : omp_get_max_threads();
+  const int lanes = argc > 4 ? std::atoi(argv[4]) : 0;
   const std::string n = std::to_string(particles);
   const std::vector<Case> cases = {
       {"s_L = 0", "[leak]\nstart = \"0\"\n"},
@@ -84,14 +86,17 @@ int main(int argc, char** argv) {
       {"omega = 1e-4", "[leak]\nomega = \"1e-4\"\n"},
       {"quick-start with f_c",
        "[observe]\ncollision_density = { bins = 1000, windows = [[0, 20000], [2000, 20000]] }\n"}};
-  std::printf("bench_scale: %s particles, %d threads, %d interleaved rounds; median of the per-round ratios\n\n",
-              n.c_str(), threads, rounds);
+  std::printf(
+      "bench_scale: %s particles, %d threads, %d interleaved rounds, kernel lanes %s; median of the per-round "
+      "ratios\n\n",
+      n.c_str(), threads, rounds, lanes > 0 ? std::to_string(lanes).c_str() : "widest");
   std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
     const Scene s = parse_scene(c.toml + "[ensemble]\nparticles = " + n + "\n");
     RunOptions o;
     o.threads = threads;
+    o.simd_lanes = lanes;
     std::vector<double> ratios, er, pr;
     Engine ran = Engine::scalar;
     for (int k = 0; k < rounds; ++k) {
@@ -120,6 +125,7 @@ int main(int argc, char** argv) {
   for (int k = 0; k < rounds; ++k) {
     RunOptions plain_opt;
     plain_opt.threads = threads;
+    plain_opt.simd_lanes = lanes;
     const RunResult a = run_ensemble(s, plain_opt);
     RunOptions ck = plain_opt;
     ck.checkpoint_seconds = 0.2;
