@@ -3,7 +3,8 @@
 # rank, and 2 threads in the single process): survival.csv, fc.csv and escapes.csv must be
 # byte-identical, and summary.json's fitted numbers equal. The scene has every tally: a rotating
 # leak, importance-sampling weights (exact sums), f_c, escape records. Then a scan of three omegas
-# as 1 process and as `mpirun -np 2`: table.csv and every point's survival.csv byte-identical.
+# as 1 process and as `mpirun -np 2`: table.csv and every point's survival.csv byte-identical. Then
+# an audit as 1 process and as `mpirun -np 3`: audit.json identical but for its timing fields.
 # Usage: scripts/mpi_equivalence.sh ROTLEAK_BINARY [MPIRUN]      Exit 1 on the first difference.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -46,9 +47,29 @@ for p in scan1/points/*/; do
   grep -q '"ranks": 2' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
 done
 echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
+# the audit: its ensembles split by blocks, its shadows by particle; audit.json the same but for
+# the timing and layout fields (seconds, threads, ranks)
+audit=("$scene" --set leak.omega=2/3 --sample 48 --stats-particles 30000 --stratify-particles 30000
+  --tiers float,double,dd,mpfr:256)
+"$bin" audit "${audit[@]}" --threads 2 --out audit1 >/dev/null
+"$mpirun" -np 3 --oversubscribe "$bin" audit "${audit[@]}" --threads 1 --out audit3 >/dev/null
+python3 - <<'PY'
+import json, sys
+a, b = json.load(open("audit1/audit.json")), json.load(open("audit3/audit.json"))
+if b["ranks"] != 3 or a["ranks"] != 1:
+    sys.exit("audit: audit.json says ranks = %s (one process: %s)" % (b["ranks"], a["ranks"]))
+for k in ("seconds", "threads", "ranks"):
+    a.pop(k); b.pop(k)
+if a != b:
+    diff = [k for k in a if a[k] != b.get(k)]
+    sys.exit("audit under 3 ranks: audit.json differs from one process's in " + ", ".join(diff))
+if len(a["verdicts"]) < 4 or a["sample"] != 48:
+    sys.exit("audit: too little to compare (%d verdicts, sample %d)" % (len(a["verdicts"]), a["sample"]))
+PY
+echo "audit under 3 ranks: audit.json identical to one process (timings aside)"
 # any other command is refused under mpirun with one line (it would run K times over its files)
 set +e
 msg=$("$mpirun" -np 2 "$bin" omega 2/3 2>&1 >/dev/null)
 set -e
-grep -q "only \`rotleak simulate\` and \`rotleak scan\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
+grep -q "only \`rotleak simulate\`, \`rotleak scan\` and \`rotleak audit\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
 echo "other commands under mpirun: refused with one line"

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
@@ -32,6 +34,45 @@ TEST(Shadow, TruthIsSelfConsistentAndReproducedBitExactly) {
   const ShadowResult same = shadow(stationary(), 1, opt);
   ASSERT_EQ(same.truth.bits, first.truth.bits);
   for (double d : same.tiers[0].divergence) EXPECT_EQ(d, 0.0);
+}
+
+// What an MPI rank sends of its shadows is what rank 0 reads back, bit for bit (infinities, NaN and
+// -0 included), and damaged bytes are refused rather than misread.
+TEST(Shadow, ResultsTravelAsBytesUnchanged) {
+  ShadowOptions opt;
+  opt.collisions = 150;
+  opt.tiers = {"float", "double", "dd"};
+  std::vector<ShadowResult> runs{shadow(stationary(), 3, opt), shadow(stationary(), 8, opt)};
+  runs[1].tiers[0].divergence.back() = std::numeric_limits<double>::infinity();
+  runs[1].tiers[1].t.front() = std::numeric_limits<double>::quiet_NaN();
+  runs[1].tiers[2].growth_per_time = -0.0;
+  runs[1].tiers[2].stopped = "undecided branch";
+  const std::string bytes = encode_shadows(runs);
+  const std::vector<ShadowResult> back = decode_shadows(bytes, "test");
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(encode_shadows(back), bytes);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back[i].id, runs[i].id);
+    EXPECT_EQ(back[i].draw.s, runs[i].draw.s);
+    EXPECT_EQ(back[i].truth.bits, runs[i].truth.bits);
+    EXPECT_EQ(back[i].truth.t, runs[i].truth.t);
+    EXPECT_EQ(back[i].truth.mupo, runs[i].truth.mupo);
+    EXPECT_EQ(back[i].truth.escape, runs[i].truth.escape);
+    ASSERT_EQ(back[i].tiers.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(back[i].tiers[k].name, runs[i].tiers[k].name);
+      EXPECT_EQ(back[i].tiers[k].horizon, runs[i].tiers[k].horizon);
+      EXPECT_EQ(back[i].tiers[k].decision, runs[i].tiers[k].decision);
+      EXPECT_EQ(back[i].tiers[k].divergence.size(), runs[i].tiers[k].divergence.size());
+    }
+  }
+  EXPECT_TRUE(std::isinf(back[1].tiers[0].divergence.back()));
+  EXPECT_TRUE(std::isnan(back[1].tiers[1].t.front()));
+  EXPECT_TRUE(std::signbit(back[1].tiers[2].growth_per_time));
+  EXPECT_EQ(back[1].tiers[2].stopped, "undecided branch");
+  EXPECT_THROW(decode_shadows(bytes.substr(0, bytes.size() - 9), "cut"), std::runtime_error);
+  EXPECT_THROW(decode_shadows(bytes + "x", "longer"), std::runtime_error);
+  EXPECT_THROW(decode_shadows("rotleak-tallies 1\n", "foreign"), std::runtime_error);
 }
 
 // Horizons follow the precision: k ~ ln(tolerance / eps) / lambda_collision, lambda ~ 0.94.

@@ -52,7 +52,13 @@ struct Ensemble {
   AlphaResult alpha;
 };
 
-Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int threads, Engine engine = Engine::scalar) {
+/// An ensemble of the audit, run as its options say (here, or shared by the ranks of a team).
+RunResult run_audit_ensemble(const Scene& s, const RunOptions& ro, const AuditOptions& opt) {
+  return opt.work.ensemble ? opt.work.ensemble(s, ro) : run_ensemble(s, ro);
+}
+
+Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier, std::uint64_t n, int threads,
+                           Engine engine = Engine::scalar) {
   Scene s = base;
   s.tier = tier;
   s.particles = n;
@@ -61,7 +67,7 @@ Ensemble run_tier_ensemble(const Scene& base, Tier tier, std::uint64_t n, int th
   RunOptions opt;
   opt.threads = threads;
   opt.engine = engine;
-  const RunResult r = run_ensemble(s, opt);
+  const RunResult r = run_audit_ensemble(s, opt, ao);
   Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
   e.alpha = find_alpha(e.curve, e.kappa);
@@ -177,7 +183,7 @@ std::vector<std::uint64_t> stratified_sample(const Scene& scene, const AuditOpti
   strat.tier = Tier::double_;
   RunOptions ro;
   ro.threads = threads;
-  const RunResult sr = run_ensemble(strat, ro);
+  const RunResult sr = run_audit_ensemble(strat, ro, opt);
   std::vector<std::vector<std::uint64_t>> strata(4);  // early (t < 100), middle (< 1000), late, survivor
   for (std::uint64_t i = 0; i < sr.records.size(); ++i) {
     const EscapeRecord& e = sr.records[i];
@@ -233,17 +239,17 @@ TierAudit tier_audit(const std::vector<ShadowResult>& runs, std::size_t k, const
 
 /// The same ids as full ensembles in float, double, long double (and the vectorised engine),
 /// each compared with the long double ensemble (long double with double).
-void statistics_checks(const Scene& scene, std::uint64_t n, int threads, AuditReport& rep) {
-  const Ensemble e_ld = run_tier_ensemble(scene, Tier::long_double, n, threads);
-  const Ensemble e_d = run_tier_ensemble(scene, Tier::double_, n, threads);
-  const Ensemble e_f = run_tier_ensemble(scene, Tier::float_, n, threads);
+void statistics_checks(const Scene& scene, const AuditOptions& opt, std::uint64_t n, int threads, AuditReport& rep) {
+  const Ensemble e_ld = run_tier_ensemble(scene, opt, Tier::long_double, n, threads);
+  const Ensemble e_d = run_tier_ensemble(scene, opt, Tier::double_, n, threads);
+  const Ensemble e_f = run_tier_ensemble(scene, opt, Tier::float_, n, threads);
   rep.statistics.push_back(compare("float", e_f, e_ld, scene.t_max));
   rep.statistics.push_back(compare("double", e_d, e_ld, scene.t_max));
   rep.statistics.push_back(compare("long_double", e_ld, e_d, scene.t_max));
   // the vectorised double engine, as a tier of its own: the same comparison, and whether its
   // survival curve is the scalar double engine's, survivor for survivor
   if (!simd::available()) return;
-  const Ensemble e_v = run_tier_ensemble(scene, Tier::double_, n, threads, Engine::simd);
+  const Ensemble e_v = run_tier_ensemble(scene, opt, Tier::double_, n, threads, Engine::simd);
   StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
   v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
   rep.statistics.push_back(v);
@@ -315,11 +321,24 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
   so.tiers = opt.tiers;
   so.max_collisions = opt.max_collisions;
   so.tolerance = opt.tolerance;
-  std::function<void(std::size_t)> progress;
+  std::function<void(std::size_t, std::size_t)> progress;
   if (opt.progress)
-    progress = [&](std::size_t d) { std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, rep.sample); };
-  const std::vector<ShadowResult> runs = shadow_many(scene, rep.ids, so, threads, progress);
+    progress = [](std::size_t d, std::size_t of) {
+      std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, of);
+    };
+  std::vector<ShadowResult> runs;
+  if (opt.work.shadows) {
+    runs = opt.work.shadows(scene, rep.ids, so, threads, progress);
+  } else {
+    std::function<void(std::size_t)> mine;
+    if (progress) mine = [&](std::size_t d) { progress(d, rep.sample); };
+    runs = shadow_many(scene, rep.ids, so, threads, mine);
+  }
   if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
+  // the ensembles before the shadows' analysis: under a team every rank runs its share of them
+  statistics_checks(scene, opt, std::min<std::uint64_t>(opt.stats_particles, scene.particles), threads, rep);
+  if (!opt.work.reports) return AuditReport{};
+
   for (const auto& r : runs) rep.max_truth_bits = std::max(rep.max_truth_bits, r.truth.bits);
   for (std::size_t k = 0; k < opt.tiers.size(); ++k) rep.tiers.push_back(tier_audit(runs, k, opt.tiers[k]));
 
@@ -331,8 +350,8 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
     if (tier_bits(opt.tiers[k]) <= 113 && tier_bits(opt.tiers[k]) >= tier_bits(opt.tiers[best])) best = k;
   rep.lyapunov_divergence = divergence_lyapunov(runs, best, 10, 150);
 
-  statistics_checks(scene, std::min<std::uint64_t>(opt.stats_particles, scene.particles), threads, rep);
   verdicts(scene, rep);
+  rep.threads = threads;
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -2,14 +2,30 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "sim/engine.hpp"
 #include "sim/scene.hpp"
 #include "verify/lyapunov.hpp"
 
 namespace rotleak {
+
+/// Where the audit's heavy parts run: in this process (the empty defaults), or shared by the ranks
+/// of an MPI job (the run layer's audit_shared fills them). With a team every rank calls audit() and
+/// each hook is a collective.
+struct AuditWork {
+  /// An ensemble: every caller gets what run_ensemble(scene, options) gives (tally and records).
+  std::function<RunResult(const Scene&, const RunOptions&)> ensemble;
+  /// Shadows of `ids` in their order, on the reporting rank (the others may get none); progress(done,
+  /// of) counts this process's own shadows.
+  std::function<std::vector<ShadowResult>(const Scene&, const std::vector<std::uint64_t>& ids, const ShadowOptions&,
+                                          int threads, const std::function<void(std::size_t, std::size_t)>& progress)>
+      shadows;
+  bool reports = true;  ///< false: this rank only helps with the ensembles and shadows (an empty report)
+};
 
 struct AuditOptions {
   std::size_t sample = 1000;  ///< particles shadowed, stratified by their double escape time
@@ -20,6 +36,7 @@ struct AuditOptions {
   std::uint64_t stats_particles = 1000000;  ///< ensemble size of the statistics check (<= scene's)
   int threads = 0;
   bool progress = false;
+  AuditWork work;
 };
 
 struct Quantiles {
@@ -83,6 +100,8 @@ struct AuditReport {
   std::vector<ScalarCheck> scalars;
   std::vector<Verdict> verdicts;
   double seconds = 0;
+  int threads = 0;  ///< per process
+  int ranks = 1;    ///< MPI processes that shared the audit
 };
 
 AuditReport audit(const Scene& scene, const AuditOptions& options);

@@ -5,10 +5,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <stdexcept>
 
+#include "io/bytes.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/sampling.hpp"
 #include "verify/line_fit.hpp"
@@ -220,6 +222,114 @@ std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std:
     const std::size_t d = ++done;
     if (progress && omp_get_thread_num() == 0) progress(d);
   }
+  return runs;
+}
+
+namespace {
+
+constexpr const char* kShadowsMagic = "rotleak-shadows 1\n";
+
+void put_shadow(ByteWriter& w, const ShadowResult& r) {
+  w.word(r.id);
+  for (double x : {r.draw.s, r.draw.p, r.draw.x, r.draw.y, r.draw.u, r.draw.tau}) w.real(x);
+  w.flag(r.draw.flow);
+  w.real(r.weight);
+  w.word(r.horizon_collisions);
+  const TruthTrace& t = r.truth;
+  w.word(static_cast<std::uint64_t>(t.bits));
+  w.real(t.agreement);
+  w.list(t.bits_tried);
+  w.list(t.t);
+  w.list(t.s);
+  w.list(t.p);
+  w.list(t.in_leak);
+  w.list(t.straight);
+  w.list(t.mupo);
+  w.maybe(t.escape);
+  w.word(r.tiers.size());
+  for (const TierShadow& k : r.tiers) {
+    w.text(k.name);
+    w.word(k.collisions);
+    w.list(k.divergence);
+    w.list(k.t);
+    w.list(k.s);
+    w.list(k.p);
+    w.maybe(k.horizon);
+    w.real(k.horizon_time);
+    w.maybe(k.decision);
+    w.maybe(k.escape);
+    w.real(k.escape_time);
+    w.flag(k.escape_exact);
+    w.real(k.growth_per_collision);
+    w.real(k.growth_per_time);
+    w.word(k.growth_points);
+    w.text(k.stopped);
+    w.real(k.seconds);
+  }
+}
+
+ShadowResult get_shadow(ByteReader& r) {
+  ShadowResult s;
+  s.id = r.word();
+  for (double* x : {&s.draw.s, &s.draw.p, &s.draw.x, &s.draw.y, &s.draw.u, &s.draw.tau}) *x = r.real();
+  s.draw.flow = r.flag();
+  s.weight = r.real();
+  s.horizon_collisions = r.word();
+  TruthTrace& t = s.truth;
+  t.bits = static_cast<long>(r.word());
+  t.agreement = r.real();
+  r.list(t.bits_tried);
+  r.list(t.t);
+  r.list(t.s);
+  r.list(t.p);
+  r.list(t.in_leak);
+  r.list(t.straight);
+  r.list(t.mupo);
+  t.escape = r.maybe();
+  const std::uint64_t tiers = r.word();
+  if (tiers > 64) throw std::runtime_error(r.where + ": " + std::to_string(tiers) + " tiers in one shadow");
+  s.tiers.resize(tiers);
+  for (TierShadow& k : s.tiers) {
+    k.name = r.text();
+    k.collisions = r.word();
+    r.list(k.divergence);
+    r.list(k.t);
+    r.list(k.s);
+    r.list(k.p);
+    k.horizon = r.maybe();
+    k.horizon_time = r.real();
+    k.decision = r.maybe();
+    k.escape = r.maybe();
+    k.escape_time = r.real();
+    k.escape_exact = r.flag();
+    k.growth_per_collision = r.real();
+    k.growth_per_time = r.real();
+    k.growth_points = r.word();
+    k.stopped = r.text();
+    k.seconds = r.real();
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string encode_shadows(const std::vector<ShadowResult>& runs) {
+  ByteWriter w;
+  w.out = kShadowsMagic;
+  w.word(runs.size());
+  for (const ShadowResult& r : runs) put_shadow(w, r);
+  return w.out;
+}
+
+std::vector<ShadowResult> decode_shadows(const std::string& bytes, const std::string& where) {
+  const std::size_t magic = std::strlen(kShadowsMagic);
+  if (bytes.compare(0, magic, kShadowsMagic) != 0) throw std::runtime_error(where + ": not a list of shadow results");
+  ByteReader r{bytes, magic, where + ": shadow results"};
+  const std::uint64_t n = r.word();
+  if (n > bytes.size()) throw std::runtime_error(where + ": shadow results: " + std::to_string(n) + " results claimed");
+  std::vector<ShadowResult> runs(n);
+  for (ShadowResult& s : runs) s = get_shadow(r);
+  if (r.at != bytes.size()) throw std::runtime_error(where + ": shadow results have trailing data");
   return runs;
 }
 

@@ -70,4 +70,10 @@ std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std:
                                       const ShadowOptions& options, int threads = 0,
                                       const std::function<void(std::size_t done)>& progress = {});
 
+/// Shadow results as bytes (doubles as their bits, so a result read back is the one written), for
+/// the ranks of an MPI audit to send theirs to rank 0. decode_shadows throws std::runtime_error
+/// naming `where` on bytes that are not such a list.
+std::string encode_shadows(const std::vector<ShadowResult>& runs);
+std::vector<ShadowResult> decode_shadows(const std::string& bytes, const std::string& where);
+
 }  // namespace rotleak

@@ -1,12 +1,14 @@
-// rotleak audit SCENE --sample K [--json] [--out DIR]
+// rotleak audit SCENE --sample K [--json] [--out DIR]; under mpirun its ensembles and shadows are shared by the ranks
 #include <unistd.h>
 
 #include <cstdio>
+#include <exception>
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "run/audit_shared.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {
@@ -40,11 +42,21 @@ int run_audit(const AuditArgs& a) {
   opt.max_collisions = static_cast<std::size_t>(a.max_collisions);
   opt.tolerance = a.tolerance;
   opt.threads = a.threads;
-  opt.progress = ::isatty(2);
+  // under mpirun every rank audits its share; rank 0 stages the directory (before any work), reports, writes
+  const Team& team = current_team();
+  const bool lead = team.rank() == 0;
+  opt.progress = lead && ::isatty(2);
   std::unique_ptr<RunDirectory> dir;
-  if (!a.out.empty()) dir = std::make_unique<RunDirectory>(a.out, a.force);
+  std::exception_ptr failure;
+  try {
+    if (lead && !a.out.empty()) dir = std::make_unique<RunDirectory>(a.out, a.force);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  agree(team, failure);
 
-  const AuditReport r = audit(scene, opt);
+  const AuditReport r = audit_shared(scene, opt, team);
+  if (!lead) return 0;
   const json doc = audit_json(r, scene.source);
   if (dir) {
     write_file_atomic(dir->file("audit.json"), doc.dump(2) + "\n");

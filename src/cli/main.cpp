@@ -32,13 +32,14 @@ int main(int argc, char** argv) {
   try {
     for (const auto& c : commands)
       if (c.app->parsed()) {
-        // under mpirun only simulate and scan share their work between ranks; any other command
-        // would run K times over and race on its files
+        // under mpirun only simulate, scan and audit share their work between ranks; any other
+        // command would run K times over and race on its files
         const std::string name = c.app->get_name();
-        if (team->size() > 1 && name != "simulate" && name != "scan")
-          throw rotleak::InputError("mpirun -np", std::to_string(team->size()),
-                                    "only `rotleak simulate` and `rotleak scan` run under MPI; run `rotleak " + name +
-                                        "` as one process (its runs use all cores of the machine)");
+        if (team->size() > 1 && name != "simulate" && name != "scan" && name != "audit")
+          throw rotleak::InputError(
+              "mpirun -np", std::to_string(team->size()),
+              "only `rotleak simulate`, `rotleak scan` and `rotleak audit` run under MPI; run `rotleak " + name +
+                  "` as one process (its runs use all cores of the machine)");
         return c.run();
       }
   } catch (const rotleak::QuietExit& e) {

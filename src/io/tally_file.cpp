@@ -1,16 +1,14 @@
 #include "io/tally_file.hpp"
 
-#include <bit>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
 
+#include "io/bytes.hpp"
 #include "io/files.hpp"
 #include "io/json.hpp"
 
 namespace rotleak {
-
-static_assert(std::endian::native == std::endian::little, "tally files are written as little-endian words");
 
 namespace {
 
@@ -25,44 +23,20 @@ std::uint64_t fnv1a(const char* p, std::size_t n) {
   return h;
 }
 
-struct Writer {
-  std::string out;
-  void word(std::uint64_t w) { out.append(reinterpret_cast<const char*>(&w), 8); }
-  void words(const std::vector<std::uint64_t>& v) { out.append(reinterpret_cast<const char*>(v.data()), v.size() * 8); }
-  void sum(const FixedSum& f) {
-    for (int i = 0; i < 3; ++i) word(f.limbs()[i]);
-  }
-  void sums(const std::vector<FixedSum>& v) {
-    for (const FixedSum& f : v) sum(f);
-  }
-};
-
-struct Reader {
-  const std::string& in;
-  std::size_t at;
-  const std::string& where;
-  std::uint64_t word() {
-    if (at + 8 > in.size()) throw std::runtime_error(where + ": tally file ends early");
-    std::uint64_t w;
-    std::memcpy(&w, in.data() + at, 8);
-    at += 8;
-    return w;
-  }
-  void words(std::vector<std::uint64_t>& v) {
-    for (auto& w : v) w = word();
-  }
-  FixedSum sum() {
-    std::uint64_t l[3];
-    for (auto& w : l) w = word();
-    return FixedSum::from_limbs(l);
-  }
-  void sums(std::vector<FixedSum>& v) {
-    for (auto& f : v) f = sum();
-  }
-};
-
-double as_double(std::uint64_t w) { return std::bit_cast<double>(w); }
-std::uint64_t as_word(double x) { return std::bit_cast<std::uint64_t>(x); }
+void put_sum(ByteWriter& w, const FixedSum& f) {
+  for (int i = 0; i < 3; ++i) w.word(f.limbs()[i]);
+}
+void put_sums(ByteWriter& w, const std::vector<FixedSum>& v) {
+  for (const FixedSum& f : v) put_sum(w, f);
+}
+FixedSum get_sum(ByteReader& r) {
+  std::uint64_t l[3];
+  for (auto& w : l) w = r.word();
+  return FixedSum::from_limbs(l);
+}
+void get_sums(ByteReader& r, std::vector<FixedSum>& v) {
+  for (auto& f : v) f = get_sum(r);
+}
 
 }  // namespace
 
@@ -81,21 +55,21 @@ std::string encode_tally_file(const TallyFile& f) {
                        {"weighted", t.weighted},
                        {"records", f.records.size()}};
   const std::string h = header.dump();
-  Writer w;
+  ByteWriter w;
   w.out = std::string(kMagic) + std::to_string(h.size()) + "\n" + h;
   w.words(t.escapes_per_bin);
   w.words(t.collision_density);
   for (std::uint64_t x : {t.collisions, t.escaped, t.survived, t.stuck}) w.word(x);
   if (t.weighted) {
-    w.sums(t.escaped_w);
-    w.sums(t.escaped_w2);
-    w.sum(t.total_w);
-    w.sum(t.total_w2);
-    w.sums(t.collision_density_w);
+    put_sums(w, t.escaped_w);
+    put_sums(w, t.escaped_w2);
+    put_sum(w, t.total_w);
+    put_sum(w, t.total_w2);
+    put_sums(w, t.collision_density_w);
   }
   for (const EscapeRecord& r : f.records) {
-    w.word(as_word(r.t));
-    w.word(as_word(r.s));
+    w.real(r.t);
+    w.real(r.s);
     w.word(r.collisions);
     w.word(static_cast<std::uint64_t>(r.fate));
   }
@@ -140,7 +114,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   } catch (const std::exception& e) {
     throw std::runtime_error(where + ": tally file header unreadable: " + e.what());
   }
-  Reader r{in, nl + 1 + hlen, where};
+  ByteReader r{in, nl + 1 + hlen, where + ": tally file"};
   Tally& t = f.tally;
   r.words(t.escapes_per_bin);
   r.words(t.collision_density);
@@ -152,15 +126,15 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     t.escaped_w.resize(t.escapes_per_bin.size());
     t.escaped_w2.resize(t.escapes_per_bin.size());
     t.collision_density_w.resize(t.collision_density.size());
-    r.sums(t.escaped_w);
-    r.sums(t.escaped_w2);
-    t.total_w = r.sum();
-    t.total_w2 = r.sum();
-    r.sums(t.collision_density_w);
+    get_sums(r, t.escaped_w);
+    get_sums(r, t.escaped_w2);
+    t.total_w = get_sum(r);
+    t.total_w2 = get_sum(r);
+    get_sums(r, t.collision_density_w);
   }
   for (EscapeRecord& e : f.records) {
-    e.t = as_double(r.word());
-    e.s = as_double(r.word());
+    e.t = r.real();
+    e.s = r.real();
     e.collisions = r.word();
     e.fate = static_cast<Fate>(r.word());
   }

@@ -46,27 +46,6 @@ std::string run_inputs(const Scene& whole, Engine ran) { return simulation_input
 
 namespace {
 
-/// Collective: a failure on any rank ends the command on every rank. Rank 0's own failure is the
-/// one reported (the others exit quietly); else each failing rank reports its own.
-void agree(const Team& team, const std::exception_ptr& failure) {
-  if (team.size() == 1) {
-    if (failure) std::rethrow_exception(failure);
-    return;
-  }
-  const bool zero_ok = team.all(team.rank() != 0 || !failure);
-  const bool all_ok = team.all(!failure);
-  if (zero_ok && all_ok) return;
-  if (failure && team.rank() == 0) std::rethrow_exception(failure);
-  if (failure && zero_ok) {  // this rank's own trouble: it says so (the command line prints rank 0's errors only)
-    try {
-      std::rethrow_exception(failure);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "rotleak: rank %d: error: %s\n", team.rank(), e.what());
-    }
-  }
-  throw QuietExit(2);
-}
-
 /// Rank 0: every rank's tally file (same inputs and ids, blocks that tile the run) merged into one result.
 void merge_ranks(RunResult& result, const std::vector<std::string>& parts, const Scene& scene) {
   const std::uint64_t n = scene.particles;
@@ -90,6 +69,40 @@ void merge_ranks(RunResult& result, const std::vector<std::string>& parts, const
 }
 
 }  // namespace
+
+std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int rank, int ranks) {
+  const auto r = static_cast<std::uint64_t>(rank), k = static_cast<std::uint64_t>(ranks);
+  return {blocks * r / k, blocks * (r + 1) / k};
+}
+
+RunResult run_shared(const Scene& scene, RunOptions options, const Team& team) {
+  if (options.blocks) throw std::logic_error("run_shared: the ranks' blocks are its own to choose");
+  if (team.size() == 1) return run_ensemble(scene, options);
+  const std::uint64_t n = scene.particles;
+  const auto [lo, hi] = rank_share(block_count(n), team.rank(), team.size());
+  const IntervalSet mine = IntervalSet::range(lo, hi);
+  options.blocks = &mine;
+  RunResult result = run_ensemble(scene, options);
+  const std::string inputs = run_inputs(scene, result.engine);
+  const auto file = [&] {
+    return encode_tally_file(TallyFile{inputs, n, options.first_id, n, result.done, result.tally, result.records});
+  };
+  const std::vector<std::string> parts = team.gather(file());
+  std::string merged;
+  if (team.rank() == 0) {
+    merge_ranks(result, parts, scene);
+    merged = file();
+  }
+  team.broadcast(merged);
+  if (team.rank() != 0) {
+    TallyFile f = decode_tally_file(merged, "rank 0's merged tallies");
+    result.tally = std::move(f.tally);
+    result.records = std::move(f.records);
+    result.done = std::move(f.done);
+  }
+  result.ranks = team.size();
+  return result;
+}
 
 RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine, const Note& note,
                      const Durability* durable) {
@@ -116,9 +129,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
     options.first_id = durable->ids->first;
   }
   const std::uint64_t first = options.first_id, n = scene.particles, blocks = block_count(n);
-  // this rank's share: the rank-th of `ranks` equal runs of blocks
-  const std::uint64_t share_lo = blocks * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
-  const std::uint64_t share_hi = blocks * static_cast<std::uint64_t>(rank + 1) / static_cast<std::uint64_t>(ranks);
+  const auto [share_lo, share_hi] = rank_share(blocks, rank, ranks);
   const fs::path path = durable->path.empty() ? fs::path{} : rank_checkpoint(durable->path, rank, ranks);
   TallyFile saved;
   std::exception_ptr failure;

@@ -53,6 +53,13 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& out, int rank
 /// resolved) and the engine that ran.
 std::string run_inputs(const Scene& whole, Engine ran);
 
+/// The blocks [lo, hi) rank `rank` of `ranks` runs of a run of `blocks`: the rank-th of equal runs.
+std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int rank, int ranks);
+
+/// Collective: run_ensemble shared by the ranks of `team`, each its share of the blocks (options.blocks
+/// must be null), the exact tallies merged; every rank gets the whole result (tally, records, done).
+RunResult run_shared(const Scene& scene, RunOptions options, const Team& team);
+
 /// Runs a scene and summarises it, no files: a tier of auto is chosen first (verify/auto_tier),
 /// then the engine is checked against the tier actually run. With `durable`, checkpoints are kept
 /// and resumed as it says; throws RunInterrupted when RunOptions::stop ended the run early.

@@ -1,6 +1,9 @@
 #include "run/team.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 
 #ifdef ROTLEAK_HAVE_MPI
 #include <mpi.h>
@@ -43,12 +46,10 @@ class MpiTeam final : public Team {
     return out != 0;
   }
   std::vector<std::string> gather(const std::string& bytes) const override {
-    // sizes first (64-bit: a tally can pass 2 GiB), then each rank's bytes to rank 0 in pieces of
-    // at most 1 GiB (MPI counts are int)
+    // sizes first (64-bit: a tally can pass 2 GiB), then each rank's bytes to rank 0 in pieces
     const auto mine = static_cast<unsigned long long>(bytes.size());
     std::vector<unsigned long long> sizes(static_cast<std::size_t>(size_));
     MPI_Gather(&mine, 1, MPI_UNSIGNED_LONG_LONG, sizes.data(), 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
-    constexpr std::size_t kPiece = std::size_t{1} << 30;
     std::vector<std::string> out;
     if (rank_ == 0) {
       out.resize(static_cast<std::size_t>(size_));
@@ -67,11 +68,19 @@ class MpiTeam final : public Team {
     }
     return out;
   }
+  void broadcast(std::string& bytes) const override {
+    auto size = static_cast<unsigned long long>(bytes.size());
+    MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+    bytes.resize(size);
+    for (std::size_t at = 0; at < bytes.size(); at += kPiece)
+      MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, 0, MPI_COMM_WORLD);
+  }
   void abort(int code) const override {
     if (size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
   }
 
  private:
+  static constexpr std::size_t kPiece = std::size_t{1} << 30;  // MPI counts are int: at most 1 GiB a message
   int rank_ = 0, size_ = 1;
 };
 #endif
@@ -85,6 +94,7 @@ class Joined final : public Team {
   int size() const override { return inner_->size(); }
   bool all(bool ok) const override { return inner_->all(ok); }
   std::vector<std::string> gather(const std::string& b) const override { return inner_->gather(b); }
+  void broadcast(std::string& b) const override { inner_->broadcast(b); }
   void abort(int code) const override { inner_->abort(code); }
 
  private:
@@ -104,6 +114,27 @@ std::unique_ptr<Team> join_team(int* argc, char*** argv) {
 }
 
 const Team& current_team() { return *g_current; }
+
+/// Collective: a failure on any rank ends the command on every rank. Rank 0's own failure is the
+/// one reported (the others exit quietly); else each failing rank reports its own.
+void agree(const Team& team, const std::exception_ptr& failure) {
+  if (team.size() == 1) {
+    if (failure) std::rethrow_exception(failure);
+    return;
+  }
+  const bool zero_ok = team.all(team.rank() != 0 || !failure);
+  const bool all_ok = team.all(!failure);
+  if (zero_ok && all_ok) return;
+  if (failure && team.rank() == 0) std::rethrow_exception(failure);
+  if (failure && zero_ok) {  // this rank's own trouble: it says so (the command line prints rank 0's errors only)
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "rotleak: rank %d: error: %s\n", team.rank(), e.what());
+    }
+  }
+  throw QuietExit(2);
+}
 
 bool built_with_mpi() {
 #ifdef ROTLEAK_HAVE_MPI

@@ -4,6 +4,7 @@
 // No networking of our own: the collectives are MPI's.
 #pragma once
 
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,8 @@ class Team {
   virtual bool all(bool ok) const { return ok; }
   /// Collective: on rank 0 every rank's bytes in rank order; elsewhere nothing.
   virtual std::vector<std::string> gather(const std::string& bytes) const { return {bytes}; }
+  /// Collective: rank 0's bytes, on every rank (what `bytes` held elsewhere is replaced).
+  virtual void broadcast(std::string& /*bytes*/) const {}
   /// Ends the whole job after a failure on one rank (the others may be waiting in a collective).
   virtual void abort(int /*code*/) const {}
 };
@@ -38,5 +41,10 @@ struct QuietExit : std::runtime_error {
   explicit QuietExit(int c) : std::runtime_error("quiet exit"), code(c) {}
   int code;
 };
+
+/// Collective: a failure on any rank ends the command on every rank. Rank 0's own failure is
+/// rethrown (the others throw QuietExit); else each failing rank prints its own and all throw QuietExit.
+/// A team of one: rethrows `failure`, if any.
+void agree(const Team& team, const std::exception_ptr& failure);
 
 }  // namespace rotleak
