@@ -48,7 +48,7 @@ for p in scan1/points/*/; do
 done
 echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
 # the audit: its ensembles split by blocks, its shadows by particle; audit.json the same but for
-# the timing and layout fields (seconds, threads, ranks)
+# the timing and layout fields (seconds, timing, threads, ranks)
 audit=("$scene" --set leak.omega=2/3 --sample 48 --stats-particles 30000 --stratify-particles 30000
   --tiers float,double,dd,mpfr:256)
 "$bin" audit "${audit[@]}" --threads 2 --out audit1 >/dev/null
@@ -58,7 +58,7 @@ import json, sys
 a, b = json.load(open("audit1/audit.json")), json.load(open("audit3/audit.json"))
 if b["ranks"] != 3 or a["ranks"] != 1:
     sys.exit("audit: audit.json says ranks = %s (one process: %s)" % (b["ranks"], a["ranks"]))
-for k in ("seconds", "threads", "ranks"):
+for k in ("seconds", "timing", "threads", "ranks"):
     a.pop(k); b.pop(k)
 if a != b:
     diff = [k for k in a if a[k] != b.get(k)]

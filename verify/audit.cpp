@@ -311,11 +311,19 @@ void verdicts(const Scene& scene, AuditReport& rep) {
 
 AuditReport audit(const Scene& scene, const AuditOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
+  auto lap = t0;
+  const auto since_lap = [&lap] {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - lap).count();
+    lap = now;
+    return s;
+  };
   AuditReport rep;
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
 
   rep.ids = stratified_sample(scene, opt, threads);
   rep.sample = rep.ids.size();
+  rep.stratify_seconds = since_lap();
 
   ShadowOptions so;
   so.tiers = opt.tiers;
@@ -335,9 +343,11 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
     runs = shadow_many(scene, rep.ids, so, threads, mine);
   }
   if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
+  rep.shadow_seconds = since_lap();
   // the ensembles before the shadows' analysis: under a team every rank runs its share of them
   statistics_checks(scene, opt, std::min<std::uint64_t>(opt.stats_particles, scene.particles), threads, rep);
   if (!opt.work.reports) return AuditReport{};
+  rep.ensemble_seconds = since_lap();
 
   for (const auto& r : runs) rep.max_truth_bits = std::max(rep.max_truth_bits, r.truth.bits);
   for (std::size_t k = 0; k < opt.tiers.size(); ++k) rep.tiers.push_back(tier_audit(runs, k, opt.tiers[k]));
@@ -352,6 +362,7 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
 
   verdicts(scene, rep);
   rep.threads = threads;
+  rep.analysis_seconds = since_lap();
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -100,6 +100,9 @@ struct AuditReport {
   std::vector<ScalarCheck> scalars;
   std::vector<Verdict> verdicts;
   double seconds = 0;
+  /// Wall seconds of its parts: the stratification scan, the shadows, the statistics ensembles, the
+  /// rest (Lyapunov exponents, verdicts); on a team, as rank 0 saw them.
+  double stratify_seconds = 0, shadow_seconds = 0, ensemble_seconds = 0, analysis_seconds = 0;
   int threads = 0;  ///< per process
   int ranks = 1;    ///< MPI processes that shared the audit
 };

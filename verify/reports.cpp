@@ -103,6 +103,10 @@ json audit_json(const AuditReport& r, const std::string& source) {
   doc["scene"] = source;
   doc["sample"] = r.sample;
   doc["seconds"] = r.seconds;
+  doc["timing"] = {{"stratify_seconds", r.stratify_seconds},
+                   {"shadow_seconds", r.shadow_seconds},
+                   {"ensemble_seconds", r.ensemble_seconds},
+                   {"analysis_seconds", r.analysis_seconds}};
   doc["threads"] = r.threads;
   doc["ranks"] = r.ranks;
   doc["max_truth_bits"] = r.max_truth_bits;
@@ -178,6 +182,9 @@ std::string audit_text(const AuditReport& r, const std::string& source) {
   std::string out;
   appendf(out, "audit of %s: %zu particles shadowed (truth up to %ld bits), %.1f s%s\n", source.c_str(), r.sample,
           r.max_truth_bits, r.seconds, r.ranks > 1 ? (" on " + std::to_string(r.ranks) + " MPI ranks").c_str() : "");
+  appendf(out,
+          "  time: stratification %.1f s, shadows %.1f s, statistics ensembles %.1f s, Lyapunov and verdicts %.1f s\n",
+          r.stratify_seconds, r.shadow_seconds, r.ensemble_seconds, r.analysis_seconds);
   appendf(out,
           "Lyapunov exponent: %.4f per time, %.4f per collision (tangent); shadow divergence %.4f +- %.4f per time\n",
           r.lyapunov_tangent.per_time, r.lyapunov_tangent.per_collision, r.lyapunov_divergence.per_time,
