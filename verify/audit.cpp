@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "analysis/fits.hpp"
+#include "io/progress.hpp"
 #include "sim/engine.hpp"
 #include "sim/simd_engine.hpp"
 #include "sim/survival.hpp"
@@ -67,6 +68,9 @@ Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier,
   RunOptions opt;
   opt.threads = threads;
   opt.engine = engine;
+  opt.progress = progress_on_stderr(
+      ao.progress,
+      "[rotleak audit] " + std::string(engine == Engine::simd ? "double_simd" : to_string(tier)) + " ensemble");
   const RunResult r = run_audit_ensemble(s, opt, ao);
   Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
@@ -183,6 +187,7 @@ std::vector<std::uint64_t> stratified_sample(const Scene& scene, const AuditOpti
   strat.tier = Tier::double_;
   RunOptions ro;
   ro.threads = threads;
+  ro.progress = progress_on_stderr(opt.progress, "[rotleak audit] stratification");
   const RunResult sr = run_audit_ensemble(strat, ro, opt);
   std::vector<std::vector<std::uint64_t>> strata(4);  // early (t < 100), middle (< 1000), late, survivor
   for (std::uint64_t i = 0; i < sr.records.size(); ++i) {
