@@ -35,11 +35,13 @@ constexpr int N = W * G;  ///< lanes of a pack
 static_assert(N <= 32, "lane masks are 32-bit");
 constexpr unsigned kAllLanes = N == 32 ? ~0u : (1u << N) - 1;
 constexpr int kDensityBuffer = 1024;
-/// rough_atan2's error, <= 2e-5 rad, is below 3.2e-6 in s (r / L < 0.16): the moving leak trusts the
-/// rough angle's verdict beyond kRoughMargin of a leak end (a 30-fold safety), f_c its bin beyond
-/// kRoughBinMargin of a bin edge (threefold; fivefold on the measured 1.15e-5 rad)
+/// rough_atan2's error bound in rad (1.15e-5 measured; tests/test_simd.cpp checks the bound), i.e.
+/// kRoughAngleError r / L in s (< 3.2e-6: r / L < 0.16). The moving leak trusts the rough angle's
+/// verdict beyond kRoughMargin of a leak end (a 30-fold safety or more), f_c its bin beyond twice the
+/// bound in s of a bin edge (twofold; 3.5-fold on the measured error)
+constexpr double kRoughAngleError = 2e-5;
 constexpr double kRoughMargin = 1e-4;
-constexpr double kRoughBinMargin = 1e-5;
+constexpr double kRoughBinSafety = 2;
 
 namespace {
 
@@ -403,7 +405,7 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
 
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
 /// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window). An arc hit's bin comes from the rough angle when its s is more than
-/// kRoughBinMargin from a bin edge (for any angle within rough_atan2's bound the bin is the same);
+/// kRoughBinSafety times the rough angle's bound (in s) from a bin edge (for any angle within rough_atan2's bound the bin is the same);
 /// the rest take SLEEF's angle, and those within `margin` of an edge take s from the core.
 inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
                             const Exact& exact, DensityHit* buf, int& used) {
@@ -414,7 +416,7 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
   if (bits(arcs)) {
     const V s_rough = rough_arc_s(S, h);
     const V sb = s_rough * bins;
-    fine = arcs & (abs(sb - nearbyint(sb)) <= V(kRoughBinMargin * S.bins));
+    fine = arcs & (abs(sb - nearbyint(sb)) <= V(kRoughBinSafety * kRoughAngleError * S.r_over_L * S.bins));
     s = select(arcs, s_rough, s);
   }
   if (bits(fine)) {
