@@ -253,7 +253,7 @@ void statistics_checks(const Scene& scene, const AuditOptions& opt, std::uint64_
   rep.statistics.push_back(compare("long_double", e_ld, e_d, scene.t_max));
   // the vectorised double engine, as a tier of its own: the same comparison, and whether its
   // survival curve is the scalar double engine's, survivor for survivor
-  if (!simd::available()) return;
+  if (!(opt.work.all ? opt.work.all(simd::available()) : simd::available())) return;
   const Ensemble e_v = run_tier_ensemble(scene, opt, Tier::double_, n, threads, Engine::simd);
   StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
   v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;

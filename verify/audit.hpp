@@ -25,6 +25,9 @@ struct AuditWork {
                                           int threads, const std::function<void(std::size_t, std::size_t)>& progress)>
       shadows;
   bool reports = true;  ///< false: this rank only helps with the ensembles and shadows (an empty report)
+  /// Collective: true where `ok` is true on every rank (a choice all must take alike, such as whether
+  /// the vectorised ensemble runs: machines of a cluster may differ). Empty: `ok` itself.
+  std::function<bool(bool ok)> all;
 };
 
 struct AuditOptions {
