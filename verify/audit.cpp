@@ -53,11 +53,6 @@ struct Ensemble {
   AlphaResult alpha;
 };
 
-/// An ensemble of the audit, run as its options say (here, or shared by the ranks of a team).
-RunResult run_audit_ensemble(const Scene& s, const RunOptions& ro, const AuditOptions& opt) {
-  return opt.work.ensemble ? opt.work.ensemble(s, ro) : run_ensemble(s, ro);
-}
-
 Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier, std::uint64_t n, int threads,
                            Engine engine = Engine::scalar) {
   Scene s = base;
@@ -71,7 +66,7 @@ Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier,
   opt.progress = progress_on_stderr(
       ao.progress,
       "[rotleak audit] " + std::string(engine == Engine::simd ? "double_simd" : to_string(tier)) + " ensemble");
-  const RunResult r = run_audit_ensemble(s, opt, ao);
+  const RunResult r = ao.work.ensemble(s, opt);
   Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
   e.alpha = find_alpha(e.curve, e.kappa);
@@ -188,7 +183,7 @@ std::vector<std::uint64_t> stratified_sample(const Scene& scene, const AuditOpti
   RunOptions ro;
   ro.threads = threads;
   ro.progress = progress_on_stderr(opt.progress, "[rotleak audit] stratification");
-  const RunResult sr = run_audit_ensemble(strat, ro, opt);
+  const RunResult sr = opt.work.ensemble(strat, ro);
   std::vector<std::vector<std::uint64_t>> strata(4);  // early (t < 100), middle (< 1000), late, survivor
   for (std::uint64_t i = 0; i < sr.records.size(); ++i) {
     const EscapeRecord& e = sr.records[i];
@@ -253,7 +248,7 @@ void statistics_checks(const Scene& scene, const AuditOptions& opt, std::uint64_
   rep.statistics.push_back(compare("long_double", e_ld, e_d, scene.t_max));
   // the vectorised double engine, as a tier of its own: the same comparison, and whether its
   // survival curve is the scalar double engine's, survivor for survivor
-  if (!(opt.work.all ? opt.work.all(simd::available()) : simd::available())) return;
+  if (!opt.work.all(simd::available())) return;
   const Ensemble e_v = run_tier_ensemble(scene, opt, Tier::double_, n, threads, Engine::simd);
   StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
   v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
@@ -339,14 +334,7 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
     progress = [](std::size_t d, std::size_t of) {
       std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu   ", d, of);
     };
-  std::vector<ShadowResult> runs;
-  if (opt.work.shadows) {
-    runs = opt.work.shadows(scene, rep.ids, so, threads, progress);
-  } else {
-    std::function<void(std::size_t)> mine;
-    if (progress) mine = [&](std::size_t d) { progress(d, rep.sample); };
-    runs = shadow_many(scene, rep.ids, so, threads, mine);
-  }
+  const std::vector<ShadowResult> runs = opt.work.shadows(scene, rep.ids, so, threads, progress);
   if (opt.progress) std::fprintf(stderr, "\r[rotleak audit] shadows %zu/%zu done\n", rep.sample, rep.sample);
   rep.shadow_seconds = since_lap();
   // the ensembles before the shadows' analysis: under a team every rank runs its share of them

@@ -10,24 +10,25 @@
 #include "sim/engine.hpp"
 #include "sim/scene.hpp"
 #include "verify/lyapunov.hpp"
+#include "verify/shadow.hpp"
 
 namespace rotleak {
 
-/// Where the audit's heavy parts run: in this process (the empty defaults), or shared by the ranks
-/// of an MPI job (the run layer's audit_shared fills them). With a team every rank calls audit() and
+/// Where the audit's heavy parts run: in this process (the defaults), or shared by the ranks of an
+/// MPI job (the run layer's audit_shared replaces them). With a team every rank calls audit() and
 /// each hook is a collective.
 struct AuditWork {
   /// An ensemble: every caller gets what run_ensemble(scene, options) gives (tally and records).
-  std::function<RunResult(const Scene&, const RunOptions&)> ensemble;
+  std::function<RunResult(const Scene&, const RunOptions&)> ensemble = run_ensemble;
   /// Shadows of `ids` in their order, on the reporting rank (the others may get none); progress(done,
   /// of) counts this process's own shadows.
   std::function<std::vector<ShadowResult>(const Scene&, const std::vector<std::uint64_t>& ids, const ShadowOptions&,
                                           int threads, const std::function<void(std::size_t, std::size_t)>& progress)>
-      shadows;
+      shadows = shadow_many;
   bool reports = true;  ///< false: this rank only helps with the ensembles and shadows (an empty report)
   /// Collective: true where `ok` is true on every rank (a choice all must take alike, such as whether
-  /// the vectorised ensemble runs: machines of a cluster may differ). Empty: `ok` itself.
-  std::function<bool(bool ok)> all;
+  /// the vectorised ensemble runs: machines of a cluster may differ).
+  std::function<bool(bool ok)> all = [](bool ok) { return ok; };
 };
 
 struct AuditOptions {

@@ -213,14 +213,14 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
 
 std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids,
                                       const ShadowOptions& opt, int threads,
-                                      const std::function<void(std::size_t)>& progress) {
+                                      const std::function<void(std::size_t, std::size_t)>& progress) {
   std::vector<ShadowResult> runs(ids.size());
   std::atomic<std::size_t> done{0};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (std::size_t i = 0; i < ids.size(); ++i) {
     runs[i] = shadow(scene, ids[i], opt);
     const std::size_t d = ++done;
-    if (progress && omp_get_thread_num() == 0) progress(d);
+    if (progress && omp_get_thread_num() == 0) progress(d, ids.size());
   }
   return runs;
 }

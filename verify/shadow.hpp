@@ -65,10 +65,11 @@ struct ShadowResult {
 ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& options);
 /// The same from explicit binary initial data (a chosen orbit rather than an ensemble member).
 ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& options);
-/// Shadows of many ids in parallel (threads 0: all cores), in the order of `ids`.
+/// Shadows of many ids in parallel (threads 0: all cores), in the order of `ids`; progress(done, of
+/// = ids.size()) from the first thread now and then.
 std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids,
                                       const ShadowOptions& options, int threads = 0,
-                                      const std::function<void(std::size_t done)>& progress = {});
+                                      const std::function<void(std::size_t done, std::size_t of)>& progress = {});
 
 /// Shadow results as bytes (doubles as their bits, so a result read back is the one written), for
 /// the ranks of an MPI audit to send theirs to rank 0. decode_shadows throws std::runtime_error

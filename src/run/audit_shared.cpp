@@ -22,9 +22,7 @@ AuditReport audit_shared(const Scene& scene, AuditOptions options, const Team& t
     std::vector<std::uint64_t> mine;
     for (std::size_t i = static_cast<std::size_t>(rank); i < ids.size(); i += static_cast<std::size_t>(ranks))
       mine.push_back(ids[i]);
-    std::function<void(std::size_t)> own;
-    if (progress) own = [&](std::size_t d) { progress(d, mine.size()); };
-    const std::vector<std::string> parts = team.gather(encode_shadows(shadow_many(s, mine, so, threads, own)));
+    const std::vector<std::string> parts = team.gather(encode_shadows(shadow_many(s, mine, so, threads, progress)));
     std::vector<ShadowResult> runs;
     if (rank != 0) return runs;
     runs.resize(ids.size());

@@ -46,8 +46,11 @@ std::string run_inputs(const Scene& whole, Engine ran) { return simulation_input
 
 namespace {
 
-/// Rank 0: every rank's tally file (same inputs and ids, blocks that tile the run) merged into one result.
-void merge_ranks(RunResult& result, const std::vector<std::string>& parts, const Scene& scene) {
+/// Collective: every rank's tally file `part` (same inputs and ids, blocks that tile the run) sent to
+/// rank 0 and merged there into `result`. True on rank 0, which then holds the whole run.
+bool merge_at_rank0(const Team& team, RunResult& result, const std::string& part, const Scene& scene) {
+  const std::vector<std::string> parts = team.gather(part);
+  if (team.rank() != 0) return false;
   const std::uint64_t n = scene.particles;
   Tally merged;
   merged.resize(scene);
@@ -66,6 +69,7 @@ void merge_ranks(RunResult& result, const std::vector<std::string>& parts, const
     throw std::logic_error("the ranks' blocks do not cover the run: " + done.text());
   result.tally = std::move(merged);
   result.done = std::move(done);
+  return true;
 }
 
 }  // namespace
@@ -87,12 +91,8 @@ RunResult run_shared(const Scene& scene, RunOptions options, const Team& team) {
   const auto file = [&] {
     return encode_tally_file(TallyFile{inputs, n, options.first_id, n, result.done, result.tally, result.records});
   };
-  const std::vector<std::string> parts = team.gather(file());
   std::string merged;
-  if (team.rank() == 0) {
-    merge_ranks(result, parts, scene);
-    merged = file();
-  }
+  if (merge_at_rank0(team, result, file(), scene)) merged = file();
   team.broadcast(merged);
   if (team.rank() != 0) {
     TallyFile f = decode_tally_file(merged, "rank 0's merged tallies");
@@ -187,14 +187,12 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
     throw RunInterrupted(path, particles_in(result.done, n), particles_in(IntervalSet::range(share_lo, share_hi), n));
   }
   if (ranks > 1) {
-    const std::vector<std::string> parts =
-        team.gather(encode_tally_file(tally_file(result.done, result.tally, result.records)));
-    if (rank != 0) {  // rank 0 summarises and writes
+    if (!merge_at_rank0(team, result, encode_tally_file(tally_file(result.done, result.tally, result.records)),
+                        scene)) {  // rank 0 summarises and writes
       RunSummary s;
       s.scene = scene;
       return s;
     }
-    merge_ranks(result, parts, scene);
     result.ranks = ranks;
   }
   if (durable->ids) result.of = whole;

@@ -115,8 +115,6 @@ std::unique_ptr<Team> join_team(int* argc, char*** argv) {
 
 const Team& current_team() { return *g_current; }
 
-/// Collective: a failure on any rank ends the command on every rank. Rank 0's own failure is the
-/// one reported (the others exit quietly); else each failing rank reports its own.
 void agree(const Team& team, const std::exception_ptr& failure) {
   if (team.size() == 1) {
     if (failure) std::rethrow_exception(failure);
