@@ -17,7 +17,7 @@ struct LinearFit {
 // Var = sum_k (g_k - g_{k-1}) (sum_{i>=k} u_i)^2 with g = (1 - P) / (N P).
 double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
   const std::size_t n = idx.size();
-  if (c.weighted) {  // no independent increments: the full double sum over the covariance
+  if (c.weighted && !c.lines) {  // no independent increments: the full double sum over the covariance
     double var = 0;
     for (std::size_t i = 0; i < n; ++i) {
       var += u[i] * u[i] * c.log_cov(idx[i], idx[i]);
@@ -29,8 +29,7 @@ double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>
   for (std::size_t k = n; k-- > 0;) tail[k] = tail[k + 1] + u[k];
   double var = 0, g_prev = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    const double P = c.P(idx[k]);
-    const double g = (1 - P) / (static_cast<double>(c.particles) * P);
+    const double g = c.log_cov(idx[k], idx[k]);  // Var ln P: Greenwood's, or the lines' (non-decreasing)
     var += (g - g_prev) * tail[k] * tail[k];
     g_prev = g;
   }
@@ -87,8 +86,9 @@ double log_slope_at(const SurvivalCurve& c, std::size_t i) {
 /// has not sampled -- the exponential part, carried only by the mixture's uniform component (weight
 /// up to max_weight), whose survivors near the crossing are a handful or none -- so it is at least
 /// that part's Poisson error, sqrt(max_weight * fit / N), with the fitted exponential as its size.
+/// Split runs sample the exponential part as well (the lines' spread is its error): no floor.
 double alpha_p_err(const SurvivalCurve& c, std::size_t i, double fit) {
-  if (!c.weighted) return c.P_err(i);
+  if (!c.weighted || c.lines) return c.P_err(i);
   return std::max(c.P_err(i), std::sqrt(c.max_weight * fit / static_cast<double>(c.particles)));
 }
 
@@ -112,7 +112,11 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
   // no escape among the fitted points: the decay was not measured (one particle gave "-0 +- 0")
   if (!f.ok || c.survivors[idx.front()] == c.survivors[idx.back()]) return k;
   k.ok = true;
-  if (c.weighted)
+  if (c.lines)
+    k.method =
+        "least squares of ln P(t) on the grid points in the window; standard error from the spread of the independent "
+        "lines of the split run (ln P with independent increments, delta method)";
+  else if (c.weighted)
     k.method =
         "least squares of ln P(t) on the grid points in the window; standard error from the covariance of the "
         "weighted ln P (exact second-moment tallies, delta method)";
@@ -197,9 +201,12 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
   // is not excluded. The upper limit is P + 3 standard errors (the line's included), and at least
   // P + 6 max_weight / N: zero survivors among N draws exclude a probability above 6 / N at 99.75%
   // (Poisson), and a survivor nobody drew could carry weight up to max_weight.
-  const double zero_events = 6 * c.max_weight / static_cast<double>(c.particles);
+  // Split runs: the bound stays within the resolved range, where the lines' own spread is P's error
+  // (past it, a line nobody followed could carry any weight the splits left it).
+  const double zero_events = c.lines ? 0.0 : 6 * c.max_weight / static_cast<double>(c.particles);
   double best = c.P(last);
   for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.lines && i > last) break;
     if (c.t[i] < k.from) continue;
     const double fit = std::exp(k.log_amplitude - k.value * c.t[i]);
     const double se = std::hypot(alpha_p_err(c, i, fit), factor * fit * k.log_se_at(c.t[i]));

@@ -21,6 +21,8 @@ Scene scene_of(const std::string& file, std::vector<std::string> sets) {
   return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/" + file, sets);
 }
 
+std::pair<long, std::vector<std::uint64_t>> a_limbs_of(const FixedSum& f) { return {f.base(), f.limbs()}; }
+
 TEST(FixedSum, IsExactAndOrderIndependent) {
   std::mt19937_64 gen(7);
   std::uniform_real_distribution<double> exponent(-60, 10);
@@ -45,6 +47,56 @@ TEST(FixedSum, IsExactAndOrderIndependent) {
   EXPECT_TRUE(again == forward);
   EXPECT_THROW(part.minus(forward), std::logic_error);
   EXPECT_THROW(part.add(-1), std::domain_error);
+}
+
+// Split runs weigh particles down to 1e-300 and square those weights: the sum must keep every bit of
+// terms far below 2^-128 (the old fixed grid dropped a 1e-40 entirely), in any order, and its square
+// terms below the range of a double. Exact: a sum of powers of two is checked bit for bit.
+TEST(FixedSum, KeepsTinyTermsExactlyInAnyOrder) {
+  std::vector<double> x;
+  for (int k = 100; k <= 127; ++k) x.push_back(std::ldexp(1.0, -k));  // 2^-100 .. 2^-127: all bits distinct
+  x.push_back(1e-300);
+  x.push_back(1e-40);
+  x.push_back(std::ldexp(1.0, -1074));  // the smallest subnormal
+  x.push_back(0.75);
+  std::mt19937_64 gen(11);
+  FixedSum first;
+  for (double v : x) first.add(v);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::shuffle(x.begin(), x.end(), gen);
+    FixedSum a, b;
+    for (std::size_t i = 0; i < x.size(); ++i) (i % 2 ? a : b).add(x[i]);
+    a.merge(b);
+    ASSERT_TRUE(a == first) << "trial " << trial;
+  }
+  // removing the big terms leaves exactly the small ones: 2^-100 .. 2^-127 sum to 2^-99 - 2^-127
+  FixedSum big;
+  for (double v : {1e-300, 1e-40, std::ldexp(1.0, -1074), 0.75}) big.add(v);
+  const FixedSum small = first.minus(big);
+  EXPECT_EQ(small.value(), std::ldexp(1.0, -99) - std::ldexp(1.0, -127));
+  FixedSum tiny;
+  tiny.add(1e-300);
+  EXPECT_EQ(tiny.value(), 1e-300);
+  FixedSum sub;
+  sub.add(std::ldexp(1.0, -1074));
+  sub.add(std::ldexp(1.0, -1074));
+  EXPECT_EQ(sub.value(), std::ldexp(1.0, -1073));
+  // squares: (1e-300)^2 = 1e-600 is kept, as m 2^e; twice it over once it is exactly 2
+  FixedSum sq, sq2;
+  sq.add_square(1e-300);
+  sq2.add_square(1e-300);
+  sq2.add_square(1e-300);
+  EXPECT_EQ(sq.value(), 0.0);  // below the double range
+  EXPECT_EQ(sq2.scaled().over(sq.scaled()), 2.0);
+  EXPECT_NEAR(std::log10(sq.scaled().m) + sq.scaled().e * std::log10(2.0), -600.0, 1e-12);
+  // (1 + 2^-52)^2 = 1 + 2^-51 + 2^-104: add_square keeps the last bit that x * x rounds away
+  FixedSum exact_sq, one;
+  exact_sq.add_square(1 + 0x1p-52);
+  one.add(1 + 0x1p-51);
+  const FixedSum rest = exact_sq.minus(one);
+  EXPECT_EQ(rest.value(), 0x1p-104);
+  // bytes: equal values give equal (base, limbs) whatever the history
+  EXPECT_EQ(a_limbs_of(first), a_limbs_of(FixedSum::from_limbs(first.base(), first.limbs())));
 }
 
 // E_q[w] = 1. Error model: the sample mean of N independent weights, standard error sd(w) / sqrt(N);

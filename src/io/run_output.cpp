@@ -1,5 +1,6 @@
 #include "io/run_output.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "io/scene_file.hpp"
@@ -27,7 +28,8 @@ std::string survival_csv(const SurvivalCurve& curve) {
 SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   SurvivalCurve c;
   c.particles = scene.particles;
-  c.weighted = scene.sampling.kind != SamplingKind::uniform;
+  c.lines = scene.splitting.on;
+  c.weighted = scene.sampling.kind != SamplingKind::uniform || c.lines;
   c.max_weight = c.weighted ? 1 / scene.sampling.eps : 1;
   const double n = static_cast<double>(scene.particles);
   std::size_t pos = text.find('\n');
@@ -44,7 +46,12 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
       throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
     c.t.push_back(t);
     c.survivors.push_back(k);
-    if (c.weighted) {
+    if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
+      c.P_w.push_back(P);
+      c.R.push_back(P > 0 ? 1 + n * (err / P) * (err / P) : 0.0);
+      c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));
+      c.lines_alive.push_back(0);
+    } else if (c.weighted) {
       c.P_w.push_back(P);
       c.Q.push_back(err * err * n + P * P);  // P_err = sqrt((Q - P^2) / N)
     }
@@ -99,7 +106,7 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
 
 json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   json j = {{"scheme", to_string(scene.sampling.kind)}};
-  if (!curve.weighted) return j;
+  if (scene.sampling.kind == SamplingKind::uniform) return j;
   j["eps"] = scene.sampling.eps;
   j["p_range"] = {scene.sampling.p_min, scene.sampling.p_max};
   j["max_weight"] = 1 / scene.sampling.eps;
@@ -115,6 +122,39 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
                    {"effective_survivors", curve.effective(i)}});
   }
   j["effective_survivors"] = ess;
+  return j;
+}
+
+json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& curve) {
+  json j = {{"rule", "chaotic"},
+            {"split_every", scene.splitting.every},
+            {"split_delta", scene.splitting.delta},
+            {"split_cap", scene.splitting.cap},
+            {"levels", t.levels},
+            {"splits", t.splits},
+            {"roulette_removed", t.culls},
+            {"max_population", t.max_population},
+            {"max_line", t.max_line}};
+  // lines alive and the effective number of lines at a few times, and the deepest resolved P
+  json at = json::array();
+  const std::size_t n = curve.t.size();
+  for (std::size_t den : {8, 4, 2, 1}) {
+    const std::size_t i = (n - 1) / den;
+    at.push_back({{"t", curve.t[i]},
+                  {"lines_alive", curve.lines_alive[i]},
+                  {"members", curve.survivors[i]},
+                  {"P", curve.P(i)},
+                  {"P_err", curve.P_err(i)},
+                  {"effective_lines", curve.effective(i)}});
+  }
+  j["lines"] = at;
+  std::size_t deepest = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (curve.P(i) > 0 && curve.P(i) < curve.P(deepest)) deepest = i;
+  j["smallest_P"] = {{"t", curve.t[deepest]},
+                     {"P", curve.P(deepest)},
+                     {"P_err", curve.P_err(deepest)},
+                     {"lines_alive", curve.lines_alive[deepest]}};
   return j;
 }
 
@@ -185,6 +225,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["survivors_at_t_max"] = r.result.tally.survived;
   s["stuck"] = r.result.tally.stuck;
   s["sampling"] = sampling_json(scene, r.curve);
+  if (r.curve.lines) s["splitting"] = splitting_json(scene, r.result.tally, r.curve);
   put_fits(s, r);
   s["files"] = files;
   return s;
@@ -197,7 +238,17 @@ std::string summary_text(const RunSummary& r) {
           r.result.wall_seconds, r.collisions_per_second());
   const KappaFit& kappa = r.kappa;
   const AlphaResult& alpha = r.alpha;
-  if (r.curve.weighted)
+  if (r.curve.lines) {
+    const std::size_t last = r.curve.t.size() - 1;
+    appendf(out,
+            "splitting: every %g, turn %g rad, cap %llu; %llu levels, %llu of %llu lines alive and %.3g effective at "
+            "t_max, P(t_max) = %.3g +- %.2g\n",
+            r.scene.splitting.every, r.scene.splitting.delta, static_cast<unsigned long long>(r.scene.splitting.cap),
+            static_cast<unsigned long long>(r.result.tally.levels),
+            static_cast<unsigned long long>(r.curve.lines_alive[last]),
+            static_cast<unsigned long long>(r.scene.particles), r.curve.effective(last), r.curve.P(last),
+            r.curve.P_err(last));
+  } else if (r.curve.weighted)
     appendf(
         out,
         "sampling: mupo, eps = %g, |p| log-uniform in [%g, %g]; %.3g effective survivors at t_max (%llu particles)\n",

@@ -28,6 +28,8 @@ void put_fits(json& s, const RunSummary& r);
 /// summary.json of a run whose directory holds `files`.
 /// The sampling scheme and, for weighted runs, its parameters and the effective survivors at a few times.
 json sampling_json(const Scene& scene, const SurvivalCurve& curve);
+/// summary.json's "splitting" of a split run: its parameters, levels, population, lines alive (docs/output.md).
+json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve& curve);
 json summary_json(const RunSummary& s, const std::vector<std::string>& files);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);

@@ -21,7 +21,8 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
     {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
-    {"run", {"t_max", "tier", "fast_forward", "checkpoint_seconds"}},
+    {"run", {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta",
+             "split_cap"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors"}},
 };
@@ -208,6 +209,34 @@ void check_physics(const Scene& s) {
   }
 }
 
+/// run.splitting and its parameters; the parameters only with splitting on.
+void read_splitting(const Reader& in, Scene& s) {
+  if (const toml::node* n = in.find("run", "splitting")) {
+    auto b = n->as_boolean();
+    if (!b) throw InputError("run.splitting", shown(*n), "must be true or false");
+    s.splitting.on = b->get();
+  }
+  for (const char* key : {"split_every", "split_delta", "split_cap"})
+    if (const toml::node* n = in.find("run", key); n && !s.splitting.on)
+      throw InputError(std::string("run.") + key, shown(*n), "applies to run.splitting = true only");
+  if (!s.splitting.on) return;
+  s.splitting.every = in.number("run", "split_every", default_split_every(s));
+  if (!(s.splitting.every > 0 && s.splitting.every <= s.t_max))
+    throw InputError("run.split_every", shown(*in.find("run", "split_every")),
+                     "must be a time in (0, run.t_max] = (0, " + shortest(s.t_max) + "] (default: ln 2 / (lambda L / (pi Area)) = " +
+                         shortest(default_split_every(s)) + ")");
+  if (s.t_max / s.splitting.every > 100000)
+    throw InputError("run.split_every", shown(*in.find("run", "split_every")),
+                     "gives more than 10^5 split times before run.t_max; at most 10^5 are allowed");
+  s.splitting.delta = in.number("run", "split_delta", s.splitting.delta);
+  if (!(s.splitting.delta >= 0 && s.splitting.delta <= 1e-3))
+    throw InputError("run.split_delta", shown(*in.find("run", "split_delta")),
+                     "must be an angle in [0, 1e-3] radians (the copy's turn)");
+  s.splitting.cap = in.count("run", "split_cap", s.splitting.cap, 2, "must be an integer >= 2 (members of a line)");
+  if (s.splitting.cap > 1000000)
+    throw InputError("run.split_cap", std::to_string(s.splitting.cap), "must be at most 10^6 members of a line");
+}
+
 Scene build(const toml::table& root, const std::string& source) {
   check_known_keys(root);
   Reader in{root};
@@ -274,6 +303,7 @@ Scene build(const toml::table& root, const std::string& source) {
   if (!(s.checkpoint_seconds >= 0) || s.checkpoint_seconds > 1e7)
     throw InputError("run.checkpoint_seconds", shown(*in.find("run", "checkpoint_seconds")),
                      "must be a number of seconds in [0, 1e7] (0: no periodic checkpoints)");
+  read_splitting(in, s);
   s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
   if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
     throw InputError("observe.survival_dt", shown(*in.find("observe", "survival_dt")),
@@ -327,6 +357,12 @@ Scene build(const toml::table& root, const std::string& source) {
   if (!(s.alpha_sigma >= 1 && s.alpha_sigma <= 10))
     throw InputError("fit.alpha_sigma", shown(*in.find("fit", "alpha_sigma")), "must be in [1, 10] standard errors");
   s.min_survivors = in.count("fit", "min_survivors", s.min_survivors, 1, "must be an integer >= 1");
+  if (s.splitting.on && s.tier != Tier::double_)
+    throw InputError("run.splitting", "true",
+                     "runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
+  if (s.splitting.on && s.escape_records)
+    throw InputError("run.splitting", "true",
+                     "keeps no per-particle escape records (a line has many members): set observe.escapes = false");
   return s;
 }
 
@@ -377,6 +413,12 @@ json scene_json(const Scene& s) {
               {"tier", to_string(s.tier)},
               {"fast_forward", s.fast_forward},
               {"checkpoint_seconds", s.checkpoint_seconds}};
+  if (s.splitting.on) {  // written only when on: the inputs of every other run stay as they were
+    j["run"]["splitting"] = true;
+    j["run"]["split_every"] = s.splitting.every;
+    j["run"]["split_delta"] = s.splitting.delta;
+    j["run"]["split_cap"] = s.splitting.cap;
+  }
   json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
   if (s.collision_density) {
     json w = json::array();

@@ -12,7 +12,7 @@ namespace rotleak {
 
 namespace {
 
-constexpr const char* kMagic = "rotleak-tallies 1\n";
+constexpr const char* kMagic = "rotleak-tallies 2\n";
 
 std::uint64_t fnv1a(const char* p, std::size_t n) {
   std::uint64_t h = 1469598103934665603ull;
@@ -23,16 +23,23 @@ std::uint64_t fnv1a(const char* p, std::size_t n) {
   return h;
 }
 
+// a sum: its lowest limb's index, its limb count, the limbs (trimmed: equal sums, equal bytes)
 void put_sum(ByteWriter& w, const FixedSum& f) {
-  for (int i = 0; i < 3; ++i) w.word(f.limbs()[i]);
+  const std::vector<std::uint64_t> limbs = f.limbs();
+  w.word(static_cast<std::uint64_t>(f.base()));
+  w.word(limbs.size());
+  w.words(limbs);
 }
 void put_sums(ByteWriter& w, const std::vector<FixedSum>& v) {
   for (const FixedSum& f : v) put_sum(w, f);
 }
 FixedSum get_sum(ByteReader& r) {
-  std::uint64_t l[3];
-  for (auto& w : l) w = r.word();
-  return FixedSum::from_limbs(l);
+  const long base = static_cast<long>(r.word());
+  const std::uint64_t n = r.word();
+  if (n > 4096) throw std::runtime_error("tally file: an exact sum of " + std::to_string(n) + " limbs");
+  std::vector<std::uint64_t> limbs(n);
+  r.words(limbs);
+  return FixedSum::from_limbs(base, std::move(limbs));
 }
 void get_sums(ByteReader& r, std::vector<FixedSum>& v) {
   for (auto& f : v) f = get_sum(r);
@@ -53,6 +60,7 @@ std::string encode_tally_file(const TallyFile& f) {
                        {"survival_bins", t.escapes_per_bin.size()},
                        {"density_bins", t.collision_density.size()},
                        {"weighted", t.weighted},
+                       {"split", t.split},
                        {"records", f.records.size()}};
   const std::string h = header.dump();
   ByteWriter w;
@@ -66,6 +74,13 @@ std::string encode_tally_file(const TallyFile& f) {
     put_sum(w, t.total_w);
     put_sum(w, t.total_w2);
     put_sums(w, t.collision_density_w);
+  }
+  if (t.split) {
+    for (const auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) put_sums(w, *v);
+    w.words(t.lines_ended);
+    w.words(t.born_per_bin);
+    w.words(t.culled_per_bin);
+    for (std::uint64_t x : {t.splits, t.culls, t.levels, t.max_population, t.max_line}) w.word(x);
   }
   for (const EscapeRecord& r : f.records) {
     w.real(r.t);
@@ -110,6 +125,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     f.tally.escapes_per_bin.assign(h.at("survival_bins").get<std::size_t>(), 0);
     f.tally.collision_density.assign(h.at("density_bins").get<std::size_t>(), 0);
     f.tally.weighted = h.at("weighted").get<bool>();
+    f.tally.split = h.at("split").get<bool>();
     f.records.resize(h.at("records").get<std::size_t>());
   } catch (const std::exception& e) {
     throw std::runtime_error(where + ": tally file header unreadable: " + e.what());
@@ -123,14 +139,30 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   t.survived = r.word();
   t.stuck = r.word();
   if (t.weighted) {
-    t.escaped_w.resize(t.escapes_per_bin.size());
-    t.escaped_w2.resize(t.escapes_per_bin.size());
+    if (!t.split) {
+      t.escaped_w.resize(t.escapes_per_bin.size());
+      t.escaped_w2.resize(t.escapes_per_bin.size());
+    }
     t.collision_density_w.resize(t.collision_density.size());
     get_sums(r, t.escaped_w);
     get_sums(r, t.escaped_w2);
     t.total_w = get_sum(r);
     t.total_w2 = get_sum(r);
     get_sums(r, t.collision_density_w);
+  }
+  if (t.split) {
+    const std::size_t points = t.escapes_per_bin.size() + 1;
+    for (auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) {
+      v->resize(points);
+      get_sums(r, *v);
+    }
+    t.lines_ended.resize(points);
+    t.born_per_bin.resize(t.escapes_per_bin.size());
+    t.culled_per_bin.resize(t.escapes_per_bin.size());
+    r.words(t.lines_ended);
+    r.words(t.born_per_bin);
+    r.words(t.culled_per_bin);
+    for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
   }
   for (EscapeRecord& e : f.records) {
     e.t = r.real();

@@ -1,89 +1,200 @@
-// An exact, order-independent sum of non-negative doubles: a 192-bit fixed-point integer with 128
-// fractional bits (resolution 2^-128 ~ 2.9e-39, sums below 2^64). Each term is truncated once to
-// that grid -- a deterministic function of the term alone -- and the integer additions are exact,
-// so any grouping and order of the same terms (threads, ranks, restarts) gives the same bits.
-// Weighted tallies use it for sums of weights and of squared weights.
+// An exact, order-independent sum of non-negative terms: a binary fixed-point integer whose 64-bit
+// limbs cover just the range the terms have reached, at any scale. A term m 2^e (a double, or its
+// exact square, or any unsigned integer of up to 128 bits at any power of two) is added without
+// rounding, so any grouping and order of the same terms (threads, ranks, restarts) gives the same
+// bits, for weights as large as 2^60 and as small as the smallest subnormal (4.9e-324), and for their
+// squares far below the range of a double. Weighted tallies use it for sums of weights and of squared
+// weights; split runs reach P ~ 1e-300, whose line weights square to 1e-600.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace rotleak {
 
 class FixedSum {
  public:
-  static constexpr int kFractionBits = 128;
+  /// A value as m 2^e with m in [0.5, 1) (m = 0 for zero): what value() would round, without its range.
+  struct Scaled {
+    double m = 0;
+    long e = 0;
+    /// this / o as a double (o non-zero); exact to about one ulp
+    double over(const Scaled& o) const { return std::ldexp(m / o.m, static_cast<int>(e - o.e)); }
+  };
 
-  /// Adds x >= 0 (finite, below 2^63), truncated to a multiple of 2^-128.
+  /// Adds x >= 0 (finite), exactly.
   void add(double x) {
-    if (!(x >= 0) || !(x < 0x1p63)) throw std::domain_error("FixedSum::add: term outside [0, 2^63)");
+    if (!(x >= 0) || !(x < 0x1p1000)) throw std::domain_error("FixedSum::add: term outside [0, 2^1000)");
     if (x == 0) return;
     int e = 0;
-    const double m = std::frexp(x, &e);                               // x = m 2^e, m in [0.5, 1)
-    const auto mant = static_cast<std::uint64_t>(std::ldexp(m, 53));  // x = mant 2^(e - 53), exact
-    const int shift = e - 53 + kFractionBits;                         // bit position of mant's lowest bit
-    if (shift <= -64) return;                                         // below the grid
-    std::uint64_t part[3] = {0, 0, 0};
-    if (shift < 0) {
-      part[0] = mant >> -shift;
-    } else {
-      const int limb = shift / 64, bit = shift % 64;
-      part[limb] = mant << bit;
-      if (bit != 0 && limb + 1 < 3) part[limb + 1] = mant >> (64 - bit);
-    }
-    add_limbs(part);
+    const double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+    add_bits(static_cast<std::uint64_t>(std::ldexp(m, 53)), static_cast<long>(e) - 53);
   }
 
-  void merge(const FixedSum& o) { add_limbs(o.limb_); }
+  /// Adds x^2 exactly (x >= 0 finite), even where x^2 leaves the range of a double.
+  void add_square(double x) {
+    if (!(x >= 0) || !(x < 0x1p500)) throw std::domain_error("FixedSum::add_square: term outside [0, 2^500)");
+    if (x == 0) return;
+    int e = 0;
+    const double m = std::frexp(x, &e);
+    const auto mant = static_cast<unsigned __int128>(static_cast<std::uint64_t>(std::ldexp(m, 53)));
+    add_bits(mant * mant, 2 * (static_cast<long>(e) - 53));
+  }
+
+  /// Adds v 2^pos exactly.
+  void add_bits(unsigned __int128 v, long pos) {
+    if (v == 0) return;
+    const long limb = floor_div(pos, 64);
+    const int bit = static_cast<int>(pos - 64 * limb);
+    // v << bit spans up to three limbs
+    const std::uint64_t lo = static_cast<std::uint64_t>(v), hi = static_cast<std::uint64_t>(v >> 64);
+    std::uint64_t part[3];
+    if (bit == 0) {
+      part[0] = lo, part[1] = hi, part[2] = 0;
+    } else {
+      part[0] = lo << bit;
+      part[1] = (hi << bit) | (lo >> (64 - bit));
+      part[2] = hi >> (64 - bit);
+    }
+    cover(limb, limb + 3);
+    add_at(limb - base_, part, 3);
+  }
+
+  void merge(const FixedSum& o) {
+    if (o.limb_.empty()) return;
+    cover(o.base_, o.base_ + static_cast<long>(o.limb_.size()));
+    add_at(o.base_ - base_, o.limb_.data(), o.limb_.size());
+  }
 
   /// this - o, for o <= this (a cumulative sum minus a part of it).
   FixedSum minus(const FixedSum& o) const {
     FixedSum r = *this;
+    if (o.limb_.empty()) return r;
+    r.cover(o.base_, o.base_ + static_cast<long>(o.limb_.size()));
+    const std::size_t off = static_cast<std::size_t>(o.base_ - r.base_);
     unsigned borrow = 0;
-    for (int i = 0; i < 3; ++i) {
-      const std::uint64_t a = r.limb_[i], b = o.limb_[i];
+    for (std::size_t i = off; i < r.limb_.size(); ++i) {
+      const std::size_t k = i - off;
+      if (k >= o.limb_.size() && !borrow) break;
+      const std::uint64_t a = r.limb_[i], b = k < o.limb_.size() ? o.limb_[k] : 0;
       const std::uint64_t d = a - b - borrow;
       borrow = (a < b || (a == b && borrow)) ? 1u : 0u;
       r.limb_[i] = d;
     }
     if (borrow) throw std::logic_error("FixedSum::minus: negative result");
+    r.trim();
     return r;
   }
 
-  /// The sum rounded to a double (error below one ulp of the result, plus the 2^-128 grid).
+  /// The sum rounded to a double: its top three limbs, highest first (error below one ulp of the
+  /// result); 0 below the double range, inf above it.
   double value() const {
-    return std::ldexp(static_cast<double>(limb_[2]), 128 - kFractionBits) +
-           std::ldexp(static_cast<double>(limb_[1]), 64 - kFractionBits) +
-           std::ldexp(static_cast<double>(limb_[0]), -kFractionBits);
+    const long top = top_limb();
+    if (top == kNone) return 0;
+    double v = 0;
+    for (long k = top; k > top - 3 && k >= base_; --k) v += std::ldexp(static_cast<double>(limb(k)), int_exp(64 * k));
+    return v;
   }
 
-  bool operator==(const FixedSum& o) const {
-    return limb_[0] == o.limb_[0] && limb_[1] == o.limb_[1] && limb_[2] == o.limb_[2];
+  /// The sum as m 2^e, at any scale (value() is its rounding into a double).
+  Scaled scaled() const {
+    const long top = top_limb();
+    if (top == kNone) return {};
+    double v = 0;  // the top three limbs, scaled by 2^(-64 top)
+    for (long k = top; k > top - 3 && k >= base_; --k)
+      v += std::ldexp(static_cast<double>(limb(k)), static_cast<int>(64 * (k - top)));
+    int e = 0;
+    const double m = std::frexp(v, &e);
+    return {m, e + 64 * top};
   }
-  const std::uint64_t* limbs() const { return limb_; }
-  /// The sum whose limbs() are l (least significant first): how saved tallies are read back.
-  static FixedSum from_limbs(const std::uint64_t* l) {
+
+  bool is_zero() const { return top_limb() == kNone; }
+
+  bool operator==(const FixedSum& o) const {
+    const long lo = std::min(base_, o.base_), hi = std::max(end(), o.end());
+    for (long k = lo; k < hi; ++k)
+      if (limb(k) != o.limb(k)) return false;
+    return true;
+  }
+
+  /// The value as (lowest limb index, limbs from there up), zero limbs trimmed at both ends: equal
+  /// values give equal words (how tally files store a sum).
+  long base() const { return trimmed().base_; }
+  std::vector<std::uint64_t> limbs() const { return trimmed().limb_; }
+  static FixedSum from_limbs(long base, std::vector<std::uint64_t> limbs) {
     FixedSum f;
-    for (int i = 0; i < 3; ++i) f.limb_[i] = l[i];
+    f.base_ = base;
+    f.limb_ = std::move(limbs);
+    f.trim();
     return f;
   }
 
  private:
-  void add_limbs(const std::uint64_t* p) {
+  static constexpr long kNone = -(1L << 40);
+
+  static long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+  static int int_exp(long e) { return e < -100000 ? -100000 : e > 100000 ? 100000 : static_cast<int>(e); }
+  long end() const { return base_ + static_cast<long>(limb_.size()); }
+  std::uint64_t limb(long k) const { return k >= base_ && k < end() ? limb_[static_cast<std::size_t>(k - base_)] : 0; }
+  long top_limb() const {
+    for (std::size_t i = limb_.size(); i-- > 0;)
+      if (limb_[i]) return base_ + static_cast<long>(i);
+    return kNone;
+  }
+
+  /// Grows the limbs to hold indices [lo, hi) (and one above for a carry).
+  void cover(long lo, long hi) {
+    if (limb_.empty()) {
+      base_ = lo;
+      limb_.assign(static_cast<std::size_t>(hi + 1 - lo), 0);
+      return;
+    }
+    if (lo < base_) {
+      limb_.insert(limb_.begin(), static_cast<std::size_t>(base_ - lo), 0);
+      base_ = lo;
+    }
+    if (hi + 1 > end()) limb_.resize(static_cast<std::size_t>(hi + 1 - base_), 0);
+  }
+
+  /// Adds p[0 .. n) at limb offset `off`, carrying upwards (growing at the top when needed).
+  void add_at(long off, const std::uint64_t* p, std::size_t n) {
+    auto i = static_cast<std::size_t>(off);
     unsigned carry = 0;
-    for (int i = 0; i < 3; ++i) {
-      const std::uint64_t s = limb_[i] + p[i];
-      const unsigned c1 = s < limb_[i] ? 1u : 0u;
+    for (std::size_t k = 0; k < n || carry; ++k, ++i) {
+      if (i == limb_.size()) limb_.push_back(0);
+      const std::uint64_t add = k < n ? p[k] : 0;
+      const std::uint64_t s = limb_[i] + add;
+      const unsigned c1 = s < add ? 1u : 0u;
       const std::uint64_t s2 = s + carry;
       const unsigned c2 = s2 < s ? 1u : 0u;
       limb_[i] = s2;
       carry = c1 | c2;
     }
-    if (carry) throw std::overflow_error("FixedSum: sum beyond 2^64");
   }
 
-  std::uint64_t limb_[3] = {0, 0, 0};
+  void trim() {
+    std::size_t lo = 0, hi = limb_.size();
+    while (hi > 0 && limb_[hi - 1] == 0) --hi;
+    while (lo < hi && limb_[lo] == 0) ++lo;
+    if (lo == hi) {
+      limb_.clear();
+      base_ = 0;
+      return;
+    }
+    limb_.erase(limb_.begin() + static_cast<std::ptrdiff_t>(hi), limb_.end());
+    limb_.erase(limb_.begin(), limb_.begin() + static_cast<std::ptrdiff_t>(lo));
+    base_ += static_cast<long>(lo);
+  }
+  FixedSum trimmed() const {
+    FixedSum f = *this;
+    f.trim();
+    return f;
+  }
+
+  std::vector<std::uint64_t> limb_;  ///< limb_[k] weighs 2^(64 (base_ + k))
+  long base_ = 0;
 };
 
 }  // namespace rotleak

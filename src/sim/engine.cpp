@@ -15,6 +15,7 @@
 
 #include "numeric/tier_dispatch.hpp"
 #include "sim/particle.hpp"
+#include "sim/population.hpp"
 #include "sim/sampling.hpp"
 #include "sim/simd_engine.hpp"
 
@@ -25,11 +26,19 @@ void Tally::resize(const Scene& scene) {
   if (scene.collision_density)
     collision_density.assign(
         scene.collision_density->windows.size() * static_cast<std::size_t>(scene.collision_density->bins), 0);
-  weighted = scene.sampling.kind != SamplingKind::uniform;
-  if (weighted) {
+  split = scene.splitting.on;
+  weighted = scene.sampling.kind != SamplingKind::uniform || split;  // split members weigh 2^-level
+  if (weighted && !split) {
     escaped_w.assign(escapes_per_bin.size(), FixedSum{});
     escaped_w2.assign(escapes_per_bin.size(), FixedSum{});
-    collision_density_w.assign(collision_density.size(), FixedSum{});
+  }
+  if (weighted) collision_density_w.assign(collision_density.size(), FixedSum{});
+  if (split) {
+    const std::size_t points = escapes_per_bin.size() + 1;
+    for (auto* v : {&line_in, &line_out, &line2_in, &line2_out}) v->assign(points, FixedSum{});
+    lines_ended.assign(points, 0);
+    born_per_bin.assign(escapes_per_bin.size(), 0);
+    culled_per_bin.assign(escapes_per_bin.size(), 0);
   }
 }
 
@@ -48,6 +57,24 @@ void Tally::merge(const Tally& o) {
     for (std::size_t i = 0; i < collision_density_w.size(); ++i) collision_density_w[i].merge(o.collision_density_w[i]);
     total_w.merge(o.total_w);
     total_w2.merge(o.total_w2);
+  }
+  if (split) {
+    for (std::size_t i = 0; i < line_in.size(); ++i) {
+      line_in[i].merge(o.line_in[i]);
+      line_out[i].merge(o.line_out[i]);
+      line2_in[i].merge(o.line2_in[i]);
+      line2_out[i].merge(o.line2_out[i]);
+      lines_ended[i] += o.lines_ended[i];
+    }
+    for (std::size_t i = 0; i < born_per_bin.size(); ++i) {
+      born_per_bin[i] += o.born_per_bin[i];
+      culled_per_bin[i] += o.culled_per_bin[i];
+    }
+    splits += o.splits;
+    culls += o.culls;
+    levels = std::max(levels, o.levels);
+    max_population = std::max(max_population, o.max_population);
+    max_line = std::max(max_line, o.max_line);
   }
 }
 
@@ -185,6 +212,8 @@ struct SimdContext {
   FixedSum* density_w = nullptr;                              ///< and weighted sums
   DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
   const DensityCells* cells = nullptr;                        ///< the kernel's time cells
+  /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
+  const std::vector<simd::Start>* members = nullptr;
 };
 
 bool simd_escape(void* c, int piece, double x, double y, double t) {
@@ -220,6 +249,10 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   }
   if (ctx->next >= ctx->hi) return false;
   *id = ctx->next++;
+  if (ctx->members) {
+    *start = (*ctx->members)[*id];
+    return true;
+  }
   const InitialDraw d = ctx->draw(*id);
   const ParticleState<double> ps = initial_state(ctx->model->stadium, d);
   *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
@@ -232,7 +265,7 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
                                          // give it back to a lane (or record it, if it ended in the jump)
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
-    const double weight = ctx->weights ? ctx->draw.weight(ctx->draw(id)) : 1.0;
+    const double weight = e.weight;
     if (ctx->observer) ctx->observer->weight = weight;
     if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
       ctx->resume.push_back(
@@ -246,6 +279,10 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
   end.fate = static_cast<Fate>(e.fate);
   end.t = e.t;
   end.collisions = e.collisions;
+  if (end.fate == Fate::survived) {
+    end.t = ctx->model->t_max;
+    end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
+  }
   if (end.fate == Fate::escaped) end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
   ctx->record(id, end);
 }
@@ -259,6 +296,9 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
                                 std::to_string(scene.particles) + " particles");
   const DrawSource source{sampler.get(), opt.first_id, opt.draws};
+  const std::unique_ptr<SplitRule> split_rule = scene.splitting.on ? make_split_rule(scene) : nullptr;
+  if (scene.splitting.on && (!std::is_same_v<R, double> || opt.draws || scene.escape_records))
+    throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
   RunResult result;
   result.tally.resize(scene);
   if (scene.escape_records) result.records.resize(scene.particles);
@@ -355,6 +395,48 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
         local.collisions += end.collisions;
         if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
       };
+      // A split run's members, advanced to `stop` by the engine that runs the scene (its ends by position).
+      std::vector<simd::Start> starts;
+      const AdvanceMembers advance_members = [&](const std::vector<Member>& members, const std::vector<double>& weights,
+                                                 double stop, std::vector<ParticleEnd>& ends) {
+        if constexpr (std::is_same_v<R, double>) {
+          Model<double> epoch = model;
+          epoch.t_max = stop;
+          auto put = [&](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; };
+          if (use_simd) {
+            simd::Scene ks = kernel_scene;
+            ks.t_max = stop;
+            starts.resize(members.size());
+            for (std::size_t i = 0; i < members.size(); ++i) {
+              const ParticleState<double>& ps = members[i].ps;
+              starts[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions), weights[i]};
+            }
+            SimdContext ctx{&epoch, source, 0, members.size(), put, {}};
+            ctx.members = &starts;
+            if (scene.collision_density) {
+              ctx.weights = true;
+              ctx.density = local.collision_density.data();
+              ctx.density_w = local.collision_density_w.data();
+              ctx.observer = &density;
+              ctx.cells = &cells;
+            }
+            simd::run(ks, &ctx, simd_next, simd_finish, kSimdExact);
+          } else {
+            for (std::size_t i = 0; i < members.size(); ++i) {
+              Flight<double> f{members[i].ps, {}, 0};
+              f.end.collisions = members[i].collisions;
+              density.weight = weights[i];
+              if (scene.collision_density)
+                while (advance(epoch, f, density)) {
+                }
+              else
+                while (advance(epoch, f, none)) {
+                }
+              ends[i] = f.end;
+            }
+          }
+        }
+      };
       while (true) {
         // the halt check comes before taking a block: every block taken is run
         if (halt.load(std::memory_order_relaxed) || (opt.stop && opt.stop->load(std::memory_order_relaxed))) break;
@@ -363,7 +445,10 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
         const std::uint64_t blk = todo.nth(k);
         const std::uint64_t lo = blk * kBlockSize, hi = std::min(n, lo + kBlockSize);
         const std::uint64_t before = local.collisions;
-        if (use_simd) {
+        if (split_rule) {
+          if constexpr (std::is_same_v<R, double>)
+            run_lines(scene, *sampler, *split_rule, opt.first_id + lo, opt.first_id + hi, advance_members, local);
+        } else if (use_simd) {
           if constexpr (std::is_same_v<R, double>) {
             SimdContext ctx{&model, source, lo, hi, record, {}};
             if (scene.collision_density) {

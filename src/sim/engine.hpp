@@ -36,6 +36,19 @@ struct Tally {
   std::vector<FixedSum> escaped_w, escaped_w2;
   FixedSum total_w, total_w2;
   std::vector<FixedSum> collision_density_w;
+  // Split runs only (run.splitting; empty otherwise; sim/population.hpp). By grid index j = 0 .. bins
+  // (time t_j = j dt): each stretch of a line's constant living weight Y adds Y (and Y^2, exactly) at
+  // the index where it begins (line_in) and again at the index where it ends (line_out), so the
+  // cumulative sums give sum_i Y_i(t_j) and sum_i Y_i(t_j)^2 as exact differences: never a
+  // subtraction of rounded numbers.
+  bool split = false;
+  std::vector<FixedSum> line_in, line_out, line2_in, line2_out;
+  std::vector<std::uint64_t> lines_ended;                   ///< lines whose weight fell to 0, by grid index
+  std::vector<std::uint64_t> born_per_bin, culled_per_bin;  ///< copies made, members the roulette removed, by bin
+  std::uint64_t splits = 0, culls = 0;
+  std::uint64_t levels = 0;          ///< split times passed by the longest-lived line (maximum over blocks)
+  std::uint64_t max_population = 0;  ///< most members of one block at one split time
+  std::uint64_t max_line = 0;        ///< most members of one line at one split time, before the roulette
 
   void resize(const Scene& scene);
   void merge(const Tally& other);

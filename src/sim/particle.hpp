@@ -35,6 +35,9 @@ struct ParticleEnd {
   Fate fate = Fate::survived;
   double t = 0, s = 0;
   std::uint64_t collisions = 0;
+  /// Survived, double tier: the state at its last collision before t_max (or its creation), from
+  /// which the flight that passes t_max starts -- where a split run continues a member.
+  ParticleState<double> last{};
 };
 
 /// A particle in flight: its state and, once it has ended, how.
@@ -241,12 +244,14 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
 template <class R, class Observer>
 inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
   const Hit<R> h = m.stadium.next_hit(f.ps.q, f.ps.v);
-  f.ps.t += h.t;
-  if (f.ps.t > m.t_max) {
+  const R t_hit = f.ps.t + h.t;
+  if (t_hit > m.t_max) {  // the state stays at the last collision
     f.end.fate = Fate::survived;
     f.end.t = num_traits<R>::to_double(m.t_max);
+    if constexpr (std::is_same_v<R, double>) f.end.last = f.ps;
     return false;
   }
+  f.ps.t = t_hit;
   ++f.end.collisions;
   if constexpr (Observer::active) observe(h.piece, h.q, f.ps.t);
   if (m.leak.hit(h.piece, h.q, f.ps.t)) {

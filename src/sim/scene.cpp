@@ -1,6 +1,9 @@
 #include "sim/scene.hpp"
 
 #include <cmath>
+#include <numbers>
+
+#include "geometry/stadium.hpp"
 
 namespace rotleak {
 
@@ -9,5 +12,11 @@ std::string to_string(InitKind k) { return k == InitKind::birkhoff ? "birkhoff" 
 std::string to_string(SamplingKind k) { return k == SamplingKind::uniform ? "uniform" : "mupo"; }
 
 std::size_t Scene::survival_bins() const { return static_cast<std::size_t>(std::ceil(t_max / survival_dt)); }
+
+double default_split_every(const Scene& scene) {
+  const Stadium<double> st(scene.d, scene.r);
+  const double rate = scene.width.to_double() * st.perimeter() / (std::numbers::pi * st.area());
+  return std::numbers::ln2 / rate;
+}
 
 }  // namespace rotleak

@@ -34,6 +34,18 @@ struct SamplingSpec {
 
 std::string to_string(SamplingKind k);
 
+/// Population splitting in time (sim/population.hpp): every `every` time units each member that the
+/// split rule picks is replaced by two of half its weight, the copy's direction turned by an angle
+/// drawn from [-delta, delta]; a line (a starting particle and its descendants) holding more than
+/// `cap` members at a split time is thinned by roulette (each kept with probability 1/2 at twice its
+/// weight, until at most `cap` remain).
+struct SplitSpec {
+  bool on = false;
+  double every = 0;  ///< the scene's default when not given: ln 2 over the small-hole rate (default_split_every)
+  double delta = 1e-12;
+  std::uint64_t cap = 64;
+};
+
 struct CollisionDensitySpec {
   int bins = 1000;
   std::vector<TimeWindow> windows;
@@ -54,6 +66,7 @@ struct Scene {
   double t_max = 20000;
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
   bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/particle.hpp fast_forward)
+  SplitSpec splitting;
   double checkpoint_seconds =
       300;  ///< a checkpoint of the merged tallies this often (0: none); not an input of the numbers
 
@@ -72,5 +85,10 @@ struct Scene {
   /// Number of survival bins, ceil(t_max / survival_dt).
   std::size_t survival_bins() const;
 };
+
+/// ln 2 over the small-hole escape rate lambda L / (pi Area) (lambda L the leak's length): the time in
+/// which a chaotic population halves, so that splitting in two at that pace keeps it about constant
+/// (151.2 for d = 2, r = 1, lambda = 0.01).
+double default_split_every(const Scene& scene);
 
 }  // namespace rotleak

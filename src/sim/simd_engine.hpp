@@ -76,7 +76,10 @@ struct Exact {
 
 struct End {
   LaneEnd fate;  ///< a Fate, or handed back mid-flight (the state below)
+  /// the lane's state: where it ended (escaped, stuck, handed back), or, survived, at its last
+  /// collision before t_max, from which the flight that passes t_max starts
   double t, qx, qy, vx, vy;
+  double weight;  ///< Start::weight, travelling with the lane
   int piece;
   std::uint64_t collisions;
 };

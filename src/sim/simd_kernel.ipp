@@ -460,12 +460,19 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
 }
 
 /// Reports the lanes in `done` to finish() and refills them from next() (or parks them).
+/// The state before this step (q, v, t) is what a survived lane reports: its last collision before t_max.
+struct Before {
+  const V &qx, &qy, &vx, &vy, &t;
+};
+
 void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV& esc, const MV& stuck,
-            const MV& over, const MV& handoff, void* ctx, NextParticle next, Finish finish) {
+            const MV& over, const MV& handoff, const Before& before, void* ctx, NextParticle next, Finish finish) {
   Lanes& L = g.L;
-  store(g.qx, L.qx), store(g.qy, L.qy), store(g.vx, L.vx), store(g.vy, L.vy);
-  store(g.t, L.t), store(g.coll, L.coll), store(g.zero, L.zero);
   const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), hm = bits(handoff);
+  // survived lanes keep their state from before the step (the others the state after it)
+  store(select(over, before.qx, g.qx), L.qx), store(select(over, before.qy, g.qy), L.qy);
+  store(select(over, before.vx, g.vx), L.vx), store(select(over, before.vy, g.vy), L.vy);
+  store(select(over, before.t, g.t), L.t), store(g.coll, L.coll), store(g.zero, L.zero);
   const unsigned straight_m = bits(h.straight), up_m = bits(h.up), right_m = bits(h.right);
   for_lanes(bits(done) & g.live_mask, [&](int i) {
     End e;
@@ -474,7 +481,8 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
              : ((sm >> i) & 1) ? LaneEnd::stuck
              : ((hm >> i) & 1) ? LaneEnd::handed_back
                                : LaneEnd::survived;
-    e.t = e.fate == LaneEnd::survived ? S.t_max : L.t[i];
+    e.t = L.t[i];
+    e.weight = L.w[i];
     e.qx = L.qx[i];
     e.qy = L.qy[i];
     e.vx = L.vx[i];
@@ -492,7 +500,7 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
 inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
                  DensityHit* buf, int& used) {
   const V R(S.r), HD(S.half_d), TMAX(S.t_max), ZERO(0.0), ONE(1.0);
-  const V vx = g.vx, vy = g.vy;
+  const V vx = g.vx, vy = g.vy, qx0 = g.qx, qy0 = g.qy, t0 = g.t;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
   const V t = g.t + h.t;
   const MV over = t > TMAX;
@@ -520,7 +528,7 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
     handoff = h.straight & !over & !esc & (room * abs(g.vy) >= V(2 * S.handoff_bounces) * R * abs(g.vx));
   }
   const MV done = over | esc | stuck | handoff;
-  if (bits(done) & g.live_mask) retire(S, g, h, done, esc, stuck, over, handoff, ctx, next, finish);
+  if (bits(done) & g.live_mask) retire(S, g, h, done, esc, stuck, over, handoff, {qx0, qy0, vx, vy, t0}, ctx, next, finish);
 }
 
 }  // namespace

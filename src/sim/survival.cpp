@@ -20,18 +20,51 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
   std::uint64_t alive = scene.particles;
   out[0] = alive;
   for (std::size_t k = 0; k < tally.escapes_per_bin.size(); ++k) {
+    if (tally.split) alive += tally.born_per_bin[k] - tally.culled_per_bin[k];  // members: copies in, roulette out
     alive -= tally.escapes_per_bin[k];
     out[k + 1] = alive;
   }
   return out;
 }
 
+namespace {
+
+/// The split run's P, R, G and lines alive from the exact line tallies.
+void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
+  c.weighted = c.lines = true;
+  c.max_weight = scene.sampling.kind == SamplingKind::uniform ? 1 : 1 / scene.sampling.eps;
+  const double n = static_cast<double>(scene.particles);
+  FixedSum in, out, in2, out2;
+  std::uint64_t ended = 0;
+  double g = 0;
+  for (std::size_t j = 0; j < tally.line_in.size(); ++j) {
+    in.merge(tally.line_in[j]);
+    out.merge(tally.line_out[j]);
+    in2.merge(tally.line2_in[j]);
+    out2.merge(tally.line2_out[j]);
+    ended += tally.lines_ended[j];
+    const FixedSum y = in.minus(out), y2 = in2.minus(out2);  // exact: sum Y_i(t_j), sum Y_i(t_j)^2
+    c.P_w.push_back(y.value() / n);
+    // R = N sum Y^2 / (sum Y)^2 from the scaled sums (sum Y^2 may lie far below the double range)
+    const FixedSum::Scaled s1 = y.scaled(), s2 = y2.scaled();
+    const double r = s1.m > 0 ? n * std::ldexp(s2.m / (s1.m * s1.m), static_cast<int>(s2.e - 2 * s1.e)) : 0.0;
+    c.R.push_back(r);
+    if (r > 0) g = std::max(g, (r - 1) / n);
+    c.G.push_back(g);
+    c.lines_alive.push_back(scene.particles - ended);
+  }
+}
+
+}  // namespace
+
 SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   SurvivalCurve c;
   c.t = survival_times(scene);
   c.survivors = survivors_on_grid(scene, tally);
   c.particles = scene.particles;
-  if (tally.weighted) {
+  if (tally.split) {
+    line_curve(scene, tally, c);
+  } else if (tally.weighted) {
     // exact cumulative sums, rounded once per grid point
     c.weighted = true;
     c.max_weight = 1 / scene.sampling.eps;
@@ -52,11 +85,13 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
 double SurvivalCurve::P_err(std::size_t i) const {
   const double n = static_cast<double>(particles), p = P(i);
   if (!weighted) return std::sqrt(p * (1 - p) / n);
+  if (lines) return p * std::sqrt(std::max(0.0, R[i] - 1) / n);
   return std::sqrt(std::max(0.0, Q[i] - p * p) / n);
 }
 
 double SurvivalCurve::effective(std::size_t i) const {
   if (!weighted) return static_cast<double>(survivors[i]);
+  if (lines) return R[i] > 0 ? static_cast<double>(particles) / R[i] : 0.0;
   return Q[i] > 0 ? static_cast<double>(particles) * P_w[i] * P_w[i] / Q[i] : 0.0;
 }
 
@@ -64,6 +99,7 @@ double SurvivalCurve::log_cov(std::size_t i, std::size_t j) const {
   const std::size_t a = std::min(i, j), b = std::max(i, j);
   const double n = static_cast<double>(particles);
   if (!weighted) return (1 - P(a)) / (n * P(a));
+  if (lines) return G[a];
   return (Q[b] - P_w[a] * P_w[b]) / (n * P_w[a] * P_w[b]);
 }
 

@@ -19,6 +19,12 @@ struct SurvivalCurve {
   bool weighted = false;
   std::vector<double> P_w, Q;
   double max_weight = 1;  ///< the largest weight a particle can have (1 / eps for the mupo mixture)
+  /// Split runs (weighted too): the N lines are the independent units. P_w[i] = (1/N) sum_i Y_i(t), Y_i
+  /// a line's living weight; R[i] = N sum Y^2 / (sum Y)^2 (1 for equal lines; its second moment
+  /// relative to P^2, which stays in range where Q itself would underflow); lines_alive[i]; Q unused.
+  bool lines = false;
+  std::vector<double> R;
+  std::vector<std::uint64_t> lines_alive;
 
   double P(std::size_t i) const {
     return weighted ? P_w[i] : static_cast<double>(survivors[i]) / static_cast<double>(particles);
@@ -28,8 +34,14 @@ struct SurvivalCurve {
   /// Effective number of survivors: the count, or (sum w)^2 / sum w^2 = N P^2 / Q for weighted runs.
   double effective(std::size_t i) const;
   /// Cov(ln P(t_i), ln P(t_j)): Greenwood's (1 - P_a) / (N P_a) for a = min(i, j); weighted runs
-  /// (Q_b - P_a P_b) / (N P_a P_b) with b = max(i, j) (the same for unit weights).
+  /// (Q_b - P_a P_b) / (N P_a P_b) with b = max(i, j) (the same for unit weights); split runs
+  /// Var(ln P(t_a)) = (R_a - 1) / N, made non-decreasing in a (see G).
   double log_cov(std::size_t i, std::size_t j) const;
+  /// Split runs: G[a] = max over k <= a of (R_k - 1) / N. The model: given the past at t_a, a line's
+  /// weight decays on average like P itself (E[Y(b) | t_a] = Y(a) P_b / P_a, mixing), so ln P has
+  /// independent increments with the variance the lines show; the running maximum keeps that
+  /// variance from falling where the spread of a few lines happens to dip.
+  std::vector<double> G;
 };
 
 /// Grid times t_k = k dt for k = 0..bins, the last one clamped to t_max.
