@@ -3,17 +3,21 @@
 # (default 3): survival.csv and fc.csv must be byte-identical to an uninterrupted run's (made with
 # another thread count). The scene exercises every tally: importance-sampling weights (exact sums),
 # f_c, a rotating leak; checkpoints every 0.2 s so that kills land between and during them.
-# Usage: scripts/checkpoint_kill_trials.sh ROTLEAK_BINARY [N] [PARTICLES]    Exit 1 on the first violation.
+# Further arguments are extra scene keys (run.splitting=true: a split run).
+# Usage: scripts/checkpoint_kill_trials.sh ROTLEAK_BINARY [N] [PARTICLES] [KEY=VALUE ...]
+# Exit 1 on the first violation.
 set -euo pipefail
 bin=$(realpath "$1")
 trials=${2:-3}
 particles=${3:-400000}
+extra=()
+for kv in "${@:4}"; do extra+=(--set "$kv"); done
 scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 args=("$scene" --particles "$particles" --set leak.omega=2/3 --set ensemble.sampling=mupo --set run.t_max=5000
-  --set 'observe.collision_density={bins=100}' --set run.checkpoint_seconds=0.2 --no-progress)
+  --set 'observe.collision_density={bins=100}' --set run.checkpoint_seconds=0.2 ${extra[@]+"${extra[@]}"} --no-progress)
 t0=$(date +%s.%N)
 "$bin" simulate "${args[@]}" --threads 1 --out whole >/dev/null
 span=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { print (b - a) / 2 }')  # two threads below

@@ -88,7 +88,7 @@ TEST(FixedSum, KeepsTinyTermsExactlyInAnyOrder) {
   sq2.add_square(1e-300);
   EXPECT_EQ(sq.value(), 0.0);  // below the double range
   EXPECT_EQ(sq2.scaled().over(sq.scaled()), 2.0);
-  EXPECT_NEAR(std::log10(sq.scaled().m) + sq.scaled().e * std::log10(2.0), -600.0, 1e-12);
+  EXPECT_NEAR(std::log10(sq.scaled().m) + static_cast<double>(sq.scaled().e) * std::log10(2.0), -600.0, 1e-12);
   // (1 + 2^-52)^2 = 1 + 2^-51 + 2^-104: add_square keeps the last bit that x * x rounds away
   FixedSum exact_sq, one;
   exact_sq.add_square(1 + 0x1p-52);

@@ -21,8 +21,8 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
     {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
-    {"run", {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta",
-             "split_cap"}},
+    {"run",
+     {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors"}},
 };
@@ -223,8 +223,8 @@ void read_splitting(const Reader& in, Scene& s) {
   s.splitting.every = in.number("run", "split_every", default_split_every(s));
   if (!(s.splitting.every > 0 && s.splitting.every <= s.t_max))
     throw InputError("run.split_every", shown(*in.find("run", "split_every")),
-                     "must be a time in (0, run.t_max] = (0, " + shortest(s.t_max) + "] (default: ln 2 / (lambda L / (pi Area)) = " +
-                         shortest(default_split_every(s)) + ")");
+                     "must be a time in (0, run.t_max] = (0, " + shortest(s.t_max) +
+                         "] (default: ln 2 / (lambda L / (pi Area)) = " + shortest(default_split_every(s)) + ")");
   if (s.t_max / s.splitting.every > 100000)
     throw InputError("run.split_every", shown(*in.find("run", "split_every")),
                      "gives more than 10^5 split times before run.t_max; at most 10^5 are allowed");

@@ -81,6 +81,7 @@ std::string encode_tally_file(const TallyFile& f) {
     w.words(t.born_per_bin);
     w.words(t.culled_per_bin);
     for (std::uint64_t x : {t.splits, t.culls, t.levels, t.max_population, t.max_line}) w.word(x);
+    for (const FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) put_sum(w, *sum);
   }
   for (const EscapeRecord& r : f.records) {
     w.real(r.t);
@@ -163,6 +164,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     r.words(t.born_per_bin);
     r.words(t.culled_per_bin);
     for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
+    for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
   }
   for (EscapeRecord& e : f.records) {
     e.t = r.real();

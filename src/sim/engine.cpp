@@ -72,6 +72,12 @@ void Tally::merge(const Tally& o) {
     }
     splits += o.splits;
     culls += o.culls;
+    for (auto [a, b] : {std::pair{&w_start, &o.w_start},
+                        {&w_gained, &o.w_gained},
+                        {&w_escaped, &o.w_escaped},
+                        {&w_removed, &o.w_removed},
+                        {&w_alive_end, &o.w_alive_end}})
+      a->merge(*b);
     levels = std::max(levels, o.levels);
     max_population = std::max(max_population, o.max_population);
     max_line = std::max(max_line, o.max_line);
@@ -296,7 +302,9 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
     throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
                                 std::to_string(scene.particles) + " particles");
   const DrawSource source{sampler.get(), opt.first_id, opt.draws};
-  const std::unique_ptr<SplitRule> split_rule = scene.splitting.on ? make_split_rule(scene) : nullptr;
+  const std::unique_ptr<SplitRule> scene_rule =
+      scene.splitting.on && !opt.split_rule ? make_split_rule(scene) : nullptr;
+  const SplitRule* split_rule = scene.splitting.on ? (opt.split_rule ? opt.split_rule : scene_rule.get()) : nullptr;
   if (scene.splitting.on && (!std::is_same_v<R, double> || opt.draws || scene.escape_records))
     throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
   RunResult result;
@@ -409,7 +417,8 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
             starts.resize(members.size());
             for (std::size_t i = 0; i < members.size(); ++i) {
               const ParticleState<double>& ps = members[i].ps;
-              starts[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions), weights[i]};
+              starts[i] = {ps.q.x,    ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions),
+                           weights[i]};
             }
             SimdContext ctx{&epoch, source, 0, members.size(), put, {}};
             ctx.members = &starts;
@@ -486,6 +495,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
       break;
     }
   }
+  check_conservation(result.tally, result.done, n);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (opt.progress && result.complete) opt.progress(goal, goal, result.tally.collisions, true);
   return result;
@@ -505,6 +515,28 @@ void density_cells(int windows, const double* from, const double* to, unsigned* 
     cells[c] = 0;
     for (int w = 0; w < windows; ++w)
       if (cell_of(from[w]) <= c && c <= cell_of(to[w])) cells[c] |= 1u << w;
+  }
+}
+
+void check_conservation(const Tally& t, const IntervalSet& done, std::uint64_t n) {
+  if (!t.split) {
+    const std::uint64_t ran = particles_in(done, n), ended = t.escaped + t.survived + t.stuck;
+    if (ended != ran)
+      throw std::logic_error("tally does not add up: " + std::to_string(t.escaped) + " escaped + " +
+                             std::to_string(t.survived) + " survived + " + std::to_string(t.stuck) + " stuck = " +
+                             std::to_string(ended) + " particles, but the blocks done hold " + std::to_string(ran));
+    return;
+  }
+  FixedSum in = t.w_start, out = t.w_escaped;
+  in.merge(t.w_gained);
+  out.merge(t.w_removed);
+  out.merge(t.w_alive_end);
+  if (!(in == out)) {
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "split run: weight not conserved (start + roulette gains %.17g, escaped + removed + alive %.17g)",
+                  in.value(), out.value());
+    throw std::logic_error(why);
   }
 }
 

@@ -49,6 +49,10 @@ struct Tally {
   std::uint64_t levels = 0;          ///< split times passed by the longest-lived line (maximum over blocks)
   std::uint64_t max_population = 0;  ///< most members of one block at one split time
   std::uint64_t max_line = 0;        ///< most members of one line at one split time, before the roulette
+  /// Weight conservation, exact (member weights are w0 2^-level): the lines' starting weight plus what
+  /// roulette survivors gained equals the weight escaped, removed by the roulette, and alive at the
+  /// end (survived to t_max, or stuck). A split keeps it exactly; check_conservation() enforces it.
+  FixedSum w_start, w_gained, w_escaped, w_removed, w_alive_end;
 
   void resize(const Scene& scene);
   void merge(const Tally& other);
@@ -57,6 +61,8 @@ struct Tally {
 /// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes a register,
 /// or AVX-512, 8).
 enum class Engine { automatic, scalar, simd };
+
+class SplitRule;
 
 struct RunOptions {
   int threads = 0;                    ///< 0: OpenMP's default
@@ -68,6 +74,8 @@ struct RunOptions {
   /// When set, particle i starts from (*draws)[i] instead of the scene's draw of its id (its size
   /// must be scene.particles): how verify replays chosen trajectories through the engine.
   const std::vector<InitialDraw>* draws = nullptr;
+  /// Split runs: the rule that picks which members split (null: the scene's, make_split_rule).
+  const SplitRule* split_rule = nullptr;
   /// Called from one thread at a time, at most after every block of particles: particles done of
   /// total, collisions so far; once more with final = true at the end. Empty: no reports.
   std::function<void(std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final)> progress;
@@ -108,6 +116,11 @@ struct RunResult {
 /// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
 /// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
 void density_cells(int windows, const double* from, const double* to, unsigned* cells);
+
+/// Throws std::logic_error unless the tally of the blocks `done` of a run of n particles adds up:
+/// escaped + survived + stuck particles equal the particles of those blocks (runs without splitting),
+/// and a split run's weights are conserved exactly (Tally::w_start ...). Every run checks its result.
+void check_conservation(const Tally& t, const IntervalSet& done, std::uint64_t n);
 
 /// The engine `requested` resolves to for this scene on this CPU.
 Engine resolve_engine(Engine requested, const Scene& scene);

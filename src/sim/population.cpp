@@ -16,8 +16,8 @@ constexpr std::uint64_t kStreamSplit = 2;
 constexpr std::uint64_t kPurposeTurn = 0;  ///< purpose 1 + r: roulette round r
 
 /// Philox words for member `index` of `line` at split `level`, for a purpose.
-r123::Philox4x64::ctr_type split_words(std::uint64_t seed, std::uint64_t line, std::uint64_t level,
-                                       std::uint64_t index, std::uint64_t purpose) {
+r123::Philox4x64::ctr_type split_words(std::uint64_t seed, std::uint64_t line, std::uint64_t level, std::uint64_t index,
+                                       std::uint64_t purpose) {
   r123::Philox4x64 gen;
   const r123::Philox4x64::key_type key = {{seed, kStreamSplit}};
   const r123::Philox4x64::ctr_type ctr = {{line, level, index, purpose}};
@@ -131,6 +131,7 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
   for (std::uint64_t id = lo; id < hi; ++id) {
     const InitialDraw d = sampler.draw(id);
     w0[id - lo] = sampler.weight(d);
+    t.w_start.add(w0[id - lo]);
     books.emplace_back(w0[id - lo], points);
     pop.push_back({initial_state(st, d), 0, id, 0, 0});
   }
@@ -156,9 +157,13 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
       order.clear();
       for (std::size_t i = a; i < b; ++i) {
         t.collisions += ends[i].collisions - pop[i].collisions;
-        if (ends[i].fate == Fate::escaped) order.push_back(i);
+        if (ends[i].fate == Fate::escaped) {
+          order.push_back(i);
+          t.w_escaped.add(weights[i]);
+        }
         if (ends[i].fate == Fate::stuck) ++t.stuck;
         if (ends[i].fate == Fate::survived && last) ++t.survived;
+        if (ends[i].fate == Fate::stuck || (ends[i].fate == Fate::survived && last)) t.w_alive_end.add(weights[i]);
       }
       std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ends[x].t < ends[y].t; });
       for (std::size_t i : order) {
@@ -204,11 +209,14 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
             Member& m = next[i];
             const auto w = split_words(scene.seed, line, k + 1, m.index, 1 + round);
             book.add(m.level, -1);
+            const double weight = std::ldexp(w0[line - lo], -m.level);
             if (w[0] & 1) {
+              t.w_gained.add(weight);
               --m.level;
               book.add(m.level, 1);
               next[kept++] = m;
             } else {
+              t.w_removed.add(weight);
               ++t.culls;
               ++t.culled_per_bin[bin_of(stop)];
             }

@@ -1,0 +1,279 @@
+// Population splitting (sim/population.hpp): the machinery changes nothing when no member splits,
+// the split estimate agrees with plain uniform runs wherever both resolve P, and neither the copy's
+// turn nor the split schedule moves P beyond its errors; every engine, lane width and thread count
+// gives the same bits. Statistical tests compare independent runs (different seeds), each at 4
+// combined standard errors (P_err from the lines' spread, binomial for uniform runs); the
+// multiple-testing rule is Bonferroni: with M comparisons in a test, the chance that a correct engine
+// fails it is at most M x 6.3e-5 (two-sided normal tail at 4 sigma), stated in each test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "sim/engine.hpp"
+#include "sim/population.hpp"
+#include "sim/simd_engine.hpp"
+#include "sim/survival.hpp"
+
+namespace rotleak {
+namespace {
+
+Scene scene_of(const std::string& file, std::vector<std::string> sets) {
+  return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/" + file, sets);
+}
+
+struct Outcome {
+  Scene scene;
+  RunResult result;
+  SurvivalCurve curve;
+};
+
+Outcome run(const Scene& scene, RunOptions opt = {}) {
+  RunResult r = run_ensemble(scene, opt);
+  SurvivalCurve c = survival_curve(scene, r.tally);
+  return {scene, std::move(r), std::move(c)};
+}
+
+/// Equal texts, or the first line where they differ and both sizes (never a full diff of megabytes).
+::testing::AssertionResult same_text(const std::string& a, const std::string& b) {
+  if (a == b) return ::testing::AssertionSuccess();
+  std::size_t line = 1, i = 0;
+  while (i < a.size() && i < b.size() && a[i] == b[i]) line += a[i++] == '\n';
+  const auto row = [&](const std::string& s) {
+    const std::size_t from = s.rfind('\n', i == 0 ? 0 : i - 1);
+    const std::size_t start = from == std::string::npos ? 0 : from + 1;
+    return s.substr(start, s.find('\n', start) - start);
+  };
+  return ::testing::AssertionFailure() << "first difference on line " << line << ": \"" << row(a) << "\" vs \""
+                                       << row(b) << "\" (" << a.size() << " and " << b.size() << " bytes)";
+}
+
+/// The grid index nearest time t.
+std::size_t at_time(const SurvivalCurve& c, double t) {
+  std::size_t i = 0;
+  while (i + 1 < c.t.size() && c.t[i] < t) ++i;
+  return i;
+}
+
+/// |P_a - P_b| within 4 combined standard errors at grid index i (both resolved there); returns the
+/// number of comparisons made (0 or 1).
+int compare(const SurvivalCurve& a, const SurvivalCurve& b, std::size_t i, const std::string& what) {
+  if (a.effective(i) < 100 || b.effective(i) < 100) return 0;
+  const double se = std::hypot(a.P_err(i), b.P_err(i));
+  EXPECT_LT(std::abs(a.P(i) - b.P(i)), 4 * se) << what << " at t = " << a.t[i] << ": " << a.P(i) << " +- " << a.P_err(i)
+                                               << " vs " << b.P(i) << " +- " << b.P_err(i);
+  return 1;
+}
+
+class NeverSplit final : public SplitRule {
+ public:
+  int copies(const Member&) const override { return 1; }
+  std::string name() const override { return "never"; }
+};
+
+// Members stopped at every split time and started again from their last collision follow the very
+// trajectory an unsplit run follows: with a rule that never splits, every line is its one particle,
+// and P (exact sums of the same weights), the member counts and the weighted f_c equal the plain
+// mupo run's bit for bit -- on both engines, with the fast-forward and a rotating leak. Exact.
+TEST(Splitting, NeverSplittingGivesThePlainRunBitForBit) {
+  for (const char* engine : {"simd", "scalar"}) {
+    const std::string particles = std::string(engine) == "simd" ? "20000" : "4000";
+    const std::vector<std::string> sets = {"ensemble.sampling=mupo",
+                                           "leak.omega=2/3",
+                                           "run.t_max=3000",
+                                           "run.fast_forward=true",
+                                           "ensemble.particles=" + particles,
+                                           "observe.collision_density={bins=50, windows=[[0,3000],[1000,3000]]}"};
+    Scene plain = scene_of("stationary_sL_0.toml", sets);
+    Scene split = plain;
+    split.splitting.on = true;
+    split.splitting.every = 97;  // 30 stops, none at a grid time
+    RunOptions opt;
+    opt.engine = std::string(engine) == "simd" ? Engine::simd : Engine::scalar;
+    if (opt.engine == Engine::simd && !simd::available()) continue;
+    const NeverSplit never;
+    opt.split_rule = &never;
+    const Outcome a = run(plain, opt), b = run(split, opt);
+    ASSERT_EQ(a.curve.t.size(), b.curve.t.size());
+    for (std::size_t i = 0; i < a.curve.t.size(); ++i) {
+      ASSERT_EQ(a.curve.P(i), b.curve.P(i)) << engine << " t = " << a.curve.t[i];
+      ASSERT_EQ(a.curve.survivors[i], b.curve.survivors[i]) << engine << " t = " << a.curve.t[i];
+    }
+    EXPECT_EQ(a.result.tally.collisions, b.result.tally.collisions) << engine;
+    EXPECT_EQ(a.result.tally.collision_density, b.result.tally.collision_density) << engine;
+    EXPECT_TRUE(a.result.tally.collision_density_w == b.result.tally.collision_density_w) << engine;
+    EXPECT_EQ(b.result.tally.splits, 0u);
+    EXPECT_EQ(b.result.tally.levels, 30u);
+    // each line is one particle: its weight squared is the plain run's w^2 (to rounding: w * w there)
+    const std::size_t mid = at_time(a.curve, 1500);
+    EXPECT_NEAR(b.curve.P_err(mid), a.curve.P_err(mid), 1e-6 * a.curve.P_err(mid)) << engine;
+  }
+}
+
+// (a) Split (mupo + splitting, 2*10^4 lines) against plain uniform runs (4*10^5 particles) on the six
+// published stationary rows and two rotating leaks, at 10 times from 50 to 3000 wherever the uniform
+// run keeps 100 survivors and the split run 100 effective lines. Error model: binomial for the uniform
+// run, the lines' spread for the split run, independent seeds. M <= 80 comparisons: a correct engine
+// fails with probability <= 0.5%.
+TEST(Splitting, AgreesWithUniformRunsOnTheTableRowsAndRotatingLeaks) {
+  struct Case {
+    std::string file, omega;
+  };
+  const std::vector<Case> cases = {{"stationary_sL_0.toml", "0"},      {"stationary_sL_0.1.toml", "0"},
+                                   {"stationary_sL_0.1022.toml", "0"}, {"stationary_sL_0.1024.toml", "0"},
+                                   {"stationary_sL_0.11.toml", "0"},   {"stationary_sL_0.25.toml", "0"},
+                                   {"stationary_sL_0.toml", "1"},      {"stationary_sL_0.toml", "2/3"}};
+  int comparisons = 0;
+  for (const Case& c : cases) {
+    const std::vector<std::string> common = {"run.t_max=3000", "leak.omega=" + c.omega};
+    std::vector<std::string> u = common, s = common;
+    u.push_back("ensemble.particles=400000");
+    u.push_back("ensemble.seed=101");
+    for (const char* k :
+         {"ensemble.particles=20000", "ensemble.seed=202", "ensemble.sampling=mupo", "run.splitting=true"})
+      s.push_back(k);
+    const Outcome uniform = run(scene_of(c.file, u)), split = run(scene_of(c.file, s));
+    const std::string what = c.file + " omega " + c.omega;
+    for (double t : {50, 100, 200, 300, 500, 750, 1000, 1500, 2000, 3000})
+      comparisons += compare(split.curve, uniform.curve, at_time(split.curve, t), what);
+  }
+  EXPECT_GE(comparisons, 50) << "too few times resolved by both runs to test anything";
+  EXPECT_LE(comparisons, 80);
+}
+
+/// The 100/101 leak (no tail: P falls to 1e-12 by t ~ 6000), split, `lines` lines, with extra keys.
+Outcome deep(std::uint64_t seed, std::vector<std::string> sets, std::uint64_t lines = 60000) {
+  sets.insert(sets.end(), {"leak.omega=100/101", "run.t_max=6000", "ensemble.sampling=mupo", "run.splitting=true",
+                           "ensemble.particles=" + std::to_string(lines), "ensemble.seed=" + std::to_string(seed)});
+  return run(scene_of("stationary_sL_0.toml", sets));
+}
+
+// (b) The copy's turn is the perturbation rounding makes anyway: turns of 1e-6, 1e-9 and 1e-14 rad
+// give the same P at P ~ 1e-8 and ~ 1e-12 (t = 4000, 6000). Independent seeds, 6 comparisons (a
+// correct engine fails with probability <= 4e-4).
+TEST(Splitting, TheCopysTurnDoesNotMoveP) {
+  const Outcome a = deep(31, {"run.split_delta=1e-6"}), b = deep(32, {"run.split_delta=1e-9"}),
+                c = deep(33, {"run.split_delta=1e-14"});
+  int comparisons = 0;
+  for (double t : {4000, 6000}) {
+    const std::size_t i = at_time(a.curve, t);
+    comparisons += compare(a.curve, b.curve, i, "1e-6 vs 1e-9");
+    comparisons += compare(a.curve, c.curve, i, "1e-6 vs 1e-14");
+    comparisons += compare(b.curve, c.curve, i, "1e-9 vs 1e-14");
+  }
+  EXPECT_EQ(comparisons, 6);
+  EXPECT_LT(a.curve.P(a.curve.t.size() - 1), 1e-11);  // deep enough to mean something
+  EXPECT_GT(a.curve.P(a.curve.t.size() - 1), 1e-13);
+}
+
+// (c) The schedule only moves the variance: split_every = 100, 150 and 300 give the same P wherever
+// both runs of a pair resolve it (100 effective lines), at five times from 500 to 6000 (P from 1e-1
+// to 1e-12). Splitting every 300 halves the population each period, so its lines die out before
+// t = 6000 (those comparisons are skipped); every 100 outgrows the decay and the roulette holds each
+// line at split_cap members. Independent seeds, at most 15 comparisons (a correct engine fails with
+// probability <= 1e-3).
+TEST(Splitting, TheScheduleDoesNotMoveP) {
+  const Outcome a = deep(41, {"run.split_every=100"}, 20000), b = deep(42, {"run.split_every=150"}, 20000),
+                c = deep(43, {"run.split_every=300"}, 20000);
+  int comparisons = 0;
+  for (double t : {500, 1000, 2500, 4000, 6000}) {
+    const std::size_t i = at_time(a.curve, t);
+    comparisons += compare(a.curve, b.curve, i, "100 vs 150");
+    comparisons += compare(a.curve, c.curve, i, "100 vs 300");
+    comparisons += compare(b.curve, c.curve, i, "150 vs 300");
+  }
+  EXPECT_GE(comparisons, 9);            // 100 vs 150 at all five times, and the early times of every pair
+  EXPECT_GT(a.result.tally.culls, 0u);  // the cap held the fast schedule
+}
+
+// (d) A split run is the same bits on 1 or 2 threads, on the scalar core or the kernel (4 and 8
+// lanes where the CPU has them), and when its blocks are run in two parts and merged (a resume). Exact.
+TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
+  const Scene scene =
+      scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "run.splitting=true", "leak.omega=2/3",
+                                        "run.t_max=3000", "run.fast_forward=true", "ensemble.particles=9000",
+                                        "observe.collision_density={bins=40, windows=[[0,3000],[1500,3000]]}"});
+  RunOptions base;
+  base.engine = Engine::scalar;
+  base.threads = 1;
+  const Outcome ref = run(scene, base);
+  const std::string csv = survival_csv(ref.curve), fc = density_csv(scene, ref.result.tally);
+  EXPECT_GT(ref.result.tally.splits, 1000u);
+  std::vector<std::pair<std::string, RunOptions>> others;
+  RunOptions two = base;
+  two.threads = 2;
+  others.push_back({"scalar, 2 threads", two});
+  for (int lanes : {4, 8}) {
+    if (!simd::lanes_available(lanes)) {
+      std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
+      continue;
+    }
+    RunOptions o = two;
+    o.engine = Engine::simd;
+    o.simd_lanes = lanes;
+    others.push_back({"kernel, " + std::to_string(lanes) + " lanes", o});
+  }
+  for (const auto& [what, opt] : others) {
+    const Outcome r = run(scene, opt);
+    EXPECT_TRUE(same_text(csv, survival_csv(r.curve))) << what;
+    EXPECT_TRUE(same_text(fc, density_csv(scene, r.result.tally))) << what;
+    EXPECT_EQ(ref.result.tally.splits, r.result.tally.splits) << what;
+    EXPECT_EQ(ref.result.tally.max_population, r.result.tally.max_population) << what;
+  }
+  // blocks 0 and 2 first, then block 1 with the first part's tallies as the start (what --resume does)
+  RunOptions first = two, rest = two;
+  IntervalSet done_first = IntervalSet::range(0, 1);
+  done_first.insert(2, 3);
+  first.blocks = &done_first;
+  const Outcome a = run(scene, first);
+  const IntervalSet todo = IntervalSet::range(1, 2);
+  rest.blocks = &todo;
+  rest.start = &a.result.tally;
+  rest.start_done = &done_first;
+  const Outcome b = run(scene, rest);
+  EXPECT_TRUE(same_text(csv, survival_csv(b.curve))) << "resumed";
+}
+
+// Deep P stays a number: 100/101 reaches P(6000) ~ 1e-12 with a few per cent error from 6*10^4 lines,
+// survival.csv prints it, reads back, and the error is what the lines' spread gives.
+TEST(Splitting, DeepValuesSurviveTheFile) {
+  const Outcome r = deep(51, {}, 20000);
+  const std::string csv = survival_csv(r.curve);
+  const SurvivalCurve back = read_survival_csv(csv, r.scene);
+  const std::size_t last = r.curve.t.size() - 1;
+  EXPECT_LT(r.curve.P(last), 1e-10);
+  EXPECT_GT(r.curve.P(last), 0.0);
+  EXPECT_LT(r.curve.P_err(last) / r.curve.P(last), 0.2);
+  EXPECT_DOUBLE_EQ(back.P(last), r.curve.P(last));
+  EXPECT_NEAR(back.P_err(last), r.curve.P_err(last), 1e-12 * r.curve.P_err(last));
+  EXPECT_GT(r.curve.lines_alive[last], 0u);
+  EXPECT_LT(r.curve.lines_alive[last], r.scene.particles);
+}
+
+TEST(Splitting, SceneKeysAreChecked) {
+  const auto refused = [](std::vector<std::string> sets, const std::string& key) {
+    try {
+      scene_of("stationary_sL_0.toml", sets);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << sets.front();
+  };
+  refused({"run.split_every=100"}, "run.split_every");
+  refused({"run.splitting=true", "run.split_every=0"}, "run.split_every");
+  refused({"run.splitting=true", "run.split_delta=0.5"}, "run.split_delta");
+  refused({"run.splitting=true", "run.split_cap=1"}, "run.split_cap");
+  refused({"run.splitting=true", "run.tier=float"}, "run.splitting");
+  refused({"run.splitting=true", "observe.escapes=true"}, "run.splitting");
+  refused({"run.splitting=1"}, "run.splitting");
+  const Scene s = scene_of("stationary_sL_0.toml", {"run.splitting=true"});
+  EXPECT_NEAR(s.splitting.every, 151.23, 0.01);  // ln 2 / (lambda L / (pi Area)) for the default stadium
+  EXPECT_EQ(s.splitting.delta, 1e-12);
+}
+
+}  // namespace
+}  // namespace rotleak
