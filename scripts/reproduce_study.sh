@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Reproduces the study panel by panel (data/study/panels.tsv: one rotleak scan each, on
-# data/study/study.toml, with importance sampling), the MUPO coverings of the rotating panels, then
+# data/study/study.toml, with importance sampling, the fast-forward and population splitting), the
+# MUPO coverings of the rotating panels, then
 # writes docs/study/README.md (scripts/study_report.py): every figure and the published-vs-ours table.
 # Resumable: a re-run skips every complete point (rotleak scan). Usage:
-#   scripts/reproduce_study.sh --quick   # 10^5 particles a point, runs/study-quick, a few minutes on 2 cores
-#   scripts/reproduce_study.sh           # 10^7 particles a point, runs/study, docs/study/full (expected time printed first)
+#   scripts/reproduce_study.sh --quick   # 10^5 lines a point, runs/study-quick, a few minutes on 2 cores
+#   scripts/reproduce_study.sh           # 10^6 lines a point, runs/study, docs/study/full (expected time printed first)
+# (a line: a starting particle and its descendants, run.splitting; docs/model.md "Deep tails")
 # ROTLEAK (default build/rotleak) names the binary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,13 +18,13 @@ if [ "$quick" = 1 ]; then
   out=runs/study-quick
   docs=docs/study
 else
-  particles=10000000
+  particles=1000000
   out=runs/study
   docs=docs/study/full
-  # measured on the 2-core development machine (AMD EPYC): 104.5 min for all panels (6239 s of point
-  # simulations), plus about 45 min for the stationary panel's f_c since the fast-forward shows each
-  # skipped bounce to f_c (436 s for s_L = 0)
-  echo "reproduce_study: full run, 10^7 particles a point: expect about 2.5 hours on 2 cores (resumable)" >&2
+  # measured on the 2-core development machine (AMD EPYC): the stationary panel's f_c points take about
+  # 2 minutes each (117 s for s_L = 0: every fast-forwarded bounce is binned), the rotating points
+  # seconds to a minute
+  echo "reproduce_study: full run, 10^6 lines a point: expect about an hour on 2 cores (resumable)" >&2
 fi
 mkdir -p "$out"
 start=$(date +%s)
@@ -31,7 +33,7 @@ while IFS=$'\t' read -r name title args; do
   echo "reproduce_study: panel $name: $title" >&2
   # shellcheck disable=SC2086  # the panel's arguments are words
   "$rotleak" scan data/study/study.toml $args --particles "$particles" --set ensemble.sampling=mupo \
-    --set run.fast_forward=true --out "$out/$name" --no-progress >/dev/null
+    --set run.fast_forward=true --set run.splitting=true --out "$out/$name" --no-progress >/dev/null
   "$rotleak" plot "$out/$name" >/dev/null
   if [ "$name" = stationary ]; then  # f_c of each leak
     for point in "$out/$name"/points/*/; do "$rotleak" plot "$point" >/dev/null; done

@@ -60,8 +60,9 @@ def main():
                 name, title, args = line.rstrip("\n").split("\t")
                 panels.append((name, title, args))
     out = ["# The study, panel by panel", "",
-           "Written by `scripts/reproduce_study.sh%s` (%d particles a point, importance sampling "
-           "`ensemble.sampling = \"mupo\"` with fast-forward, on %s, %d cores; this invocation took %d s, complete points being skipped on a "
+           "Written by `scripts/reproduce_study.sh%s` (%d lines a point: importance sampling "
+           "`ensemble.sampling = \"mupo\"` with fast-forward and population splitting `run.splitting = true`, "
+           "docs/model.md \"Deep tails\"; on %s, %d cores; this invocation took %d s, complete points being skipped on a "
            "re-run; SIM_TOTAL). Each panel is one "
            "`rotleak scan` of `data/study/study.toml` (d = 2, r = 1, leak width 0.01 at s_L = 0) over the values "
            "in `data/study/panels.tsv`; every point is an ordinary run directory, so `rotleak fit` re-analyses "
@@ -77,7 +78,8 @@ def main():
         sim = sum(p.get("wall_seconds") or 0 for p in doc["points"])
         sim_total += sim
         out += ["## %s" % title, "", "`rotleak scan data/study/study.toml %s --particles %d --set "
-                "ensemble.sampling=mupo --set run.fast_forward=true --out %s` (%d points, %.0f s of simulation: the "
+                "ensemble.sampling=mupo --set run.fast_forward=true --set run.splitting=true --out %s` (%d points, "
+                "%.0f s of simulation: the "
                 "sum of the points' wall times)" % (args, particles, d, len(doc["points"]), sim), ""]
         for png in sorted(p for p in os.listdir(d) if p.endswith(".png")):
             target = "%s_%s" % (name, png)
@@ -135,8 +137,8 @@ def main():
         diff = "%+.1f%%" % (100 * (ours / float(row["value"]) - 1)) if ours and row["kind"] == "value" else "-"
         out.append("| alpha, omega = %s | %s | %s | %s |" % (row["omega"], pub, alpha_text(p["alpha"]), diff))
     out += ["", "Regime boundaries for lambda = 0.01 (published ~4e-4 and ~1e-2): `rotleak regimes`, see the main "
-            "README. Tails below what this particle count resolves are bounds, not values (70/71 needs ~2*10^8 "
-            "particles for a 10% alpha; main README).", "",
+            "README. Tails below what the lines resolve are bounds, not values: an upper bound holds over the times "
+            "where at least 100 effective lines remain.", "",
             "Reading the regimes: the class is measured, never inferred from omega. An omega just off a simple "
             "rational, 1 - 1e-4 or 4/7 + 1/70000, moves the leak, seen from a bouncing-ball orbit sampling it every "
             "2r, by a slow drift. It then behaves like a slow leak: a tail that forms and is swept away, so it is "
@@ -145,7 +147,7 @@ def main():
                             "times on this machine" % (sim_total, sim_total / 3600))
     full = os.path.join(docs, "full", "README.md")
     if particles <= 100000 and os.path.exists(full):
-        out.insert(3, "The full run (10^7 particles a point) is in [full/README.md](full/README.md).\n")
+        out.insert(3, "The full run (10^6 lines a point) is in [full/README.md](full/README.md).\n")
     os.makedirs(docs, exist_ok=True)
     tmp = os.path.join(docs, "README.md.tmp")
     with open(tmp, "w") as f:
