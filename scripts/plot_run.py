@@ -66,7 +66,10 @@ def survival(run, summary):
     scheme = summary.get("sampling", {}).get("scheme", "uniform")
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     for ax, loglog in ((ax1, True), (ax2, False)):
-        ax.plot(t, P, lw=1.2, label="P(t), N = %g%s" % (summary["particles"], "" if scheme == "uniform" else ", " + scheme))
+        split = summary.get("splitting")
+        what = (", %s, split every %.4g" % (scheme, split["split_every"]) if split else
+                "" if scheme == "uniform" else ", " + scheme)
+        ax.plot(t, P, lw=1.2, label="P(t), N = %g%s%s" % (summary["particles"], " lines" if split else "", what))
         if err is not None:  # one standard error either side, where it stays below P
             lo = [max(p - e, p * 1e-3) for p, e in zip(P, err)]
             ax.fill_between(t, lo, [p + e for p, e in zip(P, err)], alpha=0.25, lw=0, color="C0")

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Work-normalised variance of P(t) for uniform sampling, mupo sampling alone, and mupo with population
+splitting, on a leak with no tail (omega = 100/101 by default: P falls exponentially to 1e-20 by
+t = 10000), at the times where the split run's P first falls below 1e-4, 1e-8 and 1e-12, and where it
+is smallest (t_max).
+
+The figure of merit is 1 / (relative variance x work): the larger, the less work for a given relative
+error. Work is counted in collisions (deterministic: the same on any machine and load; fast-forwarded
+bounces included), and the wall seconds of each run are shown beside it. A method "cannot measure" a
+time where it has no survivor (or under 10 effective survivors: its error estimate means nothing there).
+
+Usage: bench/bench_splitting.py [ROTLEAK] [PARTICLES_PLAIN] [LINES_SPLIT] [OMEGA] [OUT_DIR]
+       (defaults: build/rotleak 10000000 1000000 100/101 a temporary directory, removed)
+Writes splitting_fom.png into OUT_DIR when given (matplotlib, Debian's python3-matplotlib)."""
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run(rotleak, out, particles, omega, extra):
+    cmd = [rotleak, "simulate", os.path.join(ROOT, "data", "scenes", "stationary_sL_0.toml"), "--particles",
+           str(particles), "--set", "leak.omega=" + omega, "--set", "run.t_max=10000", "--out", out, "--force",
+           "--no-progress"]
+    for kv in extra:
+        cmd += ["--set", kv]
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    with open(os.path.join(out, "survival.csv"), newline="") as f:
+        rows = [(float(r["t"]), int(r["survivors"]), float(r["P"]), float(r["P_err"])) for r in csv.DictReader(f)]
+    return s, rows
+
+
+def main():
+    rotleak = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "rotleak")
+    plain = int(sys.argv[2]) if len(sys.argv) > 2 else 10000000
+    lines = int(sys.argv[3]) if len(sys.argv) > 3 else 1000000
+    omega = sys.argv[4] if len(sys.argv) > 4 else "100/101"
+    keep = sys.argv[5] if len(sys.argv) > 5 else None
+    work = tempfile.mkdtemp()
+    try:
+        methods = [("uniform", plain, []), ("mupo", plain, ["ensemble.sampling=mupo"]),
+                   ("mupo + splitting", lines, ["ensemble.sampling=mupo", "run.splitting=true"])]
+        results = {}
+        for name, n, extra in methods:
+            results[name] = run(rotleak, os.path.join(work, name.replace(" ", "_")), n, omega, extra)
+        split_rows = results["mupo + splitting"][1]
+        targets = []
+        for p in (1e-4, 1e-8, 1e-12):
+            i = next((k for k, r in enumerate(split_rows) if 0 < r[2] <= p), None)
+            if i is not None:
+                targets.append((p, i))
+        # the deepest: the smallest P the split run reaches (1.2e-20 at t_max for 100/101)
+        i = min((k for k, r in enumerate(split_rows) if r[2] > 0), key=lambda k: split_rows[k][2])
+        targets.append((split_rows[i][2], i))
+        print("omega = %s, t_max = 10000; work in collisions (wall seconds in brackets, this machine)" % omega)
+        for name, (s, _) in results.items():
+            print("  %-17s %9d %s  %.3e collisions  [%.1f s]" % (
+                name, s["particles"], "lines" if "splitting" in s else "particles", s["collisions"], s["wall_seconds"]))
+        header = "| P ~ | t | " + " | ".join("%s: rel. error, FOM" % n for n in results) + " | FOM gain of splitting |"
+        print()
+        print(header)
+        print("|" + "---|" * (3 + len(results)))
+        fom = {}
+        for p, i in targets:
+            cells = []
+            for name, (s, rows) in results.items():
+                t, surv, P, err = rows[i]
+                n = s["particles"]
+                eff = n * P * P / (err * err + P * P / n) if P > 0 else 0  # N P^2 / Q (Q = N err^2 + P^2)
+                if P <= 0 or surv == 0 or eff < 10:
+                    cells.append("cannot measure")
+                    continue
+                rel = err / P
+                f = 1 / (rel * rel * s["collisions"])
+                fom[(name, p)] = f
+                cells.append("%.3g, %.3g" % (rel, f))
+            best_plain = max((fom.get((m, p), 0) for m in ("uniform", "mupo")), default=0)
+            gain = "%.3g x" % (fom[("mupo + splitting", p)] / best_plain) if best_plain and (
+                "mupo + splitting", p) in fom else "only splitting measures it"
+            print("| %.2g | %g | %s | %s |" % (p, rows[i][0], " | ".join(cells), gain))
+        if keep:
+            import matplotlib
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+            fig, ax = plt.subplots(figsize=(7, 4.5))
+            for name, (s, rows) in results.items():
+                pts = [(r[2], 1 / ((r[3] / r[2]) ** 2 * s["collisions"])) for r in rows[::25]
+                       if r[2] > 0 and r[3] > 0 and r[1] > 0]
+                if pts:
+                    ax.loglog([x for x, _ in pts], [y for _, y in pts], ".", ms=3, label=name)
+            ax.invert_xaxis()
+            ax.set_xlabel("P(t)")
+            ax.set_ylabel("1 / (relative variance x collisions)")
+            ax.set_title("work-normalised precision, omega = %s" % omega)
+            ax.grid(alpha=0.3)
+            ax.legend()
+            os.makedirs(keep, exist_ok=True)
+            tmp = os.path.join(keep, "splitting_fom.tmp.png")
+            fig.savefig(tmp, dpi=110)
+            os.replace(tmp, os.path.join(keep, "splitting_fom.png"))
+            print("\nwrote " + os.path.join(keep, "splitting_fom.png"))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
