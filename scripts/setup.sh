@@ -6,7 +6,7 @@ packages=(
   build-essential cmake pkg-config clang-format git
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
   libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-pandas
   libopenmpi-dev openmpi-bin
 )
 missing=()

@@ -104,6 +104,16 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
   return out;
 }
 
+namespace {
+
+/// The grid indices summary.json reports a curve at: t_max / 8, / 4, / 2 and t_max.
+std::vector<std::size_t> report_points(const SurvivalCurve& curve) {
+  const std::size_t n = curve.t.size();
+  return {(n - 1) / 8, (n - 1) / 4, (n - 1) / 2, n - 1};
+}
+
+}  // namespace
+
 json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   json j = {{"scheme", to_string(scene.sampling.kind)}};
   if (scene.sampling.kind == SamplingKind::uniform) return j;
@@ -112,9 +122,7 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   j["max_weight"] = 1 / scene.sampling.eps;
   // effective sample size (sum w)^2 / sum w^2 of the survivors at a few times
   json ess = json::array();
-  const std::size_t n = curve.t.size();
-  for (std::size_t den : {8, 4, 2, 1}) {
-    const std::size_t i = (n - 1) / den;
+  for (std::size_t i : report_points(curve)) {
     ess.push_back({{"t", curve.t[i]},
                    {"survivors", curve.survivors[i]},
                    {"P", curve.P(i)},
@@ -137,9 +145,7 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
             {"max_line", t.max_line}};
   // lines alive and the effective number of lines at a few times, and the deepest resolved P
   json at = json::array();
-  const std::size_t n = curve.t.size();
-  for (std::size_t den : {8, 4, 2, 1}) {
-    const std::size_t i = (n - 1) / den;
+  for (std::size_t i : report_points(curve)) {
     at.push_back({{"t", curve.t[i]},
                   {"lines_alive", curve.lines_alive[i]},
                   {"members", curve.survivors[i]},
@@ -149,7 +155,7 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
   }
   j["lines"] = at;
   std::size_t deepest = 0;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < curve.t.size(); ++i)
     if (curve.P(i) > 0 && curve.P(i) < curve.P(deepest)) deepest = i;
   j["smallest_P"] = {{"t", curve.t[deepest]},
                      {"P", curve.P(deepest)},
