@@ -596,7 +596,15 @@ void check_resources(const Scene& scene, int threads) {
                              : 0.0;
   const double records =
       scene.escape_records ? static_cast<double>(sizeof(EscapeRecord)) * static_cast<double>(scene.particles) : 0.0;
-  const double need = (survival + density) * (n_threads + 1) + records;  // a tally per thread and the merged one
+  // split runs: four exact line sums (~64 bytes each) and two counts per grid point, and a block's
+  // population of at most kBlockSize x split_cap members (member, its end, its kernel start) per thread
+  const double lines = scene.splitting.on ? 300.0 * static_cast<double>(scene.survival_bins()) : 0.0;
+  const double population =
+      scene.splitting.on ? static_cast<double>(kBlockSize) * static_cast<double>(scene.splitting.cap) *
+                               static_cast<double>(2 * sizeof(Member) + sizeof(ParticleEnd) + sizeof(simd::Start))
+                         : 0.0;
+  const double need = (survival + density + lines) * (n_threads + 1) + population * n_threads +
+                      records;  // a tally per thread and the merged one
   double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
   struct rlimit as {};
   if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
@@ -605,6 +613,10 @@ void check_resources(const Scene& scene, int threads) {
   char why[300];
   std::snprintf(why, sizeof why, "the run would need %.3g GB for its tallies (%.0f threads) but may use %.3g GB here",
                 need / 1e9, n_threads, 0.8 * have / 1e9);
+  if (population * n_threads >= survival * (n_threads + 1) && population >= density)
+    throw InputError("run.split_cap", std::to_string(scene.splitting.cap),
+                     std::string(why) + "; a block of " + std::to_string(kBlockSize) +
+                         " lines may hold split_cap members each: a smaller cap (or fewer --threads)");
   if (records >= survival * (n_threads + 1) && records >= density * (n_threads + 1))
     throw InputError(
         "ensemble.particles", std::to_string(scene.particles),

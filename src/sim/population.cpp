@@ -69,7 +69,8 @@ class LineBook {
   /// The weight changed at grid index g (it applies from t_g on): the stretch before it is booked.
   void changed(std::size_t g, Tally& t) {
     const double y = value();
-    if (g == since_) {  // two changes in one cell: only the last is seen on the grid
+    if (y == y_) return;  // the open stretch goes on
+    if (g == since_) {    // two changes in one cell: only the last is seen on the grid
       y_ = y;
       return;
     }
