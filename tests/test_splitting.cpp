@@ -253,6 +253,27 @@ TEST(Splitting, DeepValuesSurviveTheFile) {
   EXPECT_LT(r.curve.lines_alive[last], r.scene.particles);
 }
 
+// The conservation law every run, rank merge and shard merge checks: a tally that lost a block, or a
+// split tally whose weights do not add up, is refused. Exact.
+TEST(Splitting, ConservationCatchesALostBlockAndALostWeight) {
+  const Scene plain = scene_of("stationary_sL_0.toml", {"ensemble.particles=10000", "run.t_max=500"});
+  RunOptions opt;
+  const IntervalSet two = IntervalSet::range(0, 2);  // of the run's 3 blocks
+  opt.blocks = &two;
+  const Outcome part = run(plain, opt);
+  EXPECT_NO_THROW(check_conservation(part.result.tally, two, plain.particles));
+  EXPECT_THROW(check_conservation(part.result.tally, IntervalSet::range(0, 3), plain.particles), std::logic_error);
+  const Scene split = scene_of("stationary_sL_0.toml", {"ensemble.particles=3000", "run.t_max=1000",
+                                                        "run.splitting=true", "ensemble.sampling=mupo"});
+  const Outcome whole = run(split);
+  const IntervalSet all = IntervalSet::range(0, 1);
+  EXPECT_NO_THROW(check_conservation(whole.result.tally, all, split.particles));
+  Tally lost = whole.result.tally;
+  lost.w_escaped = FixedSum{};
+  lost.w_escaped.add(1e-300);  // the escaped weight, short by all but a trace
+  EXPECT_THROW(check_conservation(lost, all, split.particles), std::logic_error);
+}
+
 TEST(Splitting, SceneKeysAreChecked) {
   const auto refused = [](std::vector<std::string> sets, const std::string& key) {
     try {

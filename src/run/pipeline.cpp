@@ -67,6 +67,7 @@ bool merge_at_rank0(const Team& team, RunResult& result, const std::string& part
   }
   if (!(done == IntervalSet::range(0, block_count(n))))
     throw std::logic_error("the ranks' blocks do not cover the run: " + done.text());
+  check_conservation(merged, done, n);
   result.tally = std::move(merged);
   result.done = std::move(done);
   return true;
@@ -311,6 +312,7 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
     if (scene.escape_records) result.records.insert(result.records.end(), s.f.records.begin(), s.f.records.end());
   }
   result.done = IntervalSet::range(0, block_count(of));
+  check_conservation(result.tally, result.done, of);
   if (req.note) req.note("[rotleak] merged " + std::to_string(shards.size()) + " shards: ids 0:" + std::to_string(of));
   SimulateOutcome out;
   out.summary = summarise(scene, std::move(result));
