@@ -414,6 +414,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
           if (use_simd) {
             simd::Scene ks = kernel_scene;
             ks.t_max = stop;
+            ks.keep_last = true;
             starts.resize(members.size());
             for (std::size_t i = 0; i < members.size(); ++i) {
               const ParticleState<double>& ps = members[i].ps;

@@ -43,6 +43,9 @@ struct Scene {
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
   /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;
+  /// true (a split run's epoch): a lane that passes t_max reports (End) the state of its last collision
+  /// before it, where the member goes on; false: its state is not used
+  bool keep_last = false;
   /// the kernel: 4 (AVX2) or 8 (AVX-512) lanes a register; lanes_available(lanes) must hold
   int lanes = 4;
 };
@@ -76,8 +79,8 @@ struct Exact {
 
 struct End {
   LaneEnd fate;  ///< a Fate, or handed back mid-flight (the state below)
-  /// the lane's state: where it ended (escaped, stuck, handed back), or, survived, at its last
-  /// collision before t_max, from which the flight that passes t_max starts
+  /// the lane's state: where it ended (escaped, stuck, handed back); survived with Scene::keep_last,
+  /// at its last collision before t_max, from which the flight that passes t_max starts
   double t, qx, qy, vx, vy;
   double weight;  ///< Start::weight, travelling with the lane
   int piece;
