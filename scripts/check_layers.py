@@ -5,7 +5,9 @@
 
 A file may include files of its own layer and of the layers below it, never above. Prints every
 violation (file, line, include, the two layers) and exits 1 if there is one; prints a one-line
-summary otherwise. Run from anywhere: python3 scripts/check_layers.py
+summary otherwise. Reads .hpp, .cpp, .h and .ipp files (the kernel's body is an .ipp). Run from
+anywhere: python3 scripts/check_layers.py [ROOT] (ROOT: the repository, by default the one holding
+this script; the test runs it on a small tree of its own to see an upward include fail).
 """
 import os
 import re
@@ -35,14 +37,14 @@ def layer_of_include(path, includer_dir):
 
 
 def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     bad, files, includes = [], 0, 0
     for d, layer in DIRS.items():
         full = os.path.join(root, d)
         if not os.path.isdir(full):
             continue
         for name in sorted(os.listdir(full)):
-            if not name.endswith((".hpp", ".cpp", ".h")):
+            if not name.endswith((".hpp", ".cpp", ".h", ".ipp")):
                 continue
             files += 1
             with open(os.path.join(full, name), encoding="utf-8") as f:

@@ -14,6 +14,7 @@
 #include "io/tally_file.hpp"
 #include "numeric/input.hpp"
 #include "run/pipeline.hpp"
+#include "sim/simd_engine.hpp"
 
 namespace rotleak {
 namespace {
@@ -189,6 +190,26 @@ SimulateRequest request(const TempDir& d, const std::string& out, std::vector<st
   r.out = d.path / out;
   r.run.threads = 2;
   return r;
+}
+
+// run_scene runs the engine its options ask for: it once replaced RunOptions::engine with a string
+// argument that defaulted to "auto", so a library caller asking for the scalar core got the kernel.
+TEST(Pipeline, RunSceneRunsTheEngineItsOptionsAskFor) {
+  const Scene scene = busy_scene(5000);
+  for (Engine e : {Engine::scalar, Engine::simd}) {
+    if (e == Engine::simd && !simd::available()) {
+      std::printf("[ skipped  ] simd: this CPU lacks AVX2 and FMA\n");
+      continue;
+    }
+    RunOptions o;
+    o.engine = e;
+    EXPECT_EQ(run_scene(scene, o).result.engine, e) << to_string(e);
+  }
+  RunOptions bad;
+  bad.engine = Engine::simd;
+  Scene flt = scene;
+  flt.tier = Tier::float_;
+  EXPECT_THROW(run_scene(flt, bad), InputError);  // the kernel runs the double tier only
 }
 
 TEST(Pipeline, ResumeFromACheckpointWritesTheSameRun) {

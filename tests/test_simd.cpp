@@ -187,13 +187,28 @@ TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
     }
     std::vector<unsigned> cells(static_cast<std::size_t>(2 * n + 1));
     density_cells(n, from.data(), to.data(), cells.data());
-    for (double t : times) {
-      int c = 0;  // as the kernel finds it
-      for (int v = 0; v < n; ++v) c += (t >= from[static_cast<std::size_t>(v)]) + (t > to[static_cast<std::size_t>(v)]);
-      unsigned want = 0;
+    for (int lanes : {4, 8}) {
+      if (!simd::lanes_available(lanes)) {
+        std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
+        continue;
+      }
+      simd::Scene ks{};  // the kernel's own cell of each time
+      ks.lanes = lanes;
+      ks.density_windows = n;
       for (int w = 0; w < n; ++w)
-        if (t >= from[static_cast<std::size_t>(w)] && t <= to[static_cast<std::size_t>(w)]) want |= 1u << w;
-      EXPECT_EQ(cells[static_cast<std::size_t>(c)], want) << "t = " << t << ", " << n << " windows";
+        ks.win_from[w] = from[static_cast<std::size_t>(w)], ks.win_to[w] = to[static_cast<std::size_t>(w)];
+      std::vector<double> cell(times.size());
+      simd::time_cells(ks, times.data(), cell.data(), times.size());
+      for (std::size_t i = 0; i < times.size(); ++i) {
+        const double t = times[i];
+        unsigned want = 0;
+        for (int w = 0; w < n; ++w)
+          if (t >= from[static_cast<std::size_t>(w)] && t <= to[static_cast<std::size_t>(w)]) want |= 1u << w;
+        ASSERT_GE(cell[i], 0.0);
+        ASSERT_LE(cell[i], 2.0 * n);
+        EXPECT_EQ(cells[static_cast<std::size_t>(cell[i])], want)
+            << "t = " << t << ", " << n << " windows, " << lanes << " lanes";
+      }
     }
   }
 }

@@ -7,6 +7,7 @@
 #include "cli/commands.hpp"
 #include "numeric/input.hpp"
 #include "run/team.hpp"
+#include "sim/simd_engine.hpp"
 #include "version.hpp"
 
 int main(int argc, char** argv) {
@@ -14,7 +15,13 @@ int main(int argc, char** argv) {
   const std::unique_ptr<rotleak::Team> team = rotleak::join_team(&argc, &argv);
   CLI::App app{"rotleak: open chaotic billiards with a rotating leak"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + ")");
+  // what this build and this CPU run: a cluster user checks it on each kind of node
+  const int lanes = rotleak::simd::widest_lanes();
+  app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + "); MPI: " +
+                                        (rotleak::built_with_mpi() ? "yes" : "no") + "; vectorised kernel: " +
+                                        (lanes == 8   ? "8 lanes (AVX-512)"
+                                         : lanes == 4 ? "4 lanes (AVX2)"
+                                                      : "none (this CPU lacks AVX2 and FMA: the scalar core runs)"));
   const std::vector<rotleak::cli::Command> commands{
       rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),    rotleak::cli::add_omega(app),
       rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),  rotleak::cli::add_lyapunov(app),

@@ -17,6 +17,7 @@ namespace {
 struct ScanArgs {
   ScanRequest request;
   std::vector<std::string> over;
+  std::string engine = "auto";
   long long particles = 0;
   bool particles_given = false;
   int threads = 0;
@@ -31,6 +32,7 @@ int run_scan(ScanArgs a) {
   }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
+  a.request.run.engine = parse_engine("--engine", a.engine);
   a.request.run.progress = progress_on_stderr(!a.no_progress && ::isatty(2));
   if (!a.no_progress) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   const ScanOutcome out = scan(a.request);
@@ -60,7 +62,7 @@ Command add_scan(CLI::App& app) {
   });
   sub->add_option("--threads", args->threads, "OpenMP threads per point (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key for every point: section.key=value");
-  sub->add_option("--engine", args->request.engine, "auto, scalar, simd");
+  sub->add_option("--engine", args->engine, "auto, scalar, simd");
   sub->add_flag("--force", args->request.force, "Redo every point, complete or not");
   sub->add_flag("--json", args->json_out, "Print scan.json on stdout");
   sub->add_flag("--no-progress", args->no_progress, "No progress lines");

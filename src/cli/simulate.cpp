@@ -44,7 +44,7 @@ std::pair<std::uint64_t, std::uint64_t> parse_ids(const std::string& text) {
 
 struct SimulateArgs {
   SimulateRequest request;
-  std::string resume_dir, ids;
+  std::string resume_dir, ids, engine = "auto";
   long long particles = 0;
   bool particles_given = false;
   int threads = 0;
@@ -58,6 +58,7 @@ int run_simulate(SimulateArgs a) {
   }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
+  a.request.run.engine = parse_engine("--engine", a.engine);
   const bool lead = current_team().rank() == 0;  // under MPI only rank 0 reports
   a.request.run.progress = progress_on_stderr(lead && !a.no_progress && (a.progress || ::isatty(2)));
   if (!a.json_out && lead) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
@@ -115,7 +116,7 @@ Command add_simulate(CLI::App& app) {
   });
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key: section.key=value (repeatable)");
-  sub->add_option("--engine", args->request.engine,
+  sub->add_option("--engine", args->engine,
                   "auto (vectorised when the CPU has AVX2+FMA and the scene allows), scalar, simd");
   sub->add_flag("--force", args->request.force, "Replace an existing run directory");
   sub->add_flag("--json", args->json_out, "Print summary.json on stdout (nothing else there)");

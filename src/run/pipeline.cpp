@@ -105,8 +105,7 @@ RunResult run_shared(const Scene& scene, RunOptions options, const Team& team) {
   return result;
 }
 
-RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine, const Note& note,
-                     const Durability* durable) {
+RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Durability* durable) {
   std::optional<std::string> choice;
   if (scene.tier.automatic()) {
     if (note) note("[rotleak] run.tier = auto: auditing float, double, long double on this scene...");
@@ -114,7 +113,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine,
     scene.tier = c.tier;
     choice = std::move(c.reason);
   }
-  options.engine = engine_from_name("--engine", engine, scene);
+  check_engine("--engine", options.engine, scene);
   if (!durable) {
     RunSummary s = summarise(scene, run_ensemble(scene, options));
     s.tier_choice = std::move(choice);
@@ -206,7 +205,7 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   const Team& team = req.team ? *req.team : current_team();
   const Scene scene = load_scene(req.scene_path, req.overrides);
   check_resources(scene, req.run.threads);                                       // before any directory is made
-  if (!scene.tier.automatic()) engine_from_name("--engine", req.engine, scene);  // a bad engine fails before any work
+  if (!scene.tier.automatic()) check_engine("--engine", req.run.engine, scene);  // a bad engine fails before any work
   if (req.ids && !(req.ids->first < req.ids->second && req.ids->second <= scene.particles))
     throw InputError("--ids", std::to_string(req.ids->first) + ":" + std::to_string(req.ids->second),
                      "must be A:B with 0 <= A < B <= ensemble.particles (" + std::to_string(scene.particles) + ")");
@@ -232,7 +231,7 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   }
   agree(team, failure);
   SimulateOutcome out;
-  out.summary = run_scene(scene, req.run, req.engine, req.note, &durable);
+  out.summary = run_scene(scene, req.run, req.note, &durable);
   if (team.rank() == 0) {
     std::vector<std::string> extra;
     if (req.ids) {  // the shard's exact tallies, for rotleak merge

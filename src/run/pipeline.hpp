@@ -61,19 +61,18 @@ std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int ran
 RunResult run_shared(const Scene& scene, RunOptions options, const Team& team);
 
 /// Runs a scene and summarises it, no files: a tier of auto is chosen first (verify/auto_tier),
-/// then the engine is checked against the tier actually run. With `durable`, checkpoints are kept
-/// and resumed as it says; throws RunInterrupted when RunOptions::stop ended the run early.
-RunSummary run_scene(Scene scene, RunOptions options, const std::string& engine = "auto", const Note& note = {},
-                     const Durability* durable = nullptr);
+/// then options.engine is checked against the tier actually run (an InputError naming --engine).
+/// With `durable`, checkpoints are kept and resumed as it says; throws RunInterrupted when
+/// RunOptions::stop ended the run early.
+RunSummary run_scene(Scene scene, RunOptions options, const Note& note = {}, const Durability* durable = nullptr);
 
 struct SimulateRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
   std::filesystem::path out;
-  bool force = false;                                          ///< replace an existing run directory
-  std::string engine = "auto";                                 ///< auto, scalar, simd
-  RunOptions run;                                              ///< threads, progress, stop
-  Resume resume = Resume::no;                                  ///< continue from DIR.checkpoint
+  bool force = false;          ///< replace an existing run directory
+  RunOptions run;              ///< engine (checked against the tier run), threads, progress, stop
+  Resume resume = Resume::no;  ///< continue from DIR.checkpoint
   std::optional<std::pair<std::uint64_t, std::uint64_t>> ids;  ///< a shard: ids [lo, hi); DIR/tally.bin for merge
   const Team* team = nullptr;                                  ///< null: current_team(); only its rank 0 writes
   Note note;

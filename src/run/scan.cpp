@@ -279,7 +279,7 @@ ScanOutcome scan(const ScanRequest& req) {
     check_resources(scene, req.run.threads);
     // the inputs of the simulation: the fit keys are left out (a point whose fits differ is refitted,
     // not simulated again)
-    p.inputs = simulation_inputs(scene, req.engine);
+    p.inputs = simulation_inputs(scene, to_string(req.run.engine));
     p.fit = scene_json(scene).at("fit");
     p.scene = scene;
     p.number_theory = omega_number_theory(scene);
@@ -335,7 +335,6 @@ ScanOutcome scan(const ScanRequest& req) {
     // a point killed in the middle continues from its checkpoint (points/SLUG.checkpoint) when its
     // inputs match; --force starts every point afresh
     sr.resume = req.force ? Resume::no : Resume::if_any;
-    sr.engine = req.engine;
     sr.run = req.run;
     if (!lead) sr.run.progress = {};
     sr.note = note;

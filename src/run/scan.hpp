@@ -45,9 +45,8 @@ struct ScanRequest {
   std::vector<ScanAxis> axes;
   std::filesystem::path out;
   bool force = false;  ///< redo every point
-  std::string engine = "auto";
-  RunOptions run;  ///< threads and the per-point progress line
-  Note note;       ///< per-point status lines (points done, ETA)
+  RunOptions run;      ///< engine, threads and the per-point progress line
+  Note note;           ///< per-point status lines (points done, ETA)
   /// The processes sharing the scan (null: current_team()): under mpirun every point's particles are
   /// shared by all ranks (as `rotleak simulate` shares them); rank 0 alone writes and reports.
   const Team* team = nullptr;

@@ -569,14 +569,22 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
   return fits && simd::available() ? Engine::simd : Engine::scalar;
 }
 
-Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene) {
+Engine parse_engine(const std::string& key, const std::string& name) {
   if (name != "auto" && name != "scalar" && name != "simd") throw InputError(key, name, "allowed: auto, scalar, simd");
-  const Engine e = name == "scalar" ? Engine::scalar : name == "simd" ? Engine::simd : Engine::automatic;
+  return name == "scalar" ? Engine::scalar : name == "simd" ? Engine::simd : Engine::automatic;
+}
+
+void check_engine(const std::string& key, Engine e, const Scene& scene) {
   try {
     resolve_engine(e, scene);
   } catch (const std::runtime_error& err) {
-    throw InputError(key, name, err.what());
+    throw InputError(key, to_string(e), err.what());
   }
+}
+
+Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene) {
+  const Engine e = parse_engine(key, name);
+  check_engine(key, e, scene);
   return e;
 }
 

@@ -126,7 +126,11 @@ void check_conservation(const Tally& t, const IntervalSet& done, std::uint64_t n
 Engine resolve_engine(Engine requested, const Scene& scene);
 std::string to_string(Engine e);
 
-/// Engine by name (auto, scalar, simd), checked against the scene and this CPU; an InputError naming `key` otherwise.
+/// Engine by name (auto, scalar, simd); an InputError naming `key` otherwise.
+Engine parse_engine(const std::string& key, const std::string& name);
+/// An InputError naming `key` unless engine `e` runs this scene on this CPU.
+void check_engine(const std::string& key, Engine e, const Scene& scene);
+/// Engine by name, checked against the scene and this CPU (parse_engine, then check_engine).
 Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene);
 
 /// Threads allowed per core (`--threads` above kThreadsPerCore x the cores is refused).

@@ -18,6 +18,7 @@ namespace avx512_kernel {  // sim/simd_avx512.cpp
 bool available();
 void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n);
+void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n);
 }  // namespace avx512_kernel
 
 namespace avx2_kernel {
@@ -48,6 +49,13 @@ void run(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exac
     avx512_kernel::run_kernel(S, ctx, next, finish, exact);
   else
     avx2_kernel::run_kernel(S, ctx, next, finish, exact);
+}
+
+void time_cells(const Scene& S, const double* t, double* out, std::size_t n) {
+  if (S.lanes == 8)
+    avx512_kernel::cell_kernel(S, t, out, n);
+  else
+    avx2_kernel::cell_kernel(S, t, out, n);
 }
 
 void rough_angles(int lanes, const double* ay, const double* ax, double* out, std::size_t n) {

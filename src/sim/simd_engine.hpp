@@ -104,6 +104,10 @@ bool lanes_available(int lanes);
 /// any n, by the kernel of `lanes` lanes; requires lanes_available(lanes).
 void rough_angles(int lanes, const double* ay, const double* ax, double* out, std::size_t n);
 
+/// The kernel's f_c time cell (DensityHit) of each t[i], for its test: out[i], by the kernel of
+/// S.lanes lanes over S's density windows; requires lanes_available(S.lanes).
+void time_cells(const Scene& S, const double* t, double* out, std::size_t n);
+
 /// Runs particles until next() has none left, by the kernel of scene.lanes; requires
 /// lanes_available(scene.lanes).
 void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);

@@ -6,7 +6,7 @@
 // fused a * b - c) and sleef_atan2(y, x) (SLEEF's u35 atan2 for that width). Keep it self-contained: no
 // std algorithms or shared inline helpers whose vector copies the linker could hand to scalar code (it
 // shares only constants and enums with the core, from sim/fate.hpp); everything here has internal
-// linkage but run_kernel and rough_kernel.
+// linkage but run_kernel, rough_kernel and cell_kernel.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp):
 // - Stationary leak: bit-identical. Every expression is evaluated in the scalar core's order with
@@ -403,6 +403,16 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
   return in;
 }
 
+/// The time cell of t: how many window edges it has passed (t >= from, t > to); the cell fixes the set
+/// of windows that hold t, so one count per collision serves every window (the caller folds them).
+inline V time_cell(const Scene& S, const V& t) {
+  const V ONE(1.0), ZERO(0.0);
+  V cell(0.0);
+  for (int w = 0; w < S.density_windows; ++w)
+    cell = cell + select(t >= V(S.win_from[w]), ONE, ZERO) + select(t > V(S.win_to[w]), ONE, ZERO);
+  return cell;
+}
+
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
 /// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window). An arc hit's bin comes from the rough angle when its s is more than
 /// kRoughBinSafety times the rough angle's bound (in s) from a bin edge (for any angle within rough_atan2's bound the bin is the same);
@@ -433,14 +443,8 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
   // as DensityObserver bins it, int(s bins) clamped to [0, bins): s bins > -1, so floor and the
   // clamp give the same as the truncation and the clamp
   const V bin = min(max(floor(s * bins), ZERO), V(S.bins - 1.0));
-  // the time cell: how many window edges t has passed (t >= from, t > to); the cell fixes the set of
-  // windows that hold t, so one count per collision serves every window (the caller folds them)
-  V cell(0.0);
-  const V ONE(1.0);
-  for (int w = 0; w < S.density_windows; ++w)
-    cell = cell + select(t >= V(S.win_from[w]), ONE, ZERO) + select(t > V(S.win_to[w]), ONE, ZERO);
   alignas(sizeof(B)) double index[N];
-  store(fma(cell, bins, bin), index);  // exact: small integers
+  store(fma(time_cell(S, t), bins, bin), index);  // exact: small integers
   const unsigned in = bits(count);
   if (exact.counts) {
     if (in == kAllLanes) {  // the common case (a window covering most of the run): no mask walk
@@ -551,6 +555,16 @@ void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, con
   else
     while (g.live_mask) step<false>(S, g, ctx, next, finish, exact, buf, used);
   if (used) exact.density(ctx, buf, used);
+}
+
+void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n) {
+  alignas(sizeof(B)) double a[N], o[N];
+  for (std::size_t i = 0; i < n; i += N) {
+    const std::size_t m = n - i < N ? n - i : N;
+    for (std::size_t k = 0; k < N; ++k) a[k] = k < m ? t[i + k] : 0;
+    store(time_cell(S, load(a)), o);
+    for (std::size_t k = 0; k < m; ++k) out[i + k] = o[k];
+  }
 }
 
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n) {
