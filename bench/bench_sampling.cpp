@@ -1,4 +1,4 @@
-// Efficiency of importance sampling (issue 10): the same scene run with ensemble.sampling = uniform
+// Efficiency of importance sampling: the same scene run with ensemble.sampling = uniform
 // and = mupo in this one process; at the times where P(t) ~ 1e-4, 1e-6, 1e-8 (located on the mupo
 // curve), the work-normalised variance ratio
 //     gain = (var_uniform * time_uniform) / (var_mupo * time_mupo).

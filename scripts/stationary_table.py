@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs the six stationary-leak scenes of SPEC section 5 and prints our kappa and alpha beside the
+"""Runs the six stationary-leak scenes of the published table (docs/model.md, "Published values") and prints our kappa and alpha beside the
 published ones (data/literature/stationary_leak_table.csv), as a Markdown table.
 
 Usage: scripts/stationary_table.py [--particles N] [--out DIR]   (default 10^7 particles, runs/table)"""

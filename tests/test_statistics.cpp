@@ -1,4 +1,4 @@
-// The stationary table of SPEC section 5 at reduced size. Tolerance per row: the literature
+// The published stationary table (docs/model.md, "Published values") at reduced size. Tolerance per row: the literature
 // allowance (2% in kappa, 15% in alpha: their fit method is not stated) plus 3 standard errors of
 // our own estimate at this particle count (binomial / Greenwood error model, see analysis/fits.hpp).
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The Bunimovich stadium, written once for any number type R (double, long double, MPFR, ...).
-// Conventions (SPEC section 2): straight edges at y = +-r for |x| <= d/2, arc centres (+-d/2, 0);
+// Conventions (docs/model.md, "The billiard"): straight edges at y = +-r for |x| <= d/2, arc centres (+-d/2, 0);
 // s in [0,1) is arc length / L, clockwise from the midpoint of the top edge.
 #pragma once
 
