@@ -1,7 +1,7 @@
-// The MUPO covering f_L(s) (docs/model.md, "The MUPO covering f_L(s)"): while a bouncing-ball orbit with small p crosses the
-// straight edge, the leak centre at its n-th reflection is frac(n x) with x = t_c omega,
-// t_c = 2r(1 + delta), n = 0..N, N = floor((d / 2r) / sqrt(delta)). f_L(s) counts the leak intervals
-// [frac(n x) - lambda/2, frac(n x) + lambda/2] covering s.
+// The MUPO covering f_L(s) (docs/model.md, "The MUPO covering f_L(s)"): while a bouncing-ball orbit with small p
+// crosses the straight edge, the leak centre at its n-th reflection is frac(n x) with x = t_c omega, t_c = 2r(1 +
+// delta), n = 0..N, N = floor((d / 2r) / sqrt(delta)). f_L(s) counts the leak intervals [frac(n x) - lambda/2, frac(n
+// x) + lambda/2] covering s.
 //
 // Points live on an integer circle Z_M: for rational x and lambda, M is the common denominator and
 // everything is exact; otherwise M = 2^120 and x, lambda/2 are rounded once from certified

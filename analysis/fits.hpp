@@ -1,8 +1,7 @@
-// Fits to a survival curve: kappa (exponential rate), alpha (algebraic-tail weight, docs/model.md "Observables"), z (tail
-// exponent). Error model: the survivor counts S(t) of N independent particles; ln P(t) then has
-// Greenwood's covariance Cov(ln P(a), ln P(b)) = (1 - P(a)) / (N P(a)) for a <= b, which every
-// standard error below is propagated through (least squares on a cumulative curve is correlated, so
-// the residual scatter would understate the error).
+// Fits to a survival curve: kappa (exponential rate), alpha (algebraic-tail weight, docs/model.md "Observables"), z
+// (tail exponent). Error model: the survivor counts S(t) of N independent particles; ln P(t) then has Greenwood's
+// covariance Cov(ln P(a), ln P(b)) = (1 - P(a)) / (N P(a)) for a <= b, which every standard error below is propagated
+// through (least squares on a cumulative curve is correlated, so the residual scatter would understate the error).
 #pragma once
 
 #include <cstdint>

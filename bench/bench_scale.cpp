@@ -36,7 +36,7 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 /// The plain simulator over the scene's particles (same initial conditions), OpenMP over ids.
 double plain_rate(const Scene& s, int threads, std::uint64_t& collisions) {
-  const Model<double> model(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  const Model<double> model = Model<double>::from(s);
   const InitialConditions ic = initial_conditions(s);
   bench::PlainScene base;
   base.omega = s.omega.to_double();

@@ -33,7 +33,7 @@ Scene scene_for(const std::string& omega, std::uint64_t particles, double t_max 
 
 void BM_plain(benchmark::State& state, const char* omega) {
   const Scene s = scene_for(omega, 1);
-  const Model<double> model(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  const Model<double> model = Model<double>::from(s);
   const InitialConditions ic = initial_conditions(s);
   bench::PlainScene plain;
   plain.omega = s.omega.to_double();
@@ -80,7 +80,7 @@ void BM_mupo_tail(benchmark::State& state, bool ff) {
     return out;
   }();
   const Scene s = scene_for("0", 1, 200000);
-  Model<double> model(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  Model<double> model = Model<double>::from(s);
   model.fast_forward = ff;
   const InitialConditions ic = initial_conditions(s);
   NoCollisionObserver<double> none;

@@ -1,4 +1,5 @@
-// The MUPO covering: the sweep against direct counting, the three-distance theorem, the cases of docs/model.md "The MUPO covering f_L(s)".
+// The MUPO covering: the sweep against direct counting, the three-distance theorem, the cases of docs/model.md "The
+// MUPO covering f_L(s)".
 #include <gtest/gtest.h>
 
 #include <random>
@@ -68,8 +69,9 @@ TEST(Covering, SweepAgreesWithDirectCounting) {
   for (const char* omega : {"2/3", "22/23", "70/71", "1008/1009", "3/7"}) {
     const Covering c = mupo_covering(input(omega, "1e-4", "0.05"));
     ASSERT_TRUE(c.exact);
-    // x and N from the definition (docs/model.md, "The MUPO covering f_L(s)") directly, not from the code's own x_text: t_c = 2r(1 + delta),
-    // x = t_c omega (direct_count reduces n x itself), N = (d / 2r) / sqrt(delta) = (2/2) / (1/100)
+    // x and N from the definition (docs/model.md, "The MUPO covering f_L(s)") directly, not from the code's own x_text:
+    // t_c = 2r(1 + delta), x = t_c omega (direct_count reduces n x itself), N = (d / 2r) / sqrt(delta) = (2/2) /
+    // (1/100)
     const mpq_class x = mpq_class(2) * (mpq_class(1) + mpq_class(1, 10000)) * mpq_class(omega), half(1, 40);
     ASSERT_EQ(c.N, 100u);
     std::uniform_int_distribution<std::size_t> pick(0, c.segments.size() - 1);

@@ -53,7 +53,7 @@ TEST(Engine, MatchesTheReferenceLoopParticleByParticle) {
   RunOptions opt;
   opt.threads = 2;
   const RunResult res = run_ensemble(scene, opt);
-  const Model<double> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
+  const Model<double> model = Model<double>::from(scene);
   const InitialConditions ic(scene.seed, scene.init, scene.creation_window, 1.0, 1.0);
   NoCollisionObserver<double> none;
   std::uint64_t total = 0;

@@ -82,7 +82,8 @@ TYPED_TEST(Geometry, BoundaryCoordinateRoundTripsIncludingJunctions) {
     if (diff > R(0.5)) diff = 1 - diff;  // s = 0 and s -> 1 are the same point
     EXPECT_LE(as_double(diff), eps_times<R>(16)) << "s = " << as_double(s);
   }
-  // the junctions are the values docs/model.md gives ("The billiard"): 0.09725..., 0.40275..., 0.59725..., 0.90275... (printed to 5 digits)
+  // the junctions are the values docs/model.md gives ("The billiard"): 0.09725..., 0.40275..., 0.59725..., 0.90275...
+  // (printed to 5 digits)
   EXPECT_NEAR(as_double(this->st.junction(0)), 0.09725, 5e-6);
   EXPECT_NEAR(as_double(this->st.junction(1)), 0.40275, 5e-6);
   EXPECT_NEAR(as_double(this->st.junction(2)), 0.59725, 5e-6);

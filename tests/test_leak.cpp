@@ -93,7 +93,8 @@ INSTANTIATE_TEST_SUITE_P(Positions, LeakWindows,
                          rotleak::test::IndexedName());
 
 TEST(LeakStraddle, JunctionCasesOfTheStationaryTable) {
-  // s_L = 0.1022 still overlaps the straight top edge; s_L = 0.1024 lies wholly on the arc (docs/model.md, "Published values").
+  // s_L = 0.1022 still overlaps the straight top edge; s_L = 0.1024 lies wholly on the arc (docs/model.md, "Published
+  // values").
   Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
   const double j0 = st.junction(0);
   EXPECT_LT(0.1022 - 0.005, j0);

@@ -37,7 +37,9 @@ std::size_t trace(const Model<R>& model, const InitialDraw& draw, std::size_t ma
 
 template <class R>
 Model<R> model_of(const Scene& s) {
-  return Model<R>(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  Model<R> m = Model<R>::from(s);
+  m.fast_forward = false;  // a shadow compares collision by collision: it steps every bounce
+  return m;
 }
 
 }  // namespace rotleak

@@ -29,8 +29,8 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   SurvivalCurve c;
   c.particles = scene.particles;
   c.lines = scene.splitting.on;
-  c.weighted = scene.sampling.kind != SamplingKind::uniform || c.lines;
-  c.max_weight = c.weighted ? 1 / scene.sampling.eps : 1;
+  c.weighted = scene.sampling.weighted() || c.lines;
+  c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
   std::size_t pos = text.find('\n');
   if (pos == std::string::npos || text.compare(0, pos, "t,survivors,P,P_err") != 0)
@@ -116,10 +116,10 @@ std::vector<std::size_t> report_points(const SurvivalCurve& curve) {
 
 json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   json j = {{"scheme", to_string(scene.sampling.kind)}};
-  if (scene.sampling.kind == SamplingKind::uniform) return j;
+  if (!scene.sampling.weighted()) return j;
   j["eps"] = scene.sampling.eps;
   j["p_range"] = {scene.sampling.p_min, scene.sampling.p_max};
-  j["max_weight"] = 1 / scene.sampling.eps;
+  j["max_weight"] = scene.sampling.max_weight();
   // effective sample size (sum w)^2 / sum w^2 of the survivors at a few times
   json ess = json::array();
   for (std::size_t i : report_points(curve)) {

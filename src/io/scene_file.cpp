@@ -404,7 +404,7 @@ json scene_json(const Scene& s) {
                    {"seed", s.seed},
                    {"init", to_string(s.init)},
                    {"creation_window", s.creation_window}};
-  if (s.sampling.kind != SamplingKind::uniform) {
+  if (s.sampling.weighted()) {
     j["ensemble"]["sampling"] = to_string(s.sampling.kind);
     j["ensemble"]["sampling_eps"] = s.sampling.eps;
     j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};

@@ -27,7 +27,7 @@ void Tally::resize(const Scene& scene) {
     collision_density.assign(
         scene.collision_density->windows.size() * static_cast<std::size_t>(scene.collision_density->bins), 0);
   split = scene.splitting.on;
-  weighted = scene.sampling.kind != SamplingKind::uniform || split;  // split members weigh 2^-level
+  weighted = scene.sampling.weighted() || split;  // split members weigh 2^-level
   if (weighted && !split) {
     escaped_w.assign(escapes_per_bin.size(), FixedSum{});
     escaped_w2.assign(escapes_per_bin.size(), FixedSum{});
@@ -295,8 +295,7 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
 
 template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
-  Model<R> model(scene.d, scene.r, scene.width, scene.start, scene.omega, scene.t_max);
-  model.fast_forward = scene.fast_forward;
+  const Model<R> model = Model<R>::from(scene);
   const std::unique_ptr<Sampler> sampler = make_sampler(scene);
   if (opt.draws && opt.draws->size() != scene.particles)
     throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
@@ -597,7 +596,7 @@ void check_resources(const Scene& scene, int threads) {
                          std::to_string(procs) + " cores; 0: one per core)");
   const double n_threads = threads > 0 ? threads : omp_get_max_threads();
   // a count per bin, and for weighted runs two exact sums (24 bytes each) per survival bin and one per density bin
-  const bool weighted = scene.sampling.kind != SamplingKind::uniform;
+  const bool weighted = scene.sampling.weighted();
   const double survival = (weighted ? 56.0 : 8.0) * static_cast<double>(scene.survival_bins());
   const double density = scene.collision_density
                              ? (weighted ? 32.0 : 8.0) * static_cast<double>(scene.collision_density->bins) *

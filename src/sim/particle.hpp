@@ -22,6 +22,13 @@ struct Model {
   Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start, const ExactReal& omega,
         double tmax)
       : stadium(d, r), leak(stadium, width, start, omega), t_max(R(tmax)) {}
+
+  /// The scene's billiard, leak, t_max and fast-forward, rounded once into R.
+  static Model from(const Scene& s) {
+    Model m(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+    m.fast_forward = s.fast_forward;
+    return m;
+  }
 };
 
 /// What the particle loop reports to its observer at each collision; the default does nothing.

@@ -131,7 +131,7 @@ class MupoFlow final : public MupoBase {
 }  // namespace
 
 std::unique_ptr<Sampler> make_sampler(const Scene& scene) {
-  if (scene.sampling.kind == SamplingKind::uniform) return std::make_unique<UniformSampler>(scene);
+  if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);
   if (scene.init == InitKind::flow) return std::make_unique<MupoFlow>(scene, scene.sampling);
   return std::make_unique<MupoBirkhoff>(scene, scene.sampling);
 }

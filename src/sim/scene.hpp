@@ -30,6 +30,11 @@ struct SamplingSpec {
   SamplingKind kind = SamplingKind::uniform;
   double eps = 0.5;  ///< weight of the uniform component: no particle weighs more than 1 / eps
   double p_min = 1e-12, p_max = 0.05;
+
+  /// Particles carry weights other than 1 (every scheme but the uniform one).
+  bool weighted() const { return kind != SamplingKind::uniform; }
+  /// The largest weight a particle can start with: 1 / eps for the mixture, 1 for uniform sampling.
+  double max_weight() const { return weighted() ? 1 / eps : 1.0; }
 };
 
 std::string to_string(SamplingKind k);

@@ -32,7 +32,7 @@ namespace {
 /// The split run's P, R, G and lines alive from the exact line tallies.
 void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   c.weighted = c.lines = true;
-  c.max_weight = scene.sampling.kind == SamplingKind::uniform ? 1 : 1 / scene.sampling.eps;
+  c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
   FixedSum in, out, in2, out2;
   std::uint64_t ended = 0;
@@ -67,7 +67,7 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   } else if (tally.weighted) {
     // exact cumulative sums, rounded once per grid point
     c.weighted = true;
-    c.max_weight = 1 / scene.sampling.eps;
+    c.max_weight = scene.sampling.max_weight();
     const double n = static_cast<double>(scene.particles);
     FixedSum w = tally.total_w, w2 = tally.total_w2;
     c.P_w.push_back(w.value() / n);
