@@ -13,6 +13,7 @@
 
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "same_text.hpp"
 #include "sim/engine.hpp"
 #include "sim/population.hpp"
 #include "sim/simd_engine.hpp"
@@ -35,20 +36,6 @@ Outcome run(const Scene& scene, RunOptions opt = {}) {
   RunResult r = run_ensemble(scene, opt);
   SurvivalCurve c = survival_curve(scene, r.tally);
   return {scene, std::move(r), std::move(c)};
-}
-
-/// Equal texts, or the first line where they differ and both sizes (never a full diff of megabytes).
-::testing::AssertionResult same_text(const std::string& a, const std::string& b) {
-  if (a == b) return ::testing::AssertionSuccess();
-  std::size_t line = 1, i = 0;
-  while (i < a.size() && i < b.size() && a[i] == b[i]) line += a[i++] == '\n';
-  const auto row = [&](const std::string& s) {
-    const std::size_t from = s.rfind('\n', i == 0 ? 0 : i - 1);
-    const std::size_t start = from == std::string::npos ? 0 : from + 1;
-    return s.substr(start, s.find('\n', start) - start);
-  };
-  return ::testing::AssertionFailure() << "first difference on line " << line << ": \"" << row(a) << "\" vs \""
-                                       << row(b) << "\" (" << a.size() << " and " << b.size() << " bytes)";
 }
 
 /// The grid index nearest time t.
@@ -218,8 +205,8 @@ TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
   }
   for (const auto& [what, opt] : others) {
     const Outcome r = run(scene, opt);
-    EXPECT_TRUE(same_text(csv, survival_csv(r.curve))) << what;
-    EXPECT_TRUE(same_text(fc, density_csv(scene, r.result.tally))) << what;
+    EXPECT_TRUE(test::same_text(csv, survival_csv(r.curve))) << what;
+    EXPECT_TRUE(test::same_text(fc, density_csv(scene, r.result.tally))) << what;
     EXPECT_EQ(ref.result.tally.splits, r.result.tally.splits) << what;
     EXPECT_EQ(ref.result.tally.max_population, r.result.tally.max_population) << what;
   }
@@ -234,7 +221,7 @@ TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
   rest.start = &a.result.tally;
   rest.start_done = &done_first;
   const Outcome b = run(scene, rest);
-  EXPECT_TRUE(same_text(csv, survival_csv(b.curve))) << "resumed";
+  EXPECT_TRUE(test::same_text(csv, survival_csv(b.curve))) << "resumed";
 }
 
 // Deep P stays a number: 100/101 reaches P(6000) ~ 1e-12 with a few per cent error from 6*10^4 lines,
