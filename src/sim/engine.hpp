@@ -8,55 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "numeric/fixed_sum.hpp"
 #include "sim/blocks.hpp"
-#include "sim/fate.hpp"
 #include "sim/initial.hpp"
 #include "sim/scene.hpp"
+#include "sim/tally.hpp"
 
 namespace rotleak {
-
-/// One particle's end, kept only when escape records are asked for.
-struct EscapeRecord {
-  double t = 0;  ///< escape time (or t_max for survivors)
-  double s = 0;  ///< boundary coordinate of the escape collision
-  std::uint64_t collisions = 0;
-  Fate fate = Fate::survived;
-};
-
-/// Integer counts and exact fixed-point sums; merge() is exact and order-independent.
-struct Tally {
-  std::vector<std::uint64_t> escapes_per_bin;    ///< escapes with t in [k dt, (k+1) dt)
-  std::vector<std::uint64_t> collision_density;  ///< windows x bins, row-major
-  std::uint64_t collisions = 0, escaped = 0, survived = 0, stuck = 0;
-  // Weighted runs only (a sampling scheme other than uniform; empty otherwise): the sums of the
-  // weights w and of w^2 of the particles escaping in each bin and of all particles, and the
-  // weighted collision density.
-  bool weighted = false;
-  std::vector<FixedSum> escaped_w, escaped_w2;
-  FixedSum total_w, total_w2;
-  std::vector<FixedSum> collision_density_w;
-  // Split runs only (run.splitting; empty otherwise; sim/population.hpp). By grid index j = 0 .. bins
-  // (time t_j = j dt): each stretch of a line's constant living weight Y adds Y (and Y^2, exactly) at
-  // the index where it begins (line_in) and again at the index where it ends (line_out), so the
-  // cumulative sums give sum_i Y_i(t_j) and sum_i Y_i(t_j)^2 as exact differences: never a
-  // subtraction of rounded numbers.
-  bool split = false;
-  std::vector<FixedSum> line_in, line_out, line2_in, line2_out;
-  std::vector<std::uint64_t> lines_ended;                   ///< lines whose weight fell to 0, by grid index
-  std::vector<std::uint64_t> born_per_bin, culled_per_bin;  ///< copies made, members the roulette removed, by bin
-  std::uint64_t splits = 0, culls = 0;
-  std::uint64_t levels = 0;          ///< split times passed by the longest-lived line (maximum over blocks)
-  std::uint64_t max_population = 0;  ///< most members of one block at one split time
-  std::uint64_t max_line = 0;        ///< most members of one line at one split time, before the roulette
-  /// Weight conservation, exact (member weights are w0 2^-level): the lines' starting weight plus what
-  /// roulette survivors gained equals the weight escaped, removed by the roulette, and alive at the
-  /// end (survived to t_max, or stuck). A split keeps it exactly; check_conservation() enforces it.
-  FixedSum w_start, w_gained, w_escaped, w_removed, w_alive_end;
-
-  void resize(const Scene& scene);
-  void merge(const Tally& other);
-};
 
 /// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes a register,
 /// or AVX-512, 8).
@@ -116,11 +73,6 @@ struct RunResult {
 /// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
 /// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
 void density_cells(int windows, const double* from, const double* to, unsigned* cells);
-
-/// Throws std::logic_error unless the tally of the blocks `done` of a run of n particles adds up:
-/// escaped + survived + stuck particles equal the particles of those blocks (runs without splitting),
-/// and a split run's weights are conserved exactly (Tally::w_start ...). Every run checks its result.
-void check_conservation(const Tally& t, const IntervalSet& done, std::uint64_t n);
 
 /// The engine `requested` resolves to for this scene on this CPU.
 Engine resolve_engine(Engine requested, const Scene& scene);

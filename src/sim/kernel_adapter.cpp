@@ -1,0 +1,154 @@
+#include "sim/kernel_adapter.hpp"
+
+#include <algorithm>
+
+#include "sim/engine.hpp"
+
+namespace rotleak {
+
+/// The vectorised kernel's view of a double model.
+simd::Scene simd_scene(const Model<double>& m) {
+  simd::Scene s{};
+  const Stadium<double>& st = m.stadium;
+  s.r = st.r();
+  s.half_d = st.half_d();
+  s.t_max = m.t_max;
+  s.L = st.perimeter();
+  s.inv_L = 1 / st.perimeter();
+  s.r_over_L = st.r() / st.perimeter();
+  s.pi = st.pi();
+  for (int k = 0; k < 4; ++k) s.junction[k] = st.junction(k);
+  s.rotating = m.leak.schedule().rotating();
+  for (int p = 0; p < 4; ++p) {
+    const auto& pw = m.leak.windows(static_cast<Piece>(p));
+    s.n_windows[p] = pw.n;
+    for (int w = 0; w < pw.n; ++w) {
+      s.lo[p][w] = pw.w[w].lo;
+      s.hi[p][w] = pw.w[w].hi;
+      s.from_x[p][w] = pw.w[w].from.x;
+      s.from_y[p][w] = pw.w[w].from.y;
+      s.to_x[p][w] = pw.w[w].to.x;
+      s.to_y[p][w] = pw.w[w].to.y;
+    }
+  }
+  s.omega_hi = m.leak.schedule().omega_split().hi;
+  s.omega_lo = m.leak.schedule().omega_split().lo;
+  s.start = m.leak.schedule().start();
+  s.half_width = m.leak.half_width();
+  for (int k = 0; k < 4; ++k) {
+    s.arc_mid[k] = m.leak.piece_mid(k);
+    s.arc_reach[k] = m.leak.reach(k);
+  }
+  s.margin = 1e-12;
+  s.density_windows = 0;
+  s.bins = 1;
+  // a jump costs a few hundred ns, about 40 vectorised bounces: hand over only long phases
+  s.handoff_bounces = m.fast_forward ? 128 : 0;
+  return s;
+}
+
+/// The f_c observer's windows and bins for the kernel.
+void simd_density(simd::Scene& s, const Scene& scene) {
+  if (!scene.collision_density) return;
+  s.density_windows = static_cast<int>(scene.collision_density->windows.size());
+  s.bins = scene.collision_density->bins;
+  for (int w = 0; w < s.density_windows; ++w) {
+    s.win_from[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].from;
+    s.win_to[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].to;
+    s.win_span_from = w == 0 ? s.win_from[w] : std::min(s.win_span_from, s.win_from[w]);
+    s.win_span_to = w == 0 ? s.win_to[w] : std::max(s.win_span_to, s.win_to[w]);
+  }
+}
+
+namespace {
+
+bool simd_escape(void* c, int piece, double x, double y, double t) {
+  return static_cast<SimdContext*>(c)->model->leak.hit(static_cast<Piece>(piece), {x, y}, t);
+}
+
+double simd_s_of(void* c, int piece, double x, double y) {
+  return static_cast<SimdContext*>(c)->model->stadium.s_of(static_cast<Piece>(piece), {x, y});
+}
+
+void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  const std::uint32_t bins = static_cast<std::uint32_t>(ctx->cells->bins);
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t cell = hits[i].index / bins, b = hits[i].index % bins;
+    for (unsigned m = ctx->cells->windows[cell]; m; m &= m - 1) {
+      const std::uint32_t k = static_cast<std::uint32_t>(__builtin_ctz(m)) * bins + b;
+      ++ctx->density[k];
+      if (ctx->density_w) ctx->density_w[k].add(hits[i].weight);
+    }
+  }
+}
+
+
+}  // namespace
+
+const simd::Exact kSimdExact{simd_escape, simd_s_of, simd_density_hits};
+
+bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  if (!ctx->resume.empty()) {
+    *id = ctx->resume.back().first;
+    *start = ctx->resume.back().second;
+    ctx->resume.pop_back();
+    return true;
+  }
+  if (ctx->next >= ctx->hi) return false;
+  *id = ctx->next++;
+  if (ctx->members) {
+    *start = (*ctx->members)[*id];
+    return true;
+  }
+  const InitialDraw d = ctx->draw(*id);
+  const ParticleState<double> ps = initial_state(ctx->model->stadium, d);
+  *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
+  return true;
+}
+
+void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
+  auto* ctx = static_cast<SimdContext*>(c);
+  if (e.fate == LaneEnd::handed_back) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
+                                         // give it back to a lane (or record it, if it ended in the jump)
+    Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
+    f.end.collisions = e.collisions;
+    const double weight = e.weight;
+    if (ctx->observer) ctx->observer->weight = weight;
+    if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
+      ctx->resume.push_back(
+          {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions), weight}});
+    } else {
+      ctx->record(id, f.end);
+    }
+    return;
+  }
+  ParticleEnd end;
+  end.fate = static_cast<Fate>(e.fate);
+  end.t = e.t;
+  end.collisions = e.collisions;
+  if (end.fate == Fate::survived) {
+    end.t = ctx->model->t_max;
+    end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
+  }
+  if (end.fate == Fate::escaped) end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  ctx->record(id, end);
+}
+
+// With c(x) the cell of time x (non-decreasing in x), t >= from_w exactly when c(t) >= c(from_w)
+// (below from_w, from_w's own edge is not passed), and t <= to_w exactly when c(t) <= c(to_w).
+void density_cells(int windows, const double* from, const double* to, unsigned* cells) {
+  const auto cell_of = [&](double x) {
+    int c = 0;
+    for (int v = 0; v < windows; ++v) c += (x >= from[v]) + (x > to[v]);
+    return c;
+  };
+  for (int c = 0; c <= 2 * windows; ++c) {
+    cells[c] = 0;
+    for (int w = 0; w < windows; ++w)
+      if (cell_of(from[w]) <= c && c <= cell_of(to[w])) cells[c] |= 1u << w;
+  }
+}
+
+}  // namespace rotleak

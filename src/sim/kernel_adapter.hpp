@@ -1,0 +1,106 @@
+// The vectorised kernel's adapter: the scene in the kernel's plain structs, the context a block of
+// particles (or a split run's members) runs in, and the callbacks through which the kernel asks the
+// core (leak test, s of a hit), hands over f_c counts, takes the next particle and reports an ended
+// one. Also the f_c observer the scalar engine and the kernel's fast-forward hand-off share.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "numeric/fixed_sum.hpp"
+#include "sim/particle.hpp"
+#include "sim/sampling.hpp"
+#include "sim/scene.hpp"
+#include "sim/simd_engine.hpp"
+
+namespace rotleak {
+
+/// f_c(s): counts collision positions in each requested time window.
+template <class R>
+struct DensityObserver {
+  static constexpr bool active = true;
+  const Stadium<R>* stadium;
+  const std::vector<TimeWindow>* windows;
+  int bins;
+  std::uint64_t* counts;
+  FixedSum* weighted_counts = nullptr;  ///< weighted runs: sums of the particle's weight
+  double weight = 1;                    ///< of the particle in flight
+
+  void operator()(Piece p, const Vec2<R>& q, const R& t) {
+    const double tt = num_traits<R>::to_double(t);
+    bool any = false;
+    for (const auto& w : *windows) any |= (tt >= w.from && tt <= w.to);
+    if (!any) return;
+    const double s = num_traits<R>::to_double(stadium->s_of(p, q));
+    int b = static_cast<int>(s * bins);
+    if (b >= bins) b = bins - 1;
+    if (b < 0) b = 0;
+    for (std::size_t i = 0; i < windows->size(); ++i)
+      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) {
+        ++counts[i * static_cast<std::size_t>(bins) + b];
+        if (weighted_counts) weighted_counts[i * static_cast<std::size_t>(bins) + b].add(weight);
+      }
+  }
+};
+
+/// The initial data of particle i of a run: the scene's draw of id first_id + i (by its sampling
+/// scheme), or a given list (weight 1); and its weight.
+struct DrawSource {
+  const Sampler* sampler;
+  std::uint64_t first_id;
+  const std::vector<InitialDraw>* draws;
+  InitialDraw operator()(std::uint64_t i) const { return draws ? (*draws)[i] : sampler->draw(first_id + i); }
+  double weight(const InitialDraw& d) const { return draws ? 1.0 : sampler->weight(d); }
+};
+
+/// The vectorised kernel's view of a double model.
+simd::Scene simd_scene(const Model<double>& m);
+
+/// The f_c observer's windows and bins for the kernel.
+void simd_density(simd::Scene& s, const Scene& scene);
+
+/// The kernel's f_c counts by time cell (simd::DensityHit), folded into the windows' counts.
+struct DensityCells {
+  int bins = 0;
+  unsigned windows[2 * simd::kMaxDensityWindows + 1] = {};  ///< bit w: window w holds the cell's times
+
+  /// counts[c bins + b] into density[w bins + b] for each window w of cell c; counts zeroed
+  void fold(std::uint64_t* counts, std::uint64_t* density, std::size_t cells) const {
+    const auto nb = static_cast<std::size_t>(bins);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (unsigned m = windows[c]; m; m &= m - 1) {
+        const auto w = static_cast<std::size_t>(__builtin_ctz(m));
+        for (std::size_t b = 0; b < nb; ++b) density[w * nb + b] += counts[c * nb + b];
+      }
+    std::fill(counts, counts + cells * nb, 0);
+  }
+};
+
+struct SimdContext {
+  const Model<double>* model;
+  DrawSource draw;
+  std::uint64_t next, hi;
+  std::function<void(std::uint64_t, const ParticleEnd&)> record;
+  std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
+  bool weights = false;                                       ///< lanes carry their weight (weighted f_c)
+  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts
+  FixedSum* density_w = nullptr;                              ///< and weighted sums
+  DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
+  const DensityCells* cells = nullptr;                        ///< the kernel's time cells
+  /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
+  const std::vector<simd::Start>* members = nullptr;
+};
+
+/// The kernel's questions to the core and its f_c sink (the callbacks below, for a SimdContext).
+extern const simd::Exact kSimdExact;
+
+/// simd::NextParticle for a SimdContext: the fast-forward's returns first, then its members (split runs)
+/// or the draws of its ids.
+bool simd_next(void* c, simd::Start* start, std::uint64_t* id);
+/// simd::Finish for a SimdContext: a handed-back lane is fast-forwarded and queued again, an ended one
+/// recorded.
+void simd_finish(void* c, std::uint64_t id, const simd::End& e);
+
+}  // namespace rotleak
