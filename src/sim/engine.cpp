@@ -24,209 +24,247 @@ namespace rotleak {
 
 namespace {
 
-/// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
-/// measured slower here: the loop is bound by branch mispredictions, not by its dependency chain.)
-template <class R, class Observer, class Record>
-void run_block(const Model<R>& model, const DrawSource& draw, std::uint64_t lo, std::uint64_t hi, Observer& observe,
-               Record& record) {
-  for (std::uint64_t i = lo; i < hi; ++i) {
-    const InitialDraw d = draw(i);
-    if constexpr (Observer::active) observe.weight = draw.weight(d);
-    record(i, run_particle(model, initial_state(model.stadium, d), observe));
-  }
+/// When an epoch that starts now ends: after checkpoint_seconds (0: never).
+std::chrono::steady_clock::time_point epoch_deadline(double checkpoint_seconds) {
+  if (!(checkpoint_seconds > 0)) return std::chrono::steady_clock::time_point::max();
+  return std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                std::chrono::duration<double>(checkpoint_seconds));
 }
 
+/// What every thread of a run shares: the model in tier R, the draws, the split rule, the engine that
+/// runs and the kernel's set-up; checks the options against the scene.
+template <class R>
+struct RunSetup {
+  const Scene& scene;
+  const RunOptions& opt;
+  Model<R> model;
+  std::unique_ptr<Sampler> sampler;
+  DrawSource source;
+  std::unique_ptr<SplitRule> scene_rule;
+  const SplitRule* split_rule = nullptr;
+  Engine engine;
+  simd::Scene kernel{};  ///< the vectorised kernel's scene (engine simd)
+  DensityCells cells;    ///< and its f_c time cells
+
+  RunSetup(const Scene& s, const RunOptions& o)
+      : scene(s),
+        opt(o),
+        model(Model<R>::from(s)),
+        sampler(make_sampler(s)),
+        source{sampler.get(), o.first_id, o.draws} {
+    if (opt.draws && opt.draws->size() != scene.particles)
+      throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
+                                  std::to_string(scene.particles) + " particles");
+    if (scene.splitting.on && (!std::is_same_v<R, double> || opt.draws || scene.escape_records))
+      throw std::invalid_argument(
+          "a split run runs the double tier from the scene's own draws, without escape records");
+    if (scene.splitting.on && !opt.split_rule) scene_rule = make_split_rule(scene);
+    if (scene.splitting.on) split_rule = opt.split_rule ? opt.split_rule : scene_rule.get();
+    engine = resolve_engine(opt.engine, scene);
+    if constexpr (std::is_same_v<R, double>)
+      if (engine == Engine::simd) {
+        kernel = simd_scene(model);
+        simd_density(kernel, scene);
+        cells.bins = kernel.bins;
+        density_cells(kernel.density_windows, kernel.win_from, kernel.win_to, cells.windows);
+        kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : simd::widest_lanes();
+        if (!simd::lanes_available(kernel.lanes))
+          throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
+                                      ": this CPU runs the vectorised kernel with 4 lanes (AVX2)" +
+                                      (simd::lanes_available(8) ? " or 8 (AVX-512)" : ""));
+      }
+  }
+
+  /// The result before any block runs: the start tallies, the blocks they hold, the engine that runs.
+  RunResult start() const {
+    RunResult r;
+    r.tally.resize(scene);
+    if (scene.escape_records) r.records.resize(scene.particles);
+    r.engine = engine;
+    r.simd_lanes = engine == Engine::simd ? kernel.lanes : 0;
+    r.first_id = opt.first_id;
+    const std::uint64_t blocks = block_count(scene.particles);
+    if (opt.start_done) r.done = *opt.start_done;
+    if (!r.done.empty() && r.done.intervals().back().second > blocks)
+      throw std::invalid_argument("RunOptions::start_done names blocks beyond the run's " + std::to_string(blocks));
+    if (opt.start) r.tally.merge(*opt.start);
+    if (opt.start_records && scene.escape_records) r.records = *opt.start_records;
+    return r;
+  }
+
+  /// The blocks to run: opt.blocks, or all of them.
+  IntervalSet todo() const {
+    const std::uint64_t blocks = block_count(scene.particles);
+    const IntervalSet t = opt.blocks ? *opt.blocks : IntervalSet::range(0, blocks);
+    if (!t.empty() && t.intervals().back().second > blocks)
+      throw std::invalid_argument("RunOptions::blocks names block " + std::to_string(t.intervals().back().second - 1) +
+                                  " of a run of " + std::to_string(blocks));
+    return t;
+  }
+};
+
+/// One thread's share of a run: its tallies and observers, and the engine that runs a block of ids
+/// (the scalar core particle by particle, or the vectorised kernel), or a split run's lines.
+template <class R>
+class Worker {
+ public:
+  Tally local;
+
+  Worker(const RunSetup<R>& s, std::vector<EscapeRecord>& records) : s_(s), records_(records) {
+    local.resize(s.scene);
+    const Scene& sc = s.scene;
+    density_ = {&s.model.stadium, sc.collision_density ? &sc.collision_density->windows : nullptr,
+                sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
+                local.weighted ? local.collision_density_w.data() : nullptr};
+    if (s.engine == Engine::simd && sc.collision_density && !local.weighted)
+      cell_counts_.assign(cells() * static_cast<std::size_t>(s.cells.bins), 0);
+  }
+
+  /// Particles (ids first_id + [lo, hi)), or the lines they start.
+  void run_block(std::uint64_t lo, std::uint64_t hi) {
+    if (s_.split_rule) {
+      if constexpr (std::is_same_v<R, double>)
+        run_lines(
+            s_.scene, *s_.sampler, *s_.split_rule, s_.opt.first_id + lo, s_.opt.first_id + hi,
+            [this](const std::vector<Member>& m, const std::vector<double>& w, double stop,
+                   std::vector<ParticleEnd>& ends) { advance_members(m, w, stop, ends); },
+            local);
+    } else if (s_.engine == Engine::simd) {
+      if constexpr (std::is_same_v<R, double>) {
+        SimdContext ctx =
+            context(s_.model, lo, hi, local.weighted, [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); });
+        simd::Exact exact = kSimdExact;
+        if (!cell_counts_.empty()) exact.counts = cell_counts_.data();
+        simd::run(s_.kernel, &ctx, simd_next, simd_finish, exact);
+        if (!cell_counts_.empty()) s_.cells.fold(cell_counts_.data(), local.collision_density.data(), cells());
+      }
+    } else {
+      auto rec = [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); };
+      if (s_.scene.collision_density)
+        run_particles(lo, hi, density_, rec);
+      else
+        run_particles(lo, hi, none_, rec);
+    }
+  }
+
+ private:
+  std::size_t cells() const { return 2 * static_cast<std::size_t>(s_.kernel.density_windows) + 1; }
+
+  /// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
+  /// measured slower here: the loop is bound by branch mispredictions, not by its dependency chain.)
+  template <class Observer, class Record>
+  void run_particles(std::uint64_t lo, std::uint64_t hi, Observer& observe, Record& rec) {
+    for (std::uint64_t i = lo; i < hi; ++i) {
+      const InitialDraw d = s_.source(i);
+      if constexpr (Observer::active) observe.weight = s_.source.weight(d);
+      rec(i, run_particle(s_.model, initial_state(s_.model.stadium, d), observe));
+    }
+  }
+
+  /// A particle's end into the thread's tallies (and its escape record).
+  void record(std::uint64_t i, const ParticleEnd& end) {
+    // the weight is a function of (seed, id): rebuilt here, not carried by lanes
+    const double w = local.weighted ? s_.source.weight(s_.source(i)) : 1.0;
+    local.add_end(end.fate, end.t, end.collisions, w, s_.scene.survival_dt);
+    if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate};
+  }
+
+  /// The kernel's context for particles [lo, hi) of `model`, f_c wired to the thread's tallies.
+  template <class Put>
+  SimdContext context(const Model<double>& model, std::uint64_t lo, std::uint64_t hi, bool weights, Put put) {
+    SimdContext ctx{&model, s_.source, lo, hi, put, {}};
+    if (s_.scene.collision_density) {
+      ctx.weights = weights;
+      ctx.density = local.collision_density.data();
+      ctx.density_w = local.weighted ? local.collision_density_w.data() : nullptr;
+      if constexpr (std::is_same_v<R, double>) ctx.observer = &density_;
+      ctx.cells = &s_.cells;
+    }
+    return ctx;
+  }
+
+  /// A split run's members, advanced to `stop` by the engine that runs the scene (ends by position).
+  void advance_members(const std::vector<Member>& members, const std::vector<double>& weights, double stop,
+                       std::vector<ParticleEnd>& ends) {
+    if constexpr (std::is_same_v<R, double>) {
+      Model<double> epoch = s_.model;
+      epoch.t_max = stop;
+      if (s_.engine == Engine::simd) {
+        simd::Scene ks = s_.kernel;
+        ks.t_max = stop;
+        ks.keep_last = true;
+        starts_.resize(members.size());
+        for (std::size_t i = 0; i < members.size(); ++i) {
+          const ParticleState<double>& ps = members[i].ps;
+          starts_[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions), weights[i]};
+        }
+        SimdContext ctx =
+            context(epoch, 0, members.size(), true, [&ends](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; });
+        ctx.members = &starts_;
+        simd::run(ks, &ctx, simd_next, simd_finish, kSimdExact);
+      } else {
+        for (std::size_t i = 0; i < members.size(); ++i) {
+          Flight<double> f{members[i].ps, {}, 0};
+          f.end.collisions = members[i].collisions;
+          density_.weight = weights[i];
+          if (s_.scene.collision_density)
+            while (advance(epoch, f, density_)) {
+            }
+          else
+            while (advance(epoch, f, none_)) {
+            }
+          ends[i] = f.end;
+        }
+      }
+    }
+  }
+
+  const RunSetup<R>& s_;
+  std::vector<EscapeRecord>& records_;
+  DensityObserver<R> density_{};
+  NoCollisionObserver<R> none_;
+  std::vector<std::uint64_t> cell_counts_;  ///< the kernel's unweighted f_c, by time cell
+  std::vector<simd::Start> starts_;         ///< a split run's members, as the kernel takes them
+};
+
+/// The batch lifecycle: set up, run epochs of blocks on all threads (each block taken once, in todo
+/// order), merge the threads' exact tallies, checkpoint between epochs, check conservation.
 template <class R>
 RunResult run_tier(const Scene& scene, const RunOptions& opt) {
-  const Model<R> model = Model<R>::from(scene);
-  const std::unique_ptr<Sampler> sampler = make_sampler(scene);
-  if (opt.draws && opt.draws->size() != scene.particles)
-    throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
-                                std::to_string(scene.particles) + " particles");
-  const DrawSource source{sampler.get(), opt.first_id, opt.draws};
-  const std::unique_ptr<SplitRule> scene_rule =
-      scene.splitting.on && !opt.split_rule ? make_split_rule(scene) : nullptr;
-  const SplitRule* split_rule = scene.splitting.on ? (opt.split_rule ? opt.split_rule : scene_rule.get()) : nullptr;
-  if (scene.splitting.on && (!std::is_same_v<R, double> || opt.draws || scene.escape_records))
-    throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
-  RunResult result;
-  result.tally.resize(scene);
-  if (scene.escape_records) result.records.resize(scene.particles);
-
-  result.engine = resolve_engine(opt.engine, scene);
-  result.first_id = opt.first_id;
-  const bool use_simd = result.engine == Engine::simd;
-  simd::Scene kernel_scene{};
-  DensityCells cells;
-  if constexpr (std::is_same_v<R, double>)
-    if (use_simd) {
-      kernel_scene = simd_scene(model);
-      simd_density(kernel_scene, scene);
-      cells.bins = kernel_scene.bins;
-      density_cells(kernel_scene.density_windows, kernel_scene.win_from, kernel_scene.win_to, cells.windows);
-      kernel_scene.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : simd::widest_lanes();
-      if (!simd::lanes_available(kernel_scene.lanes))
-        throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
-                                    ": this CPU runs the vectorised kernel with 4 lanes (AVX2)" +
-                                    (simd::lanes_available(8) ? " or 8 (AVX-512)" : ""));
-      result.simd_lanes = kernel_scene.lanes;
-    }
-  const std::uint64_t n = scene.particles;
-  const std::uint64_t blocks = block_count(n);
-  const IntervalSet todo = opt.blocks ? *opt.blocks : IntervalSet::range(0, blocks);
-  if (!todo.empty() && todo.intervals().back().second > blocks)
-    throw std::invalid_argument("RunOptions::blocks names block " + std::to_string(todo.intervals().back().second - 1) +
-                                " of a run of " + std::to_string(blocks));
-  if (opt.start_done) result.done = *opt.start_done;
-  if (!result.done.empty() && result.done.intervals().back().second > blocks)
-    throw std::invalid_argument("RunOptions::start_done names blocks beyond the run's " + std::to_string(blocks));
-  const std::uint64_t already = particles_in(result.done, n), goal = already + particles_in(todo, n);
-  if (opt.start) result.tally.merge(*opt.start);
-  if (opt.start_records && scene.escape_records) result.records = *opt.start_records;
-  const double dt = scene.survival_dt;
-  const std::size_t nbins = result.tally.escapes_per_bin.size();
-  std::atomic<std::uint64_t> done{already}, collisions_done{result.tally.collisions};
-  const auto t0 = std::chrono::steady_clock::now();
-
+  const RunSetup<R> setup(scene, opt);
+  RunResult result = setup.start();
+  const IntervalSet todo = setup.todo();
+  const std::uint64_t n = scene.particles, total = todo.size();
+  const std::uint64_t goal = particles_in(result.done, n) + particles_in(todo, n);
+  std::atomic<std::uint64_t> done{particles_in(result.done, n)}, collisions_done{result.tally.collisions};
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  const std::uint64_t total = todo.size();
-  std::uint64_t at = 0;  // the blocks todo.nth(0 .. at) are done
+  const auto t0 = std::chrono::steady_clock::now();
   // Epochs: threads take blocks in todo order from a shared counter until all are taken, a stop is
   // asked for, or the checkpoint time has come; then the tallies are merged and checkpointed.
-  while (true) {
-    const auto deadline =
-        opt.checkpoint_seconds > 0
-            ? std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                     std::chrono::duration<double>(opt.checkpoint_seconds))
-            : std::chrono::steady_clock::time_point::max();
+  for (std::uint64_t at = 0;;) {  // the blocks todo.nth(0 .. at) are done
+    const auto deadline = epoch_deadline(opt.checkpoint_seconds);
     std::atomic<std::uint64_t> next{at};
     std::atomic<bool> halt{false};
 #pragma omp parallel num_threads(threads)
     {
 #pragma omp single
       result.threads = omp_get_num_threads();
-      Tally local;
-      local.resize(scene);
-      DensityObserver<R> density{&model.stadium, scene.collision_density ? &scene.collision_density->windows : nullptr,
-                                 scene.collision_density ? scene.collision_density->bins : 0,
-                                 local.collision_density.data(),
-                                 local.weighted ? local.collision_density_w.data() : nullptr};
-      NoCollisionObserver<R> none;
-      const std::size_t n_cells = 2 * static_cast<std::size_t>(kernel_scene.density_windows) + 1;
-      std::vector<std::uint64_t> cell_counts;  // the kernel's unweighted f_c, by time cell
-      if (use_simd && scene.collision_density && !local.weighted)
-        cell_counts.assign(n_cells * static_cast<std::size_t>(cells.bins), 0);
-      auto record = [&](std::uint64_t i, const ParticleEnd& end) {
-        double w = 1;
-        if (local.weighted) {  // the weight is a function of (seed, id): rebuilt here, not carried by lanes
-          w = source.weight(source(i));
-          local.total_w.add(w);
-          local.total_w2.add(w * w);
-        }
-        switch (end.fate) {
-          case Fate::escaped: {
-            std::size_t b = static_cast<std::size_t>(end.t / dt);
-            if (b >= nbins) b = nbins - 1;
-            ++local.escapes_per_bin[b];
-            ++local.escaped;
-            if (local.weighted) {
-              local.escaped_w[b].add(w);
-              local.escaped_w2[b].add(w * w);
-            }
-            break;
-          }
-          case Fate::survived:
-            ++local.survived;
-            break;
-          case Fate::stuck:
-            ++local.stuck;
-            break;
-        }
-        local.collisions += end.collisions;
-        if (scene.escape_records) result.records[i] = {end.t, end.s, end.collisions, end.fate};
-      };
-      // A split run's members, advanced to `stop` by the engine that runs the scene (its ends by position).
-      std::vector<simd::Start> starts;
-      const AdvanceMembers advance_members = [&](const std::vector<Member>& members, const std::vector<double>& weights,
-                                                 double stop, std::vector<ParticleEnd>& ends) {
-        if constexpr (std::is_same_v<R, double>) {
-          Model<double> epoch = model;
-          epoch.t_max = stop;
-          auto put = [&](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; };
-          if (use_simd) {
-            simd::Scene ks = kernel_scene;
-            ks.t_max = stop;
-            ks.keep_last = true;
-            starts.resize(members.size());
-            for (std::size_t i = 0; i < members.size(); ++i) {
-              const ParticleState<double>& ps = members[i].ps;
-              starts[i] = {ps.q.x,    ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions),
-                           weights[i]};
-            }
-            SimdContext ctx{&epoch, source, 0, members.size(), put, {}};
-            ctx.members = &starts;
-            if (scene.collision_density) {
-              ctx.weights = true;
-              ctx.density = local.collision_density.data();
-              ctx.density_w = local.collision_density_w.data();
-              ctx.observer = &density;
-              ctx.cells = &cells;
-            }
-            simd::run(ks, &ctx, simd_next, simd_finish, kSimdExact);
-          } else {
-            for (std::size_t i = 0; i < members.size(); ++i) {
-              Flight<double> f{members[i].ps, {}, 0};
-              f.end.collisions = members[i].collisions;
-              density.weight = weights[i];
-              if (scene.collision_density)
-                while (advance(epoch, f, density)) {
-                }
-              else
-                while (advance(epoch, f, none)) {
-                }
-              ends[i] = f.end;
-            }
-          }
-        }
-      };
-      while (true) {
-        // the halt check comes before taking a block: every block taken is run
-        if (halt.load(std::memory_order_relaxed) || (opt.stop && opt.stop->load(std::memory_order_relaxed))) break;
+      Worker<R> worker(setup, result.records);
+      // the halt check comes before taking a block: every block taken is run
+      while (!halt.load(std::memory_order_relaxed) && !(opt.stop && opt.stop->load(std::memory_order_relaxed))) {
         const std::uint64_t k = next.fetch_add(1);
         if (k >= total) break;
-        const std::uint64_t blk = todo.nth(k);
-        const std::uint64_t lo = blk * kBlockSize, hi = std::min(n, lo + kBlockSize);
-        const std::uint64_t before = local.collisions;
-        if (split_rule) {
-          if constexpr (std::is_same_v<R, double>)
-            run_lines(scene, *sampler, *split_rule, opt.first_id + lo, opt.first_id + hi, advance_members, local);
-        } else if (use_simd) {
-          if constexpr (std::is_same_v<R, double>) {
-            SimdContext ctx{&model, source, lo, hi, record, {}};
-            if (scene.collision_density) {
-              ctx.weights = local.weighted;
-              ctx.density = local.collision_density.data();
-              ctx.density_w = local.weighted ? local.collision_density_w.data() : nullptr;
-              ctx.observer = &density;
-              ctx.cells = &cells;
-            }
-            simd::Exact exact = kSimdExact;
-            if (!cell_counts.empty()) exact.counts = cell_counts.data();
-            simd::run(kernel_scene, &ctx, simd_next, simd_finish, exact);
-            if (!cell_counts.empty()) cells.fold(cell_counts.data(), local.collision_density.data(), n_cells);
-          }
-        } else if (scene.collision_density) {
-          run_block(model, source, lo, hi, density, record);
-        } else {
-          run_block(model, source, lo, hi, none, record);
-        }
+        const std::uint64_t lo = todo.nth(k) * kBlockSize, hi = std::min(n, lo + kBlockSize);
+        const std::uint64_t before = worker.local.collisions;
+        worker.run_block(lo, hi);
         const std::uint64_t d = done.fetch_add(hi - lo) + (hi - lo);
-        const std::uint64_t c = collisions_done.fetch_add(local.collisions - before) + (local.collisions - before);
+        const std::uint64_t c =
+            collisions_done.fetch_add(worker.local.collisions - before) + (worker.local.collisions - before);
         if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, goal, c, false);
         if (std::chrono::steady_clock::now() >= deadline) halt.store(true, std::memory_order_relaxed);
       }
 #pragma omp critical
-      result.tally.merge(local);
+      result.tally.merge(worker.local);
     }
     const std::uint64_t end = std::min(next.load(), total);
     result.done.insert(todo.slice(at, end));  // the todo positions [at, end) are done

@@ -83,7 +83,6 @@ void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
   }
 }
 
-
 }  // namespace
 
 const simd::Exact kSimdExact{simd_escape, simd_s_of, simd_density_hits};

@@ -28,6 +28,34 @@ void Tally::resize(const Scene& scene) {
   }
 }
 
+void Tally::add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt) {
+  if (weighted) {
+    total_w.add(w);
+    total_w2.add(w * w);
+  }
+  switch (fate) {
+    case Fate::escaped: {
+      const std::size_t nbins = escapes_per_bin.size();
+      std::size_t b = static_cast<std::size_t>(t / dt);
+      if (b >= nbins) b = nbins - 1;
+      ++escapes_per_bin[b];
+      ++escaped;
+      if (weighted) {
+        escaped_w[b].add(w);
+        escaped_w2[b].add(w * w);
+      }
+      break;
+    }
+    case Fate::survived:
+      ++survived;
+      break;
+    case Fate::stuck:
+      ++stuck;
+      break;
+  }
+  collisions += collisions_made;
+}
+
 void Tally::merge(const Tally& o) {
   for (std::size_t i = 0; i < escapes_per_bin.size(); ++i) escapes_per_bin[i] += o.escapes_per_bin[i];
   for (std::size_t i = 0; i < collision_density.size(); ++i) collision_density[i] += o.collision_density[i];

@@ -51,6 +51,9 @@ struct Tally {
   FixedSum w_start, w_gained, w_escaped, w_removed, w_alive_end;
 
   void resize(const Scene& scene);
+  /// A particle's end: its fate at time t (escapes binned by dt), its collisions, and, for weighted
+  /// runs, its weight w in the exact sums.
+  void add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt);
   void merge(const Tally& other);
 };
 
