@@ -7,6 +7,7 @@
 // weights; split runs reach P ~ 1e-300, whose line weights square to 1e-600.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -27,20 +28,22 @@ class FixedSum {
   /// Adds x >= 0 (finite), exactly.
   void add(double x) {
     if (!(x >= 0) || !(x < 0x1p1000)) throw std::domain_error("FixedSum::add: term outside [0, 2^1000)");
-    if (x == 0) return;
-    int e = 0;
-    const double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
-    add_bits(static_cast<std::uint64_t>(std::ldexp(m, 53)), static_cast<long>(e) - 53);
+    long pos = 0;
+    if (const std::uint64_t m = integer_of(x, pos)) add_bits(m, pos);
+  }
+
+  /// Adds x n times, exactly: x n in one step (n < 2^64).
+  void add_times(double x, std::uint64_t n) {
+    if (!(x >= 0) || !(x < 0x1p1000)) throw std::domain_error("FixedSum::add_times: term outside [0, 2^1000)");
+    long pos = 0;
+    if (const std::uint64_t m = integer_of(x, pos)) add_bits(static_cast<unsigned __int128>(m) * n, pos);
   }
 
   /// Adds x^2 exactly (x >= 0 finite), even where x^2 leaves the range of a double.
   void add_square(double x) {
     if (!(x >= 0) || !(x < 0x1p500)) throw std::domain_error("FixedSum::add_square: term outside [0, 2^500)");
-    if (x == 0) return;
-    int e = 0;
-    const double m = std::frexp(x, &e);
-    const auto mant = static_cast<unsigned __int128>(static_cast<std::uint64_t>(std::ldexp(m, 53)));
-    add_bits(mant * mant, 2 * (static_cast<long>(e) - 53));
+    long pos = 0;
+    if (const std::uint64_t m = integer_of(x, pos)) add_bits(static_cast<unsigned __int128>(m) * m, 2 * pos);
   }
 
   /// Adds v 2^pos exactly.
@@ -135,6 +138,18 @@ class FixedSum {
   static constexpr long kNone = -(1L << 40);
 
   static long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+  /// x >= 0 finite as m 2^pos, m an integer below 2^53, read off its bits (0 for x = 0).
+  static std::uint64_t integer_of(double x, long& pos) {
+    const auto bits = std::bit_cast<std::uint64_t>(x);
+    const auto biased = static_cast<long>(bits >> 52);  // the sign bit is 0
+    const std::uint64_t frac = bits & ((std::uint64_t{1} << 52) - 1);
+    if (biased == 0) {  // zero or subnormal: frac 2^-1074
+      pos = -1074;
+      return frac;
+    }
+    pos = biased - 1075;
+    return frac | (std::uint64_t{1} << 52);
+  }
   static int int_exp(long e) { return e < -100000 ? -100000 : e > 100000 ? 100000 : static_cast<int>(e); }
   long end() const { return base_ + static_cast<long>(limb_.size()); }
   std::uint64_t limb(long k) const { return k >= base_ && k < end() ? limb_[static_cast<std::size_t>(k - base_)] : 0; }

@@ -33,15 +33,83 @@ struct DensityObserver {
     bool any = false;
     for (const auto& w : *windows) any |= (tt >= w.from && tt <= w.to);
     if (!any) return;
+    const int b = bin(p, q);
+    for (std::size_t i = 0; i < windows->size(); ++i)
+      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) add(i, b, 1);
+  }
+
+  /// A fast-forwarded stretch of n bounces (particle.hpp fast_forward), counted as n calls would count
+  /// them, by bisection: bounces of one parity lie on one edge with t and x monotone in j, so a
+  /// window's bounces are an interval of j, and so is each bin's within it (s is monotone in x on the
+  /// bottom edge; on the top edge it is monotone on each side of x = 0, where it wraps from near 1 to
+  /// 0, and the two sides' bins are disjoint for bins >= 2 since they lie above 0.75 and below 0.25).
+  template <class F>
+  void stretch(long n, const F& bounce) {
+    for (long parity = 1; parity <= 2 && parity <= n; ++parity) {
+      const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
+      const auto at = [&](long i) { return bounce(parity + 2 * i); };
+      const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
+      for (std::size_t w = 0; w < windows->size(); ++w) {
+        const TimeWindow& win = (*windows)[w];
+        // (a window usually holds the whole stretch, so its searches look at the ends first; a bin's
+        // run is found by galloping from its start: one bounce or a few thousand, log of its length)
+        long a = first(0, m, [&](long i) { return time(i) >= win.from; });
+        const long e = first(a, m, [&](long i) { return time(i) > win.to; });
+        while (a < e) {  // runs of equal bins
+          const Bounce<R> b0 = at(a);
+          const int bin0 = bin(b0.piece, b0.q);
+          const long z = gallop(a + 1, e, [&](long i) {
+            const Bounce<R> bi = at(i);
+            return bin(bi.piece, bi.q) != bin0;
+          });
+          add(w, bin0, static_cast<std::uint64_t>(z - a));
+          a = z;
+        }
+      }
+    }
+  }
+
+ private:
+  int bin(Piece p, const Vec2<R>& q) const {
     const double s = num_traits<R>::to_double(stadium->s_of(p, q));
     int b = static_cast<int>(s * bins);
     if (b >= bins) b = bins - 1;
     if (b < 0) b = 0;
-    for (std::size_t i = 0; i < windows->size(); ++i)
-      if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) {
-        ++counts[i * static_cast<std::size_t>(bins) + b];
-        if (weighted_counts) weighted_counts[i * static_cast<std::size_t>(bins) + b].add(weight);
-      }
+    return b;
+  }
+  void add(std::size_t window, int b, std::uint64_t n) {
+    const std::size_t k = window * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
+    counts[k] += n;
+    if (weighted_counts) weighted_counts[k].add_times(weight, n);
+  }
+  /// As first(), for an answer likely near lo (pred(lo - 1) false): probes lo, lo + 1, lo + 3, ...
+  /// then bisects the last gap.
+  template <class P>
+  static long gallop(long lo, long hi, const P& pred) {
+    long known_false = lo - 1;
+    for (long step = 1;; step *= 2) {
+      const long probe = known_false + step;
+      if (probe >= hi) return first(known_false + 1, hi, pred);
+      if (pred(probe)) return first(known_false + 1, probe + 1, pred);
+      known_false = probe;
+    }
+  }
+
+  /// The first i in [lo, hi) where pred holds (hi if none), pred false then true over [lo, hi); the
+  /// ends are looked at first.
+  template <class P>
+  static long first(long lo, long hi, const P& pred) {
+    if (lo >= hi || pred(lo)) return lo;
+    if (!pred(hi - 1)) return hi;
+    ++lo, --hi;  // pred(lo - 1) is false, pred(hi) is true: the answer lies in [lo, hi]
+    while (lo < hi) {
+      const long mid = lo + (hi - lo) / 2;
+      if (pred(mid))
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return lo;
   }
 };
 

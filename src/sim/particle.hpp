@@ -31,7 +31,18 @@ struct Model {
   }
 };
 
+/// One bounce of a fast-forwarded stretch, as an observer with a stretch() method is shown it.
+template <class R>
+struct Bounce {
+  Piece piece;
+  Vec2<R> q;
+  R t;
+};
+
 /// What the particle loop reports to its observer at each collision; the default does nothing.
+/// An observer may also take a fast-forwarded stretch whole: stretch(n, bounce) with bounce(j) the
+/// j-th of n bounces (j = 1 .. n; bounces of one parity lie on one straight edge, with x and t
+/// monotone in j), in place of n calls; it must count exactly what the n calls would.
 template <class R>
 struct NoCollisionObserver {
   static constexpr bool active = false;
@@ -204,14 +215,23 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
             break;
           }
       }
-      // bounces 1..n of this stretch are collisions: shown to the observer one by one
+      // bounces 1..n of this stretch are collisions: shown to the observer, whole or one by one
+      auto bounce = [&](long j) {
+        const bool top = edge_top(k + j);
+        return Bounce<R>{top ? Piece::top : Piece::bottom, Vec2<R>{xj(j), top ? st.r() : R(-st.r())}, tj(j)};
+      };
       auto show = [&](long n) {
-        if constexpr (Observer::active)
-          if (observe)
+        if constexpr (Observer::active) {
+          if (!observe) return;
+          if constexpr (requires { observe->stretch(n, bounce); }) {
+            observe->stretch(n, bounce);
+          } else {
             for (long j = 1; j <= n; ++j) {
-              const bool top = edge_top(k + j);
-              (*observe)(top ? Piece::top : Piece::bottom, Vec2<R>{xj(j), top ? st.r() : R(-st.r())}, tj(j));
+              const Bounce<R> b = bounce(j);
+              (*observe)(b.piece, b.q, b.t);
             }
+          }
+        }
       };
       if (why == 0) {  // the whole stretch is free bounces
         show(J);
