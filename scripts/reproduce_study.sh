@@ -21,9 +21,9 @@ else
   particles=1000000
   out=runs/study
   docs=docs/study/full
-  # measured on the 2-core development machine (AMD EPYC): the stationary panel's f_c points take about
-  # 2 minutes each (117 s for s_L = 0: every fast-forwarded bounce is binned), the rotating points
-  # seconds to a minute
+  # measured on the 2-core development machine (AMD EPYC): 1407 s in all at 683968a, the stationary
+  # panel's f_c points about 2 minutes each (117 s for s_L = 0); since f_c counts a fast-forwarded
+  # stretch whole, 69 s for s_L = 0 (same fc.csv); the rotating points seconds to a minute
   echo "reproduce_study: full run, 10^6 lines a point: expect about an hour on 2 cores (resumable)" >&2
 fi
 mkdir -p "$out"
