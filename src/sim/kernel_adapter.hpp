@@ -53,8 +53,8 @@ struct DensityObserver {
         const TimeWindow& win = (*windows)[w];
         // (a window usually holds the whole stretch, so its searches look at the ends first; a bin's
         // run is found by galloping from its start: one bounce or a few thousand, log of its length)
-        long a = first(0, m, [&](long i) { return time(i) >= win.from; });
-        const long e = first(a, m, [&](long i) { return time(i) > win.to; });
+        long a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
+        const long e = first_true(a, m, [&](long i) { return time(i) > win.to; });
         while (a < e) {  // runs of equal bins
           const Bounce<R> b0 = at(a);
           const int bin0 = bin(b0.piece, b0.q);
@@ -82,34 +82,17 @@ struct DensityObserver {
     counts[k] += n;
     if (weighted_counts) weighted_counts[k].add_times(weight, n);
   }
-  /// As first(), for an answer likely near lo (pred(lo - 1) false): probes lo, lo + 1, lo + 3, ...
+  /// As first_true(), for an answer likely near lo (pred(lo - 1) false): probes lo, lo + 1, lo + 3, ...
   /// then bisects the last gap.
   template <class P>
   static long gallop(long lo, long hi, const P& pred) {
     long known_false = lo - 1;
     for (long step = 1;; step *= 2) {
       const long probe = known_false + step;
-      if (probe >= hi) return first(known_false + 1, hi, pred);
-      if (pred(probe)) return first(known_false + 1, probe + 1, pred);
+      if (probe >= hi) return first_true(known_false + 1, hi, pred);
+      if (pred(probe)) return first_true(known_false + 1, probe + 1, pred);
       known_false = probe;
     }
-  }
-
-  /// The first i in [lo, hi) where pred holds (hi if none), pred false then true over [lo, hi); the
-  /// ends are looked at first.
-  template <class P>
-  static long first(long lo, long hi, const P& pred) {
-    if (lo >= hi || pred(lo)) return lo;
-    if (!pred(hi - 1)) return hi;
-    ++lo, --hi;  // pred(lo - 1) is false, pred(hi) is true: the answer lies in [lo, hi]
-    while (lo < hi) {
-      const long mid = lo + (hi - lo) / 2;
-      if (pred(mid))
-        hi = mid;
-      else
-        lo = mid + 1;
-    }
-    return lo;
   }
 };
 

@@ -66,6 +66,23 @@ struct Flight {
   int zero_flights = 0;
 };
 
+/// The first i in [lo, hi) where pred holds (hi if none), for a pred that is false and then true over
+/// [lo, hi): bisection, looking at both ends first.
+template <class P>
+long first_true(long lo, long hi, const P& pred) {
+  if (lo >= hi || pred(lo)) return lo;
+  if (!pred(hi - 1)) return hi;
+  ++lo, --hi;  // pred(lo - 1) is false, pred(hi) is true: the answer lies in [lo, hi]
+  while (lo < hi) {
+    const long mid = lo + (hi - lo) / 2;
+    if (pred(mid))
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return lo;
+}
+
 /// Fewest bounces for which fast_forward() jumps (below it stepping is as cheap).
 inline constexpr long kMinFastForwardBounces = 4;
 
@@ -155,18 +172,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       auto tj = [&](long j) { return std::fma(R(static_cast<double>(j)), rt.inc, t); };
       {  // x_j and t_j are monotone in j (a fixed increment, correctly rounded fma): so "left the
          // straight edges" and "past t_max" are false up to some j and true after, and bisection finds it
-        auto first = [&](auto bad) {
-          if (!bad(J)) return J + 1;
-          long a = 1, b = J;
-          while (a < b) {
-            const long mid = a + (b - a) / 2;
-            if (bad(mid))
-              b = mid;
-            else
-              a = mid + 1;
-          }
-          return a;
-        };
+        auto first = [&](auto bad) { return first_true(1, J + 1, bad); };
         const long j_arc = first([&](long j) {
           const R v = xj(j);
           return !(v <= st.half_d() && v >= -st.half_d());
