@@ -7,12 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "names.hpp"
+#include "numeric/input.hpp"
 #include "same_text.hpp"
 #include "sim/engine.hpp"
 #include "sim/simd_engine.hpp"
@@ -39,8 +42,12 @@ RunResult run(const Scene& s, Engine e, int threads = 2, int lanes = 0) {
 /// The kernels this CPU runs (4: AVX2, 8: AVX-512): each must give the core's bits.
 std::vector<int> widths() {
   std::vector<int> w;
-  for (int lanes : {4, 8})
-    if (simd::lanes_available(lanes)) w.push_back(lanes);
+  for (int lanes : {4, 8}) {
+    if (simd::lanes_available(lanes))
+      w.push_back(lanes);
+    else
+      std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
+  }
   return w;
 }
 
@@ -273,6 +280,35 @@ TEST(Simd, RoughAngleWithinItsBound) {
     EXPECT_LT(worst, 2e-5) << lanes << " lanes";
     std::printf("rough atan2, %d lanes: largest error %.3g rad\n", lanes, worst);
   }
+}
+
+// ROTLEAK_SIMD_LANES forces the width (both kernels run on an AVX-512 machine), and a width that is
+// not 4 or 8, or that this CPU cannot run, is refused with the variable's name.
+TEST(Simd, EnvironmentForcesTheWidth) {
+  const char* before = std::getenv("ROTLEAK_SIMD_LANES");
+  const std::string saved = before ? before : "";
+  for (int lanes : {4, 8}) {
+    ::setenv("ROTLEAK_SIMD_LANES", std::to_string(lanes).c_str(), 1);
+    if (simd::lanes_available(lanes)) {
+      EXPECT_EQ(default_simd_lanes(), lanes);
+      if (lanes == 4) EXPECT_EQ(run(scene("0", "0", 2000), Engine::simd).simd_lanes, 4);
+    } else {
+      EXPECT_THROW(default_simd_lanes(), InputError) << lanes;
+    }
+  }
+  for (const char* bad : {"5", "avx2", "16"}) {
+    ::setenv("ROTLEAK_SIMD_LANES", bad, 1);
+    try {
+      (void)default_simd_lanes();
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(std::string("ROTLEAK_SIMD_LANES = ") + bad + ": 4 (AVX2) or 8", 0), 0u)
+          << e.what();
+    }
+  }
+  ::unsetenv("ROTLEAK_SIMD_LANES");
+  EXPECT_EQ(default_simd_lanes(), simd::widest_lanes());
+  if (before) ::setenv("ROTLEAK_SIMD_LANES", saved.c_str(), 1);
 }
 
 TEST(Simd, RefusesWhatItCannotRun) {

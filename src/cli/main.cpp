@@ -1,4 +1,5 @@
 // rotleak <command>: a thin shell over the library. Bad input: one line on stderr, exit status 2.
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <string>
@@ -17,11 +18,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   // what this build and this CPU run: a cluster user checks it on each kind of node
   const int lanes = rotleak::simd::widest_lanes();
-  app.set_version_flag("--version", std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe + "); MPI: " +
-                                        (rotleak::built_with_mpi() ? "yes" : "no") + "; vectorised kernel: " +
-                                        (lanes == 8   ? "8 lanes (AVX-512)"
-                                         : lanes == 4 ? "4 lanes (AVX2)"
-                                                      : "none (this CPU lacks AVX2 and FMA: the scalar core runs)"));
+  app.set_version_flag("--version",
+                       std::string(rotleak::kVersion) + " (" + rotleak::kGitDescribe +
+                           "); MPI: " + (rotleak::built_with_mpi() ? "yes" : "no") + "; vectorised kernel: " +
+                           (lanes == 8   ? "8 lanes (AVX-512)"
+                            : lanes == 4 ? "4 lanes (AVX2)"
+                                         : "none (this CPU lacks AVX2 and FMA: the scalar core runs)") +
+                           (std::getenv("ROTLEAK_SIMD_LANES")
+                                ? std::string("; ROTLEAK_SIMD_LANES = ") + std::getenv("ROTLEAK_SIMD_LANES")
+                                : std::string()));
   const std::vector<rotleak::cli::Command> commands{
       rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),    rotleak::cli::add_omega(app),
       rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),  rotleak::cli::add_lyapunov(app),

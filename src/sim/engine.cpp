@@ -9,10 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <stdexcept>
 #include <type_traits>
 
+#include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel_adapter.hpp"
 #include "sim/particle.hpp"
@@ -67,7 +69,7 @@ struct RunSetup {
         simd_density(kernel, scene);
         cells.bins = kernel.bins;
         density_cells(kernel.density_windows, kernel.win_from, kernel.win_to, cells.windows);
-        kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : simd::widest_lanes();
+        kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : default_simd_lanes();
         if (!simd::lanes_available(kernel.lanes))
           throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
                                       ": this CPU runs the vectorised kernel with 4 lanes (AVX2)" +
@@ -294,6 +296,20 @@ std::string to_string(Engine e) {
       return "simd";
   }
   return "?";
+}
+
+int default_simd_lanes() {
+  const char* forced = std::getenv("ROTLEAK_SIMD_LANES");
+  if (!forced || !*forced) return simd::widest_lanes();
+  const std::string v = forced;
+  const int lanes = v == "4" ? 4 : v == "8" ? 8 : 0;
+  if (!simd::lanes_available(lanes))
+    throw InputError("ROTLEAK_SIMD_LANES", v,
+                     std::string("4 (AVX2) or 8 (AVX-512), a kernel this CPU runs: ") +
+                         (simd::widest_lanes() == 8   ? "4 or 8"
+                          : simd::widest_lanes() == 4 ? "4 only"
+                                                      : "none (unset it: the scalar core runs)"));
+  return lanes;
 }
 
 Engine resolve_engine(Engine requested, const Scene& scene) {

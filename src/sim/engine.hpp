@@ -24,7 +24,8 @@ class SplitRule;
 struct RunOptions {
   int threads = 0;                    ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
-  /// The vectorised kernel's lanes a register: 0 the widest this CPU runs, 4 (AVX2) or 8 (AVX-512).
+  /// The vectorised kernel's lanes a register: 0 default_simd_lanes() (ROTLEAK_SIMD_LANES, else the
+  /// widest this CPU runs), 4 (AVX2) or 8 (AVX-512).
   /// Every width gives the same bits; tests and benchmarks pick one.
   int simd_lanes = 0;
   std::uint64_t first_id = 0;  ///< particles are ids [first_id, first_id + scene.particles)
@@ -73,6 +74,12 @@ struct RunResult {
 /// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
 /// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
 void density_cells(int windows, const double* from, const double* to, unsigned* cells);
+
+/// The kernel width a run takes when RunOptions::simd_lanes leaves it open: the environment's
+/// ROTLEAK_SIMD_LANES (4 or 8: forces the AVX2 or the AVX-512 kernel, so that both are tested and timed on
+/// one machine), else the widest this CPU runs. A value other than 4 or 8, or a kernel this CPU cannot
+/// run, is an InputError naming ROTLEAK_SIMD_LANES.
+int default_simd_lanes();
 
 /// The engine `requested` resolves to for this scene on this CPU.
 Engine resolve_engine(Engine requested, const Scene& scene);
