@@ -291,7 +291,9 @@ TEST(Simd, EnvironmentForcesTheWidth) {
     ::setenv("ROTLEAK_SIMD_LANES", std::to_string(lanes).c_str(), 1);
     if (simd::lanes_available(lanes)) {
       EXPECT_EQ(default_simd_lanes(), lanes);
-      if (lanes == 4) EXPECT_EQ(run(scene("0", "0", 2000), Engine::simd).simd_lanes, 4);
+      if (lanes == 4) {
+        EXPECT_EQ(run(scene("0", "0", 2000), Engine::simd).simd_lanes, 4);
+      }
     } else {
       EXPECT_THROW(default_simd_lanes(), InputError) << lanes;
     }

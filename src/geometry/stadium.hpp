@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "geometry/formulas.hpp"
 #include "geometry/vec2.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
@@ -99,27 +100,14 @@ class Stadium {
     return b;
   }
 
-  /// Boundary coordinate s in [0,1) of a point q on piece p.
+  /// Boundary coordinate s in [0,1) of a point q on piece p (the formulas of geometry/formulas.hpp).
   R s_of(Piece p, const Vec2<R>& q) const {
     using std::atan2;
-    switch (p) {
-      case Piece::top: {
-        R s = q.x * inv_L_;
-        if (s < 0) s += 1;
-        return s >= 1 ? R(0) : s;
-      }
-      case Piece::right_arc: {
-        R th = atan2(q.x - half_d_, q.y);
-        return junction_[0] + clamp_angle(th) * r_over_L_;
-      }
-      case Piece::bottom:
-        return junction_[1] + (half_d_ - q.x) * inv_L_;
-      case Piece::left_arc: {
-        R th = atan2(-(q.x + half_d_), -q.y);
-        return junction_[2] + clamp_angle(th) * r_over_L_;
-      }
-    }
-    return R(0);
+    if (p == Piece::top || p == Piece::bottom)
+      return formula::straight_s(p == Piece::top, q.x, half_d_, inv_L_, junction_[1]);
+    const bool right = p == Piece::right_arc;
+    const R angle = atan2(formula::arc_angle_y(right, q.x, half_d_), formula::arc_angle_x(right, q.y));
+    return formula::arc_s(angle, right ? junction_[0] : junction_[2], r_over_L_, pi_);
   }
 
   Vec2<R> tangent(Piece p, const Vec2<R>& q) const {
@@ -143,49 +131,22 @@ class Stadium {
     }
   }
 
-  /// Where the ray q + t v (|v| = 1, q inside or on the boundary) next meets the boundary.
-  /// The straight edges decide first: a ray that crosses the line y = +-r outside |x| <= d/2 must
-  /// leave through the arc on that side (convexity), so at most one quadratic is solved.
+  /// Where the ray q + t v (|v| = 1, q inside or on the boundary) next meets the boundary
+  /// (formula::next_exit: the straight edges decide first, at most one quadratic is solved).
   Hit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
-    using std::sqrt;
+    const formula::Exit<R> e = formula::next_exit(r_, half_d_, q.x, q.y, v.x, v.y);
     Hit<R> h;
-    Piece arc;
-    if (v.y != 0) {
-      const bool up = v.y > 0;
-      const R t = ((up ? r_ : R(-r_)) - q.y) / v.y;
-      const R x = q.x + v.x * t;
-      if (x <= half_d_ && x >= -half_d_) {
-        h.t = t;
-        h.piece = up ? Piece::top : Piece::bottom;
-        h.q = {x, up ? r_ : R(-r_)};
-        return h;
-      }
-      arc = x > 0 ? Piece::right_arc : Piece::left_arc;
-    } else {
-      arc = v.x > 0 ? Piece::right_arc : Piece::left_arc;
-    }
-    const R dx = q.x - arc_centre_x(arc);
-    const R b = dx * v.x + q.y * v.y;
-    const R c = (dx - r_) * (dx + r_) + q.y * q.y;
-    R disc = b * b - c;
-    if (disc < 0) disc = R(0);  // grazing: rounding may push a tangent ray just outside
-    const R sq = sqrt(disc);
-    // Larger root of t^2 + 2bt + c, in the form without cancellation.
-    h.t = b <= 0 ? R(sq - b) : R(-c / (b + sq));
-    h.piece = arc;
-    h.q = {q.x + h.t * v.x, q.y + h.t * v.y};
+    h.t = e.t;
+    h.piece = e.straight ? (e.up ? Piece::top : Piece::bottom) : (e.right ? Piece::right_arc : Piece::left_arc);
+    h.q = {e.x, e.y};
     return h;
   }
 
-  /// Specular reflection of velocity v at point q of piece p.
+  /// Specular reflection of velocity v at point q of piece p (formula::reflect: about the radius
+  /// vector as it is, on an arc).
   Vec2<R> reflect(Piece p, const Vec2<R>& q, const Vec2<R>& v) const {
-    if (p == Piece::top || p == Piece::bottom) return {v.x, R(-v.y)};
-    // Reflect about the radius vector w as it is (not w / r): the result has |v'| = |v| whatever
-    // |w| is, so a collision point a few ulps off the circle cannot feed back into the speed
-    // (with w / r it does, and chaos amplifies it to a blow-up within a few dozen collisions).
-    const Vec2<R> w{R(q.x - arc_centre_x(p)), q.y};
-    const R k = 2 * dot(w, v) / dot(w, w);
-    return {v.x - k * w.x, v.y - k * w.y};
+    const bool straight = p == Piece::top || p == Piece::bottom;
+    return formula::reflect(straight, straight ? R(0) : arc_centre_x(p), q.x, q.y, v.x, v.y);
   }
 
   /// Birkhoff momentum p = sin(theta) = v_out . T of an outgoing velocity at a collision.
@@ -199,12 +160,6 @@ class Stadium {
   }
 
  private:
-  R clamp_angle(R th) const {
-    if (th < 0) return R(0);
-    if (th > pi_) return pi_;
-    return th;
-  }
-
   R d_, r_, half_d_, inv_r_;
   R L_, inv_L_, r_over_L_, L_over_r_, area_, pi_;
   R junction_[4];

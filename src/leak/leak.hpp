@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "geometry/stadium.hpp"
+#include "leak/leak_formulas.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 
@@ -31,14 +32,10 @@ class LeakSchedule {
   const R& start() const { return start_; }
 
   R phase(const R& t) const {
-    using std::floor;
     if (!rotating_) return start_;
-    const R prod = omega_.hi * t;
-    const R err = num_traits<R>::product_error(omega_.hi, t, prod);  // exact: hi*t = prod + err
-    const R whole = floor(prod);
-    R c = (prod - whole) + (err + omega_.lo * t) + start_;
-    c -= floor(c);
-    return c;
+    return formula::leak_phase(omega_.hi, omega_.lo, start_, t, [](const R& a, const R& b, const R& prod) {
+      return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
+    });
   }
 
  private:
@@ -47,14 +44,7 @@ class LeakSchedule {
   bool rotating_;
 };
 
-/// Signed distance on the circle s mod 1, in [-1/2, 1/2).
-template <class R>
-inline R circular_offset(const R& s, const R& centre) {
-  using std::floor;
-  R delta = s - centre;
-  delta -= floor(delta + R(0.5));
-  return delta;
-}
+using formula::circular_offset;
 
 /// The leak on a given stadium: decides escape at a collision. Two paths that must agree (tests
 /// check it): a precomputed per-piece window test for a stationary leak (no transcendental calls),
@@ -81,23 +71,17 @@ class Leak {
   const R& reach(int k) const { return reach_[static_cast<std::size_t>(k)]; }
 
   /// Is boundary coordinate s inside the leak at time t?
-  bool contains(const R& s, const R& t) const {
-    using std::abs;
-    return abs(circular_offset(s, schedule_.phase(t))) <= half_width_;
-  }
+  bool contains(const R& s, const R& t) const { return formula::in_leak(s, schedule_.phase(t), half_width_); }
 
   /// Escape test at a collision at point q of piece p at time t.
   bool hit(Piece p, const Vec2<R>& q, const R& t) const {
     if (!schedule_.rotating()) return in_windows(p, q);
     const R c = schedule_.phase(t);
-    if (p == Piece::right_arc || p == Piece::left_arc) {
-      // Skip the atan2 unless the leak overlaps this arc now.
-      using std::abs;
-      const int k = static_cast<int>(p);
-      if (abs(circular_offset(piece_mid_[k], c)) > reach_[k]) return false;
-    }
-    using std::abs;
-    return abs(circular_offset(stadium_.s_of(p, q), c)) <= half_width_;
+    // on an arc, skip the atan2 unless the leak overlaps this arc now
+    if ((p == Piece::right_arc || p == Piece::left_arc) &&
+        !formula::may_touch(piece_mid_[static_cast<std::size_t>(p)], c, reach_[static_cast<std::size_t>(p)]))
+      return false;
+    return formula::in_leak(stadium_.s_of(p, q), c, half_width_);
   }
 
   /// A stationary leak's part on one piece: an x range (straight pieces) or the two directions from
@@ -155,12 +139,12 @@ class Leak {
     if (pw.n == 0) return false;
     if (p == Piece::top || p == Piece::bottom) {
       for (int i = 0; i < pw.n; ++i)
-        if (q.x >= pw.w[i].lo && q.x <= pw.w[i].hi) return true;
+        if (formula::in_x_window(q.x, pw.w[i].lo, pw.w[i].hi)) return true;
       return false;
     }
     const Vec2<R> rel{q.x - stadium_.arc_centre_x(p), q.y};
     for (int i = 0; i < pw.n; ++i)  // each sub-arc spans at most pi: two half-plane tests
-      if (cross(pw.w[i].from, rel) <= 0 && cross(rel, pw.w[i].to) <= 0) return true;
+      if (formula::in_arc_window(rel, pw.w[i].from, pw.w[i].to)) return true;
     return false;
   }
 

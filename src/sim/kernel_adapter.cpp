@@ -62,10 +62,6 @@ void simd_density(simd::Scene& s, const Scene& scene) {
 
 namespace {
 
-bool simd_escape(void* c, int piece, double x, double y, double t) {
-  return static_cast<SimdContext*>(c)->model->leak.hit(static_cast<Piece>(piece), {x, y}, t);
-}
-
 double simd_s_of(void* c, int piece, double x, double y) {
   return static_cast<SimdContext*>(c)->model->stadium.s_of(static_cast<Piece>(piece), {x, y});
 }
@@ -85,7 +81,7 @@ void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
 
 }  // namespace
 
-const simd::Exact kSimdExact{simd_escape, simd_s_of, simd_density_hits};
+const simd::Exact kSimdExact{simd_s_of, simd_density_hits};
 
 bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   auto* ctx = static_cast<SimdContext*>(c);

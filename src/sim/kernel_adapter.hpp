@@ -1,6 +1,6 @@
 // The vectorised kernel's adapter: the scene in the kernel's plain structs, the context a block of
 // particles (or a split run's members) runs in, and the callbacks through which the kernel asks the
-// core (leak test, s of a hit), hands over f_c counts, takes the next particle and reports an ended
+// core (s of an arc hit), hands over f_c counts, takes the next particle and reports an ended
 // one. Also the f_c observer the scalar engine and the kernel's fast-forward hand-off share.
 #pragma once
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "geometry/formulas.hpp"
 #include "geometry/stadium.hpp"
 #include "leak/leak.hpp"
 #include "sim/fate.hpp"
@@ -144,11 +145,13 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
     if (ps.v.y == 0) return true;
     // the flight and step of the first bounce, exactly as next_hit computes them
     const R ey = ps.v.y > 0 ? st.r() : R(-st.r());
-    const R dt = (ey - ps.q.y) / ps.v.y;
-    const R dx = ps.v.x * dt;
-    const R room = dx > 0 ? R((st.half_d() - ps.q.x) / dx) : dx < 0 ? R((st.half_d() + ps.q.x) / R(-dx)) : R(1e18);
+    const R dt = formula::line_flight(ey, ps.q.y, ps.v.y);
+    const R dx = formula::displacement(ps.v.x, dt);
     // A short phase is cheaper to step; these estimates only choose, the jump itself is exact.
-    if (!(room >= R(kMinFastForwardBounces)) || !((m.t_max - ps.t) / dt >= R(kMinFastForwardBounces))) return true;
+    constexpr R kMin = R(kMinFastForwardBounces);
+    if (!formula::straight_run_at_least(ps.q.x, ps.v.x, ps.v.y, st.half_d(), st.r(), kMin) ||
+        !((m.t_max - ps.t) / dt >= kMin))
+      return true;
     const bool stationary = !m.leak.schedule().rotating();
     const bool on_top = ps.q.y > 0;  // edge of bounce 0
     R x = ps.q.x, t = ps.t;

@@ -5,6 +5,8 @@
 #include <utility>
 #include <xsimd/xsimd.hpp>
 
+#include "geometry/formulas.hpp"
+#include "leak/leak_formulas.hpp"
 #include "sim/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD512_GROUPS

@@ -6,6 +6,8 @@
 #include <utility>
 #include <xsimd/xsimd.hpp>
 
+#include "geometry/formulas.hpp"
+#include "leak/leak_formulas.hpp"
 #include "sim/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD_GROUPS

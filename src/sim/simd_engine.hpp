@@ -33,7 +33,7 @@ struct Scene {
   /// the arc's middle (Leak::hit skips the angle otherwise)
   double arc_mid[4], arc_reach[4];
   /// a vector atan2 (SLEEF, 3.5 ulp) may decide differently from libm's only this close to a leak
-  /// end or a bin edge (in s); such lanes ask Exact for the core's answer
+  /// end or a bin edge (in s); such lanes ask Exact for the core's s
   double margin;
   // f_c: collisions with t in any window [win_from, win_to] counted in `bins` bins of s
   int density_windows;
@@ -66,12 +66,11 @@ struct DensityHit {
   double weight;
 };
 
-/// The scalar core's own answers, asked for the rare lanes where the vector atan2 cannot settle it
-/// (so every decision is still the core's), and the sink of f_c's counted collisions.
+/// The scalar core's own s of an arc hit, asked for the rare lanes where the vector atan2 cannot settle a
+/// decision (so every decision is still the core's), and the sink of f_c's counted collisions.
 struct Exact {
-  bool (*escape)(void* ctx, int piece, double x, double y, double t);  ///< Leak<double>::hit
-  double (*s_of)(void* ctx, int piece, double x, double y);            ///< Stadium<double>::s_of
-  void (*density)(void* ctx, const DensityHit* hits, int n);           ///< add these to the tallies
+  double (*s_of)(void* ctx, int piece, double x, double y);   ///< Stadium<double>::s_of
+  void (*density)(void* ctx, const DensityHit* hits, int n);  ///< add these to the tallies
   /// When set (f_c unweighted): the thread's f_c counts by time cell, indexed as DensityHit::index,
   /// which the kernel increments itself instead of sending the hits to density().
   std::uint64_t* counts = nullptr;

@@ -1,27 +1,32 @@
 // The vectorised kernel, written once for any register width. Included, inside a namespace of its own,
 // by one translation unit per instruction set (simd_engine.cpp: AVX2, 4 lanes; simd_avx512.cpp:
-// AVX-512, 8 lanes), each compiled for its set alone (src/CMakeLists.txt). The includer defines, in an
-// anonymous namespace before the #include: B (the register: xsimd::batch<double, arch>), M (its mask),
-// W (lanes per register), G (registers per pack), bits(M) (lane k is bit k), fused_fms(a, b, c) (a true
-// fused a * b - c) and sleef_atan2(y, x) (SLEEF's u35 atan2 for that width). Keep it self-contained: no
-// std algorithms or shared inline helpers whose vector copies the linker could hand to scalar code (it
-// shares only constants and enums with the core, from sim/fate.hpp); everything here has internal
-// linkage but run_kernel, rough_kernel and cell_kernel.
+// AVX-512, 8 lanes), each compiled for its set alone (src/CMakeLists.txt). The includer includes
+// geometry/formulas.hpp and leak/leak_formulas.hpp at file scope and defines, in an anonymous namespace
+// before the #include: B (the register: xsimd::batch<double, arch>), M (its mask), W (lanes per
+// register), G (registers per pack), bits(M) (lane k is bit k), fused_fms(a, b, c) (a true fused
+// a * b - c) and sleef_atan2(y, x) (SLEEF's u35 atan2 for that width).
+//
+// The physics is not written here: every expression of a flight, a collision, a boundary coordinate and
+// the leak is a call into the shared formulas (geometry/formulas.hpp, leak/leak_formulas.hpp), the
+// ones Stadium<R> and Leak<R> call, instantiated on this file's pack V with its lane masks MV and the
+// selection hook below (select, choose, both). What is here: the pack, the lanes' lifecycle (refill,
+// retire, hand-off), the two approximate angles and the cascade that decides which one a lane may
+// trust (arc_s_for), and f_c's binning. Keep it self-contained otherwise: the formulas are templates
+// instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
+// copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
+// objects); everything here has internal linkage but run_kernel, rough_kernel and cell_kernel.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp):
-// - Stationary leak: bit-identical. Every expression is evaluated in the scalar core's order with
-//   one rounding per operation (xsimd's fma/fms on the plain avx2 arch are a multiply then an add,
-//   as the scalar build with -ffp-contract=off), and the escape test is the same window test, so
-//   per-particle results, escape records and tallies equal the scalar engine's exactly.
-// - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle:
-//   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, documented error <= 3.5 ulp) where libm's (< 1 ulp)
-//   runs in the core. The two angles differ by at most 4.5 ulp (< 2e-15 for angles in [0, pi]), s
-//   by less than 1e-15 after scaling by r/L and its one rounding, and so the leak test |offset| <=
-//   half_width or the f_c bin floor(s bins) can come out differently only within that distance of
-//   the leak's ends or of a bin edge. Lanes within `margin` (1e-12, a thousandfold safety) of one
-//   ask the core (simd::Exact), so every decision is the core's. The angle is computed only for
-//   arc hits that can matter: when the leak is within reach of that arc (the core's own skip) or
-//   when f_c counts the collision.
+// - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
+//   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
+//   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
+// - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle, and
+//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_atan2, within 2e-5 rad) and
+//   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; libm's is
+//   within 1 ulp, so the two differ by < 2e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
+//   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
+//   arc_s_for takes the rough s where it is far from every edge, SLEEF's where it is not, and the
+//   core's own s (simd::Exact) within `margin` (1e-12) of one: every decision is the core's.
 // The one deliberate FMA is the exact product error of the leak phase, which the scalar core also
 // takes from a true fma.
 //
@@ -35,13 +40,12 @@ constexpr int N = W * G;  ///< lanes of a pack
 static_assert(N <= 32, "lane masks are 32-bit");
 constexpr unsigned kAllLanes = N == 32 ? ~0u : (1u << N) - 1;
 constexpr int kDensityBuffer = 1024;
-/// rough_atan2's error bound in rad (1.15e-5 measured; tests/test_simd.cpp checks the bound), i.e.
-/// kRoughAngleError r / L in s (< 3.2e-6: r / L < 0.16). The moving leak trusts the rough angle's
-/// verdict beyond kRoughMargin of a leak end (a 30-fold safety or more), f_c its bin beyond twice the
-/// bound in s of a bin edge (twofold; 3.5-fold on the measured error)
+/// How far the kernel trusts its angles, in one place (arc_s_for): rough_atan2's error bound in rad
+/// (1.15e-5 measured; Simd.RoughAngleWithinItsBound checks the bound), i.e. kRoughAngleError r / L in s
+/// (< 3.2e-6: r / L < 0.16); a rough s decides only beyond kSafety times that bound from an edge
+/// (twofold; 3.5-fold on the measured error). SLEEF's s decides beyond Scene::margin of one.
 constexpr double kRoughAngleError = 2e-5;
-constexpr double kRoughMargin = 1e-4;
-constexpr double kRoughBinSafety = 2;
+constexpr double kSafety = 2;
 
 namespace {
 
@@ -140,26 +144,19 @@ inline V min(const V& x, const V& y) {
   each([&](int i) { r.b[i] = xsimd::min(x.b[i], y.b[i]); });
   return r;
 }
+// the selection hook of the shared formulas (numeric/select.hpp), for packs: per lane
 inline V select(const MV& m, const V& x, const V& y) {
   V r;
   each([&](int i) { r.b[i] = xsimd::select(m.m[i], x.b[i], y.b[i]); });
   return r;
 }
-// the core's fma/fms/fnma spellings, evaluated as it evaluates them: a multiply, then an add (two
-// roundings; -ffp-contract=off keeps the compiler from fusing them)
+inline MV select(const MV& m, const MV& x, const MV& y) { return (m & x) | ((!m) & y); }
+inline Vec2<V> select(const MV& m, const Vec2<V>& x, const Vec2<V>& y) { return {select(m, x.x, y.x), select(m, x.y, y.y)}; }
+// a * b + c as the core evaluates the spelling: a multiply, then an add (two roundings;
+// -ffp-contract=off keeps the compiler from fusing them)
 inline V fma(const V& x, const V& y, const V& z) {
   V r;
   each([&](int i) { r.b[i] = x.b[i] * y.b[i] + z.b[i]; });
-  return r;
-}
-inline V fms(const V& x, const V& y, const V& z) {
-  V r;
-  each([&](int i) { r.b[i] = x.b[i] * y.b[i] - z.b[i]; });
-  return r;
-}
-inline V fnma(const V& x, const V& y, const V& z) {
-  V r;
-  each([&](int i) { r.b[i] = z.b[i] - x.b[i] * y.b[i]; });
   return r;
 }
 /// lane k of the pack is bit k
@@ -167,6 +164,15 @@ inline unsigned bits(const MV& m) {
   unsigned r = 0;
   each([&](int i) { r |= bits(m.m[i]) << (W * i); });
   return r;
+}
+/// both branches, and a lane select: no branch to mispredict (a lane's choice is data)
+template <class F, class G2>
+inline auto choose(const MV& m, const F& a, const G2& b) -> decltype(a()) {
+  return select(m, a(), b());
+}
+template <class F>
+inline MV both(const MV& m, const F& f) {
+  return m & f();
 }
 inline V load(const double* p) {
   V r;
@@ -183,12 +189,6 @@ inline void for_lanes(unsigned mask, F f) {
     f(__builtin_ctz(mask));
     mask &= mask - 1;
   }
-}
-
-// circular offset of s from c in [-1/2, 1/2)
-inline V offset(const V& s, const V& c) {
-  const V d = s - c;
-  return d - floor(d + V(0.5));
 }
 
 struct Lanes {
@@ -236,99 +236,73 @@ void fill(const Scene& S, Pack& g, void* ctx, NextParticle next) {
   reload(g);
 }
 
-/// Where the lanes next meet the boundary, decided as Stadium::next_hit decides it.
-struct HitLanes {
-  V t;          ///< flight time
-  V x, y;       ///< collision point
-  V cx;         ///< centre x of the arc on the side the line leaves |x| <= d/2 (used for arc hits)
-  MV straight;  ///< the hit is on a straight edge
-  MV up;        ///< moving up (the top edge, for a straight hit)
-  MV right;     ///< the right arc (for an arc hit)
-};
+/// Where the lanes next meet the boundary: formula::next_exit, as Stadium::next_hit.
+using HitLanes = formula::Exit<V>;
 
-/// The straight edges decide first: a line that crosses y = +-r inside |x| <= d/2 hits that edge;
-/// otherwise it leaves through the arc on the side where it crosses (convexity), and one quadratic
-/// t^2 + 2bt + c = 0 is solved for its larger root, in the form without cancellation.
+/// formula::next_exit's pieces in its order, every lane computing both the straight and the arc hit;
+/// the arc's rare far root (b > 0) divides only in the registers that have such a lane.
 inline HitLanes next_hit(const Scene& S, const V& qx, const V& qy, const V& vx, const V& vy) {
   const V R(S.r), HD(S.half_d), ZERO(0.0);
   HitLanes h;
+  const MV flat = vy == ZERO;
   h.up = vy > ZERO;
   const V ey = select(h.up, R, -R);
-  const V tl = (ey - qy) / vy;  // a horizontal flight divides by zero here; `flat` masks it out
-  const V xl = fma(vx, tl, qx);
-  const MV flat = vy == ZERO;
-  h.straight = (abs(xl) <= HD) & !flat;
-  h.right = (flat & (vx > ZERO)) | ((!flat) & (xl > ZERO));
+  const V tl = formula::line_flight(ey, qy, vy);
+  const V xl = formula::along(qx, vx, tl);
+  h.straight = formula::hits_straight_edge(flat, xl, HD);
+  h.right = formula::leaves_right(h.straight, flat, vx, xl);
   h.cx = select(h.right, HD, -HD);
   const V dx = qx - h.cx;
-  const V b = fma(dx, vx, qy * vy);
-  const V c = fma(dx - R, dx + R, qy * qy);
-  // grazing: rounding may push a tangent ray just outside, so the discriminant is clamped at 0
-  const V sq = sqrt(max(fms(b, b, c), ZERO));
-  // b > 0 (a start outside the disc moving off its centre line) is rare: divide only where a register needs it
-  V ta = sq - b;
+  const V b = formula::arc_b(dx, qy, vx, vy), c = formula::arc_c(dx, qy, R), sq = formula::arc_sq(b, c);
+  V ta = formula::larger_root_near(b, sq);
   each([&](int i) {
     const M far = b.b[i] > B(0.0);
-    if (bits(far)) ta.b[i] = xsimd::select(far, -c.b[i] / (b.b[i] + sq.b[i]), ta.b[i]);
+    if (bits(far)) ta.b[i] = xsimd::select(far, formula::larger_root_far(b.b[i], c.b[i], sq.b[i]), ta.b[i]);
   });
   h.t = select(h.straight, tl, ta);
-  h.x = select(h.straight, xl, fma(h.t, vx, qx));
-  h.y = select(h.straight, ey, fma(h.t, vy, qy));
+  h.x = select(h.straight, xl, formula::along(qx, vx, h.t));
+  h.y = select(h.straight, ey, formula::along(qy, vy, h.t));
   return h;
 }
 
 /// Stationary leak: the precomputed windows of Leak::in_windows, an x range on a straight edge and
 /// two half-plane tests from the arc's centre on an arc (no transcendental function per hit).
 inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
-  const V ZERO(0.0);
   MV in(false);
   for (int w = 0; w < S.n_windows[0]; ++w)
-    in = in | (h.straight & h.up & (h.x >= V(S.lo[0][w])) & (h.x <= V(S.hi[0][w])));
+    in = in | (h.straight & h.up & formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w])));
   for (int w = 0; w < S.n_windows[2]; ++w)
-    in = in | (h.straight & !h.up & (h.x >= V(S.lo[2][w])) & (h.x <= V(S.hi[2][w])));
-  const V rx = h.x - h.cx;
+    in = in | (h.straight & !h.up & formula::in_x_window(h.x, V(S.lo[2][w]), V(S.hi[2][w])));
+  const Vec2<V> rel{h.x - h.cx, h.y};
   for (int p = 1; p <= 3; p += 2) {
     const MV on = (!h.straight) & (p == 1 ? h.right : !h.right);
     for (int w = 0; w < S.n_windows[p]; ++w) {
-      const V c1 = fms(V(S.from_x[p][w]), h.y, V(S.from_y[p][w]) * rx);  // cross(from, rel)
-      const V c2 = fms(rx, V(S.to_y[p][w]), h.y * V(S.to_x[p][w]));      // cross(rel, to)
-      in = in | (on & (c1 <= ZERO) & (c2 <= ZERO));
+      const Vec2<V> from{V(S.from_x[p][w]), V(S.from_y[p][w])}, to{V(S.to_x[p][w]), V(S.to_y[p][w])};
+      in = in | (on & formula::in_arc_window(rel, from, to));
     }
   }
   return in;
 }
 
-/// The boundary coordinate s of the straight hits as Stadium::s_of computes it (arc lanes: junk).
+/// The boundary coordinate s of the straight hits (formula::straight_s; arc lanes: junk).
 inline V straight_s(const Scene& S, const HitLanes& h) {
-  const V HD(S.half_d), ZERO(0.0), ONE(1.0);
-  V s_top = h.x * V(S.inv_L);
-  s_top = select(s_top < ZERO, s_top + ONE, s_top);
-  s_top = select(s_top >= ONE, ZERO, s_top);
-  const V s_bottom = fma(HD - h.x, V(S.inv_L), V(S.junction[1]));  // a multiply, then an add
-  return select(h.up, s_top, s_bottom);
+  return formula::straight_s(h.up, h.x, V(S.half_d), V(S.inv_L), V(S.junction[1]));
 }
 
-/// s of the arc hits as Stadium::s_of computes it, the angle from SLEEF's atan2, evaluated only for
-/// the registers with a lane in `arcs`; their other lanes keep `s`.
-inline V arc_s(const Scene& S, const HitLanes& h, const MV& arcs, V s) {
+/// s of an arc hit from its angle (formula::arc_s, from the arc's start in s).
+[[gnu::always_inline]] inline V arc_s_from(const Scene& S, const HitLanes& h, const V& angle) {
+  return formula::arc_s(angle, select(h.right, V(S.junction[0]), V(S.junction[2])), V(S.r_over_L), V(S.pi));
+}
+
+/// s of the arc hits in `arcs` from SLEEF's atan2 (evaluated only for the registers with a lane in
+/// `arcs`); the other lanes keep `s`.
+inline V sleef_arc_s(const Scene& S, const HitLanes& h, const MV& arcs, const V& s) {
+  const V ay = formula::arc_angle_y(h.right, h.x, V(S.half_d)), ax = formula::arc_angle_x(h.right, h.y);
+  V angle(0.0);
   each([&](int i) {
-    if (!bits(arcs.m[i])) return;
-    // right arc: atan2(x - d/2, y); left arc: atan2(-(x + d/2), -y); one call for both
-    const M right = h.right.m[i];
-    const B x = h.x.b[i], y = h.y.b[i], hd(S.half_d);
-    const B ay = xsimd::select(right, x - hd, -(x + hd));
-    const B ax = xsimd::select(right, y, -y);
-    B ang = sleef_atan2(ay, ax);
-    ang = xsimd::min(xsimd::max(ang, B(0.0)), B(S.pi));
-    const B sa = ang * B(S.r_over_L) + xsimd::select(right, B(S.junction[0]), B(S.junction[2]));  // two roundings
-    s.b[i] = xsimd::select(arcs.m[i], sa, s.b[i]);
+    if (bits(arcs.m[i])) angle.b[i] = sleef_atan2(ay.b[i], ax.b[i]);
   });
-  return s;
-}
-
-/// s of every hit: straight_s, and arc_s for the arc lanes in `arcs` (other arc lanes get -1).
-inline V s_of(const Scene& S, const HitLanes& h, const MV& arcs) {
-  return arc_s(S, h, arcs, select(h.straight, straight_s(S, h), V(-1.0)));
+  return select(arcs, arc_s_from(S, h, angle), s);
 }
 
 /// A cheap angle atan2(ay, ax) in [-pi, pi] for the moving leak's first look: octant reduction and
@@ -351,56 +325,55 @@ inline V rough_atan2(const V& ay, const V& ax) {
   return select(ay < ZERO, -t, t);
 }
 
-/// s of the arc hits as arc_s computes it but from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L
-/// < 0.16), of the core's. Inlined by force: as a call it returns its pack through memory (omega =
-/// 2/3 measured 4% slower).
+/// s of the arc hits from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L < 0.16), of the core's.
+/// Inlined by force: as a call it returns its pack through memory (omega = 2/3 measured 4% slower).
 [[gnu::always_inline]] inline V rough_arc_s(const Scene& S, const HitLanes& h) {
-  const V HD(S.half_d);
-  const V ang =
-      min(max(rough_atan2(select(h.right, h.x - HD, -(h.x + HD)), select(h.right, h.y, -h.y)), V(0.0)), V(S.pi));
-  return fma(ang, V(S.r_over_L), select(h.right, V(S.junction[0]), V(S.junction[2])));
+  return arc_s_from(S, h, rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
 }
 
-/// Per-lane answers from the core for the lanes in `ask`, replacing `m` there.
-template <class F>
-inline MV ask_core(const MV& m, const MV& ask, F core) {
-  alignas(sizeof(B)) double v[N];
-  const unsigned am = bits(ask), mm = bits(m);
-  for (int i = 0; i < N; ++i) v[i] = ((am >> i) & 1) ? (core(i) ? 1.0 : 0.0) : (((mm >> i) & 1) ? 1.0 : 0.0);
-  return load(v) != V(0.0);
+/// The cascade "cheap angle, then a precise one, then ask the core" (a filtered predicate, as CGAL's):
+/// s of the arc lanes in `arcs` (the other lanes keep `s`), exact enough that every decision that
+/// near(s, tol) guards comes out as the core's; near(s, tol) gives the lanes whose s lies within tol
+/// (in s) of one of that decision's edges. A lane keeps the rough s beyond kSafety times its bound
+/// from every edge, else takes SLEEF's s, which it keeps beyond Scene::margin, else the core's own s.
+template <class Near>
+inline V arc_s_for(const Scene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
+                   const Exact& exact) {
+  if (!bits(arcs)) return s;
+  s = select(arcs, rough_arc_s(S, h), s);
+  const MV fine = arcs & near(s, kSafety * kRoughAngleError * S.r_over_L);
+  if (!bits(fine)) return s;
+  s = sleef_arc_s(S, h, fine, s);
+  if (const unsigned ask = bits(fine & near(s, S.margin))) {
+    alignas(sizeof(B)) double sv[N], x[N], y[N];
+    store(s, sv), store(h.x, x), store(h.y, y);
+    const unsigned rm = bits(h.right);
+    for_lanes(ask, [&](int i) { sv[i] = exact.s_of(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i]); });
+    s = load(sv);
+  }
+  return s;
 }
 
-/// Moving leak: the phase frac(start + omega t) as LeakSchedule::phase computes it, then Leak::hit:
-/// on an arc nothing unless the leak's centre is within reach of the arc's middle; else the
-/// circular distance of s from the centre against the half width, lanes near a leak end decided
-/// by the core.
+/// Moving leak: the phase (formula::leak_phase), then Leak::hit: on an arc nothing unless the leak
+/// can touch it now (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes'
+/// s from the cascade with the leak's two ends as its edges.
 inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
                          const Exact& exact) {
-  const V prod = V(S.omega_hi) * t;
-  V err;  // the exact error of hi*t: a true fused multiply-subtract
-  each([&](int i) { err.b[i] = fused_fms(B(S.omega_hi), t.b[i], prod.b[i]); });
-  V ph = (prod - floor(prod)) + fma(V(S.omega_lo), t, err) + V(S.start);
-  ph = ph - floor(ph);
-  const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
-  const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
-  MV near_arc = (!h.straight) & (abs(offset(mid, ph)) <= reach) & live;
-  if (bits(near_arc)) {
-    // first look with the rough angle: a hit more than kRoughMargin (in s) outside the leak is out
-    // for any angle within 2e-5 rad (3.2e-6 in s) of it; only the rest get the exact angle
-    const V s_rough = rough_arc_s(S, h);
-    near_arc = near_arc & (abs(offset(s_rough, ph)) <= V(S.half_width + kRoughMargin));
-  }
-  const V s = s_of(S, h, near_arc);
-  const V off = abs(offset(s, ph));
-  MV in = (h.straight | near_arc) & (off <= V(S.half_width));
-  const MV unsure = near_arc & (abs(off - V(S.half_width)) <= V(S.margin));
-  if (bits(unsure)) {
-    alignas(sizeof(B)) double x[N], y[N], tt[N];
-    store(h.x, x), store(h.y, y), store(t, tt);
-    const unsigned rm = bits(h.right);
-    in = ask_core(in, unsure, [&](int i) { return exact.escape(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i], tt[i]); });
-  }
-  return in;
+  const V ph = formula::leak_phase(V(S.omega_hi), V(S.omega_lo), V(S.start), t, [](const V& a, const V& b, const V& p) {
+    V err;  // the exact error of a b: a true fused multiply-subtract
+    each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
+    return err;
+  });
+  const MV near_arc = (!h.straight) &
+                      formula::may_touch(select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3])), ph,
+                                         select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]))) &
+                      live;
+  const V hw(S.half_width);
+  const auto near_end = [&](const V& s, double tol) {
+    return abs(abs(formula::circular_offset(s, ph)) - hw) <= V(tol);
+  };
+  const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end, ctx, exact);
+  return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
 
 /// The time cell of t: how many window edges it has passed (t >= from, t > to); the cell fixes the set
@@ -414,32 +387,16 @@ inline V time_cell(const Scene& S, const V& t) {
 }
 
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
-/// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window). An arc hit's bin comes from the rough angle when its s is more than
-/// kRoughBinSafety times the rough angle's bound (in s) from a bin edge (for any angle within rough_atan2's bound the bin is the same);
-/// the rest take SLEEF's angle, and those within `margin` of an edge take s from the core.
+/// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window); the arc
+/// lanes' s from the cascade with the bin edges as its edges.
 inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
                             const Exact& exact, DensityHit* buf, int& used) {
   const V bins(static_cast<double>(S.bins)), ZERO(0.0);
-  const MV arcs = count & !h.straight;
-  V s = straight_s(S, h);  // arc lanes: below
-  MV fine = arcs;          // arc lanes that need more than the rough angle
-  if (bits(arcs)) {
-    const V s_rough = rough_arc_s(S, h);
-    const V sb = s_rough * bins;
-    fine = arcs & (abs(sb - nearbyint(sb)) <= V(kRoughBinSafety * kRoughAngleError * S.r_over_L * S.bins));
-    s = select(arcs, s_rough, s);
-  }
-  if (bits(fine)) {
-    s = arc_s(S, h, fine, s);
+  const auto near_edge = [&](const V& s, double tol) {
     const V sb = s * bins;
-    if (const unsigned um = bits(fine & (abs(sb - nearbyint(sb)) <= V(S.margin * S.bins)))) {
-      alignas(sizeof(B)) double sv[N], x[N], y[N];
-      store(s, sv), store(h.x, x), store(h.y, y);
-      const unsigned rm = bits(h.right);
-      for_lanes(um, [&](int i) { sv[i] = exact.s_of(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i]); });
-      s = load(sv);
-    }
-  }
+    return abs(sb - nearbyint(sb)) <= V(tol * S.bins);
+  };
+  const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge, ctx, exact);
   // as DensityObserver bins it, int(s bins) clamped to [0, bins): s bins > -1, so floor and the
   // clamp give the same as the truncation and the clamp
   const V bin = min(max(floor(s * bins), ZERO), V(S.bins - 1.0));
@@ -500,7 +457,7 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
 template <bool KeepLast>
 inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
                  DensityHit* buf, int& used) {
-  const V R(S.r), HD(S.half_d), TMAX(S.t_max), ZERO(0.0), ONE(1.0);
+  const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
   const V t = g.t + h.t;
@@ -514,20 +471,19 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
   }
   const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over, ctx, exact) : in_stationary_leak(S, h)) & !over;
 
-  // reflect: about the radius vector as it is, not divided by r (see Stadium::reflect)
+  // formula::reflect's pieces, every lane computing the arc's reflection
   const V wx = h.x - h.cx;
-  const V k = V(2.0) * fma(wx, vx, h.y * vy) / fma(wx, wx, h.y * h.y);
-  g.vx = select(h.straight, vx, fnma(k, wx, vx));
-  g.vy = select(h.straight, -vy, fnma(k, h.y, vy));
+  const V k = formula::reflect_factor(wx, h.y, vx, vy);
+  g.vx = select(h.straight, vx, formula::reflected(vx, k, wx));
+  g.vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
   g.zero = select(h.t > ZERO, ZERO, g.zero + ONE);
   const MV stuck = g.zero > V(static_cast<double>(kMaxZeroFlights));
   if constexpr (!KeepLast) g.qx = h.x, g.qy = h.y, g.t = t;
-  // a long run between the straight edges ahead: (room to the arc) |vy| >= n 2r |vx|, no division
+  // a long run between the straight edges ahead: handed back to the fast-forward
   MV handoff(false);
-  if (S.handoff_bounces > 0) {
-    const V room = select(vx > ZERO, HD - h.x, HD + h.x);
-    handoff = h.straight & !over & !esc & (room * abs(g.vy) >= V(2 * S.handoff_bounces) * R * abs(g.vx));
-  }
+  if (S.handoff_bounces > 0)
+    handoff = h.straight & !over & !esc &
+              formula::straight_run_at_least(h.x, g.vx, g.vy, V(S.half_d), V(S.r), V(S.handoff_bounces));
   const MV done = over | esc | stuck | handoff;
   if constexpr (KeepLast) {
     if (bits(done) & g.live_mask) {
