@@ -70,8 +70,7 @@ TEST_P(LeakWindows, AgreeWithTheBoundaryCoordinateTest) {
     const double s = u(gen);
     const BoundaryPoint<double> b = st.at(s);
     const double s_back = st.s_of(b.piece, b.q);
-    const double edge_distance =
-        std::abs(std::abs(circular_offset(s_back, leak.schedule().start())) - leak.half_width());
+    const double edge_distance = formula::distance_to_leak_end(s_back, leak.schedule().start(), leak.half_width());
     if (edge_distance < 1e-12) continue;  // within rounding of an edge: either answer is right
     const bool by_s = leak.contains(s_back, 0.0);
     EXPECT_EQ(leak.hit(b.piece, b.q, 0.0), by_s) << "s = " << s << " start " << start;

@@ -274,7 +274,7 @@ std::optional<double> search_score(const std::string& search, const Scene& scene
     } else if (search == "near_edge_escape") {
       if (s.in_leak) {
         const double c = model.leak.schedule().phase(s.t);
-        best = std::abs(std::abs(circular_offset(sv, c)) - model.leak.half_width());
+        best = formula::distance_to_leak_end(sv, c, model.leak.half_width());
         found = true;
         return false;
       }

@@ -37,6 +37,12 @@ inline T along(const T& q, const T& v, const T& t) {
   return q + displacement(v, t);
 }
 
+/// A point's x relative to an arc's centre (its y is already: the centres lie on y = 0).
+template <class T>
+inline T from_centre(const T& x, const T& cx) {
+  return x - cx;
+}
+
 /// The flight from (dx, qy), relative to an arc's centre, along unit v meets the circle of radius r where
 /// t^2 + 2bt + c = 0: its b, its c, and sq, the square root of its discriminant (a grazing flight's,
 /// pushed below zero by rounding, counts as zero).
@@ -68,7 +74,8 @@ inline T larger_root_far(const T& b, const T& c, const T& sq) {
 template <class T>
 inline T arc_exit(const T& dx, const T& qy, const T& vx, const T& vy, const T& r) {
   const T b = arc_b(dx, qy, vx, vy), c = arc_c(dx, qy, r), sq = arc_sq(b, c);
-  return choose(b <= T(0), [&] { return larger_root_near(b, sq); }, [&] { return larger_root_far(b, c, sq); });
+  return choose(
+      b <= T(0), [&] { return larger_root_near(b, sq); }, [&] { return larger_root_far(b, c, sq); });
 }
 
 /// The next collision of a flight: its time, its point, and which of the four pieces it is on.
@@ -93,7 +100,10 @@ inline mask_of<T> hits_straight_edge(const mask_of<T>& flat, const T& xl, const 
 template <class T>
 inline mask_of<T> leaves_right(const mask_of<T>& straight, const mask_of<T>& flat, const T& vx, const T& xl) {
   using Mask = mask_of<T>;
-  return both(!straight, [&] { return choose(flat, [&] { return Mask(vx > T(0)); }, [&] { return Mask(xl > T(0)); }); });
+  return both(!straight, [&] {
+    return choose(
+        flat, [&] { return Mask(vx > T(0)); }, [&] { return Mask(xl > T(0)); });
+  });
 }
 
 /// Where the flight from q along unit v (q inside or on the boundary) next meets the boundary:
@@ -112,9 +122,12 @@ inline Exit<T> next_exit(const T& r, const T& half_d, const T& qx, const T& qy, 
   h.straight = hits_straight_edge(flat, xl, half_d);
   h.right = leaves_right(h.straight, flat, vx, xl);
   h.cx = select(h.right, half_d, T(-half_d));
-  h.t = choose(h.straight, [&] { return tl; }, [&] { return arc_exit(T(qx - h.cx), qy, vx, vy, r); });
-  h.x = choose(h.straight, [&] { return xl; }, [&] { return along(qx, vx, h.t); });
-  h.y = choose(h.straight, [&] { return ey; }, [&] { return along(qy, vy, h.t); });
+  h.t = choose(
+      h.straight, [&] { return tl; }, [&] { return arc_exit(from_centre(qx, h.cx), qy, vx, vy, r); });
+  h.x = choose(
+      h.straight, [&] { return xl; }, [&] { return along(qx, vx, h.t); });
+  h.y = choose(
+      h.straight, [&] { return ey; }, [&] { return along(qy, vy, h.t); });
   return h;
 }
 
@@ -135,9 +148,12 @@ inline T reflected(const T& v, const T& k, const T& w) {
 template <class T>
 inline Vec2<T> reflect(const mask_of<T>& straight, const T& cx, const T& x, const T& y, const T& vx, const T& vy) {
   return choose(
-      straight, [&] { return Vec2<T>{vx, T(-vy)}; },
+      straight,
       [&] {
-        const T wx = x - cx;
+        return Vec2<T>{vx, T(-vy)};
+      },
+      [&] {
+        const T wx = from_centre(x, cx);
         const T k = reflect_factor(wx, y, vx, vy);
         return Vec2<T>{reflected(vx, k, wx), reflected(vy, k, y)};
       });
@@ -171,7 +187,8 @@ inline T bottom_s(const T& x, const T& half_d, const T& inv_L, const T& junction
 /// s of a point x on a straight edge: the top one when `up`, else the bottom one.
 template <class T>
 inline T straight_s(const mask_of<T>& up, const T& x, const T& half_d, const T& inv_L, const T& junction1) {
-  return choose(up, [&] { return top_s(x, inv_L); }, [&] { return bottom_s(x, half_d, inv_L, junction1); });
+  return choose(
+      up, [&] { return top_s(x, inv_L); }, [&] { return bottom_s(x, half_d, inv_L, junction1); });
 }
 
 /// The arguments of the atan2(y, x) that gives an arc point's angle from the arc's start, clockwise:
@@ -191,6 +208,15 @@ inline T arc_s(T angle, const T& start, const T& r_over_L, const T& pi) {
   angle = select(angle < T(0), T(0), angle);
   angle = select(angle > pi, pi, angle);
   return start + angle * r_over_L;
+}
+
+/// f_c's bin of boundary coordinate s among `bins` equal bins of [0, 1): floor(s bins), clamped to
+/// [0, bins - 1] (as an integer-valued T).
+template <class T>
+inline T density_bin(const T& s, const T& bins) {
+  using std::floor;
+  const T b = floor(s * bins);
+  return select(b < T(0), T(0), select(b > T(bins - T(1)), T(bins - T(1)), b));
 }
 
 /// A stationary leak's window on a straight edge: x in [lo, hi].

@@ -142,7 +142,7 @@ class Leak {
         if (formula::in_x_window(q.x, pw.w[i].lo, pw.w[i].hi)) return true;
       return false;
     }
-    const Vec2<R> rel{q.x - stadium_.arc_centre_x(p), q.y};
+    const Vec2<R> rel{formula::from_centre(q.x, stadium_.arc_centre_x(p)), q.y};
     for (int i = 0; i < pw.n; ++i)  // each sub-arc spans at most pi: two half-plane tests
       if (formula::in_arc_window(rel, pw.w[i].from, pw.w[i].to)) return true;
     return false;

@@ -39,6 +39,13 @@ inline mask_of<T> in_leak(const T& s, const T& centre, const T& half_width) {
   return abs(circular_offset(s, centre)) <= half_width;
 }
 
+/// How far boundary coordinate s lies from the nearer end of the leak (inside or out).
+template <class T>
+inline T distance_to_leak_end(const T& s, const T& centre, const T& half_width) {
+  using std::abs;
+  return abs(T(abs(circular_offset(s, centre)) - half_width));
+}
+
 /// Can the leak centred at `centre` touch a piece whose middle is at s = mid? Only within `reach` of it.
 template <class T>
 inline mask_of<T> may_touch(const T& mid, const T& centre, const T& reach) {

@@ -72,10 +72,7 @@ struct DensityObserver {
  private:
   int bin(Piece p, const Vec2<R>& q) const {
     const double s = num_traits<R>::to_double(stadium->s_of(p, q));
-    int b = static_cast<int>(s * bins);
-    if (b >= bins) b = bins - 1;
-    if (b < 0) b = 0;
-    return b;
+    return static_cast<int>(formula::density_bin(s, static_cast<double>(bins)));
   }
   void add(std::size_t window, int b, std::uint64_t n) {
     const std::size_t k = window * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);

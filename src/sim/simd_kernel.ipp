@@ -252,7 +252,7 @@ inline HitLanes next_hit(const Scene& S, const V& qx, const V& qy, const V& vx, 
   h.straight = formula::hits_straight_edge(flat, xl, HD);
   h.right = formula::leaves_right(h.straight, flat, vx, xl);
   h.cx = select(h.right, HD, -HD);
-  const V dx = qx - h.cx;
+  const V dx = formula::from_centre(qx, h.cx);
   const V b = formula::arc_b(dx, qy, vx, vy), c = formula::arc_c(dx, qy, R), sq = formula::arc_sq(b, c);
   V ta = formula::larger_root_near(b, sq);
   each([&](int i) {
@@ -273,7 +273,7 @@ inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
     in = in | (h.straight & h.up & formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w])));
   for (int w = 0; w < S.n_windows[2]; ++w)
     in = in | (h.straight & !h.up & formula::in_x_window(h.x, V(S.lo[2][w]), V(S.hi[2][w])));
-  const Vec2<V> rel{h.x - h.cx, h.y};
+  const Vec2<V> rel{formula::from_centre(h.x, h.cx), h.y};
   for (int p = 1; p <= 3; p += 2) {
     const MV on = (!h.straight) & (p == 1 ? h.right : !h.right);
     for (int w = 0; w < S.n_windows[p]; ++w) {
@@ -370,7 +370,7 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
                       live;
   const V hw(S.half_width);
   const auto near_end = [&](const V& s, double tol) {
-    return abs(abs(formula::circular_offset(s, ph)) - hw) <= V(tol);
+    return formula::distance_to_leak_end(s, ph, hw) <= V(tol);
   };
   const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end, ctx, exact);
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
@@ -397,9 +397,7 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
     return abs(sb - nearbyint(sb)) <= V(tol * S.bins);
   };
   const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge, ctx, exact);
-  // as DensityObserver bins it, int(s bins) clamped to [0, bins): s bins > -1, so floor and the
-  // clamp give the same as the truncation and the clamp
-  const V bin = min(max(floor(s * bins), ZERO), V(S.bins - 1.0));
+  const V bin = formula::density_bin(s, bins);
   alignas(sizeof(B)) double index[N];
   store(fma(time_cell(S, t), bins, bin), index);  // exact: small integers
   const unsigned in = bits(count);
@@ -472,7 +470,7 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
   const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over, ctx, exact) : in_stationary_leak(S, h)) & !over;
 
   // formula::reflect's pieces, every lane computing the arc's reflection
-  const V wx = h.x - h.cx;
+  const V wx = formula::from_centre(h.x, h.cx);
   const V k = formula::reflect_factor(wx, h.y, vx, vy);
   g.vx = select(h.straight, vx, formula::reflected(vx, k, wx));
   g.vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
