@@ -19,8 +19,12 @@ namespace {
 
 TEST(SelectionHook, OneNumberEvaluatesOnlyTheBranchTaken) {
   int a = 0, b = 0;
-  EXPECT_EQ(choose(true, [&] { return ++a; }, [&] { return ++b; }), 1);
-  EXPECT_EQ(choose(false, [&] { return ++a; }, [&] { return ++b + 10; }), 11);
+  EXPECT_EQ(choose(
+                true, [&] { return ++a; }, [&] { return ++b; }),
+            1);
+  EXPECT_EQ(choose(
+                false, [&] { return ++a; }, [&] { return ++b + 10; }),
+            11);
   EXPECT_EQ(a, 1);
   EXPECT_EQ(b, 1);
   EXPECT_FALSE(both(false, [&] { return ++a > 0; }));

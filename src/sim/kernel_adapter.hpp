@@ -4,6 +4,8 @@
 // one. Also the f_c observer the scalar engine and the kernel's fast-forward hand-off share.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -45,34 +47,83 @@ struct DensityObserver {
   /// 0, and the two sides' bins are disjoint for bins >= 2 since they lie above 0.75 and below 0.25).
   template <class F>
   void stretch(long n, const F& bounce) {
+    const std::size_t nw = windows->size();
+    // each window's bounces [from, to) among this parity's (on the stack: a fast-forward shows many
+    // short stretches, one per binade of its sums)
+    constexpr std::size_t kInline = 8;
+    std::pair<long, long> inline_span[kInline];
+    std::vector<std::pair<long, long>> heap_span(nw > kInline ? nw : 0);
+    std::pair<long, long>* span = nw > kInline ? heap_span.data() : inline_span;
     for (long parity = 1; parity <= 2 && parity <= n; ++parity) {
       const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
       const auto at = [&](long i) { return bounce(parity + 2 * i); };
       const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
-      for (std::size_t w = 0; w < windows->size(); ++w) {
+      const auto s_at = [&](long i) {
+        const Bounce<R> b = at(i);
+        return num_traits<R>::to_double(stadium->s_of(b.piece, b.q));
+      };
+      // (a window usually holds the whole stretch: then the stretch's two end times say so)
+      const double t_first = time(0), t_last = time(m - 1);
+      long lo = m, hi = 0;
+      for (std::size_t w = 0; w < nw; ++w) {
         const TimeWindow& win = (*windows)[w];
-        // (a window usually holds the whole stretch, so its searches look at the ends first; a bin's
-        // run is found by galloping from its start: one bounce or a few thousand, log of its length)
-        long a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
-        const long e = first_true(a, m, [&](long i) { return time(i) > win.to; });
-        while (a < e) {  // runs of equal bins
-          const Bounce<R> b0 = at(a);
-          const int bin0 = bin(b0.piece, b0.q);
-          const long z = gallop(a + 1, e, [&](long i) {
-            const Bounce<R> bi = at(i);
-            return bin(bi.piece, bi.q) != bin0;
-          });
-          add(w, bin0, static_cast<std::uint64_t>(z - a));
-          a = z;
+        long a = 0, e = m;
+        if (t_last < win.from || t_first > win.to) {
+          a = e = 0;
+        } else if (!(t_first >= win.from && t_last <= win.to)) {
+          a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
+          e = first_true(a, m, [&](long i) { return time(i) > win.to; });
         }
+        span[w] = {a, e};
+        if (a < e) lo = std::min(lo, a), hi = std::max(hi, e);
+      }
+      if (lo >= hi) continue;
+      // Runs of equal bins over the windows' union, each added to every window it overlaps. x is
+      // affine in the bounce index (a fixed increment, correctly rounded), so s is too, up to
+      // rounding and the top edge's wrap at x = 0: each run's end is predicted from the mean step of
+      // s, then checked exactly (two bins), and searched for only when the prediction misses.
+      const double s_lo = s_at(lo), s_last = hi - 1 > lo ? s_at(hi - 1) : s_lo;
+      const double step = hi - 1 > lo ? (s_last - s_lo) / static_cast<double>(hi - 1 - lo) : 0;
+      if (bin_of(s_lo) == bin_of(s_last)) {  // one run (bins are monotone in i, the top edge's wrap aside,
+        // and the two sides of the wrap never share a bin): nothing to search
+        for (std::size_t w = 0; w < nw; ++w)
+          if (span[w].first < span[w].second)
+            add(w, bin_of(s_lo), static_cast<std::uint64_t>(span[w].second - span[w].first));
+        continue;
+      }
+      long a = lo;
+      double s_a = s_lo;
+      while (a < hi) {
+        const int bin0 = bin_of(s_a);
+        const auto moved = [&](long i) { return bin_of(s_at(i)) != bin0; };  // false, then true, in i
+        const long z = run_end(a, hi, s_a, step, bin0, moved);
+        for (std::size_t w = 0; w < nw; ++w) {
+          const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
+          if (from < to) add(w, bin0, static_cast<std::uint64_t>(to - from));
+        }
+        a = z;
+        if (a < hi) s_a = s_at(a);
       }
     }
   }
 
  private:
-  int bin(Piece p, const Vec2<R>& q) const {
-    const double s = num_traits<R>::to_double(stadium->s_of(p, q));
-    return static_cast<int>(formula::density_bin(s, static_cast<double>(bins)));
+  int bin(Piece p, const Vec2<R>& q) const { return bin_of(num_traits<R>::to_double(stadium->s_of(p, q))); }
+  int bin_of(double s) const { return static_cast<int>(formula::density_bin(s, static_cast<double>(bins))); }
+  /// The first i in (a, hi) where moved(i) holds (hi if none), moved being false at a and then true
+  /// from some i on: first where s, moving by about `step` an index from s_a, crosses the edge of
+  /// bin0 it moves towards; then that guess checked and, if it missed, corrected by search.
+  template <class P>
+  long run_end(long a, long hi, double s_a, double step, int bin0, const P& moved) const {
+    long z = hi;
+    if (step > 0 || step < 0) {
+      const double edge = static_cast<double>(step > 0 ? bin0 + 1 : bin0) / bins;
+      const double k = step > 0 ? std::ceil((edge - s_a) / step) : std::floor((s_a - edge) / -step) + 1;
+      z = k >= static_cast<double>(hi - a) ? hi : a + std::max(1L, static_cast<long>(k));
+    }
+    if (z > a + 1 && moved(z - 1)) return first_true(a + 1, z, moved);  // guessed long
+    if (z < hi && !moved(z)) return gallop(z + 1, hi, moved);           // guessed short
+    return z;
   }
   void add(std::size_t window, int b, std::uint64_t n) {
     const std::size_t k = window * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
