@@ -110,7 +110,23 @@ TEST(TallyFile, RoundTripsBitForBitAndRefusesDamage) {
 TEST(TallyFile, InputsDifferenceNamesTheKey) {
   Scene a = busy_scene(100), b = busy_scene(100);
   b.width_text = "0.02";
-  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(a, "simd")), "");
+  // the same scene read back from the scene.toml a run writes has the same inputs (what a resume or a
+  // shard merge relies on): nothing the file leaves out, rounds or reorders may count as a difference
+  const Scene back = parse_scene(scene_to_toml(a));
+  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(back, "simd")), "");
+  // and the scene with its fit keys changed, as `rotleak fit` would, is still the same run
+  Scene refit = a;
+  refit.alpha_factor = 5;
+  EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(refit, "simd")), "");
+  // every other key is an input: one changed exact key, one number, one switch, each named
+  Scene more = a;
+  more.t_max = a.t_max + 1;
+  EXPECT_NE(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(more, "simd")).find("run.t_max"),
+            std::string::npos);
+  more = a;
+  more.fast_forward = !a.fast_forward;
+  EXPECT_NE(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(more, "simd")).find("run.fast_forward"),
+            std::string::npos);
   EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(b, "simd")),
             "leak.width: \"0.01\" vs \"0.02\"");
   EXPECT_EQ(inputs_difference(simulation_inputs(a, "simd"), simulation_inputs(a, "scalar")), "engine: simd vs scalar");

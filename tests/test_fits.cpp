@@ -6,6 +6,8 @@
 #include <random>
 
 #include "analysis/fits.hpp"
+#include "analysis/run_summary.hpp"
+#include "io/scene_file.hpp"
 
 using namespace rotleak;
 
@@ -184,6 +186,41 @@ TEST(FitKappa, WindowSystematicSeesACurvedLogP) {
   EXPECT_GT(*e.window_systematic, 5 * c.std_error);  // the curvature is far above the statistics
   // the sampled half-spread is a difference of two fits: within 3 x (2 standard errors) of the truth
   EXPECT_NEAR(*c.window_systematic, *e.window_systematic, 6 * c.std_error);
+}
+
+// The kappa window itself. On ln P = -k t - b t^2 / 2 (a local slope that drifts, as ln P's does while a
+// tail grows under the exponential) a least-squares line through the grid points t = a, a + 1, ..., b
+// has slope -(k + b (a + b) / 2) exactly: the points lie symmetrically about their mean, so the
+// quadratic's part (t - m)^2 is uncorrelated with t. A window moved by 50 moves that by 25 b = 1e-4 (2%);
+// the noise-free curve (10^13 particles, P >= 2e-3) is exact to ~1e-11 in ln P, so 1e-9 in kappa is the
+// allowance. Checked on fit_kappa's windows, on the window family of add_window_systematic, and through
+// a scene's fit.kappa_window (default and set) as a run's summary fits it.
+TEST(FitKappa, FitsExactlyTheWindowItIsGiven) {
+  const double k0 = kKappa, b = 4e-6;
+  const SurvivalCurve c = exact_curve(1e13, 1000, [&](double t) { return std::exp(-k0 * t - b * t * t / 2); });
+  const auto expected = [&](double from, double to) { return k0 + b * (from + to) / 2; };
+  for (auto [from, to] : {std::pair{0.0, 300.0}, {100.0, 400.0}, {37.0, 537.0}, {200.0, 1000.0}}) {
+    const KappaFit f = fit_kappa(c, from, to);
+    ASSERT_TRUE(f.ok);
+    EXPECT_EQ(f.points, static_cast<std::size_t>(to - from) + 1);
+    EXPECT_NEAR(f.value, expected(from, to), 1e-9) << "[" << from << ", " << to << "]";
+  }
+  KappaFit f = fit_kappa(c, 0, 300);
+  add_window_systematic(f, c, 1000);
+  ASSERT_EQ(f.window_family.size(), 6u);
+  for (const auto& w : f.window_family) EXPECT_NEAR(w.value, expected(w.from, w.to), 1e-9) << w.from << " " << w.to;
+  // starts 0 and 50, ends 200, 300 and 400: half the spread of b (from + to) / 2 over the family
+  EXPECT_NEAR(*f.window_systematic, b * ((50 + 400) - (0 + 200)) / 4, 1e-9);
+  for (const char* text : {"", "[fit]\nkappa_window = [120, 480]\n"}) {
+    RunSummary s;
+    s.scene = parse_scene(std::string("[run]\nt_max = 1000\n") + text);
+    s.curve = c;
+    fit_curve(s);
+    const double from = *text ? 120 : 0, to = *text ? 480 : 300;  // docs/scenes.md: the default is [0, 300]
+    EXPECT_EQ(s.kappa.from, from);
+    EXPECT_EQ(s.kappa.to, to);
+    EXPECT_NEAR(s.kappa.value, expected(from, to), 1e-9) << text;
+  }
 }
 
 // z only where the local slope is stable: a power-law tail (z = 1) cut off at t = 8000 (then falling

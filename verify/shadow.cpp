@@ -36,8 +36,11 @@ State to_state(const TraceStep<R>& st) {
   return s;
 }
 
+/// max |a_i - b_i|, rounded up to a double. The difference is taken at the states' own (stored) precision,
+/// whatever precision the calling thread works at: a tier's divergence must not depend on the tier's bits.
 double divergence(const State& a, const State& b) {
   double d = 0;
+  MpfrPrecision exact(std::max(mpfr_get_prec(a.v[0].data()), mpfr_get_prec(b.v[0].data())));
   Mpfr diff;
   for (int i = 0; i < 5; ++i) {
     mpfr_sub(diff.data(), a.v[i].data(), b.v[i].data(), MPFR_RNDN);
