@@ -12,6 +12,7 @@
 #include "run/refit.hpp"
 #include "run/regimes_search.hpp"
 #include "run/scan.hpp"
+#include "same_text.hpp"
 
 namespace rotleak {
 namespace {
@@ -96,7 +97,7 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   // run from other inputs (its recorded inputs differ): only those two run again.
   const fs::path part = base / "part";
   scan(request(part, 1));
-  EXPECT_EQ(read(part / "table.csv"), table) << "thread count changed the table";
+  EXPECT_TRUE(test::same_text(read(part / "table.csv"), table)) << "thread count changed the table";
   const std::string p1 = "p1_omega-0_width-0.02", p2 = "p2_omega-2o3_width-0.01";
   fs::remove_all(part / "points" / p1);
   const std::string manifest = read(part / "points.json");
@@ -108,12 +109,12 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   const ScanOutcome resumed = scan(request(part, 2));
   EXPECT_EQ(resumed.ran, 2u);
   EXPECT_EQ(resumed.skipped, 2u);
-  EXPECT_EQ(read(part / "table.csv"), table);
+  EXPECT_TRUE(test::same_text(read(part / "table.csv"), table));
 
   ScanRequest force = request(part, 2);
   force.force = true;
   EXPECT_EQ(scan(force).ran, 4u);
-  EXPECT_EQ(read(part / "table.csv"), table);
+  EXPECT_TRUE(test::same_text(read(part / "table.csv"), table));
 
   // A bad swept value fails before any point runs, naming the key.
   ScanRequest bad = request(base / "bad", 2);
@@ -167,11 +168,11 @@ TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
   ScanRequest f = request(base / "fresh", 2);
   f.overrides.push_back("fit.alpha_factor=5");
   scan(f);
-  EXPECT_EQ(read(base / "scan" / "table.csv"), read(base / "fresh" / "table.csv"));
+  EXPECT_TRUE(test::same_text(read(base / "scan" / "table.csv"), read(base / "fresh" / "table.csv")));
   EXPECT_NE(read(base / "scan" / "table.csv"), table10);
   // `rotleak fit` on the scan directory, back to factor 10, gives the first table again
   refit(base / "scan", {"fit.alpha_factor=10"});
-  EXPECT_EQ(read(base / "scan" / "table.csv"), table10);
+  EXPECT_TRUE(test::same_text(read(base / "scan" / "table.csv"), table10));
   fs::remove_all(base);
 }
 
