@@ -220,7 +220,8 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   std::string out;
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
   out +=
-      "kappa,kappa_err,alpha,alpha_err,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,particles,collisions\n";
+      "kappa,kappa_err,alpha,alpha_err,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
+      "best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
     for (const ScanAxis& a : axes) out += csv_field(swept.at(a.key).get<std::string>()) + ",";

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Every kind of file rotleak writes, made once and read back against docs/output.md's schemas with
+# Python's csv and json and with pandas (scripts/check_output_schema.py): a run with escapes and f_c, a
+# split run, a 3-point scan, a shadow, a covering of two omegas with segments, and an audit. Then three
+# damaged copies (a row one field short, an undocumented summary.json key, a renamed column) must be
+# refused, so the check is seen to fail where it should.
+# Usage: scripts/check_outputs.sh ROTLEAK_BINARY      Exit 1 on any violation.
+set -euo pipefail
+bin=$(realpath "$1")
+here=$(dirname "$(realpath "$0")")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+scene="$here/../data/scenes/quickstart.toml"
+py=/usr/bin/python3
+q=(--no-progress)
+"$bin" simulate "$scene" --particles 20000 --set observe.escapes=true --out "$work/out/run" "${q[@]}" >/dev/null
+"$bin" simulate "$here/../data/scenes/stationary_sL_0.toml" --particles 4000 --set ensemble.sampling=mupo \
+  --set run.splitting=true --set run.t_max=3000 --out "$work/out/split" "${q[@]}" >/dev/null
+"$bin" scan "$scene" --over leak.omega=0,1,2/3 --set ensemble.particles=5000 --out "$work/out/scan" "${q[@]}" >/dev/null
+"$bin" shadow "$scene" --particle 3 --tiers float,double,dd --collisions 300 --out "$work/out/shadow" >/dev/null
+"$bin" covering --omega 2/3 --omega 1e-4 --resolution 200 --segments --out "$work/out/covering" >/dev/null
+"$bin" audit "$scene" --sample 20 --stats-particles 20000 --stratify-particles 5000 --max-collisions 200 \
+  --tiers float,double --threads 2 --out "$work/out/audit" >/dev/null
+"$py" "$here/check_output_schema.py" "$work/out"
+
+# the check must fail on damaged files
+refused() {  # DIR WHAT
+  if "$py" "$here/check_output_schema.py" "$1" >"$work/log" 2>&1; then
+    echo "check_output_schema.py accepted $2"
+    exit 1
+  fi
+  grep "^schema:" "$work/log" | head -1
+}
+mkdir -p "$work/bad1" "$work/bad2" "$work/bad3"
+awk -F, -v OFS=, 'NR == 3 { NF = NF - 1 } { print }' "$work/out/scan/table.csv" >"$work/bad1/table.csv"
+refused "$work/bad1" "a table.csv row one field short"
+"$py" -c 'import json, sys; d = json.load(open(sys.argv[1])); d["host"] = "x"; json.dump(d, open(sys.argv[2], "w"))' \
+  "$work/out/run/summary.json" "$work/bad2/summary.json"
+refused "$work/bad2" "an undocumented key in summary.json"
+sed '1s/P_err/P_error/' "$work/out/run/survival.csv" >"$work/bad3/survival.csv"
+refused "$work/bad3" "a renamed survival.csv column"
+echo "every file matches docs/output.md; damaged copies refused"
