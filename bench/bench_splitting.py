@@ -63,7 +63,7 @@ def main():
         print("omega = %s, t_max = 10000; work in collisions (wall seconds in brackets, this machine)" % omega)
         for name, (s, _) in results.items():
             print("  %-17s %9d %s  %.3e collisions  [%.1f s]" % (
-                name, s["particles"], "lines" if "splitting" in s else "particles", s["collisions"], s["wall_seconds"]))
+                name, s["particles"], "lines" if "splitting" in s else "particles", s["collisions"], s["execution"]["wall_seconds"]))
         header = "| P ~ | t | " + " | ".join("%s: rel. error, FOM" % n for n in results) + " | FOM gain of splitting |"
         print()
         print(header)

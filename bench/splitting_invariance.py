@@ -29,7 +29,7 @@ def run(rotleak, out, lines, seed, extra):
         rows = {float(r["t"]): (float(r["P"]), float(r["P_err"])) for r in csv.DictReader(f)}
     with open(os.path.join(out, "summary.json")) as f:
         s = json.load(f)
-    return [rows[t] for t in TIMES], s["wall_seconds"], s["collisions"]
+    return [rows[t] for t in TIMES], s["execution"]["wall_seconds"], s["collisions"]
 
 
 def table(rotleak, lines, work, key, values, default, seed0):

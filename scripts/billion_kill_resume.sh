@@ -60,12 +60,12 @@ while [ ! -f cut/summary.json ]; do
 done
 echo "killed twice and resumed: $total s wall in ${#pieces[@]} pieces (checkpoints every $every s)"
 cmp whole/survival.csv cut/survival.csv
-# summary.json without the timing and layout fields (wall time, rate, threads, ranks, kernel width,
-# the checkpoint interval)
+# summary.json without "execution" (wall time, rate, threads, ranks, kernel width, host, build) and the
+# checkpoint interval
 numbers() {
   python3 -c 'import json, sys
 s = json.load(open(sys.argv[1]))
-for k in ("wall_seconds", "collisions_per_second", "threads", "ranks", "simd_lanes"): s.pop(k, None)
+s.pop("execution")
 s["scene"]["run"].pop("checkpoint_seconds")  # not an input of the numbers
 print(json.dumps(s, sort_keys=True))' "$1"
 }

@@ -140,7 +140,7 @@ def load_schemas():
             top, _, sub = n.partition(".")
             typ = types[i] if len(types) == len(names) else types[0]
             if sub:
-                summary.setdefault(top, ["object", optional, {}])[2][sub] = typ
+                summary.setdefault(top, ["object", False, {}])[2][sub] = (typ, optional)
             else:
                 summary[top] = [typ, optional, summary.get(top, [None, None, {}])[2]]
     return csv_schemas, json_schemas, summary
@@ -246,8 +246,10 @@ def check_json(path, schemas, summary, errors):
                     continue
                 if doc[key] is not None and not json_type_ok(doc[key], typ):
                     errors.append(f"{path}: {key} is {type(doc[key]).__name__}, documented as {typ}")
-                for sub, st in subs.items():
-                    if isinstance(doc[key], dict) and not json_type_ok(doc[key].get(sub), st):
+                for sub, (st, sub_optional) in subs.items():
+                    if not isinstance(doc[key], dict) or (sub_optional and sub not in doc[key]):
+                        continue
+                    if not json_type_ok(doc[key].get(sub), st):
                         errors.append(f"{path}: {key}.{sub} is not {st}")
             for key in doc:
                 if key not in summary:

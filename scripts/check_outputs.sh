@@ -14,6 +14,7 @@ scene="$here/../data/scenes/quickstart.toml"
 py=/usr/bin/python3
 q=(--no-progress)
 "$bin" simulate "$scene" --particles 20000 --set observe.escapes=true --out "$work/out/run" "${q[@]}" >/dev/null
+"$bin" simulate "$scene" --particles 500 --set run.tier=float --out "$work/out/scalar" "${q[@]}" >/dev/null
 "$bin" simulate "$here/../data/scenes/stationary_sL_0.toml" --particles 4000 --set ensemble.sampling=mupo \
   --set run.splitting=true --set run.t_max=3000 --out "$work/out/split" "${q[@]}" >/dev/null
 "$bin" scan "$scene" --over leak.omega=0,1,2/3 --set ensemble.particles=5000 --out "$work/out/scan" "${q[@]}" >/dev/null

@@ -31,8 +31,8 @@ a, b = json.load(open("one/summary.json")), json.load(open(run + "/summary.json"
 for k in ("kappa", "alpha", "tail_exponent", "tail", "particles", "collisions", "escaped", "sampling"):
     if a[k] != b[k]:
         sys.exit("%s: summary.json %s differs: %s vs %s" % (run, k, a[k], b[k]))
-if b["ranks"] != {"two": 2, "three": 3}[run]:
-    sys.exit("%s: summary.json says ranks = %s" % (run, b["ranks"]))
+if b["execution"]["ranks"] != {"two": 2, "three": 3}[run]:
+    sys.exit("%s: summary.json says ranks = %s" % (run, b["execution"]["ranks"]))
 PY
   echo "$run ranks: survival.csv, fc.csv, escapes.csv and the fits identical to one process"
 done
@@ -60,7 +60,7 @@ cmp -s scan1/table.csv scan2/table.csv || { echo "scan under 2 ranks: table.csv 
 for p in scan1/points/*/; do
   q=scan2/points/$(basename "$p")
   cmp -s "$p/survival.csv" "$q/survival.csv" || { echo "scan under 2 ranks: $(basename "$p") survival.csv differs"; exit 1; }
-  grep -q '"ranks": 2' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
+  python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["execution"]["ranks"] != 2)' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
 done
 echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
 # the audit: its ensembles split by blocks, its shadows by particle; audit.json the same but for
@@ -72,10 +72,9 @@ audit=("$scene" --set leak.omega=2/3 --sample 48 --stats-particles 30000 --strat
 python3 - <<'PY'
 import json, sys
 a, b = json.load(open("audit1/audit.json")), json.load(open("audit3/audit.json"))
-if b["ranks"] != 3 or a["ranks"] != 1:
-    sys.exit("audit: audit.json says ranks = %s (one process: %s)" % (b["ranks"], a["ranks"]))
-for k in ("seconds", "timing", "threads", "ranks"):
-    a.pop(k); b.pop(k)
+if b["execution"]["ranks"] != 3 or a["execution"]["ranks"] != 1:
+    sys.exit("audit: audit.json says ranks = %s (one process: %s)" % (b["execution"]["ranks"], a["execution"]["ranks"]))
+a.pop("execution"); b.pop("execution")
 if a != b:
     diff = [k for k in a if a[k] != b.get(k)]
     sys.exit("audit under 3 ranks: audit.json differs from one process's in " + ", ".join(diff))

@@ -37,8 +37,8 @@ def main():
         adiff = "%+.1f%%" % (100 * (a["value"] / al - 1)) if a["value"] is not None else "-"
         print("| %s | %.5g +- %.1g | %.4g | %+.2f%% | %s | %.3g | %s | %.3g |" %
               (row["s_L"], k["value"], k["error"], kl, 100 * (k["value"] / kl - 1), alpha, al, adiff,
-               s["collisions_per_second"]), flush=True)
-    print("\n%d particles per row, %d threads; fits: %s" % (args.particles, s["threads"], k["method"]))
+               s["execution"]["collisions_per_second"]), flush=True)
+    print("\n%d particles per row, %d threads; fits: %s" % (args.particles, s["execution"]["threads"], k["method"]))
 
 
 if __name__ == "__main__":

@@ -156,9 +156,11 @@ TEST(Cli, ExistingOutputNeedsForceAndJsonIsAloneOnStdout) {
   const Outcome first = run("simulate " + scene.string() + " --out " + outdir.string() + " --json --threads 2");
   ASSERT_EQ(first.status, 0) << first.err;
   const auto j = nlohmann::json::parse(first.out);  // throws if anything else is on stdout
-  for (const char* key : {"seed", "rotleak", "threads", "wall_seconds", "collisions", "collisions_per_second", "kappa",
-                          "alpha", "scene", "tier"})
+  for (const char* key : {"seed", "execution", "collisions", "kappa", "alpha", "scene", "tier"})
     EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"rotleak", "host", "engine", "threads", "ranks", "wall_seconds", "collisions_per_second"})
+    EXPECT_TRUE(j["execution"].contains(key)) << "execution." << key;
+  EXPECT_EQ(j["execution"]["threads"], 2);
   EXPECT_TRUE(j["kappa"].contains("value"));
   EXPECT_TRUE(j["kappa"].contains("error"));
   EXPECT_TRUE(j["alpha"].contains("value"));

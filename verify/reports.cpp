@@ -1,6 +1,7 @@
 #include "verify/reports.hpp"
 
 #include "io/files.hpp"
+#include "io/run_output.hpp"
 #include "io/text.hpp"
 
 namespace rotleak {
@@ -40,6 +41,7 @@ json estimate_json(const LyapunovEstimate& e) {
 
 json shadow_json(const ShadowResult& r, double tolerance) {
   json doc;
+  doc["execution"] = execution_json(json::object());
   doc["particle"] = r.id;
   doc["weight"] = r.weight;
   doc["initial"] = {{"s", r.draw.s}, {"p", r.draw.p}, {"tau", r.draw.tau}};
@@ -102,13 +104,14 @@ json audit_json(const AuditReport& r, const std::string& source) {
   json doc;
   doc["scene"] = source;
   doc["sample"] = r.sample;
-  doc["seconds"] = r.seconds;
-  doc["timing"] = {{"stratify_seconds", r.stratify_seconds},
-                   {"shadow_seconds", r.shadow_seconds},
-                   {"ensemble_seconds", r.ensemble_seconds},
-                   {"analysis_seconds", r.analysis_seconds}};
-  doc["threads"] = r.threads;
-  doc["ranks"] = r.ranks;
+  doc["execution"] = execution_json({{"seconds", r.seconds},
+                                     {"timing",
+                                      {{"stratify_seconds", r.stratify_seconds},
+                                       {"shadow_seconds", r.shadow_seconds},
+                                       {"ensemble_seconds", r.ensemble_seconds},
+                                       {"analysis_seconds", r.analysis_seconds}}},
+                                     {"threads", r.threads},
+                                     {"ranks", r.ranks}});
   doc["max_truth_bits"] = r.max_truth_bits;
   doc["lyapunov"] = {
       {"per_time", r.lyapunov_tangent.per_time},

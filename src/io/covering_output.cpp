@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "io/files.hpp"
+#include "io/run_output.hpp"
 #include "io/text.hpp"
 
 namespace rotleak {
@@ -38,6 +39,7 @@ json covering_document(const CoveringTexts& in, const std::vector<std::string>& 
   json list = json::array();
   for (std::size_t i = 0; i < results.size(); ++i) list.push_back(covering_json(omegas[i], results[i]));
   json doc;
+  doc["execution"] = execution_json(json::object());
   doc["input"] = {{"delta", in.delta}, {"lambda", in.lambda}, {"d", in.d}, {"r", in.r}};
   doc["covering"] = list.size() == 1 ? list[0] : list;
   return doc;

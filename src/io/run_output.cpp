@@ -1,5 +1,7 @@
 #include "io/run_output.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -207,26 +209,34 @@ void put_fits(json& s, const RunSummary& r) {
                     {"omega_sweep", r.leak_times.omega_sweep}};
 }
 
+json execution_json(json fields) {
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  json e = {{"rotleak", {{"version", kVersion}, {"git", kGitDescribe}}}, {"host", std::string(host)}};
+  for (auto it = fields.begin(); it != fields.end(); ++it) e[it.key()] = it.value();
+  return e;
+}
+
 json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   const Scene& scene = r.scene;
   json s;
-  s["rotleak"] = {{"version", kVersion}, {"git", kGitDescribe}};
+  json how = {{"engine", to_string(r.result.engine)}};
+  if (r.result.simd_lanes > 0) how["simd_lanes"] = r.result.simd_lanes;  // 4: AVX2, 8: AVX-512 (same bits)
+  how["threads"] = r.result.threads;                                     // per rank
+  how["ranks"] = r.result.ranks;
+  how["wall_seconds"] = r.result.wall_seconds;
+  how["collisions_per_second"] = r.collisions_per_second();
+  s["execution"] = execution_json(std::move(how));
   s["command"] = "simulate";
   s["scene"] = scene_json(scene);
   s["seed"] = scene.seed;
   s["tier"] = to_string(scene.tier);
   if (r.tier_choice)
     s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
-  s["engine"] = to_string(r.result.engine);
-  if (r.result.simd_lanes > 0) s["simd_lanes"] = r.result.simd_lanes;  // 4: AVX2, 8: AVX-512 (same bits)
-  s["threads"] = r.result.threads;                                     // per rank
-  s["ranks"] = r.result.ranks;
   s["particles"] = scene.particles;
   if (r.result.of != 0)  // a shard: ids [first, end) of a run of `of` particles (rotleak merge)
     s["ids"] = {{"first", r.result.first_id}, {"end", r.result.first_id + scene.particles}, {"of", r.result.of}};
-  s["wall_seconds"] = r.result.wall_seconds;
   s["collisions"] = r.result.tally.collisions;
-  s["collisions_per_second"] = r.collisions_per_second();
   s["escaped"] = r.result.tally.escaped;
   s["survivors_at_t_max"] = r.result.tally.survived;
   s["stuck"] = r.result.tally.stuck;
@@ -294,10 +304,8 @@ std::string summary_text(const RunSummary& r) {
 void write_directory_summary(RunDirectory& dir, const std::string& command, const std::string& scene_source,
                              std::vector<std::string> files) {
   files.push_back("summary.json");
-  const json s = {{"rotleak", {{"version", kVersion}, {"git", kGitDescribe}}},
-                  {"command", command},
-                  {"scene", scene_source},
-                  {"files", files}};
+  const json s = {
+      {"execution", execution_json(json::object())}, {"command", command}, {"scene", scene_source}, {"files", files}};
   write_file_atomic(dir.file("summary.json"), s.dump(2) + "\n");
   dir.commit();
 }

@@ -34,6 +34,11 @@ json summary_json(const RunSummary& s, const std::vector<std::string>& files);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);
 
+/// summary.json's "execution" (audit.json's too): everything that says how a run went, not what it
+/// found: the build (`rotleak.version`, `rotleak.git`), the host, then `fields` (threads, ranks,
+/// timings, the kernel). Runs that must agree compare their documents without this one key.
+json execution_json(json fields);
+
 /// For commands whose main document has its own name (audit.json): summary.json with the version,
 /// the command, the scene and the files, written last; then commits the directory.
 void write_directory_summary(RunDirectory& dir, const std::string& command, const std::string& scene_source,

@@ -294,7 +294,8 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   // inputs the shards carry
   Scene scene = load_scene((shards[0].dir / "scene.toml").string(), {"ensemble.particles=" + std::to_string(of)});
   scene.source = shards[0].summary.at("scene").value("source", scene.source);
-  const Engine engine = shards[0].summary.at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
+  const Engine engine =
+      shards[0].summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
   const std::string why = inputs_difference(shards[0].f.inputs, run_inputs(scene, engine));
   if (!why.empty())
     throw InputError("DIR", shards[0].dir.string(), "its scene.toml does not match its tally.bin (" + why + ")");
@@ -306,8 +307,9 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   if (scene.escape_records) result.records.reserve(of);
   for (const Shard& s : shards) {
     result.tally.merge(s.f.tally);
-    result.wall_seconds += s.summary.value("wall_seconds", 0.0);
-    result.threads = std::max(result.threads, s.summary.value("threads", 0));
+    const json& how = s.summary.at("execution");
+    result.wall_seconds += how.value("wall_seconds", 0.0);
+    result.threads = std::max(result.threads, how.value("threads", 0));
     if (scene.escape_records) result.records.insert(result.records.end(), s.f.records.begin(), s.f.records.end());
   }
   result.done = IntervalSet::range(0, block_count(of));

@@ -372,7 +372,7 @@ ScanOutcome scan(const ScanRequest& req) {
     row["number_theory"] = p.number_theory;
     row["particles"] = s.at("particles");
     row["collisions"] = s.at("collisions");
-    row["wall_seconds"] = s.at("wall_seconds");
+    row["wall_seconds"] = s.at("execution").at("wall_seconds");
     rows.push_back(row);
     s["scan_values"] = p.values;
     s["number_theory"] = p.number_theory;
