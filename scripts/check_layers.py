@@ -18,7 +18,7 @@ LAYERS = ["numeric", "geometry", "leak", "sim", "analysis", "io", "verify", "run
 DIRS = {
     "src/numeric": "numeric", "src/geometry": "geometry", "src/leak": "leak", "src/sim": "sim",
     "analysis": "analysis", "src/io": "io", "verify": "verify", "src/run": "run", "src/cli": "cli",
-    "bench": "cli", "tests": "cli",
+    "bench": "cli", "tests": "cli", "python": "cli",
 }
 # generated headers and the layer they belong to
 GENERATED = {"version.hpp": "numeric"}

@@ -28,12 +28,12 @@ Command add_merge(CLI::App& app);
 /// Exit statuses: 0 done, 1 failed while running, 2 bad input.
 inline constexpr int kExitBadInput = 2;
 
-/// Runs scripts/<script> on a directory with Debian's python3 (matplotlib); returns its exit status.
-/// With quiet_stdout its stdout goes to stderr (stdout then carries one JSON document only).
-int run_plot_script(const std::string& script, const std::string& dir, bool quiet_stdout = false);
-/// Draws a simulate run directory (survival.png, fc.png).
-int draw_plots(const std::string& run_dir);
-/// A plot script after a completed run: stdout flushed first, a failure reported (exit 1), the run kept.
-int plot_after_run(const std::string& run_dir, const std::string& script = "plot_run.py", bool quiet_stdout = false);
+/// `python3 -m rotleak.plot DIR` (Debian's python3, matplotlib) with the installed or built package
+/// first on PYTHONPATH (io/locations.hpp): it draws whatever DIR holds (a run, a scan, a shadow, a
+/// covering, a regimes search). Returns its exit status. With quiet_stdout its stdout goes to stderr
+/// (stdout then carries one JSON document only).
+int run_plotter(const std::string& dir, bool quiet_stdout = false);
+/// The plots after a completed command: stdout flushed first, a failure reported (exit 1), the output kept.
+int plot_after_run(const std::string& dir, bool quiet_stdout = false);
 
 }  // namespace rotleak::cli

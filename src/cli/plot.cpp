@@ -1,29 +1,40 @@
-// rotleak plot DIR: draws survival.png (log-log and semi-log with the kappa fit) and fc.png.
+// rotleak plot DIR: the package's plotter (python3 -m rotleak.plot) on a run, scan, shadow, covering
+// or regimes directory.
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "io/locations.hpp"
 #include "numeric/input.hpp"
-#include "version.hpp"
 
 extern char** environ;
 
 namespace rotleak::cli {
 
-int run_plot_script(const std::string& name, const std::string& dir, bool quiet_stdout) {
+int run_plotter(const std::string& dir, bool quiet_stdout) {
   namespace fs = std::filesystem;
-  std::string script = std::string(kSourceDir) + "/scripts/" + name;
-  if (const char* s = std::getenv("ROTLEAK_SCRIPTS")) script = std::string(s) + "/" + name;
   // Debian's interpreter has python3-matplotlib; another python3 first on PATH may not.
   std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   if (const char* p = std::getenv("ROTLEAK_PYTHON")) python = p;
-  std::vector<std::string> argv_s{python, script, dir};
+  // the package this rotleak ships first on PYTHONPATH, the caller's after it
+  std::string pythonpath = "PYTHONPATH=" + python_dir().string();
+  std::vector<std::string> env_s{pythonpath};
+  for (char** e = environ; *e; ++e)
+    if (std::strncmp(*e, "PYTHONPATH=", 11) == 0)
+      env_s[0] += ":" + std::string(*e + 11);
+    else
+      env_s.emplace_back(*e);
+  std::vector<char*> envp;
+  for (auto& e : env_s) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  std::vector<std::string> argv_s{python, "-m", "rotleak.plot", dir};
   std::vector<char*> argv;
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -31,7 +42,7 @@ int run_plot_script(const std::string& name, const std::string& dir, bool quiet_
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (quiet_stdout) posix_spawn_file_actions_adddup2(&actions, 2, 1);
-  const int spawned = posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), environ);
+  const int spawned = posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return 127;
   int status = 0;
@@ -39,20 +50,17 @@ int run_plot_script(const std::string& name, const std::string& dir, bool quiet_
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
-int draw_plots(const std::string& run_dir) {
-  namespace fs = std::filesystem;
-  if (fs::exists(fs::path(run_dir) / "scan.json")) return run_plot_script("plot_scan.py", run_dir);
-  if (!fs::exists(fs::path(run_dir) / "summary.json"))
-    throw InputError("DIR", "\"" + run_dir + "\"",
-                     "must be a complete run directory (with summary.json) or a scan directory (with scan.json)");
-  return run_plot_script("plot_run.py", run_dir);
-}
-
-int plot_after_run(const std::string& run_dir, const std::string& script, bool quiet_stdout) {
+int plot_after_run(const std::string& dir, bool quiet_stdout) {
   std::fflush(stdout);  // our lines first, then the plotter's
-  const int rc = run_plot_script(script, run_dir, quiet_stdout);
+  int rc = 0;
+  try {
+    rc = run_plotter(dir, quiet_stdout);
+  } catch (const std::exception& e) {  // no package found: say so, keep the output
+    std::fprintf(stderr, "rotleak: %s\n", e.what());
+    rc = 127;
+  }
   if (rc != 0) {
-    std::fprintf(stderr, "rotleak: plotting failed (exit %d); the run itself is complete\n", rc);
+    std::fprintf(stderr, "rotleak: plotting failed (exit %d); the output itself is complete\n", rc);
     return 1;
   }
   return 0;
@@ -60,9 +68,14 @@ int plot_after_run(const std::string& run_dir, const std::string& script, bool q
 
 Command add_plot(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
-  CLI::App* sub = app.add_subcommand("plot", "Draw P(t) (log-log and semi-log, with the fit) and f_c(s) as PNG");
-  sub->add_option("dir", *dir, "Run directory (rotleak simulate) or scan directory (rotleak scan)")->required();
-  return {sub, [dir] { return draw_plots(*dir); }};
+  CLI::App* sub = app.add_subcommand(
+      "plot", "Draw a run (P(t) with the fit, f_c), a scan, a shadow, a covering or a regimes search as PNG");
+  sub->add_option("dir", *dir, "A directory rotleak wrote (simulate, scan, shadow, covering, regimes)")->required();
+  return {sub, [dir] {
+            if (!std::filesystem::is_directory(*dir))
+              throw InputError("DIR", "\"" + *dir + "\"", "must be a directory rotleak wrote");
+            return run_plotter(*dir);
+          }};
 }
 
 }  // namespace rotleak::cli

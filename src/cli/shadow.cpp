@@ -51,7 +51,7 @@ int run_shadow(const ShadowArgs& a) {
     std::cout << doc.dump(2) << "\n";
   else
     std::fputs(shadow_text(r).c_str(), stdout);
-  return dir && a.plot ? plot_after_run(dir->final_path().string(), "plot_shadow.py", a.json_out) : 0;
+  return dir && a.plot ? plot_after_run(dir->final_path().string(), a.json_out) : 0;
 }
 
 }  // namespace

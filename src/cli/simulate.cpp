@@ -94,7 +94,7 @@ int run_simulate(SimulateArgs a) {
     std::cout << out.document.dump(2) << "\n";
   else
     std::printf("%swrote %s/\n", summary_text(out.summary).c_str(), out.dir.c_str());
-  return a.plot ? plot_after_run(out.dir.string(), "plot_run.py", a.json_out) : 0;
+  return a.plot ? plot_after_run(out.dir.string(), a.json_out) : 0;
 }
 
 }  // namespace

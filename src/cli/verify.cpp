@@ -6,6 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "io/json.hpp"
+#include "io/locations.hpp"
 #include "io/progress.hpp"
 #include "numeric/input.hpp"
 #include "numeric/tier.hpp"
@@ -16,11 +17,12 @@ namespace rotleak::cli {
 
 namespace {
 
-std::string default_reference() { return std::string(kSourceDir) + "/data/trajectories"; }
+/// The reference set rotleak ships: DATA/trajectories (io/locations.hpp).
+std::string default_reference() { return (data_dir() / "trajectories").string(); }
 
 struct VerifyArgs {
   std::vector<std::string> tiers{"all"}, engines{"all"};
-  std::string reference = default_reference();
+  std::string reference;  ///< empty: default_reference()
   bool json_out = false, ignore_bits = false, regenerate = false;
   int threads = 0;
 };
@@ -40,7 +42,9 @@ std::string provenance(const std::string& dir, bool default_dir) {
   return p.dump();
 }
 
-int regenerate(const VerifyArgs& a) {
+int regenerate(VerifyArgs a) {
+  const bool default_dir = a.reference.empty();
+  if (default_dir) a.reference = default_reference();
   const auto specs = read_case_specs(a.reference + "/cases.toml");
   std::optional<ReferenceSet> before;
   try {
@@ -49,7 +53,7 @@ int regenerate(const VerifyArgs& a) {
     // no earlier set (or an unreadable one): everything is new
   }
   const ReferenceSet after = build_reference(
-      specs, provenance(a.reference, a.reference == default_reference()), a.threads,
+      specs, provenance(a.reference, default_dir), a.threads,
       [](std::size_t d, std::size_t n) { std::fprintf(stderr, "\rverify: %zu of %zu cases certified", d, n); });
   std::fprintf(stderr, "\n");
   write_reference(a.reference, after);
@@ -84,9 +88,10 @@ int run_verify(const VerifyArgs& a) {
     if (e != "all" && e != "scalar" && e != "simd" && e != "none")
       throw InputError("--engine", e, "allowed: all, scalar, simd, none");
   }
-  const ReferenceSet set = read_reference(a.reference);
+  const std::string reference = a.reference.empty() ? default_reference() : a.reference;
+  const ReferenceSet set = read_reference(reference);
   VerifyReport rep = verify_reference(set, opt);
-  rep.reference_dir = a.reference;
+  rep.reference_dir = reference;
   if (a.json_out)
     std::cout << verify_json(rep).dump(2) << "\n";
   else
@@ -107,7 +112,9 @@ Command add_verify(CLI::App& app) {
         return s + "mpfi:256)";
       }());
   sub->add_option("--engine", a->engines, "scalar, simd, all or none (repeatable; default all)");
-  sub->add_option("--reference", a->reference, "Reference directory (default: the source tree's data/trajectories)");
+  sub->add_option(
+      "--reference", a->reference,
+      "Reference directory (default: DATA/trajectories, DATA as $ROTLEAK_DATA or the installed share/rotleak/data)");
   sub->add_flag("--ignore-bits", a->ignore_bits,
                 "Check the error model only, not bit identity with the build that made the reference");
   sub->add_flag("--regenerate", a->regenerate, "Rebuild the reference from DIR/cases.toml and list what changed");

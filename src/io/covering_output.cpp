@@ -5,6 +5,7 @@
 #include "io/files.hpp"
 #include "io/run_output.hpp"
 #include "io/text.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak {
 
@@ -84,6 +85,56 @@ std::string covering_text(const std::vector<std::string>& omegas, const std::vec
             static_cast<unsigned long long>(c.max), c.mean, c.cv, c.discrepancy, c.gaps.size(),
             c.three_distance_holds ? "" : " (three-distance check FAILED)", c.seconds);
   }
+  return out;
+}
+
+namespace {
+
+CoveringInput exact_covering_input(const CoveringRequest& a) {
+  if (a.omegas.empty()) throw InputError("--omega", "(none)", "give at least one omega");
+  if (a.deltas.empty()) throw InputError("--delta", "(none)", "give at least one delta");
+  auto exact = [](const std::string& key, const std::string& text, bool open_unit) {
+    const ExactReal v = parse_exact_input(key, text);
+    if (v.sign() <= 0 || (open_unit && (v - ExactReal::parse("1")).sign() >= 0))
+      throw InputError(key, "\"" + text + "\"", open_unit ? "must be in (0, 1)" : "must be > 0");
+    return v;
+  };
+  CoveringInput in;
+  for (const std::string& delta : a.deltas) in.delta = exact("--delta", delta, true);
+  in.lambda = exact("--lambda", a.lambda, true);
+  in.d = exact("--d", a.d, false);
+  in.r = exact("--r", a.r, false);
+  for (const auto& o : a.omegas) (void)parse_exact_input("--omega", o);
+  return in;
+}
+
+}  // namespace
+
+void check_covering_request(const CoveringRequest& request) { (void)exact_covering_input(request); }
+
+CoveringOutcome compute_coverings(const CoveringRequest& a) {
+  CoveringInput in = exact_covering_input(a);
+  std::vector<ExactReal> omegas;
+  for (const auto& o : a.omegas) omegas.push_back(parse_exact_input("--omega", o));
+
+  // every omega at every delta; with several deltas each entry is labelled "omega @ delta D"
+  CoveringOutcome out;
+  for (const std::string& delta : a.deltas) out.delta_list += (out.delta_list.empty() ? "" : ",") + delta;
+  for (std::size_t k = 0; k < omegas.size(); ++k)
+    for (const std::string& delta : a.deltas) {
+      in.omega = omegas[k];
+      in.delta = parse_exact_input("--delta", delta);
+      try {
+        out.results.push_back(mupo_covering(in));
+      } catch (const std::invalid_argument& e) {
+        throw InputError("--delta", "\"" + delta + "\"", e.what());
+      }
+      out.labels.push_back(a.deltas.size() > 1 ? a.omegas[k] + " @ delta " + delta : a.omegas[k]);
+    }
+  out.document = covering_document({out.delta_list, a.lambda, a.d, a.r}, out.labels, out.results);
+  if (a.deltas.size() > 1)  // each entry names its delta
+    for (std::size_t i = 0; i < out.labels.size(); ++i)
+      out.document["covering"][i]["delta"] = a.deltas[i % a.deltas.size()];
   return out;
 }
 

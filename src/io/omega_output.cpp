@@ -1,6 +1,7 @@
 #include "io/omega_output.hpp"
 
 #include "io/text.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak {
 
@@ -79,6 +80,31 @@ std::string omega_text(const OmegaReport& r, const std::string& eps_text) {
     appendf(out, "smallest q with |omega - p/q| < %s: %s/%s\n", eps_text.c_str(), r.within_eps->p.get_str().c_str(),
             r.within_eps->q.get_str().c_str());
   return out;
+}
+
+OmegaReport compute_omega(const OmegaRequest& a) {
+  const ExactReal x = parse_exact_input("omega", a.value);
+  if (a.terms < 1 || a.terms > 1000000) throw InputError("--terms", std::to_string(a.terms), "must be in [1, 10^6]");
+  if (a.digits < 1 || a.digits > 100000) throw InputError("--digits", std::to_string(a.digits), "must be in [1, 10^5]");
+  mpz_class max_den;
+  if (max_den.set_str(a.max_den, 10) != 0 || max_den < 1)
+    throw InputError("--max-den", a.max_den, "must be an integer >= 1");
+  std::optional<ExactReal> eps;
+  if (!a.eps.empty()) {
+    eps = parse_exact_input("--eps", a.eps);
+    if (eps->sign() <= 0) throw InputError("--eps", a.eps, "must be > 0");
+  }
+  OmegaReportOptions opt;
+  opt.terms = static_cast<std::size_t>(a.terms);
+  opt.max_den = max_den;
+  opt.digits = a.digits;
+  opt.convergents = static_cast<std::size_t>(a.convergents < 0 ? 0 : a.convergents);
+  opt.eps = eps;
+  try {
+    return omega_report(a.value, x, opt);
+  } catch (const std::domain_error& e) {  // beyond what the certified expansion can reach
+    throw InputError("omega", "\"" + a.value + "\"", e.what());
+  }
 }
 
 }  // namespace rotleak

@@ -228,6 +228,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   how["collisions_per_second"] = r.collisions_per_second();
   s["execution"] = execution_json(std::move(how));
   s["command"] = "simulate";
+  s["schema"] = kRunSchema;
   s["scene"] = scene_json(scene);
   s["seed"] = scene.seed;
   s["tier"] = to_string(scene.tier);
@@ -310,25 +311,27 @@ void write_directory_summary(RunDirectory& dir, const std::string& command, cons
   dir.commit();
 }
 
+RunTexts run_texts(const RunSummary& r, const std::vector<std::string>& written) {
+  RunTexts out;
+  out.files.emplace_back("survival.csv", survival_csv(r.curve));
+  if (r.scene.collision_density) out.files.emplace_back("fc.csv", density_csv(r.scene, r.result.tally));
+  if (r.scene.escape_records) out.files.emplace_back("escapes.csv", escapes_csv(r.result.first_id, r.result.records));
+  out.files.emplace_back("scene.toml", scene_to_toml(r.scene));
+  std::vector<std::string> names;
+  for (const auto& f : out.files) names.push_back(f.first);
+  names.insert(names.end(), written.begin(), written.end());
+  names.push_back("summary.json");
+  out.summary = summary_json(r, names);
+  out.files.emplace_back("summary.json", out.summary.dump(2) + "\n");
+  return out;
+}
+
 json write_run(RunDirectory& dir, const RunSummary& r, const std::vector<std::string>& written) {
-  std::vector<std::string> files{"survival.csv"};
-  write_file_atomic(dir.file("survival.csv"), survival_csv(r.curve));
-  if (r.scene.collision_density) {
-    write_file_atomic(dir.file("fc.csv"), density_csv(r.scene, r.result.tally));
-    files.push_back("fc.csv");
-  }
-  if (r.scene.escape_records) {
-    write_file_atomic(dir.file("escapes.csv"), escapes_csv(r.result.first_id, r.result.records));
-    files.push_back("escapes.csv");
-  }
-  write_file_atomic(dir.file("scene.toml"), scene_to_toml(r.scene));
-  files.push_back("scene.toml");
-  files.insert(files.end(), written.begin(), written.end());
-  files.push_back("summary.json");
-  const json s = summary_json(r, files);
-  write_file_atomic(dir.file("summary.json"), s.dump(2) + "\n");  // last: its presence marks a complete run
+  RunTexts t = run_texts(r, written);
+  for (const auto& [name, text] : t.files)  // summary.json last: its presence marks a complete run
+    write_file_atomic(dir.file(name), text);
   dir.commit();
-  return s;
+  return std::move(t.summary);
 }
 
 }  // namespace rotleak

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/run_summary.hpp"
@@ -43,6 +44,19 @@ json execution_json(json fields);
 /// the command, the scene and the files, written last; then commits the directory.
 void write_directory_summary(RunDirectory& dir, const std::string& command, const std::string& scene_source,
                              std::vector<std::string> files);
+
+/// The schema of a run's summary.json (its "schema" key); readers refuse another.
+inline constexpr int kRunSchema = 1;
+
+/// Every file of a run as the bytes write_run writes (survival.csv, fc.csv, escapes.csv, scene.toml,
+/// summary.json, in that order, each only when the scene asks for it), and summary.json as a document:
+/// what the Python module hands over without touching the disk. `written`: files the caller adds to
+/// the directory itself (listed in summary.json).
+struct RunTexts {
+  std::vector<std::pair<std::string, std::string>> files;  ///< (name, content)
+  json summary;
+};
+RunTexts run_texts(const RunSummary& s, const std::vector<std::string>& written = {});
 
 /// Writes every file of the run into the staged directory and commits it; returns summary.json.
 /// `written`: files the caller has already put there (listed in summary.json too).

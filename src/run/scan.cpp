@@ -11,6 +11,7 @@
 #include "analysis/continued_fraction.hpp"
 #include "analysis/covering.hpp"
 #include "io/files.hpp"
+#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/input.hpp"
@@ -381,8 +382,8 @@ ScanOutcome scan(const ScanRequest& req) {
   out.csv = scan_table_csv(req.axes, summaries);
   json axes = json::array();
   for (const ScanAxis& a : req.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
-  out.document = {{"command", "scan"}, {"scene", req.scene_path}, {"overrides", req.overrides}, {"axes", axes},
-                  {"points", rows},    {"ran", out.ran},          {"skipped", out.skipped}};
+  out.document = {{"command", "scan"}, {"schema", kRunSchema}, {"scene", req.scene_path}, {"overrides", req.overrides},
+                  {"axes", axes},      {"points", rows},       {"ran", out.ran},          {"skipped", out.skipped}};
   write_file_atomic(dir / "table.csv", out.csv);
   write_file_atomic(dir / "scan.json", out.document.dump(2) + "\n");
   return out;

@@ -1,27 +1,23 @@
-#!/usr/bin/env python3
 """Draw bench_sampling's CSV: P(t) of the uniform and the "mupo" runs of the same scene with their
 error bands (one standard error), log-log, each down to the smallest P it resolves (uniform: at least
 one survivor; mupo: at least 10 effective survivors).
 
-Usage: plot_sampling.py SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
+Usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
 import csv
 import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from plot_run import run_main, save  # noqa: E402
+from . import save
 
 
 def main():
     if len(sys.argv) != 3:
-        sys.exit("usage: plot_sampling.py SAMPLING.csv OUT.png")
+        sys.exit("usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png")
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
-        sys.exit("plot_sampling.py: " + sys.argv[1] + " has no rows")
+        sys.exit("rotleak.plot.sampling: " + sys.argv[1] + " has no rows")
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for scheme, ok, color in (
         ("uniform", lambda r: int(r["survivors_uniform"]) >= 1, "C0"),
@@ -46,4 +42,4 @@ def main():
 
 
 if __name__ == "__main__":
-    run_main(main)
+    main()

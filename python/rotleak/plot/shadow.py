@@ -1,17 +1,17 @@
-#!/usr/bin/env python3
-"""Draw shadow.png from a `rotleak shadow --out DIR` directory: divergence from the MPFR truth per
-collision for every tier (log scale), MUPO phases shaded, the tolerance and the truth's escape marked.
-
-Usage: plot_shadow.py DIR    (rotleak shadow calls this). Needs Debian's python3-matplotlib."""
+"""A shadow directory (``rotleak shadow --out DIR``): shadow.png, the divergence from the MPFR truth per
+collision for every tier (log scale), MUPO phases shaded, the tolerance and the truth's escape marked."""
+import json
 import os
 
 import matplotlib.pyplot as plt
 
-from plot_run import load_run, read_csv, run_main, save
+from . import read_csv, save
 
 
-def main():
-    run, summary = load_run("plot_shadow.py DIR")
+def draw(run):
+    """Draws shadow.png; returns its path."""
+    with open(os.path.join(run, "summary.json")) as f:
+        summary = json.load(f)
     header, rows = read_csv(os.path.join(run, "shadow.csv"))
     col = {name: i for i, name in enumerate(header)}
     k = [int(r[0]) for r in rows]
@@ -35,9 +35,6 @@ def main():
     ax.legend(fontsize=8, loc="lower right")
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    save(fig, os.path.join(run, "shadow.png"))
-    print("drew " + os.path.join(run, "shadow.png"))
-
-
-if __name__ == "__main__":
-    run_main(main)
+    path = os.path.join(run, "shadow.png")
+    save(fig, path)
+    return [path]

@@ -1,22 +1,14 @@
-#!/usr/bin/env python3
-"""Draw a rotleak scan directory: scan_survival.png (every point's P(t), log-log and semi-log, error
-bands where the run has them), and per swept key scan_<key>.png (kappa and alpha against the key,
-bounds drawn as downward arrows, log axes where the key spans decades) with the regime of each point
-as a coloured strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
-scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L.
-
-Usage: plot_scan.py SCAN_DIR     (rotleak plot SCAN_DIR calls this)
-Needs Debian's python3-matplotlib (run with /usr/bin/python3)."""
+"""A scan directory: scan_survival.png (every point's P(t), log-log and semi-log, error bands where the
+run has them), and per swept key scan_<key>.png (kappa and alpha against the key, bounds drawn as
+downward arrows, log axes where the key spans decades) with the regime of each point as a coloured
+strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
+scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L."""
 import json
 import os
-import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from plot_run import exact_text, read_csv, run_main, save  # noqa: E402
+from . import exact_text, read_csv, save
 
 REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4"}
 
@@ -132,10 +124,8 @@ def against_covering(scan_dir, doc):
     return "scan_alpha_covering.png"
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_scan.py SCAN_DIR")
-    scan_dir = sys.argv[1]
+def draw(scan_dir):
+    """Draws the scan's pictures; returns their paths."""
     with open(os.path.join(scan_dir, "scan.json")) as f:
         doc = json.load(f)
     curves(scan_dir, doc)
@@ -147,8 +137,4 @@ def main():
     name = against_covering(scan_dir, doc)
     if name:
         drew.append(name)
-    print("drew " + ", ".join(os.path.join(scan_dir, d) for d in drew))
-
-
-if __name__ == "__main__":
-    run_main(main)
+    return [os.path.join(scan_dir, d) for d in drew]

@@ -1,22 +1,18 @@
-#!/usr/bin/env python3
 """Draw the speed-accuracy trade from bench_tiers' CSV: cost per collision (ratio to double) against
 the median trust horizon in collisions, one point per tier.
 
-Usage: plot_tiers.py TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
+Usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
 import csv
 import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from plot_run import run_main, save  # noqa: E402
+from . import save
 
 
 def main():
     if len(sys.argv) != 3:
-        sys.exit("usage: plot_tiers.py TIERS.csv OUT.png")
+        sys.exit("usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png")
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
     fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -34,4 +30,4 @@ def main():
 
 
 if __name__ == "__main__":
-    run_main(main)
+    main()

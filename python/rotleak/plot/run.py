@@ -1,60 +1,13 @@
-#!/usr/bin/env python3
-"""Draw a rotleak run directory: survival.png (P(t) log-log and semi-log with the kappa fit and the
-alpha crossing) and, when fc.csv exists, fc.png (collision density per time window).
-
-Usage: plot_run.py RUN_DIR     (rotleak plot RUN_DIR calls this)
-Needs Debian's python3-matplotlib (run with /usr/bin/python3)."""
-import csv
+"""A run directory (``rotleak simulate``): survival.png (P(t) log-log and semi-log with the error
+band, the kappa fit and the alpha crossing) and, when fc.csv exists, fc.png (collision density per
+time window)."""
 import json
 import math
 import os
-import sys
-from fractions import Fraction
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-
-def save(fig, path):
-    tmp = path + ".tmp.png"
-    try:
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, path)  # written whole or not at all
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)  # a full disk leaves no half picture behind
-        raise
-    finally:
-        plt.close(fig)
-
-
-def run_main(main):
-    """Runs a plot script's main: a failure is one line on stderr (what failed and why) and exit 1,
-    not a traceback."""
-    try:
-        main()
-    except SystemExit:
-        raise
-    except Exception as e:  # noqa: BLE001 -- every failure of a plot is reported the same way
-        name = os.path.basename(sys.argv[0])
-        sys.exit(f"{name}: cannot draw: {type(e).__name__}: {e}")
-
-
-def load_run(usage):
-    """The directory named on the command line and its summary.json."""
-    if len(sys.argv) != 2:
-        sys.exit("usage: " + usage)
-    run = sys.argv[1]
-    with open(os.path.join(run, "summary.json")) as f:
-        return run, json.load(f)
-
-
-def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return rows[0], rows[1:]
+from . import exact_text, read_csv, save
 
 
 def survival(run, summary):
@@ -103,14 +56,6 @@ def survival(run, summary):
     save(fig, os.path.join(run, "survival.png"))
 
 
-def exact_text(text):
-    """A scene's exact value as a float for drawing only ("1/3", "0.1022"); None for irrationals."""
-    try:
-        return float(Fraction(text))
-    except (ValueError, ZeroDivisionError):
-        return None
-
-
 def density(run, summary):
     path = os.path.join(run, "fc.csv")
     if not os.path.exists(path):
@@ -137,12 +82,10 @@ def density(run, summary):
     return True
 
 
-def main():
-    run, summary = load_run("plot_run.py RUN_DIR")
+def draw(run):
+    """Draws survival.png (and fc.png); returns their paths."""
+    with open(os.path.join(run, "summary.json")) as f:
+        summary = json.load(f)
     survival(run, summary)
     drew = ["survival.png"] + (["fc.png"] if density(run, summary) else [])
-    print("drew " + ", ".join(os.path.join(run, d) for d in drew))
-
-
-if __name__ == "__main__":
-    run_main(main)
+    return [os.path.join(run, d) for d in drew]

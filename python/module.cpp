@@ -1,0 +1,164 @@
+// rotleak._rotleak: the library in process, for the Python package (python/rotleak/__init__.py wraps
+// it). Each function is the library call a command makes, without the disk: simulate hands back the
+// very bytes `rotleak simulate` writes (io run_texts), omega and covering their JSON documents. The GIL
+// is released while a run works; Ctrl-C stops it between blocks (KeyboardInterrupt); progress goes to
+// a Python callable. Bad input raises ValueError with the command line's one-line message.
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <csignal>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/covering_output.hpp"
+#include "io/omega_output.hpp"
+#include "io/run_output.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/input.hpp"
+#include "run/pipeline.hpp"
+#include "version.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+std::atomic<bool> g_interrupt{false};
+extern "C" void on_sigint(int) { g_interrupt.store(true); }
+
+/// While a run works without the GIL, SIGINT sets g_interrupt (Python's own handler would only run
+/// once the run is over); the caller's handler comes back afterwards. Only the main thread handles
+/// signals, so only there is a handler installed.
+class SigintGuard {
+ public:
+  explicit SigintGuard(bool main_thread) : active_(main_thread) {
+    g_interrupt.store(false);
+    if (!active_) return;
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_);
+  }
+  ~SigintGuard() {
+    if (active_) sigaction(SIGINT, &old_, nullptr);
+  }
+  SigintGuard(const SigintGuard&) = delete;
+  SigintGuard& operator=(const SigintGuard&) = delete;
+
+ private:
+  bool active_;
+  struct sigaction old_ {};
+};
+
+bool in_main_thread() {
+  py::module_ threading = py::module_::import("threading");
+  return threading.attr("current_thread")().is(threading.attr("main_thread")());
+}
+
+/// (name, bytes) of every file of the run, as the run directory would hold them.
+py::list simulate(const std::string& scene_path, const std::vector<std::string>& overrides, int threads,
+                  const std::optional<py::function>& progress) {
+  if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  rotleak::Scene scene = rotleak::load_scene(scene_path, overrides);
+  rotleak::RunOptions opt;
+  opt.threads = threads;
+  std::atomic<bool> stop{false};
+  opt.stop = &stop;
+  // the caller's progress callable, under the GIL; an exception it raises stops the run and is raised
+  std::unique_ptr<py::error_already_set> raised;
+  opt.progress = [&](std::uint64_t done, std::uint64_t total, std::uint64_t collisions, bool final) {
+    if (g_interrupt.load()) stop.store(true);
+    if (!progress || raised) return;
+    py::gil_scoped_acquire gil;
+    try {
+      (*progress)(done, total, collisions, final);
+    } catch (py::error_already_set& e) {
+      raised = std::make_unique<py::error_already_set>(std::move(e));
+      stop.store(true);
+    }
+  };
+  std::optional<rotleak::RunSummary> summary;
+  {
+    SigintGuard guard(in_main_thread());
+    py::gil_scoped_release released;
+    try {
+      summary = rotleak::run_scene(std::move(scene), opt);
+    } catch (const rotleak::RunInterrupted&) {
+      // handled below, with the GIL
+    }
+  }
+  if (raised) throw std::move(*raised);
+  if (!summary) {
+    PyErr_SetString(PyExc_KeyboardInterrupt, "rotleak.simulate interrupted: the run was stopped between blocks");
+    throw py::error_already_set();
+  }
+  const rotleak::RunTexts texts = rotleak::run_texts(*summary);
+  py::list out;
+  for (const auto& [name, text] : texts.files) out.append(py::make_tuple(name, py::bytes(text)));
+  return out;
+}
+
+std::string omega(const std::string& value, long long terms, const std::string& max_den, const std::string& eps,
+                  int digits, int convergents) {
+  rotleak::OmegaRequest r;
+  r.value = value;
+  r.terms = terms;
+  r.max_den = max_den;
+  r.eps = eps;
+  r.digits = digits;
+  r.convergents = convergents;
+  rotleak::OmegaReport report;
+  {
+    py::gil_scoped_release released;
+    report = rotleak::compute_omega(r);
+  }
+  return rotleak::omega_json(report, eps).dump();
+}
+
+/// summary.json's document, f_L.csv at `resolution` bins, and each covering's segments csv.
+py::tuple covering(const std::vector<std::string>& omegas, const std::vector<std::string>& deltas,
+                   const std::string& lambda, const std::string& d, const std::string& r, int resolution) {
+  if (resolution < 1 || resolution > 10000000)
+    throw rotleak::InputError("resolution", std::to_string(resolution), "must be in [1, 10^7]");
+  rotleak::CoveringRequest req;
+  req.omegas = omegas;
+  req.deltas = deltas;
+  req.lambda = lambda;
+  req.d = d;
+  req.r = r;
+  std::string doc, profile;
+  std::vector<std::string> segments;
+  {
+    py::gil_scoped_release released;
+    const rotleak::CoveringOutcome c = rotleak::compute_coverings(req);
+    doc = c.document.dump();
+    profile = rotleak::covering_profile_csv(c.labels, c.results, static_cast<std::size_t>(resolution));
+    for (const auto& one : c.results) segments.push_back(rotleak::covering_segments_csv(one));
+  }
+  return py::make_tuple(doc, profile, segments);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_rotleak, m) {
+  m.doc() = "rotleak's library in process (use the package rotleak, which wraps this module)";
+  m.attr("version") = rotleak::kVersion;
+  m.attr("git") = rotleak::kGitDescribe;
+  // an InputError is the caller's mistake: ValueError with the one-line message
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const rotleak::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.def("simulate", &simulate, py::arg("scene"), py::arg("overrides"), py::arg("threads"), py::arg("progress"),
+        "Runs a scene in process; returns [(file name, bytes)] as `rotleak simulate` would write them.");
+  m.def("omega", &omega, py::arg("value"), py::arg("terms"), py::arg("max_den"), py::arg("eps"), py::arg("digits"),
+        py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
+  m.def("covering", &covering, py::arg("omegas"), py::arg("deltas"), py::arg("lam"), py::arg("d"), py::arg("r"),
+        py::arg("resolution"), "(summary.json text, f_L.csv text, [segments csv]) of `rotleak covering`.");
+}

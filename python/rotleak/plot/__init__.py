@@ -1,0 +1,98 @@
+"""rotleak's pictures: ``python3 -m rotleak.plot DIR`` (``rotleak plot DIR`` runs it) draws whatever a
+rotleak directory holds, beside its files:
+
+- a run (``rotleak simulate``): survival.png (P(t) log-log and semi-log, error band, the kappa fit and
+  the alpha crossing) and fc.png (the collision density per time window);
+- a scan: scan_survival.png, scan_<key>.png (kappa and alpha against each swept key, regimes as a
+  strip), scan_alpha_covering.png;
+- a shadow: shadow.png; a covering: f_L.png; a regimes search: its coarse scan and regimes.png.
+
+Each drawing is also a function (``rotleak.plot.run.draw(dir)``, ``rotleak.plot.scan.draw(dir)``, ...)
+for scripts and notebooks. Needs matplotlib (Debian: python3-matplotlib)."""
+import csv
+import os
+import sys
+from fractions import Fraction
+
+import matplotlib
+
+if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
+    # files, not windows, unless the caller (a notebook) chose a backend already
+    matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def save(fig, path):
+    """Writes a figure whole or not at all (a temporary name, then renamed)."""
+    tmp = path + ".tmp.png"
+    try:
+        fig.savefig(tmp, dpi=120)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)  # a full disk leaves no half picture behind
+        raise
+    finally:
+        plt.close(fig)
+
+
+def read_csv(path):
+    """(header, rows) of a CSV file, every field a string."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def exact_text(text):
+    """A scene's exact value as a float for drawing only ("1/3", "0.1022"); None for irrationals."""
+    try:
+        return float(Fraction(text))
+    except (ValueError, ZeroDivisionError):
+        return None
+
+
+def kind_of(directory):
+    """Which rotleak command wrote a directory: run, scan, shadow, covering, regimes; None otherwise."""
+    import json
+
+    if os.path.exists(os.path.join(directory, "regimes.json")):
+        return "regimes"
+    if os.path.exists(os.path.join(directory, "scan.json")):
+        return "scan"
+    path = os.path.join(directory, "summary.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        doc = json.load(f)
+    if doc.get("command") == "simulate":
+        return "run"
+    if "truth" in doc:
+        return "shadow"
+    if "covering" in doc:
+        return "covering"
+    return None
+
+
+def draw(directory):
+    """Draws a directory rotleak wrote; returns the paths of the pictures."""
+    from . import covering, regimes, run, scan, shadow
+
+    kind = kind_of(directory)
+    drawers = {"run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
+               "regimes": regimes.draw}
+    if kind is None:
+        raise ValueError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
+                         "no scan.json, no regimes.json)" % directory)
+    return drawers[kind](directory)
+
+
+def main(argv=None):
+    """``python3 -m rotleak.plot DIR``: a failure is one line on stderr and exit 1, not a traceback."""
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 1:
+        sys.exit("usage: python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
+    try:
+        drew = draw(argv[0])
+    except Exception as e:  # noqa: BLE001 -- every failure of a plot is reported the same way
+        sys.exit("rotleak.plot: cannot draw %s: %s: %s" % (argv[0], type(e).__name__, e))
+    print("drew " + ", ".join(drew))

@@ -1,0 +1,3 @@
+from rotleak.plot import main
+
+main()

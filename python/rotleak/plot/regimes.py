@@ -1,0 +1,67 @@
+"""A regimes directory (``rotleak regimes --out DIR``): its coarse scan drawn as any scan, and
+regimes.png: every probe (coarse and bisection) as alpha, or its upper bound, against omega, coloured
+by regime, with the boundaries found and the predicted omega_sweep."""
+import json
+import os
+
+import matplotlib.pyplot as plt
+
+from . import save, scan
+from .scan import REGIME_COLOURS, value_of
+
+
+def probes(directory):
+    """(omega, point of scan.json, where) for every probe: the coarse scan's points and the bisections'."""
+    out = []
+    for sub in ("coarse", "low_mid", "mid_high"):
+        base = os.path.join(directory, sub)
+        if not os.path.isdir(base):
+            continue
+        scans = [base] if sub == "coarse" else [os.path.join(base, d) for d in sorted(os.listdir(base))]
+        for s in scans:
+            path = os.path.join(s, "scan.json")
+            if not os.path.exists(path):
+                continue
+            with open(path) as f:
+                for p in json.load(f)["points"]:
+                    x = value_of(p["values"].get("leak.omega", ""))
+                    if x is not None and x > 0:
+                        out.append((x, p, sub))
+    return out
+
+
+def draw(directory):
+    """Draws the coarse scan's pictures and regimes.png; returns their paths."""
+    with open(os.path.join(directory, "regimes.json")) as f:
+        doc = json.load(f)
+    drew = scan.draw(os.path.join(directory, "coarse")) if os.path.exists(
+        os.path.join(directory, "coarse", "scan.json")) else []
+    fig, ax = plt.subplots(figsize=(9, 4.8))
+    for x, p, sub in probes(directory):
+        a = p["alpha"]
+        y, marker = (a["value"], "o") if a["value"] is not None else (a["upper_bound"], "v")
+        if y is None:
+            continue
+        ax.scatter([x], [y], marker=marker, s=36 if sub == "coarse" else 18,
+                   color=REGIME_COLOURS.get(p["tail"]["regime"], "k"))
+    for name, colour in REGIME_COLOURS.items():
+        ax.scatter([], [], marker="s", color=colour, label=name)
+    for key, b in (doc.get("boundaries") or {}).items():
+        if b:
+            ax.axvspan(b["lo"], b["hi"], color="k", alpha=0.12, lw=0)
+            ax.text(b["hi"], 1, " " + key.replace("_", "/"), transform=ax.get_xaxis_transform(), fontsize=8,
+                    va="top")
+    sweep = (doc.get("predicted") or {}).get("omega_sweep")
+    if sweep:
+        ax.axvline(sweep, color="k", ls=":", lw=1, label="omega_sweep")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("omega")
+    ax.set_ylabel("alpha (triangles: upper bounds)")
+    ax.set_title("regimes: coarse probes (large) and bisection probes (small); grey: boundaries")
+    ax.legend(fontsize=7, ncol=3)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    path = os.path.join(directory, "regimes.png")
+    save(fig, path)
+    return drew + [path]

@@ -1,0 +1,199 @@
+"""Readers for what rotleak writes (the schemas are in docs/output.md).
+
+``read_run(dir)`` gives a :class:`Run`: ``summary`` (summary.json as a dict), ``scene`` (scene.toml as
+a dict), and the tables as pandas DataFrames: ``survival`` (t, survivors, P, P_err), ``fc`` (s, then per
+window ``fc[from,to]`` and ``count[from,to]``) and ``escapes`` (id, fate, t, s, collisions), each None
+when the run did not record it. ``read_scan(dir)`` gives a :class:`Scan`: ``table`` (table.csv as a
+DataFrame, the swept keys and the text columns kept as strings), ``document`` (scan.json) and ``points``
+(each point's Run, read when first asked for). ``rotleak.simulate`` returns the same Run without the disk.
+
+Both refuse, with one line that says why, a directory that is not a complete run or scan of this
+schema. pandas is imported only when a table is asked for."""
+import io
+import json
+import os
+import tomllib
+
+SCHEMA = 1  # summary.json's and scan.json's "schema" this reader understands
+
+
+class RotleakError(ValueError):
+    """A directory or document that is not a complete rotleak output of the schema this reader reads."""
+
+
+def _pandas():
+    try:
+        import pandas
+    except ImportError as e:  # pragma: no cover - depends on the interpreter
+        raise ImportError("rotleak's tables are pandas DataFrames: install pandas (Debian: python3-pandas), or "
+                          "use Debian's /usr/bin/python3") from e
+    return pandas
+
+
+def _check_schema(doc, what, where):
+    schema = doc.get("schema")
+    if schema is None:
+        raise RotleakError("%s: %s has no \"schema\" key: written by a rotleak older than this reader "
+                           "(rerun it, or read its files with csv/json)" % (where, what))
+    if schema != SCHEMA:
+        raise RotleakError("%s: %s has schema %r; this rotleak package reads schema %d" % (where, what, schema, SCHEMA))
+
+
+class Run:
+    """One run: its summary, its scene and its tables (DataFrames built on first use)."""
+
+    def __init__(self, files, path=None):
+        """files: {name: bytes or str} as a run directory holds them (summary.json required)."""
+        self._files = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in files.items()}
+        self.path = path
+        where = path or "rotleak.simulate"
+        if "summary.json" not in self._files:
+            raise RotleakError("%s: not a complete run directory (no summary.json: a run directory appears only "
+                               "when complete; an interrupted one leaves DIR.checkpoint for --resume)" % where)
+        self.summary = json.loads(self._files["summary.json"])
+        if self.summary.get("command") != "simulate":
+            raise RotleakError("%s: summary.json is not a simulate run's (command = %r)"
+                               % (where, self.summary.get("command")))
+        _check_schema(self.summary, "summary.json", where)
+        missing = [f for f in self.summary.get("files", []) if f not in self._files and not f.endswith(".png")]
+        if missing:
+            raise RotleakError("%s: incomplete run: summary.json lists %s, which %s missing"
+                               % (where, ", ".join(missing), "is" if len(missing) == 1 else "are"))
+        self._tables = {}
+
+    @classmethod
+    def from_directory(cls, path):
+        if not os.path.isdir(path):
+            raise RotleakError("%s: no such directory" % path)
+        files = {}
+        for name in ("summary.json", "survival.csv", "fc.csv", "escapes.csv", "scene.toml"):
+            p = os.path.join(path, name)
+            if os.path.exists(p):
+                with open(p, encoding="utf-8") as f:
+                    files[name] = f.read()
+        return cls(files, path)
+
+    def _table(self, name, **kw):
+        if name not in self._files:
+            return None
+        if name not in self._tables:
+            self._tables[name] = _pandas().read_csv(io.StringIO(self._files[name]), **kw)
+        return self._tables[name]
+
+    @property
+    def survival(self):
+        """t, survivors, P, P_err: P(t) on the grid t = k survival_dt with one standard error."""
+        return self._table("survival.csv")
+
+    @property
+    def fc(self):
+        """s (bin centre), then per time window fc[from,to] (normalised density) and count[from,to]."""
+        return self._table("fc.csv")
+
+    @property
+    def escapes(self):
+        """id, fate (escaped, survived, stuck), t, s, collisions: one row per particle."""
+        return self._table("escapes.csv", dtype={"fate": str})
+
+    @property
+    def scene(self):
+        """The effective scene (scene.toml) as a dict; exact values stay the texts given."""
+        text = self._files.get("scene.toml")
+        return tomllib.loads(text) if text is not None else self.summary.get("scene")
+
+    @property
+    def kappa(self):
+        return self.summary["kappa"]
+
+    @property
+    def alpha(self):
+        return self.summary["alpha"]
+
+    @property
+    def tail(self):
+        return self.summary["tail"]
+
+    def text(self, name):
+        """A file of the run exactly as written (or as rotleak simulate would write it)."""
+        return self._files[name]
+
+    def write(self, directory):
+        """Writes the run's files into a new directory (each whole: a temporary name, then renamed)."""
+        os.makedirs(directory, exist_ok=False)
+        for name, text in self._files.items():
+            tmp = os.path.join(directory, "." + name + ".tmp")
+            with open(tmp, "w", encoding="utf-8") as f:
+                f.write(text)
+            os.replace(tmp, os.path.join(directory, name))
+        return directory
+
+    def __repr__(self):
+        k = self.summary["kappa"]
+        return "<rotleak.Run %s: %d particles, kappa = %s, tail = %s>" % (
+            self.path or "in process", self.summary["particles"], k["value"], self.summary["tail"]["class"])
+
+
+def read_run(path):
+    """The run directory ``path`` (rotleak simulate --out) as a :class:`Run`."""
+    return Run.from_directory(path)
+
+
+class Scan:
+    """A scan: its table, its scan.json and each point's run."""
+
+    def __init__(self, path):
+        if not os.path.isdir(path):
+            raise RotleakError("%s: no such directory" % path)
+        doc_path = os.path.join(path, "scan.json")
+        if not os.path.exists(doc_path):
+            raise RotleakError("%s: not a complete scan directory (no scan.json)" % path)
+        with open(doc_path, encoding="utf-8") as f:
+            self.document = json.load(f)
+        if self.document.get("command") != "scan":
+            raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))
+        _check_schema(self.document, "scan.json", path)
+        if not os.path.exists(os.path.join(path, "table.csv")):
+            raise RotleakError("%s: incomplete scan: no table.csv" % path)
+        self.path = path
+        self._table = None
+        self._points = {}
+
+    @property
+    def keys(self):
+        """The swept keys, in the order of the table's first columns."""
+        return [a["key"] for a in self.document["axes"]]
+
+    @property
+    def table(self):
+        """table.csv: the swept keys (exact texts, as strings), the fits, the regime, the number theory."""
+        if self._table is None:
+            text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation"]
+            self._table = _pandas().read_csv(os.path.join(self.path, "table.csv"),
+                                             dtype={c: str for c in text_columns}, keep_default_na=False,
+                                             na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
+                                                                          "alpha_bound", "tail_end", "tau1", "tau2",
+                                                                          "best_error"]})
+        return self._table
+
+    @property
+    def point_names(self):
+        return [p["point"] for p in self.document["points"]]
+
+    def point(self, name):
+        """The run of one point (its directory name, as in scan.json's points)."""
+        if name not in self._points:
+            self._points[name] = read_run(os.path.join(self.path, "points", name))
+        return self._points[name]
+
+    @property
+    def points(self):
+        """{point name: Run}, every point read."""
+        return {name: self.point(name) for name in self.point_names}
+
+    def __repr__(self):
+        return "<rotleak.Scan %s: %d points over %s>" % (self.path, len(self.point_names), ", ".join(self.keys))
+
+
+def read_scan(path):
+    """The scan directory ``path`` (rotleak scan --out) as a :class:`Scan`."""
+    return Scan(path)
