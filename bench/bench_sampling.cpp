@@ -6,7 +6,7 @@
 // only estimate where a uniform run of this size has no survivor left); var_mupo is the squared
 // standard error of the weighted estimate, at least the Poisson error of the exponential part that
 // only the uniform component carries (fits.cpp's alpha_p_err). Writes a CSV of both curves for
-// scripts/plot_sampling.py. Reports, never fails on time.
+// python3 -m rotleak.plot.sampling (PYTHONPATH=build/python). Reports, never fails on time.
 // Usage: bench_sampling [OUT.csv] [--uniform N] [--mupo N] [--t-max T]
 #include <chrono>
 #include <cmath>

@@ -6,6 +6,6 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 werror=OFF
 [ -n "${CI:-}" ] && werror=ON
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAK_TESTS=ON -DROTLEAK_BENCH=ON -DROTLEAK_WARNINGS=ON \
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAK_TESTS=ON -DROTLEAK_BENCH=ON -DROTLEAK_WARNINGS=ON -DROTLEAK_PYTHON_MODULE=ON \
   -DROTLEAK_WERROR="$werror" >/dev/null
 cmake --build build -j"$(nproc)"

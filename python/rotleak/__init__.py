@@ -52,6 +52,9 @@ def _text(value):
         return "true" if value else "false"
     if isinstance(value, Fraction):
         return "%d/%d" % (value.numerator, value.denominator) if value.denominator != 1 else str(value.numerator)
+    if isinstance(value, dict):  # a TOML inline table: {"bins": 10} -> { bins = 10 }
+        return "{ " + ", ".join("%s = %s" % (k, _text(v) if not isinstance(v, str) else json.dumps(v))
+                                for k, v in value.items()) + " }"
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_text(v) if not isinstance(v, str) else json.dumps(v) for v in value) + "]"
     return str(value) if not isinstance(value, float) else repr(value)

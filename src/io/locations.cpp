@@ -39,8 +39,9 @@ fs::path locate(const char* var, const std::vector<fs::path>& candidates, const 
     if (fs::exists(c / marker)) return c;
     tried += (tried.empty() ? "" : ", ") + c.string();
   }
-  throw InputError(var, "(not set)", "rotleak cannot find " + what + " (looked in " + tried +
-                                         "); set " + var + " to the directory that holds it");
+  throw InputError(
+      var, "(not set)",
+      "rotleak cannot find " + what + " (looked in " + tried + "); set " + var + " to the directory that holds it");
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ std::string particles_text(std::uint64_t done, std::uint64_t total) {
 }  // namespace
 
 RunInterrupted::RunInterrupted(fs::path path, std::uint64_t d, std::uint64_t t)
-    : std::runtime_error("interrupted after " + particles_text(d, t) + "; checkpoint " + path.string()),
+    : std::runtime_error("interrupted after " + particles_text(d, t) +
+                         (path.empty() ? std::string("; no checkpoint kept") : "; checkpoint " + path.string())),
       checkpoint(std::move(path)),
       done(d),
       total(t) {}
@@ -115,7 +116,10 @@ RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Du
   }
   check_engine("--engine", options.engine, scene);
   if (!durable) {
-    RunSummary s = summarise(scene, run_ensemble(scene, options));
+    RunResult result = run_ensemble(scene, options);
+    if (!result.complete)  // stopped: a part of the ensemble is not a run to summarise
+      throw RunInterrupted({}, particles_in(result.done, scene.particles), scene.particles);
+    RunSummary s = summarise(scene, std::move(result));
     s.tier_choice = std::move(choice);
     return s;
   }

@@ -1,0 +1,189 @@
+"""The Python package against the command line: read_run and read_scan on what rotleak writes,
+rotleak.simulate's run (the same bytes as the command's files), its keyword overrides and errors, the
+progress callback, the GIL released while it runs, Ctrl-C, omega and covering.
+
+Run by CTest as: PYTHONPATH=BUILD/python /usr/bin/python3 -m unittest tests/python/test_package.py
+with ROTLEAK_BINARY and ROTLEAK_SOURCE set."""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+from fractions import Fraction
+
+import pandas as pd
+
+import rotleak
+
+BIN = os.environ["ROTLEAK_BINARY"]
+SRC = os.environ["ROTLEAK_SOURCE"]
+QUICK = os.path.join(SRC, "data", "scenes", "quickstart.toml")
+
+
+def cli(*args):
+    subprocess.run([BIN, *args, "--no-progress"] if args[0] in ("simulate", "scan") else [BIN, *args], check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def without_execution(doc):
+    doc = dict(doc)
+    doc.pop("execution")
+    return doc
+
+
+class Package(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="rotleak-py-")
+        cls.run_dir = os.path.join(cls.tmp, "run")
+        cli("simulate", QUICK, "--particles", "20000", "--set", "leak.omega=2/3", "--set", "observe.escapes=true",
+            "--out", cls.run_dir)
+        cls.scan_dir = os.path.join(cls.tmp, "scan")
+        cli("scan", QUICK, "--over", "leak.omega=0,1,2/3", "--set", "ensemble.particles=4000", "--out", cls.scan_dir)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def test_read_run_gives_the_files_as_tables(self):
+        run = rotleak.read_run(self.run_dir)
+        self.assertEqual(run.survival.columns.tolist(), ["t", "survivors", "P", "P_err"])
+        self.assertEqual(int(run.survival["survivors"].iloc[0]), 20000)
+        self.assertEqual(run.fc.columns[0], "s")
+        self.assertEqual(len(run.escapes), 20000)
+        self.assertEqual(set(run.escapes["fate"]) - {"escaped", "survived", "stuck"}, set())
+        self.assertEqual(run.scene["leak"]["omega"], "2/3")  # exact texts stay texts
+        with open(os.path.join(self.run_dir, "summary.json")) as f:
+            self.assertEqual(run.summary, json.load(f))
+        # the same table pandas reads from the file itself
+        pd.testing.assert_frame_equal(run.survival, pd.read_csv(os.path.join(self.run_dir, "survival.csv")))
+
+    def test_simulate_in_process_writes_the_bytes_the_command_writes(self):
+        r = rotleak.simulate(QUICK, particles=20000, threads=2, leak_omega=Fraction(2, 3), observe_escapes=True)
+        d = rotleak.read_run(self.run_dir)
+        for name in ("survival.csv", "fc.csv", "escapes.csv", "scene.toml"):
+            self.assertEqual(r.text(name), d.text(name), name)
+        self.assertEqual(without_execution(r.summary), without_execution(d.summary))
+        self.assertEqual(r.summary["execution"]["rotleak"]["version"], rotleak.__version__)
+        # and written out, it reads back as the same run
+        out = r.write(os.path.join(self.tmp, "written"))
+        self.assertEqual(rotleak.read_run(out).text("survival.csv"), d.text("survival.csv"))
+
+    def test_overrides_and_bad_input_name_the_key(self):
+        r = rotleak.simulate(QUICK, particles="1e4", set=["run.t_max=3000"], observe_escapes=False,
+                             observe_collision_density={"bins": 10, "windows": [[0, 3000]]})
+        self.assertEqual(r.summary["particles"], 10000)
+        self.assertEqual(r.scene["run"]["t_max"], 3000.0)
+        self.assertIsNone(r.escapes)
+        self.assertEqual(len(r.fc), 10)
+        with self.assertRaisesRegex(ValueError, r"^leak\.omega = \"x\""):
+            rotleak.simulate(QUICK, leak_omega="x")
+        with self.assertRaisesRegex(ValueError, "particles = 0.5"):
+            rotleak.simulate(QUICK, particles=0.5)
+        with self.assertRaisesRegex(ValueError, "omegas = 1: a scene override is section_key=value"):
+            rotleak.simulate(QUICK, omegas=1)
+        with self.assertRaisesRegex(ValueError, "no such file"):
+            rotleak.simulate(os.path.join(self.tmp, "missing.toml"))
+
+    def test_readers_refuse_what_is_not_a_complete_run(self):
+        with self.assertRaisesRegex(rotleak.RotleakError, "no summary.json"):
+            rotleak.read_run(self.tmp)
+        bad = os.path.join(self.tmp, "incomplete")
+        shutil.copytree(self.run_dir, bad)
+        os.remove(os.path.join(bad, "fc.csv"))
+        with self.assertRaisesRegex(rotleak.RotleakError, "summary.json lists fc.csv, which is missing"):
+            rotleak.read_run(bad)
+        newer = os.path.join(self.tmp, "newer")
+        shutil.copytree(self.run_dir, newer)
+        with open(os.path.join(newer, "summary.json")) as f:
+            doc = json.load(f)
+        doc["schema"] = rotleak.SCHEMA + 1
+        with open(os.path.join(newer, "summary.json"), "w") as f:
+            json.dump(doc, f)
+        with self.assertRaisesRegex(rotleak.RotleakError, "has schema 2; this rotleak package reads schema 1"):
+            rotleak.read_run(newer)
+        with self.assertRaisesRegex(rotleak.RotleakError, "no scan.json"):
+            rotleak.read_scan(self.run_dir)
+
+    def test_read_scan_keeps_exact_values_as_text(self):
+        scan = rotleak.read_scan(self.scan_dir)
+        t = scan.table
+        self.assertEqual(t["leak.omega"].tolist(), ["0", "1", "2/3"])
+        self.assertEqual(t.shape, (3, 19))  # the swept key, then the 18 columns docs/output.md lists
+        self.assertTrue(pd.api.types.is_float_dtype(t["kappa"]))
+        self.assertEqual(t["particles"].tolist(), [4000] * 3)
+        self.assertEqual(sorted(scan.points), sorted(scan.point_names))
+        p = scan.point(scan.point_names[2])
+        self.assertEqual(p.summary["kappa"], scan.document["points"][2]["kappa"])
+
+    def test_progress_reaches_the_end_and_its_exception_stops_the_run(self):
+        calls = []
+        rotleak.simulate(QUICK, particles=20000, progress=lambda *a: calls.append(a))
+        self.assertTrue(calls)
+        self.assertEqual(calls[-1][0], 20000)
+        self.assertTrue(calls[-1][3])
+
+        def fail(done, total, collisions, final):
+            raise RuntimeError("stop here")
+
+        with self.assertRaisesRegex(RuntimeError, "stop here"):
+            rotleak.simulate(QUICK, particles=200000, progress=fail)
+
+    def test_the_gil_is_released_while_it_runs(self):
+        ticks = []
+        done = threading.Event()
+
+        def count():
+            while not done.is_set():
+                ticks.append(time.monotonic())
+                time.sleep(0.001)
+
+        t = threading.Thread(target=count)
+        t.start()
+        start = time.monotonic()
+        rotleak.simulate(QUICK, particles=400000, threads=1)
+        end = time.monotonic()
+        done.set()
+        t.join()
+        during = [x for x in ticks if start < x < end]
+        # a thread holding the GIL for the whole run would leave no tick inside it
+        self.assertGreater(len(during), 5, "%d ticks in a %.2f s run" % (len(during), end - start))
+
+    def test_ctrl_c_interrupts_cleanly(self):
+        code = ("import rotleak, sys\n"
+                "try:\n"
+                "    rotleak.simulate(sys.argv[1], particles=10**9, threads=1, progress=lambda *a: print('p', flush=True))\n"
+                "except KeyboardInterrupt as e:\n"
+                "    print('interrupted:', e, flush=True)\n"
+                "    sys.exit(3)\n")
+        p = subprocess.Popen([sys.executable, "-c", code, QUICK], stdout=subprocess.PIPE, text=True,
+                             env=dict(os.environ))
+        self.assertEqual(p.stdout.readline().strip(), "p")  # running
+        p.send_signal(signal.SIGINT)
+        out, _ = p.communicate(timeout=60)
+        self.assertEqual(p.returncode, 3, out)
+        self.assertIn("interrupted: rotleak.simulate interrupted", out)
+        self.assertLess(out.count("p\n"), 1000, "the run went on after Ctrl-C")
+
+    def test_omega_and_covering_match_the_command(self):
+        o = rotleak.omega("70/71")
+        cl = json.loads(subprocess.run([BIN, "omega", "70/71", "--json"], check=True, capture_output=True,
+                                       text=True).stdout)
+        self.assertEqual(dict(o), cl)
+        self.assertEqual(o.fractions(), [Fraction(0), Fraction(1), Fraction(70, 71)])
+        c = rotleak.covering(["2/3", "1e-4"], delta="1e-7", resolution=200)
+        out = os.path.join(self.tmp, "cov")
+        cli("covering", "--omega", "2/3", "--omega", "1e-4", "--resolution", "200", "--segments", "--out", out)
+        with open(os.path.join(out, "summary.json")) as f:
+            self.assertEqual(without_execution(c.summary), without_execution(json.load(f)))
+        pd.testing.assert_frame_equal(c.f_L, pd.read_csv(os.path.join(out, "f_L.csv")))
+        pd.testing.assert_frame_equal(c.segments(1), pd.read_csv(os.path.join(out, "segments_1.csv")))
+
+
+if __name__ == "__main__":
+    unittest.main()
