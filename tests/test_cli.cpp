@@ -294,3 +294,44 @@ TEST(Cli, CoveringAtSeveralDeltas) {
   EXPECT_GT(doc.at("covering")[2].at("zero_measure").get<double>(), 0.5);  // ln(19) at 1e-7
   EXPECT_EQ(doc.at("covering")[3].at("zero_measure").get<double>(), 0.0);  // ln(19) at 1e-9
 }
+
+// Counts are exact texts: --particles 2e3 is 2000 (help and docs write 1e6); 1.5 and 0 are refused
+// naming the key.
+TEST(Cli, CountsTakeExponentNotation) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path out = scratch() / "count_2e3";
+  fs::remove_all(out);
+  const Outcome ok = run("simulate " + scene.string() + " --particles 2e3 --out " + out.string() + " --json");
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(ok.out).at("particles"), 2000);
+  for (const char* bad : {"1.5", "0", "1e30", "abc"}) {
+    const Outcome o = run("simulate " + scene.string() + " --particles " + bad + " --out " + (scratch() / "c").string());
+    EXPECT_EQ(o.status, 2) << bad;
+    EXPECT_EQ(o.err.rfind(std::string("rotleak: error: --particles = ") + bad + ":", 0), 0u) << o.err;
+  }
+}
+
+// rotleak plot draws every kind of directory rotleak writes: a run, a scan, a shadow, a covering (two
+// deltas: one panel each) and a regimes search; anything else is one line and exit 1.
+TEST(Cli, PlotDrawsEveryKindOfDirectory) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path base = scratch() / "plots";
+  fs::remove_all(base);
+  const std::string s = scene.string(), b = base.string();
+  ASSERT_EQ(run("simulate " + s + " --out " + b + "/run").status, 0);
+  ASSERT_EQ(run("scan " + s + " --over leak.omega=0,1 --out " + b + "/scan --no-progress").status, 0);
+  ASSERT_EQ(run("shadow " + s + " --particle 3 --tiers float,double --collisions 200 --out " + b + "/shadow").status, 0);
+  ASSERT_EQ(run("covering --omega 2/3 1e-4 --delta 1e-7 1e-9 --resolution 100 --out " + b + "/covering").status, 0);
+  ASSERT_EQ(run("regimes " + s + " --coarse 1e-3,1e-1 --steps 1 --out " + b + "/regimes").status, 0);
+  for (const auto& [dir, picture] :
+       {std::pair{"run", "survival.png"}, {"scan", "scan_survival.png"}, {"shadow", "shadow.png"},
+        {"covering", "f_L.png"}, {"regimes", "regimes.png"}}) {
+    fs::remove(base / dir / picture);
+    const Outcome o = run("plot " + (base / dir).string());
+    EXPECT_EQ(o.status, 0) << dir << ": " << o.err;
+    EXPECT_TRUE(fs::exists(base / dir / picture)) << dir;
+  }
+  const Outcome none = run("plot " + scratch().string());
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.err.find("not a complete rotleak directory"), std::string::npos) << none.err;
+}

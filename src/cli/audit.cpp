@@ -18,7 +18,8 @@ namespace {
 struct AuditArgs {
   std::string scene, out, tiers = "float,double,long_double,dd,float128,mpfr:256";
   std::vector<std::string> sets;
-  long long sample = 1000, stats = 1000000, stratify = 200000, max_collisions = 1500;
+  long long sample = 1000, max_collisions = 1500;
+  std::string stats = "1e6", stratify = "2e5";  ///< counts as text: 1000000 or 1e6
   double tolerance = 1e-6;
   int threads = 0;
   bool json_out = false, force = false;
@@ -28,7 +29,8 @@ int run_audit(const AuditArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
   if (a.sample < 4 || a.sample > 1000000)
     throw InputError("--sample", std::to_string(a.sample), "must be in [4, 10^6]");
-  if (a.stats < 1000) throw InputError("--stats-particles", std::to_string(a.stats), "must be >= 1000");
+  const std::uint64_t stats = parse_count("--stats-particles", a.stats, 1000);
+  const std::uint64_t stratify = parse_count("--stratify-particles", a.stratify, 1);
   if (a.max_collisions < 10) throw InputError("--max-collisions", std::to_string(a.max_collisions), "must be >= 10");
   AuditOptions opt;
   try {
@@ -37,8 +39,8 @@ int run_audit(const AuditArgs& a) {
     throw InputError("--tiers", "\"" + std::string(e.what()) + "\"", "allowed: " + tier_names_allowed(false));
   }
   opt.sample = static_cast<std::size_t>(a.sample);
-  opt.stats_particles = static_cast<std::uint64_t>(a.stats);
-  opt.stratify_particles = static_cast<std::uint64_t>(a.stratify);
+  opt.stats_particles = stats;
+  opt.stratify_particles = stratify;
   opt.max_collisions = static_cast<std::size_t>(a.max_collisions);
   opt.tolerance = a.tolerance;
   opt.threads = a.threads;

@@ -15,7 +15,7 @@ namespace {
 
 struct RegimesArgs {
   RegimesRequest request;
-  long long particles = 0;
+  std::string particles;  ///< empty: the scene's
   bool particles_given = false, json_out = false;
   int threads = 0;
 };
@@ -32,8 +32,7 @@ std::string interval(const json& b) {
 
 int run_regimes(RegimesArgs a) {
   if (a.particles_given) {
-    if (a.particles < 1) throw InputError("--particles", std::to_string(a.particles), "must be an integer >= 1");
-    a.request.overrides.push_back("ensemble.particles=" + std::to_string(a.particles));
+    a.request.overrides.push_back("ensemble.particles=" + std::to_string(parse_count("--particles", a.particles)));
   }
   if (a.request.steps < 0 || a.request.steps > 30)
     throw InputError("--steps", std::to_string(a.request.steps), "must be in [0, 30]");
@@ -68,7 +67,7 @@ Command add_regimes(CLI::App& app) {
       ->required();
   sub->add_option("--coarse", args->request.coarse, "Coarse omega values (default logspace(1e-5,1e-1,9))");
   sub->add_option("--steps", args->request.steps, "Bisection steps per boundary (default 4)");
-  sub->add_option("--particles", args->particles, "Override ensemble.particles")->each([args](const std::string&) {
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
     args->particles_given = true;
   });
   sub->add_option("--threads", args->threads, "OpenMP threads per probe (default: all cores)");

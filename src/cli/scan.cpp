@@ -18,7 +18,7 @@ struct ScanArgs {
   ScanRequest request;
   std::vector<std::string> over;
   std::string engine = "auto";
-  long long particles = 0;
+  std::string particles;  ///< empty: the scene's
   bool particles_given = false;
   int threads = 0;
   bool json_out = false, no_progress = false;
@@ -27,8 +27,7 @@ struct ScanArgs {
 int run_scan(ScanArgs a) {
   for (const std::string& o : a.over) a.request.axes.push_back(parse_axis(o));
   if (a.particles_given) {
-    if (a.particles < 1) throw InputError("--particles", std::to_string(a.particles), "must be an integer >= 1");
-    a.request.overrides.push_back("ensemble.particles=" + std::to_string(a.particles));
+    a.request.overrides.push_back("ensemble.particles=" + std::to_string(parse_count("--particles", a.particles)));
   }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
@@ -57,7 +56,7 @@ Command add_scan(CLI::App& app) {
                   "repeatable (product)")
       ->required();
   sub->add_option("--out", args->request.out, "Scan directory (points/, table.csv, scan.json)")->required();
-  sub->add_option("--particles", args->particles, "Override ensemble.particles")->each([args](const std::string&) {
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
     args->particles_given = true;
   });
   sub->add_option("--threads", args->threads, "OpenMP threads per point (default: all cores)");

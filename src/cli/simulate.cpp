@@ -45,7 +45,7 @@ std::pair<std::uint64_t, std::uint64_t> parse_ids(const std::string& text) {
 struct SimulateArgs {
   SimulateRequest request;
   std::string resume_dir, ids, engine = "auto";
-  long long particles = 0;
+  std::string particles;  ///< empty: the scene's
   bool particles_given = false;
   int threads = 0;
   bool json_out = false, plot = false, progress = false, no_progress = false;
@@ -53,8 +53,7 @@ struct SimulateArgs {
 
 int run_simulate(SimulateArgs a) {
   if (a.particles_given) {
-    if (a.particles < 1) throw InputError("--particles", std::to_string(a.particles), "must be an integer >= 1");
-    a.request.overrides.push_back("ensemble.particles=" + std::to_string(a.particles));
+    a.request.overrides.push_back("ensemble.particles=" + std::to_string(parse_count("--particles", a.particles)));
   }
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   a.request.run.threads = a.threads;
@@ -111,7 +110,7 @@ Command add_simulate(CLI::App& app) {
   sub->add_option("--ids", args->ids,
                   "A:B: run only particle ids [A, B) of ensemble.particles, a shard for rotleak merge (writes "
                   "tally.bin)");
-  sub->add_option("--particles", args->particles, "Override ensemble.particles")->each([args](const std::string&) {
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
     args->particles_given = true;
   });
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");

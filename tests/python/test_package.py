@@ -184,6 +184,29 @@ class Package(unittest.TestCase):
         pd.testing.assert_frame_equal(c.f_L, pd.read_csv(os.path.join(out, "f_L.csv")))
         pd.testing.assert_frame_equal(c.segments(1), pd.read_csv(os.path.join(out, "segments_1.csv")))
 
+    def test_covering_picture_names_each_panels_delta_and_N(self):
+        # two deltas once shared the first delta's N in the title
+        from rotleak.plot import covering as picture
+
+        out = os.path.join(self.tmp, "cov2")
+        cli("covering", "--omega", "2/3", "--delta", "1e-7", "1e-9", "--resolution", "100", "--out", out)
+        texts, save = [], picture.save
+
+        def capture(fig, path):
+            texts.extend(t.get_text() for ax in fig.axes for t in ax.texts)
+            save(fig, path)
+
+        picture.save = capture
+        try:
+            picture.draw(out)
+        finally:
+            picture.save = save
+        with open(os.path.join(out, "summary.json")) as f:
+            n = [c["N"] for c in json.load(f)["covering"]]
+        self.assertNotEqual(n[0], n[1])
+        self.assertIn("delta = 1e-7, N = %d" % n[0], texts[0])
+        self.assertIn("delta = 1e-9, N = %d" % n[1], texts[1])
+
 
 if __name__ == "__main__":
     unittest.main()
