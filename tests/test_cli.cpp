@@ -335,3 +335,19 @@ TEST(Cli, PlotDrawsEveryKindOfDirectory) {
   EXPECT_EQ(none.status, 1);
   EXPECT_NE(none.err.find("not a complete rotleak directory"), std::string::npos) << none.err;
 }
+
+// rotleak fit redraws the pictures of a run it refits (they once kept the old fit): the picture
+// after a refit differs, and refitting back to the first window draws the first picture again.
+TEST(Cli, FitRedrawsThePicturesOfTheNewFit) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path out = scratch() / "refit_plot";
+  fs::remove_all(out);
+  ASSERT_EQ(run("simulate " + scene.string() + " --out " + out.string() + " --plot").status, 0);
+  const std::string first = slurp(out / "survival.png");
+  ASSERT_FALSE(first.empty());
+  const Outcome narrow = run("fit " + out.string() + " --set 'fit.kappa_window=[0, 150]'");
+  ASSERT_EQ(narrow.status, 0) << narrow.err;
+  EXPECT_NE(slurp(out / "survival.png"), first);
+  ASSERT_EQ(run("fit " + out.string() + " --set 'fit.kappa_window=[0, 300]'").status, 0);
+  EXPECT_EQ(slurp(out / "survival.png"), first);
+}
