@@ -8,6 +8,8 @@
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
 #include "sim/initial.hpp"
+#include "verify/audit.hpp"
+#include "verify/auto_tier.hpp"
 #include "verify/exact_replay.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"
@@ -282,4 +284,37 @@ TEST(ExactReplay, GenericCoreAtMpfrMatchesCgalExactKernel) {
       }
     }
   }
+}
+
+// run.tier = auto weighs the trusted tiers by wall time, not by their place in the precision order:
+// float trusted at 4.4 s loses to double on the vectorised engine at 0.6 s (a newcomer's scene once
+// ran float, 7x slower), but wins where double runs only on the scalar core and float is faster.
+TEST(AutoTier, TheFastestTrustedTierByWallTime) {
+  const Scene scene = stationary();
+  AuditReport rep;
+  for (const char* t : {"float", "double", "long_double"}) {
+    ScalarCheck sc;
+    sc.tier = t;
+    sc.phase_resolved = true;
+    rep.scalars.push_back(sc);
+    rep.verdicts.push_back({t, "P(t)", "trusted as a statistic", "ensemble agrees"});
+  }
+  StatisticsCheck simd;
+  simd.tier = "double_simd";
+  simd.identical_to_scalar_double = true;
+  rep.statistics.push_back(simd);
+  rep.ensemble_seconds_by_tier = {{"long_double", 9.0}, {"double", 5.0}, {"float", 4.4}, {"double_simd", 0.6}};
+  TierChoice c = choose_from_audit(scene, rep, 1000000);
+  EXPECT_EQ(c.tier, Tier::double_) << c.reason;
+  EXPECT_NE(c.reason.find("float 4.4 s, double (vectorised) 0.6 s, long_double 9 s"), std::string::npos) << c.reason;
+
+  rep.statistics.clear();  // no vectorised engine: float is the fastest trusted tier
+  c = choose_from_audit(scene, rep, 1000000);
+  EXPECT_EQ(c.tier, Tier::float_) << c.reason;
+
+  rep.verdicts[0].verdict = "not trusted";  // float distrusted: the fastest of the rest
+  rep.verdicts[0].statistic = "kappa";
+  c = choose_from_audit(scene, rep, 1000000);
+  EXPECT_EQ(c.tier, Tier::double_) << c.reason;
+  EXPECT_NE(c.reason.find("rejected: float (kappa not trusted"), std::string::npos) << c.reason;
 }

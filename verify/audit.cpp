@@ -54,7 +54,8 @@ struct Ensemble {
 };
 
 Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier, std::uint64_t n, int threads,
-                           Engine engine = Engine::scalar) {
+                           AuditReport& rep, Engine engine = Engine::scalar) {
+  const auto t0 = std::chrono::steady_clock::now();
   Scene s = base;
   s.tier = tier;
   s.particles = n;
@@ -70,6 +71,8 @@ Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier,
   Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
   e.alpha = find_alpha(e.curve, e.kappa);
+  rep.ensemble_seconds_by_tier.emplace_back(engine == Engine::simd ? "double_simd" : to_string(tier),
+                                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return e;
 }
 
@@ -240,16 +243,16 @@ TierAudit tier_audit(const std::vector<ShadowResult>& runs, std::size_t k, const
 /// The same ids as full ensembles in float, double, long double (and the vectorised engine),
 /// each compared with the long double ensemble (long double with double).
 void statistics_checks(const Scene& scene, const AuditOptions& opt, std::uint64_t n, int threads, AuditReport& rep) {
-  const Ensemble e_ld = run_tier_ensemble(scene, opt, Tier::long_double, n, threads);
-  const Ensemble e_d = run_tier_ensemble(scene, opt, Tier::double_, n, threads);
-  const Ensemble e_f = run_tier_ensemble(scene, opt, Tier::float_, n, threads);
+  const Ensemble e_ld = run_tier_ensemble(scene, opt, Tier::long_double, n, threads, rep);
+  const Ensemble e_d = run_tier_ensemble(scene, opt, Tier::double_, n, threads, rep);
+  const Ensemble e_f = run_tier_ensemble(scene, opt, Tier::float_, n, threads, rep);
   rep.statistics.push_back(compare("float", e_f, e_ld, scene.t_max));
   rep.statistics.push_back(compare("double", e_d, e_ld, scene.t_max));
   rep.statistics.push_back(compare("long_double", e_ld, e_d, scene.t_max));
   // the vectorised double engine, as a tier of its own: the same comparison, and whether its
   // survival curve is the scalar double engine's, survivor for survivor
   if (!opt.work.all(simd::available())) return;
-  const Ensemble e_v = run_tier_ensemble(scene, opt, Tier::double_, n, threads, Engine::simd);
+  const Ensemble e_v = run_tier_ensemble(scene, opt, Tier::double_, n, threads, rep, Engine::simd);
   StatisticsCheck v = compare("double_simd", e_v, e_ld, scene.t_max);
   v.identical_to_scalar_double = e_v.curve.survivors == e_d.curve.survivors;
   rep.statistics.push_back(v);

@@ -107,6 +107,9 @@ struct AuditReport {
   /// Wall seconds of its parts: the stratification scan, the shadows, the statistics ensembles, the
   /// rest (Lyapunov exponents, verdicts); on a team, as rank 0 saw them.
   double stratify_seconds = 0, shadow_seconds = 0, ensemble_seconds = 0, analysis_seconds = 0;
+  /// Wall seconds of each statistics ensemble (float, double, long_double, double_simd), the same ids
+  /// each: what run.tier = auto weighs the trusted tiers by.
+  std::vector<std::pair<std::string, double>> ensemble_seconds_by_tier;
   int threads = 0;  ///< per process
   int ranks = 1;    ///< MPI processes that shared the audit
 };

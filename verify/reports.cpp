@@ -101,6 +101,8 @@ std::string shadow_text(const ShadowResult& r) {
 }
 
 json audit_json(const AuditReport& r, const std::string& source) {
+  json by_tier = json::object();
+  for (const auto& [tier, seconds] : r.ensemble_seconds_by_tier) by_tier[tier] = seconds;
   json doc;
   doc["scene"] = source;
   doc["sample"] = r.sample;
@@ -109,6 +111,7 @@ json audit_json(const AuditReport& r, const std::string& source) {
                                       {{"stratify_seconds", r.stratify_seconds},
                                        {"shadow_seconds", r.shadow_seconds},
                                        {"ensemble_seconds", r.ensemble_seconds},
+                                       {"ensemble_seconds_by_tier", by_tier},
                                        {"analysis_seconds", r.analysis_seconds}}},
                                      {"threads", r.threads},
                                      {"ranks", r.ranks}});
