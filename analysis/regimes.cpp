@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 
 namespace rotleak {
@@ -75,13 +77,44 @@ std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, do
   return out;
 }
 
-TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha) {
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
   TailClass k;
   const bool rotating = scene.omega.sign() != 0;
   auto regime = [&](const std::string& tail) {
     if (!rotating) return std::string("stationary");
     return std::string(tail == "transient" ? "low" : tail == "persistent" ? "high" : "mid");
   };
+  if (!alpha.value && fit && fit->ok) {
+    // a tail seen later: P sigma errors (its own and the fit's extrapolation) above factor x the fit,
+    // with min_survivors effective survivors there
+    const double min_eff = static_cast<double>(alpha.min_survivors);
+    std::size_t seen = c.t.size();
+    for (std::size_t i = 0; i < c.t.size() && seen == c.t.size(); ++i) {
+      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < min_eff) continue;
+      const double line = alpha.factor * std::exp(fit->log_amplitude - fit->value * c.t[i]);
+      const double err = std::hypot(c.P_err(i), line * c.t[i] * fit->std_error);
+      if (c.P(i) - line > alpha.sigma * err) seen = i;
+    }
+    if (seen < c.t.size()) {
+      double fewest = std::numeric_limits<double>::infinity(), at = 0;
+      for (std::size_t i = 0; i <= seen; ++i)
+        if (c.t[i] >= fit->to && c.effective(i) < fewest) fewest = c.effective(i), at = c.t[i];
+      k.tail = "unresolved";
+      k.regime = rotating ? "undecided" : "stationary";
+      const double scale = std::max(1.0, min_eff / std::max(fewest, 1e-300));
+      k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
+      char note[400];
+      std::snprintf(
+          note, sizeof note,
+          "a tail is seen (P = %.3g at t = %g more than %g errors above %g x the fit, %.0f effective survivors) but "
+          "alpha, P at the first crossing, is not resolved: the effective survivors fall to %.3g at t = %g; "
+          "about %.3g particles would keep %g there",
+          c.P(seen), c.t[seen], alpha.sigma, alpha.factor, c.effective(seen), fewest, at,
+          static_cast<double>(*k.resolve_particles), min_eff);
+      k.note = note;
+      return k;
+    }
+  }
   if (!alpha.value) {
     k.note = "no significant crossing of the exponential fit: no tail";
     k.regime = regime(k.tail);

@@ -3,6 +3,7 @@
 // (stationary / low / mid / high) decided from the measured P(t), never from omega thresholds.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,15 +35,24 @@ struct RateJump {
 std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, double min_effective = 100);
 
 struct TailClass {
-  std::string tail = "none";       ///< none, transient, persistent
+  std::string tail = "none";       ///< none, unresolved, transient, persistent
   std::string regime;              ///< stationary, low, mid, high
   std::optional<double> tail_end;  ///< transient: the time the tail was gone (P = 0, or the steep end began)
   double end_exponent = 0;         ///< local -d ln P / d ln t over the last resolved stretch
   std::string note;                ///< the rule that decided it, in words
+  /// unresolved: about how many particles (of this sampling) would keep min_survivors effective
+  /// survivors through the first crossing, where alpha is read
+  std::optional<std::uint64_t> resolve_particles;
 };
 
 /// The documented rule (docs/output.md):
-/// - none: alpha has no significant crossing (find_alpha);
+/// - none: alpha has no significant crossing (find_alpha), and nowhere later does P lie `sigma`
+///   errors above factor x the fit with min_survivors effective survivors;
+/// - unresolved: no significant crossing where alpha is read (the first one), but later P does lie
+///   significantly above factor x the fit: a tail is seen, its weight is not resolved. It names the
+///   particle count that would keep min_survivors effective survivors through the crossing
+///   (resolve_particles: N min_survivors / the fewest effective survivors between the fit window and
+///   the time the tail is seen); regime undecided (stationary for omega = 0);
 /// - transient: a significant crossing at t_c, and later the tail is removed: either P reaches 0 at
 ///   t_0 < t_max where the algebraic continuation from the last resolved time (local exponent at most
 ///   3) would still have kept at least 6 effective survivors (Poisson: 0 seen with 6 expected has
@@ -52,6 +62,8 @@ struct TailClass {
 /// regime: stationary for omega = 0, else low (transient), mid (none), high (persistent), and
 /// undecided for a persistent tail when the leak's leading edge leaves the lower straight edge (tau2)
 /// only after the last survivor: its removal could not have been seen.
-TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha);
+/// `fit`: the exponential fit alpha was read against (null: an unresolved tail is not looked for).
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
+                        const KappaFit* fit = nullptr);
 
 }  // namespace rotleak

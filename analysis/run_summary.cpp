@@ -19,7 +19,7 @@ void fit_curve(RunSummary& s) {
   add_window_systematic(s.kappa, s.curve, scene.t_max);
   s.alpha = find_alpha(s.curve, s.kappa, scene.alpha_factor, scene.alpha_sigma, scene.min_survivors);
   s.tail = fit_tail(s.curve, s.alpha);
-  s.tail_class = classify_tail(scene, s.curve, s.alpha);
+  s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa);
   s.leak_times = leak_times(scene);
   s.rate_jumps = decay_rate_jumps(s.curve, 100);
 }

@@ -305,7 +305,8 @@ TEST(Cli, CountsTakeExponentNotation) {
   ASSERT_EQ(ok.status, 0) << ok.err;
   EXPECT_EQ(nlohmann::json::parse(ok.out).at("particles"), 2000);
   for (const char* bad : {"1.5", "0", "1e30", "abc"}) {
-    const Outcome o = run("simulate " + scene.string() + " --particles " + bad + " --out " + (scratch() / "c").string());
+    const Outcome o =
+        run("simulate " + scene.string() + " --particles " + bad + " --out " + (scratch() / "c").string());
     EXPECT_EQ(o.status, 2) << bad;
     EXPECT_EQ(o.err.rfind(std::string("rotleak: error: --particles = ") + bad + ":", 0), 0u) << o.err;
   }
@@ -320,12 +321,15 @@ TEST(Cli, PlotDrawsEveryKindOfDirectory) {
   const std::string s = scene.string(), b = base.string();
   ASSERT_EQ(run("simulate " + s + " --out " + b + "/run").status, 0);
   ASSERT_EQ(run("scan " + s + " --over leak.omega=0,1 --out " + b + "/scan --no-progress").status, 0);
-  ASSERT_EQ(run("shadow " + s + " --particle 3 --tiers float,double --collisions 200 --out " + b + "/shadow").status, 0);
+  ASSERT_EQ(run("shadow " + s + " --particle 3 --tiers float,double --collisions 200 --out " + b + "/shadow").status,
+            0);
   ASSERT_EQ(run("covering --omega 2/3 1e-4 --delta 1e-7 1e-9 --resolution 100 --out " + b + "/covering").status, 0);
   ASSERT_EQ(run("regimes " + s + " --coarse 1e-3,1e-1 --steps 1 --out " + b + "/regimes").status, 0);
-  for (const auto& [dir, picture] :
-       {std::pair{"run", "survival.png"}, {"scan", "scan_survival.png"}, {"shadow", "shadow.png"},
-        {"covering", "f_L.png"}, {"regimes", "regimes.png"}}) {
+  for (const auto& [dir, picture] : {std::pair{"run", "survival.png"},
+                                     {"scan", "scan_survival.png"},
+                                     {"shadow", "shadow.png"},
+                                     {"covering", "f_L.png"},
+                                     {"regimes", "regimes.png"}}) {
     fs::remove(base / dir / picture);
     const Outcome o = run("plot " + (base / dir).string());
     EXPECT_EQ(o.status, 0) << dir << ": " << o.err;

@@ -3,6 +3,7 @@
 // and the predicted tau1, tau2 against a hand calculation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -169,4 +170,53 @@ TEST(LeakTimes, TauOneAndTwoByHand) {
     EXPECT_DOUBLE_EQ(lt.omega_sweep, 0.005);
   }
   EXPECT_FALSE(leak_times(parse_scene("[leak]\nomega = \"0\"\n")).tau1.has_value());
+}
+
+// A weighted run (importance sampling) can be poor where alpha is read and rich later: 70/71 at 10^6
+// mupo particles once said "tail = none" with 2300 effective survivors in a tail 1000x above the fit.
+// Here P(t) = exp(-kappa t) + w t0 / (t0 + t) exactly, the fit is the exact line, find_alpha has found
+// no significant crossing (as it did there), and the effective survivors dip to 2 on (600, 3500) and
+// are 2000 elsewhere.
+TEST(ClassifyTail, UnresolvedWhenTheTailIsSeenOnlyAfterItsCrossing) {
+  const std::uint64_t n = 1000000;
+  const auto curve = [&](double w) {
+    SurvivalCurve c;
+    c.particles = n;
+    c.weighted = true;
+    c.max_weight = 2;
+    for (int k = 0; k <= 20000; ++k) {
+      const double t = k, p = std::exp(-kKappa * t) + w * 1000 / (1000 + t);
+      const double eff = t > 600 && t < 3500 ? 2 : 2000;
+      c.t.push_back(t);
+      c.survivors.push_back(static_cast<std::uint64_t>(std::max(eff, 0.2 * static_cast<double>(n) * p)));
+      c.P_w.push_back(p);
+      c.Q.push_back(static_cast<double>(n) * p * p / eff);
+    }
+    return c;
+  };
+  KappaFit fit;
+  fit.ok = true;
+  fit.value = kKappa;
+  fit.std_error = 1e-6;
+  fit.from = 0;
+  fit.to = 300;
+  AlphaResult none_found;  // no value: no significant crossing where alpha is read
+  none_found.upper_bound = 1e-6;
+  const TailClass poor = classify_tail(scene("70/71"), curve(1e-6), none_found, &fit);
+  EXPECT_EQ(poor.tail, "unresolved") << poor.note;
+  EXPECT_EQ(poor.regime, "undecided");
+  ASSERT_TRUE(poor.resolve_particles.has_value());
+  EXPECT_EQ(*poor.resolve_particles, n * 100 / 2) << "N x min_survivors / the fewest effective survivors";
+  EXPECT_EQ(classify_tail(scene("0"), curve(1e-6), none_found, &fit).regime, "stationary");
+  // no tail: none, however poor the statistics
+  const TailClass no_tail = classify_tail(scene("70/71"), curve(0), none_found, &fit);
+  EXPECT_EQ(no_tail.tail, "none") << no_tail.note;
+  EXPECT_FALSE(no_tail.resolve_particles.has_value());
+  // a significant crossing read: the usual classes
+  AlphaResult read = none_found;
+  read.value = 1.4e-7;
+  read.crossing_time = 4000;
+  EXPECT_EQ(classify_tail(scene("70/71"), curve(1e-6), read, &fit).tail, "persistent");
+  // without the fit it is not looked for (the classification of old)
+  EXPECT_EQ(classify_tail(scene("70/71"), curve(1e-6), none_found).tail, "none");
 }

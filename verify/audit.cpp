@@ -71,8 +71,9 @@ Ensemble run_tier_ensemble(const Scene& base, const AuditOptions& ao, Tier tier,
   Ensemble e{survival_curve(s, r.tally), {}, {}};
   e.kappa = fit_kappa(e.curve, s.kappa_window.from, s.kappa_window.to);
   e.alpha = find_alpha(e.curve, e.kappa);
-  rep.ensemble_seconds_by_tier.emplace_back(engine == Engine::simd ? "double_simd" : to_string(tier),
-                                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  rep.ensemble_seconds_by_tier.emplace_back(
+      engine == Engine::simd ? "double_simd" : to_string(tier),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return e;
 }
 

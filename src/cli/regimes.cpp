@@ -67,9 +67,8 @@ Command add_regimes(CLI::App& app) {
       ->required();
   sub->add_option("--coarse", args->request.coarse, "Coarse omega values (default logspace(1e-5,1e-1,9))");
   sub->add_option("--steps", args->request.steps, "Bisection steps per boundary (default 4)");
-  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
-    args->particles_given = true;
-  });
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")
+      ->each([args](const std::string&) { args->particles_given = true; });
   sub->add_option("--threads", args->threads, "OpenMP threads per probe (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key for every probe");
   sub->add_flag("--json", args->json_out, "Print regimes.json on stdout");

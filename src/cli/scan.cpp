@@ -56,9 +56,8 @@ Command add_scan(CLI::App& app) {
                   "repeatable (product)")
       ->required();
   sub->add_option("--out", args->request.out, "Scan directory (points/, table.csv, scan.json)")->required();
-  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
-    args->particles_given = true;
-  });
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")
+      ->each([args](const std::string&) { args->particles_given = true; });
   sub->add_option("--threads", args->threads, "OpenMP threads per point (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key for every point: section.key=value");
   sub->add_option("--engine", args->engine, "auto, scalar, simd");

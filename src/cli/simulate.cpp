@@ -110,9 +110,8 @@ Command add_simulate(CLI::App& app) {
   sub->add_option("--ids", args->ids,
                   "A:B: run only particle ids [A, B) of ensemble.particles, a shard for rotleak merge (writes "
                   "tally.bin)");
-  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")->each([args](const std::string&) {
-    args->particles_given = true;
-  });
+  sub->add_option("--particles", args->particles, "Override ensemble.particles (1000000, 1e6)")
+      ->each([args](const std::string&) { args->particles_given = true; });
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key: section.key=value (repeatable)");
   sub->add_option("--engine", args->engine,

@@ -199,6 +199,7 @@ void put_fits(json& s, const RunSummary& r) {
                {"regime", tc.regime},
                {"tail_end", nullable(tc.tail_end)},
                {"end_exponent", tc.end_exponent},
+               {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
                {"rule", tc.note}};
   json jumps = json::array();
   for (const RateJump& j : r.rate_jumps)
@@ -296,6 +297,10 @@ std::string summary_text(const RunSummary& r) {
     appendf(out, "; predicted: leading edge on the lower edge from tau1 = %.6g to tau2 = %.6g", *r.leak_times.tau1,
             *r.leak_times.tau2);
   out += "\n";
+  if (r.tail_class.resolve_particles)
+    appendf(out, "        a tail is seen but alpha is not resolved: about %.2g particles would resolve it (%s)\n",
+            static_cast<double>(*r.tail_class.resolve_particles),
+            (to_string(r.scene.sampling.kind) + " sampling").c_str());
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
             static_cast<unsigned long long>(r.result.tally.stuck));

@@ -48,7 +48,8 @@ inline ExactReal parse_exact_input(const std::string& key, const std::string& te
 /// be an integer in [min, 2^63). Anything else is an InputError naming `key`.
 inline std::uint64_t parse_count(const std::string& key, const std::string& text, std::uint64_t min = 1) {
   const auto bad = [&](const char* why) {
-    return InputError(key, text, std::string(why) + " (an integer >= " + std::to_string(min) + ": 1000000, 1e6 or 2.5e5)");
+    return InputError(key, text,
+                      std::string(why) + " (an integer >= " + std::to_string(min) + ": 1000000, 1e6 or 2.5e5)");
   };
   std::size_t i = 0;
   std::string digits;
