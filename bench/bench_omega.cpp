@@ -1,4 +1,4 @@
-// Timings of the exact omega toolkit (issue 3's targets): certified partial quotients, long rational
+// Timings of the exact omega toolkit: certified partial quotients, long rational
 // expansions, and the MUPO covering at N ~ 3162 and N ~ 10^6.
 #include <benchmark/benchmark.h>
 

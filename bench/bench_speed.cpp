@@ -1,4 +1,4 @@
-// Engine throughput (issue 5): collisions per second of a plain scalar loop (compiled here, the
+// Engine throughput: collisions per second of a plain scalar loop (compiled here, the
 // baseline), the scalar engine, the vectorised engine and both with fast-forward, on the stationary
 // s_L = 0 scene and on omega = 1; particles per second to t_max; and the fast-forward on a run
 // dominated by long-lived MUPOs (s_L = 0, t_max = 2e5). Ratios are taken in this one process and

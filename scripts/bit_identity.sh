@@ -1,5 +1,6 @@
 #!/bin/bash
-# The bit-identity baseline of the engines (issue 21): every scene below on the 8-lane kernel (where the
+# The bit-identity baseline of the engines, for before and after a change to the shared physics:
+# every scene below on the 8-lane kernel (where the
 # CPU has AVX-512), the 4-lane kernel and the scalar core; prints the sha256 of each survival.csv and
 # fc.csv. Run it with the binary before a change and after it, and diff the two lists: they must be
 # identical, and within one list the three engines of a scene must share their hashes.

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Writes docs/study/README.md from a reproduce_study.sh output directory: per panel its command, its
-pictures (copied to docs/study/img/) and a table; the published-vs-ours table (data/literature/).
+"""Writes DOCS/README.md from a reproduce_study.sh output directory: per panel its command, its
+pictures (copied to DOCS/img/) and a table; the published-vs-ours table (data/literature/).
 
 Usage: study_report.py STUDY_DIR DOCS_DIR PARTICLES SECONDS"""
 import csv

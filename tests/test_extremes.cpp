@@ -1,4 +1,4 @@
-// Numerical stability at the extremes (issue 4's list), each a named test.
+// Numerical stability at the extremes, each a named test.
 #include <gtest/gtest.h>
 
 #include <cmath>
