@@ -48,8 +48,12 @@ fs::path locate(const char* var, const std::vector<fs::path>& candidates, const 
 
 fs::path data_dir() {
   const fs::path bin = program_dir();
+  // the source tree only for a binary in its build tree (the directory CMake configured), never for
+  // an installed one
+  const bool build_tree = !bin.empty() && fs::exists(bin / "CMakeCache.txt");
   return locate("ROTLEAK_DATA",
-                {bin.empty() ? fs::path() : bin.parent_path() / ROTLEAK_DATA_RELATIVE, fs::path(kSourceDir) / "data"},
+                {bin.empty() ? fs::path() : bin.parent_path() / ROTLEAK_DATA_RELATIVE,
+                 build_tree ? fs::path(kSourceDir) / "data" : fs::path()},
                 "scenes", "its data: scenes, study inputs, reference trajectories");
 }
 

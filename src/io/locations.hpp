@@ -12,8 +12,9 @@ namespace rotleak {
 std::filesystem::path program_dir();
 
 /// The data directory (holding scenes/, study/, literature/, trajectories/): $ROTLEAK_DATA when set
-/// (it must exist); else PREFIX/share/rotleak/data for a binary in PREFIX/bin; else the source tree
-/// of this build, while it is there. Otherwise an InputError naming ROTLEAK_DATA.
+/// (it must exist); else PREFIX/share/rotleak/data for a binary in PREFIX/bin; else, for a binary in
+/// its build directory (beside CMakeCache.txt), the source tree of that build. Otherwise an InputError
+/// naming ROTLEAK_DATA.
 std::filesystem::path data_dir();
 
 /// The directory holding the Python package rotleak/ (for PYTHONPATH): $ROTLEAK_PYTHONPATH when set;

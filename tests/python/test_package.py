@@ -70,6 +70,10 @@ class Package(unittest.TestCase):
             self.assertEqual(r.text(name), d.text(name), name)
         self.assertEqual(without_execution(r.summary), without_execution(d.summary))
         self.assertEqual(r.summary["execution"]["rotleak"]["version"], rotleak.__version__)
+        # one version, from git describe, in the binary, the package and summary.json
+        binary = subprocess.run([BIN, "--version"], check=True, capture_output=True, text=True).stdout.split()[0]
+        self.assertEqual(binary, rotleak.__version__)
+        self.assertEqual(d.summary["execution"]["rotleak"]["version"], rotleak.__version__)
         # and written out, it reads back as the same run
         out = r.write(os.path.join(self.tmp, "written"))
         self.assertEqual(rotleak.read_run(out).text("survival.csv"), d.text("survival.csv"))
