@@ -211,6 +211,29 @@ class Package(unittest.TestCase):
         self.assertIn("delta = 1e-7, N = %d" % n[0], texts[0])
         self.assertIn("delta = 1e-9, N = %d" % n[1], texts[1])
 
+    def test_benchmark_pictures_draw_from_their_csv(self):
+        tiers = os.path.join(self.tmp, "tiers.csv")
+        with open(tiers, "w") as f:
+            f.write("tier,median_horizon_collisions,ratio_to_double\nfloat,12,0.9\ndouble,30,1\ndd,70,9\n")
+        sampling = os.path.join(self.tmp, "sampling.csv")
+        with open(sampling, "w") as f:
+            f.write("t,survivors_uniform,P_uniform,err_uniform,effective_mupo,P_mupo,err_mupo\n")
+            for t in range(0, 3000, 100):
+                p = 2.718281828 ** (-0.0044 * t)
+                f.write("%d,%d,%g,%g,%g,%g,%g\n" % (t, int(1e4 * p), p, p / 50, 500, p, p / 20))
+        for name, csv_path in (("tiers", tiers), ("sampling", sampling)):
+            out = os.path.join(self.tmp, name + ".png")
+            subprocess.run([sys.executable, "-m", "rotleak.plot." + name, csv_path, out], check=True,
+                           stdout=subprocess.DEVNULL)
+            self.assertGreater(os.path.getsize(out), 1000, name)
+        empty = os.path.join(self.tmp, "empty.csv")
+        with open(empty, "w") as f:
+            f.write("tier,median_horizon_collisions,ratio_to_double\n")
+        r = subprocess.run([sys.executable, "-m", "rotleak.plot.tiers", empty, os.path.join(self.tmp, "x.png")],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("has no rows", r.stderr)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -51,6 +51,19 @@ def exact_text(text):
         return None
 
 
+def bench_main(name, draw_rows):
+    """``python3 -m rotleak.plot.NAME CSV OUT.png`` for a benchmark's CSV: draw_rows(rows) makes the
+    figure from the CSV's rows (csv.DictReader), which is written whole to OUT.png."""
+    if len(sys.argv) != 3:
+        sys.exit("usage: python3 -m rotleak.plot.%s CSV OUT.png" % name)
+    with open(sys.argv[1], newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit("rotleak.plot.%s: %s has no rows" % (name, sys.argv[1]))
+    save(draw_rows(rows), sys.argv[2])
+    print("drew " + sys.argv[2])
+
+
 def kind_of(directory):
     """Which rotleak command wrote a directory: run, scan, shadow, covering, regimes; None otherwise."""
     import json

@@ -3,21 +3,13 @@ error bands (one standard error), log-log, each down to the smallest P it resolv
 one survivor; mupo: at least 10 effective survivors).
 
 Usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
-import csv
-import sys
-
 import matplotlib.pyplot as plt
 
-from . import save
+from . import bench_main
 
 
-def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png")
-    with open(sys.argv[1], newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        sys.exit("rotleak.plot.sampling: " + sys.argv[1] + " has no rows")
+def draw(rows):
+    """The figure of the benchmark's rows."""
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for scheme, ok, color in (
         ("uniform", lambda r: int(r["survivors_uniform"]) >= 1, "C0"),
@@ -37,9 +29,8 @@ def main():
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    save(fig, sys.argv[2])
-    print("drew " + sys.argv[2])
+    return fig
 
 
 if __name__ == "__main__":
-    main()
+    bench_main("sampling", draw)

@@ -2,19 +2,13 @@
 the median trust horizon in collisions, one point per tier.
 
 Usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
-import csv
-import sys
-
 import matplotlib.pyplot as plt
 
-from . import save
+from . import bench_main
 
 
-def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png")
-    with open(sys.argv[1], newline="") as f:
-        rows = list(csv.DictReader(f))
+def draw(rows):
+    """The figure of the benchmark's rows."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for r in rows:
         x, y = float(r["median_horizon_collisions"]), float(r["ratio_to_double"])
@@ -25,9 +19,8 @@ def main():
     ax.set_title("what each precision tier buys (s_L = 0 scene)")
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    save(fig, sys.argv[2])
-    print("drew " + sys.argv[2])
+    return fig
 
 
 if __name__ == "__main__":
-    main()
+    bench_main("tiers", draw)
