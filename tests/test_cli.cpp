@@ -24,9 +24,7 @@ struct Outcome {
   std::string out, err;
 };
 
-fs::path scratch_path() {
-  return fs::temp_directory_path() / ("rotleak_cli_test_" + std::to_string(::getpid()));
-}
+fs::path scratch_path() { return fs::temp_directory_path() / ("rotleak_cli_test_" + std::to_string(::getpid())); }
 
 fs::path scratch() {
   static const fs::path dir = [] {
@@ -46,8 +44,7 @@ class RemoveScratch : public ::testing::Environment {
     fs::remove_all(scratch_path(), ec);
   }
 };
-[[maybe_unused]] ::testing::Environment* const kRemoveScratch =
-    ::testing::AddGlobalTestEnvironment(new RemoveScratch);
+[[maybe_unused]] ::testing::Environment* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 std::string slurp(const fs::path& p) {
   std::ifstream f(p);
