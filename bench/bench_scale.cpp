@@ -19,7 +19,9 @@
 #include "io/tally_file.hpp"
 #include "sim/engine.hpp"
 #include "sim/initial.hpp"
+#include "sim/kernel_adapter.hpp"
 #include "sim/particle.hpp"
+#include "sim/simd_engine.hpp"
 
 using namespace rotleak;
 
@@ -92,6 +94,7 @@ int main(int argc, char** argv) {
       n.c_str(), threads, rounds, lanes > 0 ? std::to_string(lanes).c_str() : "widest");
   std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |\n");
   std::printf("|---|---|---|---|---|---|\n");
+  double plain_sl0 = 0;  // the plain loop's median rate on s_L = 0, for the ceiling below
   for (const Case& c : cases) {
     const Scene s = parse_scene(c.toml + "[ensemble]\nparticles = " + n + "\n");
     RunOptions o;
@@ -113,7 +116,37 @@ int main(int argc, char** argv) {
     for (double x : ratios) all += (all.empty() ? "" : ", ") + std::to_string(x).substr(0, 5);
     std::printf("| %s | %s | %.3g | %.3g | %.2f | %s |\n", c.name, to_string(ran).c_str(), median(er), median(pr),
                 median(ratios), all.c_str());
+    if (plain_sl0 == 0) plain_sl0 = median(pr);
     std::fflush(stdout);
+  }
+
+  // the ceiling of the kernel's physics: its next hit and reflection alone (simd::flights_only: no clock,
+  // leak, fate or refill), on every thread, against the plain loop on s_L = 0
+  if (const int w = lanes > 0 ? lanes : simd::widest_lanes(); w > 0 && simd::lanes_available(w)) {
+    const Scene s = parse_scene("[ensemble]\nparticles = 1000\n");
+    const Model<double> model = Model<double>::from(s);
+    simd::Scene ks = simd_scene(model);
+    ks.lanes = w;
+    const InitialConditions ic = initial_conditions(s);
+    const int per_pack = simd::pack_lanes(w);
+    const std::uint64_t steps = 4000000;
+    const auto t0 = Clock::now();
+    double sink = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : sink)
+    {
+      std::vector<simd::Start> starts(static_cast<std::size_t>(per_pack));
+      for (int k = 0; k < per_pack; ++k) {
+        const auto id = static_cast<std::uint64_t>(omp_get_thread_num() * per_pack + k);
+        const ParticleState<double> ps = initial_state(model.stadium, ic.draw(id));
+        starts[static_cast<std::size_t>(k)] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, 0, 0, 1};
+      }
+      sink += simd::flights_only(ks, starts.data(), steps);
+    }
+    const double rate = static_cast<double>(threads) * per_pack * static_cast<double>(steps) / seconds_since(t0);
+    std::printf(
+        "\nceiling, the kernel's next hit and reflection alone (%d lanes, no clock, leak, fate or refill): %.3g "
+        "collisions/s, %.2fx the plain loop on s_L = 0 (flight time %.3g)\n",
+        w, rate, rate / plain_sl0, sink);
   }
 
   // checkpoints: every 0.2 s the merged tallies go to disk (atomically, fsync), against none; the

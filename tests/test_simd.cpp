@@ -18,6 +18,7 @@
 #include "numeric/input.hpp"
 #include "same_text.hpp"
 #include "sim/engine.hpp"
+#include "sim/kernel_adapter.hpp"
 #include "sim/simd_engine.hpp"
 
 using namespace rotleak;
@@ -221,6 +222,39 @@ TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
             << "t = " << t << ", " << n << " windows, " << lanes << " lanes";
       }
     }
+  }
+}
+
+// bench_scale's ceiling (simd::flights_only: the kernel's next hit and reflection alone) flies the
+// core's flights: the sum of each lane's flight times over 2000 collisions, summed over the lanes in
+// order, equals the scalar core's (Stadium<double>::next_hit and reflect) bit for bit, for both widths.
+TEST(Simd, FlightsOnlyFollowTheCore) {
+  const Scene s = scene("0", "0", 20000, "0.01");
+  const Model<double> model = Model<double>::from(s);
+  const InitialConditions ic = initial_conditions(s);
+  constexpr std::uint64_t kSteps = 2000;
+  for (int lanes : {4, 8}) {
+    if (!simd::lanes_available(lanes)) {
+      std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
+      continue;
+    }
+    simd::Scene ks = simd_scene(model);
+    ks.lanes = lanes;
+    std::vector<simd::Start> starts;
+    double want = 0;
+    for (int k = 0; k < simd::pack_lanes(lanes); ++k) {
+      const ParticleState<double> ps = initial_state(model.stadium, ic.draw(static_cast<std::uint64_t>(k)));
+      starts.push_back({ps.q.x, ps.q.y, ps.v.x, ps.v.y, 0, 0, 1});
+      Vec2<double> q = ps.q, v = ps.v;
+      double sum = 0;
+      for (std::uint64_t n = 0; n < kSteps; ++n) {
+        const Hit<double> h = model.stadium.next_hit(q, v);
+        v = model.stadium.reflect(h.piece, h.q, v);
+        q = h.q, sum += h.t;
+      }
+      want += sum;
+    }
+    EXPECT_EQ(simd::flights_only(ks, starts.data(), kSteps), want) << lanes << " lanes";
   }
 }
 

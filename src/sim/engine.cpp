@@ -198,7 +198,7 @@ class Worker {
         starts_.resize(members.size());
         for (std::size_t i = 0; i < members.size(); ++i) {
           const ParticleState<double>& ps = members[i].ps;
-          starts_[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, static_cast<double>(members[i].collisions), weights[i]};
+          starts_[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, members[i].collisions, weights[i]};
         }
         SimdContext ctx =
             context(epoch, 0, members.size(), true, [&ends](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; });

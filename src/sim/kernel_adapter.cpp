@@ -112,8 +112,7 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
     const double weight = e.weight;
     if (ctx->observer) ctx->observer->weight = weight;
     if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
-      ctx->resume.push_back(
-          {id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, static_cast<double>(f.end.collisions), weight}});
+      ctx->resume.push_back({id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, f.end.collisions, weight}});
     } else {
       ctx->record(id, f.end);
     }

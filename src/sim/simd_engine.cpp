@@ -21,6 +21,8 @@ bool available();
 void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n);
 void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n);
+double flights_kernel(const Scene& S, const Start* starts, std::uint64_t steps);
+int pack_size();
 }  // namespace avx512_kernel
 
 namespace avx2_kernel {
@@ -66,5 +68,11 @@ void rough_angles(int lanes, const double* ay, const double* ax, double* out, st
   else
     avx2_kernel::rough_kernel(ay, ax, out, n);
 }
+
+double flights_only(const Scene& S, const Start* starts, std::uint64_t steps) {
+  return S.lanes == 8 ? avx512_kernel::flights_kernel(S, starts, steps) : avx2_kernel::flights_kernel(S, starts, steps);
+}
+
+int pack_lanes(int lanes) { return lanes == 8 ? avx512_kernel::pack_size() : avx2_kernel::pack_size(); }
 
 }  // namespace rotleak::simd

@@ -52,8 +52,8 @@ struct Scene {
 
 struct Start {
   double qx, qy, vx, vy, t;
-  double collisions = 0;  ///< already made (a particle coming back from the fast-forward)
-  double weight = 1;      ///< the particle's sampling weight (for the weighted f_c)
+  std::uint64_t collisions = 0;  ///< already made (a particle coming back from the fast-forward)
+  double weight = 1;             ///< the particle's sampling weight (for the weighted f_c)
 };
 
 /// One counted collision of the f_c observer: index cell * bins + bin, and the weight. The time
@@ -110,5 +110,13 @@ void time_cells(const Scene& S, const double* t, double* out, std::size_t n);
 /// Runs particles until next() has none left, by the kernel of scene.lanes; requires
 /// lanes_available(scene.lanes).
 void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+
+/// The ceiling of the kernel's physics, for bench_scale: one pack of S.lanes-wide registers flying
+/// `steps` collisions from `starts` (a pack's worth, Scene::lanes times the kernel's registers per
+/// pack, see pack_lanes) through the same next hit and reflection as run(), with no clock, leak, fate
+/// or refill. Returns the sum of the flight times (so that nothing is left out).
+double flights_only(const Scene& S, const Start* starts, std::uint64_t steps);
+/// Lanes of one pack of the kernel of `lanes` lanes a register.
+int pack_lanes(int lanes);
 
 }  // namespace rotleak::simd

@@ -14,7 +14,8 @@
 // trust (arc_s_for), and f_c's binning. Keep it self-contained otherwise: the formulas are templates
 // instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
 // copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
-// objects); everything here has internal linkage but run_kernel, rough_kernel and cell_kernel.
+// objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
+// flights_kernel and pack_size.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
@@ -192,27 +193,30 @@ inline void for_lanes(unsigned mask, F f) {
 }
 
 struct Lanes {
-  alignas(sizeof(B)) double qx[N], qy[N], vx[N], vy[N], t[N], coll[N], zero[N], w[N];
+  alignas(sizeof(B)) double qx[N], qy[N], vx[N], vy[N], t[N], zero[N], w[N];
   std::uint64_t id[N];
+  /// a lane's collisions are counted by the pack's steps (each step is one collision of every lane, but
+  /// the flight past t_max that ends it): base = its start's collisions - the pack's steps when it came
+  std::uint64_t base[N];
 };
 
 /// N particles in registers, with their bookkeeping in memory for the rare lane changes.
 struct Pack {
   Lanes L{};
-  V qx, qy, vx, vy, t, coll, zero;
+  V qx, qy, vx, vy, t;
   unsigned live_mask = 0;  ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
+  std::uint64_t steps = 0;  ///< steps taken (Lanes::base)
+  bool zeros = false;       ///< some lane's count of zero-length flights in a row (Lanes::zero) is not 0
 };
 
 void park(const Scene& S, Lanes& L, int k) {
   // an idle lane: parked far past t_max, never reported (its bit of live_mask is clear)
   L.qx[k] = 0, L.qy[k] = 0, L.vx[k] = 0, L.vy[k] = -1, L.t[k] = 2 * S.t_max + 1;
-  L.coll[k] = 0;
   L.w[k] = 0;
 }
 
 void reload(Pack& g) {
   g.qx = load(g.L.qx), g.qy = load(g.L.qy), g.vx = load(g.L.vx), g.vy = load(g.L.vy), g.t = load(g.L.t);
-  g.coll = load(g.L.coll), g.zero = load(g.L.zero);
 }
 
 /// Lane k takes the next particle, or is parked when there is none (its bit of live_mask follows).
@@ -227,7 +231,7 @@ void take(const Scene& S, Pack& g, int k, void* ctx, NextParticle next) {
   }
   g.live_mask |= 1u << k;
   L.qx[k] = st.qx, L.qy[k] = st.qy, L.vx[k] = st.vx, L.vy[k] = st.vy, L.t[k] = st.t;
-  L.coll[k] = st.collisions;
+  L.base[k] = st.collisions - g.steps;
   L.w[k] = st.weight;
 }
 
@@ -256,7 +260,9 @@ inline HitLanes next_hit(const Scene& S, const V& qx, const V& qy, const V& vx, 
   const V b = formula::arc_b(dx, qy, vx, vy), c = formula::arc_c(dx, qy, R), sq = formula::arc_sq(b, c);
   V ta = formula::larger_root_near(b, sq);
   each([&](int i) {
-    const M far = b.b[i] > B(0.0);
+    // only arc lanes look at ta: a straight lane's b (from a junk centre) is often > 0, and would make
+    // this rare branch a frequent, unpredictable one
+    const M far = (b.b[i] > B(0.0)) & !h.straight.m[i];
     if (bits(far)) ta.b[i] = xsimd::select(far, formula::larger_root_far(b.b[i], c.b[i], sq.b[i]), ta.b[i]);
   });
   h.t = select(h.straight, tl, ta);
@@ -423,7 +429,7 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
             const MV& over, const MV& handoff, void* ctx, NextParticle next, Finish finish) {
   Lanes& L = g.L;
   store(g.qx, L.qx), store(g.qy, L.qy), store(g.vx, L.vx), store(g.vy, L.vy);
-  store(g.t, L.t), store(g.coll, L.coll), store(g.zero, L.zero);
+  store(g.t, L.t);
   const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), hm = bits(handoff);
   const unsigned straight_m = bits(h.straight), up_m = bits(h.up), right_m = bits(h.right);
   for_lanes(bits(done) & g.live_mask, [&](int i) {
@@ -440,7 +446,7 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
     e.vx = L.vx[i];
     e.vy = L.vy[i];
     e.piece = ((straight_m >> i) & 1) ? (((up_m >> i) & 1) ? 0 : 2) : (((right_m >> i) & 1) ? 1 : 3);
-    e.collisions = static_cast<std::uint64_t>(L.coll[i]);
+    e.collisions = L.base[i] + g.steps - ((om >> i) & 1);
     finish(ctx, L.id[i], e);
     take(S, g, i, ctx, next);
   });
@@ -460,7 +466,7 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
   const V t = g.t + h.t;
   const MV over = t > TMAX;
-  g.coll = g.coll + select(over, ZERO, ONE);  // a flight past t_max is not a collision
+  ++g.steps;  // a collision of every lane (a flight past t_max is not one: Lanes::base)
   if (S.density_windows > 0) {                // parked lanes sit past t_max: `over` excludes them
     // within the windows' span [first from, last to]; a time in a gap between windows has a cell
     // that no window holds, so it is counted nowhere
@@ -474,8 +480,16 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
   const V k = formula::reflect_factor(wx, h.y, vx, vy);
   g.vx = select(h.straight, vx, formula::reflected(vx, k, wx));
   g.vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
-  g.zero = select(h.t > ZERO, ZERO, g.zero + ONE);
-  const MV stuck = g.zero > V(static_cast<double>(kMaxZeroFlights));
+  // zero-length flights in a row (a lane that makes too many is stuck): counted in memory, and only in
+  // a step that has one or follows one (nearly never)
+  const MV moved = h.t > ZERO;
+  MV stuck(false);
+  if (g.zeros || bits(moved) != kAllLanes) {
+    const V zero = select(moved, ZERO, load(g.L.zero) + ONE);
+    store(zero, g.L.zero);
+    stuck = zero > V(static_cast<double>(kMaxZeroFlights));
+    g.zeros = bits(zero != ZERO) != 0;
+  }
   if constexpr (!KeepLast) g.qx = h.x, g.qy = h.y, g.t = t;
   // a long run between the straight edges ahead: handed back to the fast-forward
   MV handoff(false);
@@ -510,6 +524,28 @@ void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, con
     while (g.live_mask) step<false>(S, g, ctx, next, finish, exact, buf, used);
   if (used) exact.density(ctx, buf, used);
 }
+
+double flights_kernel(const Scene& S, const Start* starts, std::uint64_t steps) {
+  Lanes L{};
+  for (int k = 0; k < N; ++k)
+    L.qx[k] = starts[k].qx, L.qy[k] = starts[k].qy, L.vx[k] = starts[k].vx, L.vy[k] = starts[k].vy;
+  V qx = load(L.qx), qy = load(L.qy), vx = load(L.vx), vy = load(L.vy), sum(0.0);
+  for (std::uint64_t n = 0; n < steps; ++n) {
+    const HitLanes h = next_hit(S, qx, qy, vx, vy);
+    const V wx = formula::from_centre(h.x, h.cx);
+    const V k = formula::reflect_factor(wx, h.y, vx, vy);
+    vx = select(h.straight, vx, formula::reflected(vx, k, wx));
+    vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
+    qx = h.x, qy = h.y, sum = sum + h.t;
+  }
+  alignas(sizeof(B)) double out[N];
+  store(sum, out);
+  double total = 0;
+  for (double x : out) total += x;
+  return total;
+}
+
+int pack_size() { return N; }
 
 void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n) {
   alignas(sizeof(B)) double a[N], o[N];
