@@ -150,13 +150,14 @@ class Package(unittest.TestCase):
         t = threading.Thread(target=count)
         t.start()
         start = time.monotonic()
-        rotleak.simulate(QUICK, particles=400000, threads=1)
+        rotleak.simulate(QUICK, particles=1000000, threads=1)
         end = time.monotonic()
         done.set()
         t.join()
         during = [x for x in ticks if start < x < end]
-        # a thread holding the GIL for the whole run would leave no tick inside it
-        self.assertGreater(len(during), 5, "%d ticks in a %.2f s run" % (len(during), end - start))
+        # a thread holding the GIL for the whole run would leave no tick inside it; a run of ~0.5 s leaves
+        # hundreds when the GIL is free, and a few even on a machine busy with other tests
+        self.assertGreater(len(during), 3, "%d ticks in a %.2f s run" % (len(during), end - start))
 
     def test_ctrl_c_interrupts_cleanly(self):
         code = ("import rotleak, sys\n"
