@@ -279,8 +279,10 @@ inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
     in = in | (h.straight & h.up & formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w])));
   for (int w = 0; w < S.n_windows[2]; ++w)
     in = in | (h.straight & !h.up & formula::in_x_window(h.x, V(S.lo[2][w]), V(S.hi[2][w])));
+  if (S.n_windows[1] + S.n_windows[3] == 0) return in;  // no window on an arc (a leak on a straight edge)
   const Vec2<V> rel{formula::from_centre(h.x, h.cx), h.y};
   for (int p = 1; p <= 3; p += 2) {
+    if (S.n_windows[p] == 0) continue;
     const MV on = (!h.straight) & (p == 1 ? h.right : !h.right);
     for (int w = 0; w < S.n_windows[p]; ++w) {
       const Vec2<V> from{V(S.from_x[p][w]), V(S.from_y[p][w])}, to{V(S.to_x[p][w]), V(S.to_y[p][w])};
