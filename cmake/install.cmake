@@ -77,4 +77,7 @@ endif()
 # (ctest Package.DebBuildsExtractsAndRuns) beside tests that use the build's binaries, and a build
 # started under them would relink what they run. Build, then install or package.
 set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY TRUE)
+set(ROTLEAK_VERSION_HPP ${CMAKE_BINARY_DIR}/src/generated/version.hpp)  # src/CMakeLists.txt writes it
+configure_file(${CMAKE_SOURCE_DIR}/cmake/cpack_project.cmake.in ${CMAKE_BINARY_DIR}/cpack_project.cmake @ONLY)
+set(CPACK_PROJECT_CONFIG_FILE ${CMAKE_BINARY_DIR}/cpack_project.cmake)
 include(CPack)

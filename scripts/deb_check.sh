@@ -16,6 +16,12 @@ dpkg -x "$deb" "$work/root"
 r=$work/root/usr
 scene=$r/share/rotleak/data/scenes/quickstart.toml
 "$r/bin/rotleak" --version
+# the package carries the version of what it holds: the binary's git hash is in the package's Version
+hash=$("$r/bin/rotleak" --version | sed -n 's/^[^ ]*+g\([0-9a-f]*\).*/\1/p')
+if [ -n "$hash" ] && ! dpkg-deb -f "$deb" Version | grep -q "g$hash"; then
+  echo "the package's Version $(dpkg-deb -f "$deb" Version) is not the binary's ($("$r/bin/rotleak" --version))"
+  exit 1
+fi
 "$r/bin/rotleak" simulate "$scene" --particles 20000 --out "$work/run" --no-progress --plot | tail -2
 test -s "$work/run/survival.png"
 "$r/bin/rotleak" verify --tier double | tail -1
