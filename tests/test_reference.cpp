@@ -12,6 +12,7 @@
 #include <map>
 
 #include "numeric/input.hpp"
+#include "scratch.hpp"
 #include "verify/reference.hpp"
 
 namespace rotleak {
@@ -31,7 +32,8 @@ const RefCase& find_case(const std::string& name) {
 }
 
 TEST(Reference, ReadsBackWhatItWrites) {
-  const auto dir = std::filesystem::temp_directory_path() / ("rotleak_ref_" + std::to_string(::getpid()));
+  const test::ScratchDir scratch("rotleak_ref_");
+  const auto& dir = scratch.path;
   write_reference(dir.string(), stored());
   const ReferenceSet again = read_reference(dir.string());
   ASSERT_EQ(again.cases.size(), stored().cases.size());
@@ -149,7 +151,8 @@ TEST(Verify, IntervalsContainTheReference) {
 }
 
 TEST(CaseSpecs, BadEntriesNameTheCase) {
-  const auto dir = std::filesystem::temp_directory_path() / ("rotleak_cases_" + std::to_string(::getpid()));
+  const test::ScratchDir scratch("rotleak_cases_");
+  const auto& dir = scratch.path;
   std::filesystem::create_directories(dir);
   auto attempt = [&](const std::string& body) {
     std::ofstream(dir / "cases.toml") << body;

@@ -14,6 +14,7 @@
 #include "run/regimes_search.hpp"
 #include "run/scan.hpp"
 #include "same_text.hpp"
+#include "scratch.hpp"
 
 namespace rotleak {
 namespace {
@@ -82,8 +83,8 @@ ScanRequest request(const fs::path& out, int threads) {
 }
 
 TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
-  const fs::path base = fs::temp_directory_path() / ("rotleak_scan_test_" + std::to_string(::getpid()));
-  fs::remove_all(base);
+  const test::ScratchDir scratch("rotleak_scan_test_");
+  const fs::path& base = scratch.path;
   const ScanOutcome whole = scan(request(base / "whole", 2));
   EXPECT_EQ(whole.points, 4u);
   EXPECT_EQ(whole.ran, 4u);
@@ -140,8 +141,8 @@ namespace {
 // new fit keys it equals a run simulated with them; a scan re-run with new fit keys refits its points
 // (no simulation) to the table a fresh scan with those keys writes.
 TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
-  const fs::path base = fs::temp_directory_path() / ("rotleak_refit_test_" + std::to_string(::getpid()));
-  fs::remove_all(base);
+  const test::ScratchDir scratch("rotleak_refit_test_");
+  const fs::path& base = scratch.path;
   const std::string scene = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
   auto sim = [&](const fs::path& out, std::vector<std::string> sets) {
     SimulateRequest r;
@@ -192,8 +193,8 @@ namespace {
 // and one bisection step: the low/mid interval lies between them and shrinks, mid/high is null with
 // its reason, and a second invocation simulates nothing (every probe is a complete scan point).
 TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
-  const fs::path base = fs::temp_directory_path() / ("rotleak_regimes_test_" + std::to_string(::getpid()));
-  fs::remove_all(base);
+  const test::ScratchDir scratch("rotleak_regimes_test_");
+  const fs::path& base = scratch.path;
   RegimesRequest r;
   r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
   r.overrides = {"ensemble.particles=100000", "ensemble.sampling=mupo", "run.fast_forward=true", "run.t_max=8000"};
