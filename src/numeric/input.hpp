@@ -44,47 +44,26 @@ inline ExactReal parse_exact_input(const std::string& key, const std::string& te
   }
 }
 
-/// A count given as text, exactly: "1000000", "1e6", "2.5e5", "1E+6" (never through a double); it must
-/// be an integer in [min, 2^63). Anything else is an InputError naming `key`.
+/// A count given as text, exactly: "1000000", "1e6", "2.5e5", "1E+6" (read by parse_decimal, never
+/// through a double; no sign, no negative exponent); it must be an integer in [min, 2^63). Anything else
+/// is an InputError naming `key`.
 inline std::uint64_t parse_count(const std::string& key, const std::string& text, std::uint64_t min = 1) {
   const auto bad = [&](const char* why) {
     return InputError(key, text,
                       std::string(why) + " (an integer >= " + std::to_string(min) + ": 1000000, 1e6 or 2.5e5)");
   };
-  std::size_t i = 0;
-  std::string digits;
-  std::size_t frac = 0;  // digits after the point
-  while (i < text.size() && text[i] >= '0' && text[i] <= '9') digits += text[i++];
-  if (i < text.size() && text[i] == '.') {
-    ++i;
-    while (i < text.size() && text[i] >= '0' && text[i] <= '9') digits += text[i++], ++frac;
+  if (text.empty() || text[0] == '+' || text[0] == '-' || text.find("e-") != std::string::npos ||
+      text.find("E-") != std::string::npos)
+    throw bad("not a number");
+  mpq_class q;
+  try {
+    q = parse_decimal(text);
+  } catch (const ExactParseError&) {
+    throw bad("not a number");
   }
-  if (digits.empty()) throw bad("not a number");
-  long long exponent = 0;
-  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
-    ++i;
-    if (i < text.size() && text[i] == '+') ++i;
-    if (i == text.size()) throw bad("no exponent after e");
-    for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
-      exponent = exponent * 10 + (text[i] - '0');
-      if (exponent > 40) throw bad("too large");
-    }
-  }
-  if (i != text.size()) throw bad("not a number");
-  // value = digits * 10^(exponent - frac): an integer when the digits dropped are zeros
-  const long long shift = exponent - static_cast<long long>(frac);
-  if (shift < 0) {
-    const std::size_t drop = static_cast<std::size_t>(-shift);
-    if (drop > digits.size() || digits.find_first_not_of('0', digits.size() - drop) != std::string::npos)
-      throw bad("not an integer");
-    digits.resize(digits.size() - drop);
-  } else {
-    digits.append(static_cast<std::size_t>(shift), '0');
-  }
-  const std::size_t first = digits.find_first_not_of('0');
-  digits = first == std::string::npos ? "0" : digits.substr(first);
-  if (digits.size() > 18 && (digits.size() > 19 || digits > "9223372036854775807")) throw bad("too large");
-  const std::uint64_t n = std::stoull(digits);
+  if (q.get_den() != 1) throw bad("not an integer");
+  if (q.get_num() > mpz_class("9223372036854775807")) throw bad("too large");
+  const std::uint64_t n = q.get_num().get_ui();
   if (n < min) throw bad("too small");
   return n;
 }
