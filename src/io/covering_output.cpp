@@ -91,7 +91,13 @@ std::string covering_text(const std::vector<std::string>& omegas, const std::vec
 
 namespace {
 
-CoveringInput exact_covering_input(const CoveringRequest& a) {
+/// The request's exact values, each checked against its range (an InputError naming its option).
+struct ExactCovering {
+  CoveringInput base;  ///< lambda, d, r (omega and delta: per entry, below)
+  std::vector<ExactReal> omegas, deltas;
+};
+
+ExactCovering exact_covering(const CoveringRequest& a) {
   if (a.omegas.empty()) throw InputError("--omega", "(none)", "give at least one omega");
   if (a.deltas.empty()) throw InputError("--delta", "(none)", "give at least one delta");
   auto exact = [](const std::string& key, const std::string& text, bool open_unit) {
@@ -100,37 +106,36 @@ CoveringInput exact_covering_input(const CoveringRequest& a) {
       throw InputError(key, "\"" + text + "\"", open_unit ? "must be in (0, 1)" : "must be > 0");
     return v;
   };
-  CoveringInput in;
-  for (const std::string& delta : a.deltas) in.delta = exact("--delta", delta, true);
-  in.lambda = exact("--lambda", a.lambda, true);
-  in.d = exact("--d", a.d, false);
-  in.r = exact("--r", a.r, false);
-  for (const auto& o : a.omegas) (void)parse_exact_input("--omega", o);
-  return in;
+  ExactCovering e;
+  for (const std::string& delta : a.deltas) e.deltas.push_back(exact("--delta", delta, true));
+  e.base.lambda = exact("--lambda", a.lambda, true);
+  e.base.d = exact("--d", a.d, false);
+  e.base.r = exact("--r", a.r, false);
+  for (const auto& o : a.omegas) e.omegas.push_back(parse_exact_input("--omega", o));
+  return e;
 }
 
 }  // namespace
 
-void check_covering_request(const CoveringRequest& request) { (void)exact_covering_input(request); }
+void check_covering_request(const CoveringRequest& request) { (void)exact_covering(request); }
 
 CoveringOutcome compute_coverings(const CoveringRequest& a) {
-  CoveringInput in = exact_covering_input(a);
-  std::vector<ExactReal> omegas;
-  for (const auto& o : a.omegas) omegas.push_back(parse_exact_input("--omega", o));
+  const ExactCovering e = exact_covering(a);
+  CoveringInput in = e.base;
 
   // every omega at every delta; with several deltas each entry is labelled "omega @ delta D"
   CoveringOutcome out;
   for (const std::string& delta : a.deltas) out.delta_list += (out.delta_list.empty() ? "" : ",") + delta;
-  for (std::size_t k = 0; k < omegas.size(); ++k)
-    for (const std::string& delta : a.deltas) {
-      in.omega = omegas[k];
-      in.delta = parse_exact_input("--delta", delta);
+  for (std::size_t k = 0; k < e.omegas.size(); ++k)
+    for (std::size_t j = 0; j < e.deltas.size(); ++j) {
+      in.omega = e.omegas[k];
+      in.delta = e.deltas[j];
       try {
         out.results.push_back(mupo_covering(in));
-      } catch (const std::invalid_argument& e) {
-        throw InputError("--delta", "\"" + delta + "\"", e.what());
+      } catch (const std::invalid_argument& err) {
+        throw InputError("--delta", "\"" + a.deltas[j] + "\"", err.what());
       }
-      out.labels.push_back(a.deltas.size() > 1 ? a.omegas[k] + " @ delta " + delta : a.omegas[k]);
+      out.labels.push_back(a.deltas.size() > 1 ? a.omegas[k] + " @ delta " + a.deltas[j] : a.omegas[k]);
     }
   out.document = covering_document({out.delta_list, a.lambda, a.d, a.r}, out.labels, out.results);
   if (a.deltas.size() > 1)  // each entry names its delta
