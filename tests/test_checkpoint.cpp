@@ -15,6 +15,7 @@
 #include "numeric/input.hpp"
 #include "run/pipeline.hpp"
 #include "same_text.hpp"
+#include "scratch.hpp"
 #include "sim/simd_engine.hpp"
 
 namespace rotleak {
@@ -46,14 +47,13 @@ escapes = true
 )");
 }
 
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("rotleak_ckpt_" + std::to_string(::getpid()) + "_" +
-                                               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  TempDir() {
-    fs::remove_all(path);
+/// A test's own folder (tests/scratch.hpp), made empty, removed when the test ends.
+struct TempDir : test::ScratchDir {
+  TempDir()
+      : ScratchDir(std::string("rotleak_ckpt_") + ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                   "_") {
     fs::create_directories(path);
   }
-  ~TempDir() { fs::remove_all(path); }
 };
 
 TEST(IntervalSet, InsertJoinsAndRefusesOverlap) {

@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "names.hpp"
+#include "scratch.hpp"
 
 namespace fs = std::filesystem;
 
@@ -24,27 +25,14 @@ struct Outcome {
   std::string out, err;
 };
 
-fs::path scratch_path() { return fs::temp_directory_path() / ("rotleak_cli_test_" + std::to_string(::getpid())); }
-
-fs::path scratch() {
-  static const fs::path dir = [] {
-    fs::path p = scratch_path();
-    fs::create_directories(p);
-    return p;
-  }();
-  return dir;
+// Each test runs in its own process (gtest_discover_tests), so each makes its own scratch folder
+// (tests/scratch.hpp), removed when the process ends, pass or fail: no run leaves anything in /tmp.
+const fs::path& scratch() {
+  static const rotleak::test::ScratchDir dir("rotleak_cli_test_");
+  static const bool made = fs::create_directories(dir.path);
+  (void)made;
+  return dir.path;
 }
-
-// Each test runs in its own process (gtest_discover_tests), so each makes its own scratch folder:
-// remove it when the process's tests end, pass or fail, so no run leaves anything in /tmp.
-class RemoveScratch : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(scratch_path(), ec);
-  }
-};
-[[maybe_unused]] ::testing::Environment* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 std::string slurp(const fs::path& p) {
   std::ifstream f(p);
