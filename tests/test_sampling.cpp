@@ -49,6 +49,61 @@ TEST(FixedSum, IsExactAndOrderIndependent) {
   EXPECT_THROW(part.add(-1), std::domain_error);
 }
 
+// Terms at the scale of the one before go to a 128-bit staging word (fixed_sum.hpp): the sum must read,
+// compare, merge, subtract and store exactly as if every term went straight into the limbs, also when
+// the word wraps around. Reference: each term in a FixedSum of its own, merged (merge adds limbs).
+TEST(FixedSum, StagedTermsReadAsAddedAlsoWhenTheWordWraps) {
+  const double w = std::nextafter(2.0, 4.0);  // 2^53 - 1 ... times 2^-51: a full 53-bit integer
+  const std::uint64_t n = std::uint64_t{1} << 63;
+  FixedSum staged, ref;
+  const auto one = [](double x, std::uint64_t k) {
+    FixedSum f;
+    f.add_times(x, k);
+    return f;
+  };
+  // 2^13 terms of about 2^116 at one scale: more than 2^128 in all, so the staging word wraps
+  for (int i = 0; i < 8192; ++i) {
+    staged.add_times(w, n);
+    ref.merge(one(w, n));
+    if (i == 4095) {  // a reader in the middle, on a copy and on the staged sum itself
+      const FixedSum copy = staged;
+      EXPECT_TRUE(copy == ref);
+      EXPECT_EQ(staged.value(), ref.value());
+      EXPECT_EQ(staged.limbs(), ref.limbs());
+      EXPECT_EQ(staged.base(), ref.base());
+    }
+  }
+  // other scales in between, then back: each change of scale carries the word into the limbs
+  for (double x : {0.5, 0.75, 1e-300, 3.0, 0.5, std::ldexp(1.0, -1074), 0.625}) {
+    staged.add(x), staged.add_times(x, 3), staged.add_square(x);
+    ref.merge(one(x, 1)), ref.merge(one(x, 3));
+    FixedSum sq;
+    sq.add_square(x);
+    ref.merge(sq);
+  }
+  EXPECT_TRUE(staged == ref);
+  EXPECT_TRUE(ref == staged);
+  EXPECT_EQ(staged.limbs(), ref.limbs());
+  EXPECT_EQ(staged.scaled().m, ref.scaled().m);
+  EXPECT_EQ(staged.scaled().e, ref.scaled().e);
+  // a staged sum merged into another, and subtracted from itself, leaves what the limbs say
+  FixedSum both = ref;
+  both.merge(staged);
+  FixedSum twice = ref;
+  twice.merge(ref);
+  EXPECT_TRUE(both == twice);
+  EXPECT_TRUE(both.minus(staged) == ref);
+  EXPECT_TRUE(staged.minus(ref).is_zero());
+  FixedSum stored = FixedSum::from_limbs(staged.base(), staged.limbs());
+  EXPECT_TRUE(stored == ref);
+  FixedSum zero;
+  zero.add(0.0);
+  EXPECT_TRUE(zero.is_zero());
+  zero.add_times(0.25, 2);
+  EXPECT_FALSE(zero.is_zero());  // staged only, not yet in the limbs
+  EXPECT_EQ(zero.value(), 0.5);
+}
+
 // Split runs weigh particles down to 1e-300 and square those weights: the sum must keep every bit of
 // terms far below 2^-128 (the old fixed grid dropped a 1e-40 entirely), in any order, and its square
 // terms below the range of a double. Exact: a sum of powers of two is checked bit for bit.

@@ -5,6 +5,12 @@
 // bits, for weights as large as 2^60 and as small as the smallest subnormal (4.9e-324), and for their
 // squares far below the range of a double. Weighted tallies use it for sums of weights and of squared
 // weights; split runs reach P ~ 1e-300, whose line weights square to 1e-600.
+//
+// Terms arrive mostly at one scale at a time (f_c adds one particle's weight to one bin, stretch after
+// stretch): a term at the scale of the one before is added to a 128-bit staging word (its integer times
+// 2^pos, the same pos), and only a term at another scale, or a staging word about to overflow, carries
+// the word into the limbs. Every reader sees the staged word as added (it works on a settled copy), so
+// the value, the words and the comparisons are those of the term-by-term sum.
 #pragma once
 
 #include <bit>
@@ -29,21 +35,21 @@ class FixedSum {
   void add(double x) {
     if (!(x >= 0) || !(x < 0x1p1000)) throw std::domain_error("FixedSum::add: term outside [0, 2^1000)");
     long pos = 0;
-    if (const std::uint64_t m = integer_of(x, pos)) add_bits(m, pos);
+    if (const std::uint64_t m = integer_of(x, pos)) stage(m, pos);
   }
 
   /// Adds x n times, exactly: x n in one step (n < 2^64).
   void add_times(double x, std::uint64_t n) {
     if (!(x >= 0) || !(x < 0x1p1000)) throw std::domain_error("FixedSum::add_times: term outside [0, 2^1000)");
     long pos = 0;
-    if (const std::uint64_t m = integer_of(x, pos)) add_bits(static_cast<unsigned __int128>(m) * n, pos);
+    if (const std::uint64_t m = integer_of(x, pos)) stage(static_cast<unsigned __int128>(m) * n, pos);
   }
 
   /// Adds x^2 exactly (x >= 0 finite), even where x^2 leaves the range of a double.
   void add_square(double x) {
     if (!(x >= 0) || !(x < 0x1p500)) throw std::domain_error("FixedSum::add_square: term outside [0, 2^500)");
     long pos = 0;
-    if (const std::uint64_t m = integer_of(x, pos)) add_bits(static_cast<unsigned __int128>(m) * m, 2 * pos);
+    if (const std::uint64_t m = integer_of(x, pos)) stage(static_cast<unsigned __int128>(m) * m, 2 * pos);
   }
 
   /// Adds v 2^pos exactly.
@@ -66,14 +72,17 @@ class FixedSum {
   }
 
   void merge(const FixedSum& o) {
+    if (o.staged_) add_bits(o.staged_, o.staged_pos_);
     if (o.limb_.empty()) return;
     cover(o.base_, o.base_ + static_cast<long>(o.limb_.size()));
     add_at(o.base_ - base_, o.limb_.data(), o.limb_.size());
   }
 
   /// this - o, for o <= this (a cumulative sum minus a part of it).
-  FixedSum minus(const FixedSum& o) const {
-    FixedSum r = *this;
+  FixedSum minus(const FixedSum& other) const {
+    FixedSum r = *this, settled_o;
+    r.settle();
+    const FixedSum& o = other.settled(settled_o);
     if (o.limb_.empty()) return r;
     r.cover(o.base_, o.base_ + static_cast<long>(o.limb_.size()));
     const std::size_t off = static_cast<std::size_t>(o.base_ - r.base_);
@@ -94,31 +103,38 @@ class FixedSum {
   /// The sum rounded to a double: its top three limbs, highest first (error below one ulp of the
   /// result); 0 below the double range, inf above it.
   double value() const {
-    const long top = top_limb();
+    FixedSum tmp;
+    const FixedSum& f = settled(tmp);
+    const long top = f.top_limb();
     if (top == kNone) return 0;
     double v = 0;
-    for (long k = top; k > top - 3 && k >= base_; --k) v += std::ldexp(static_cast<double>(limb(k)), int_exp(64 * k));
+    for (long k = top; k > top - 3 && k >= f.base_; --k)
+      v += std::ldexp(static_cast<double>(f.limb(k)), int_exp(64 * k));
     return v;
   }
 
   /// The sum as m 2^e, at any scale (value() is its rounding into a double).
   Scaled scaled() const {
-    const long top = top_limb();
+    FixedSum tmp;
+    const FixedSum& f = settled(tmp);
+    const long top = f.top_limb();
     if (top == kNone) return {};
     double v = 0;  // the top three limbs, scaled by 2^(-64 top)
-    for (long k = top; k > top - 3 && k >= base_; --k)
-      v += std::ldexp(static_cast<double>(limb(k)), static_cast<int>(64 * (k - top)));
+    for (long k = top; k > top - 3 && k >= f.base_; --k)
+      v += std::ldexp(static_cast<double>(f.limb(k)), static_cast<int>(64 * (k - top)));
     int e = 0;
     const double m = std::frexp(v, &e);
     return {m, e + 64 * top};
   }
 
-  bool is_zero() const { return top_limb() == kNone; }
+  bool is_zero() const { return staged_ == 0 && top_limb() == kNone; }
 
-  bool operator==(const FixedSum& o) const {
-    const long lo = std::min(base_, o.base_), hi = std::max(end(), o.end());
+  bool operator==(const FixedSum& other) const {
+    FixedSum ta, tb;
+    const FixedSum &a = settled(ta), &o = other.settled(tb);
+    const long lo = std::min(a.base_, o.base_), hi = std::max(a.end(), o.end());
     for (long k = lo; k < hi; ++k)
-      if (limb(k) != o.limb(k)) return false;
+      if (a.limb(k) != o.limb(k)) return false;
     return true;
   }
 
@@ -136,6 +152,31 @@ class FixedSum {
 
  private:
   static constexpr long kNone = -(1L << 40);
+
+  /// v 2^pos into the staging word when it has that pos (and room), else the word into the limbs first
+  void stage(unsigned __int128 v, long pos) {
+    if (pos == staged_pos_) {
+      const unsigned __int128 sum = staged_ + v;
+      if (sum >= v) {  // no wrap-around
+        staged_ = sum;
+        return;
+      }
+    }
+    settle();
+    staged_ = v, staged_pos_ = pos;
+  }
+  /// The staging word into the limbs.
+  void settle() {
+    if (staged_) add_bits(staged_, staged_pos_);
+    staged_ = 0;
+  }
+  /// This sum with its staging word in the limbs: itself, or `tmp` made so.
+  const FixedSum& settled(FixedSum& tmp) const {
+    if (!staged_) return *this;
+    tmp = *this;
+    tmp.settle();
+    return tmp;
+  }
 
   static long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
   /// x >= 0 finite as m 2^pos, m an integer below 2^53, read off its bits (0 for x = 0).
@@ -204,12 +245,15 @@ class FixedSum {
   }
   FixedSum trimmed() const {
     FixedSum f = *this;
+    f.settle();
     f.trim();
     return f;
   }
 
   std::vector<std::uint64_t> limb_;  ///< limb_[k] weighs 2^(64 (base_ + k))
   long base_ = 0;
+  unsigned __int128 staged_ = 0;  ///< terms at scale 2^staged_pos_ not yet in the limbs
+  long staged_pos_ = 0;
 };
 
 }  // namespace rotleak

@@ -23,6 +23,9 @@ namespace rotleak {
 template <class R>
 struct DensityObserver {
   static constexpr bool active = true;
+  /// A stretch whose s moves at least this many bins a bounce (runs of about one bounce) is walked
+  /// bounce by bounce; slower ones have their runs predicted and checked (run_end)
+  static constexpr double kWalkBinsPerBounce = 0.25;
   const Stadium<R>* stadium;
   const std::vector<TimeWindow>* windows;
   int bins;
@@ -45,8 +48,8 @@ struct DensityObserver {
   /// window's bounces are an interval of j, and so is each bin's within it (s is monotone in x on the
   /// bottom edge; on the top edge it is monotone on each side of x = 0, where it wraps from near 1 to
   /// 0, and the two sides' bins are disjoint for bins >= 2 since they lie above 0.75 and below 0.25).
-  template <class F>
-  void stretch(long n, const F& bounce) {
+  void stretch(const Stretch<R>& st) {
+    const long n = st.n;
     const std::size_t nw = windows->size();
     // each window's bounces [from, to) among this parity's (on the stack: a fast-forward shows many
     // short stretches, one per binade of its sums)
@@ -56,7 +59,11 @@ struct DensityObserver {
     std::pair<long, long>* span = nw > kInline ? heap_span.data() : inline_span;
     for (long parity = 1; parity <= 2 && parity <= n; ++parity) {
       const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
-      const auto at = [&](long i) { return bounce(parity + 2 * i); };
+      // the parity's first and last bounce come cheap (Stretch::end), all others by fma
+      const auto at = [&](long i) {
+        const long j = parity + 2 * i;
+        return j <= 2 || j == n ? st.end(j) : st(j);
+      };
       const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
       const auto s_at = [&](long i) {
         const Bounce<R> b = at(i);
@@ -91,16 +98,37 @@ struct DensityObserver {
             add(w, bin_of(s_lo), static_cast<std::uint64_t>(span[w].second - span[w].first));
         continue;
       }
+      // bounces [a, z) in bin b: added to every window they overlap
+      const auto run = [&](long a, long z, int b) {
+        for (std::size_t w = 0; w < nw; ++w) {
+          const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
+          if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
+        }
+      };
+      if (std::abs(step) * bins >= kWalkBinsPerBounce) {
+        // short runs (a fast orbit): walk the bounces. Within a stretch every x_j = x + j dx is exact
+        // (Stretch), so x_j + 2 dx is x_(j+2) exactly: the walk gives each bounce's x bit for bit, one
+        // addition a bounce instead of a search
+        const Bounce<R> first = at(lo);
+        const R dx = R(2) * st.dx;  // from one bounce of this parity to the next
+        Vec2<R> q = first.q;
+        long a = lo;
+        int b = bin_of(s_lo);
+        for (long i = lo + 1; i < hi; ++i) {
+          q.x += dx;
+          const int bi = bin_of(num_traits<R>::to_double(stadium->s_of(first.piece, q)));
+          if (bi != b) run(a, i, b), a = i, b = bi;
+        }
+        run(a, hi, b);
+        continue;
+      }
       long a = lo;
       double s_a = s_lo;
       while (a < hi) {
         const int bin0 = bin_of(s_a);
         const auto moved = [&](long i) { return bin_of(s_at(i)) != bin0; };  // false, then true, in i
         const long z = run_end(a, hi, s_a, step, bin0, moved);
-        for (std::size_t w = 0; w < nw; ++w) {
-          const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
-          if (from < to) add(w, bin0, static_cast<std::uint64_t>(to - from));
-        }
+        run(a, z, bin0);
         a = z;
         if (a < hi) s_a = s_at(a);
       }

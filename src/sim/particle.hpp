@@ -40,10 +40,38 @@ struct Bounce {
   R t;
 };
 
+/// A fast-forwarded stretch of n bounces as fast_forward() computes them: bounce j (j = 1 .. n) at
+/// x_j = fma(j, dx, x) and t_j = fma(j, dt, t), exact (the sums stay on one grid: next_run), on the
+/// top edge for even j when top_even, on the bottom edge otherwise. `last` is bounce n, which
+/// fast_forward() computes anyway; the first two are one exact addition away (end()).
+template <class R>
+struct Stretch {
+  long n;
+  R x, dx, t, dt;
+  R r;  ///< the edges' |y|
+  bool top_even;
+  Bounce<R> last;
+
+  Piece piece(long j) const { return ((j % 2) == 0) == top_even ? Piece::top : Piece::bottom; }
+  Bounce<R> at(long j, const R& xj, const R& tj) const {
+    return {piece(j), Vec2<R>{xj, piece(j) == Piece::top ? r : R(-r)}, tj};
+  }
+  /// bounce j, any j in 1 .. n
+  Bounce<R> operator()(long j) const {
+    return at(j, std::fma(R(static_cast<double>(j)), dx, x), std::fma(R(static_cast<double>(j)), dt, t));
+  }
+  /// bounce j, j in {1, 2, n}: bit for bit operator()(j) (x + 2 dx is one rounding of an exact 2 dx,
+  /// as the fma's), without the fused multiply-add's cost
+  Bounce<R> end(long j) const {
+    if (j == n) return last;
+    return j == 1 ? at(1, R(x + dx), R(t + dt)) : at(2, R(x + R(2) * dx), R(t + R(2) * dt));
+  }
+};
+
 /// What the particle loop reports to its observer at each collision; the default does nothing.
-/// An observer may also take a fast-forwarded stretch whole: stretch(n, bounce) with bounce(j) the
-/// j-th of n bounces (j = 1 .. n; bounces of one parity lie on one straight edge, with x and t
-/// monotone in j), in place of n calls; it must count exactly what the n calls would.
+/// An observer may also take a fast-forwarded stretch whole: stretch(const Stretch<R>&) in place of
+/// its n calls (bounces of one parity lie on one straight edge, with x and t monotone in j); it must
+/// count exactly what the n calls would.
 template <class R>
 struct NoCollisionObserver {
   static constexpr bool active = false;
@@ -224,38 +252,33 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
             break;
           }
       }
-      // bounces 1..n of this stretch are collisions: shown to the observer, whole or one by one
-      auto bounce = [&](long j) {
-        const bool top = edge_top(k + j);
-        return Bounce<R>{top ? Piece::top : Piece::bottom, Vec2<R>{xj(j), top ? st.r() : R(-st.r())}, tj(j)};
-      };
-      auto show = [&](long n) {
+      // bounces 1..n of this stretch are collisions: shown to the observer, whole or one by one;
+      // then x, t move to bounce n (x_n, t_n)
+      auto show = [&](long n, const R& x_n, const R& t_n) {
         if constexpr (Observer::active) {
-          if (!observe) return;
-          if constexpr (requires { observe->stretch(n, bounce); }) {
-            observe->stretch(n, bounce);
-          } else {
-            for (long j = 1; j <= n; ++j) {
-              const Bounce<R> b = bounce(j);
-              (*observe)(b.piece, b.q, b.t);
+          if (observe) {
+            Stretch<R> s{n, x, rx.inc, t, rt.inc, st.r(), edge_top(k), {}};
+            s.last = s.at(n, x_n, t_n);
+            if constexpr (requires { observe->stretch(s); }) {
+              observe->stretch(s);
+            } else {
+              for (long j = 1; j <= n; ++j) {
+                const Bounce<R> b = s(j);
+                (*observe)(b.piece, b.q, b.t);
+              }
             }
           }
         }
+        x = x_n, t = t_n, k += n;
       };
       if (why == 0) {  // the whole stretch is free bounces
-        show(J);
-        x = xj(J);
-        t = tj(J);
-        k += J;
+        show(J, xj(J), tj(J));
         continue;
       }
       // Leaving the edges or passing t_max happens on the flight after bounce stop - 1, which the
       // caller's next step computes as stepping would; an escape happens at bounce stop itself.
       const long last = why == 3 ? stop : stop - 1;
-      show(last);
-      x = xj(last);
-      t = tj(last);
-      k += last;
+      show(last, xj(last), tj(last));
       break;
     }
     if (k == 0) return true;
