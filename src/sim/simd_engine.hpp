@@ -56,13 +56,13 @@ struct Start {
   double weight = 1;             ///< the particle's sampling weight (for the weighted f_c)
 };
 
-/// One counted collision of the f_c observer: index cell * bins + bin, and the weight. The time
+/// One counted collision of the weighted f_c observer: its time cell, its bin and its weight. The time
 /// cell of t is the number of window edges it has passed, counting from_w when t >= from_w and to_w
 /// when t > to_w: 0 .. 2 density_windows; it fixes the set of windows that hold t (density_cells),
 /// so the kernel counts each collision once and the caller adds the cell to each of its windows
 /// (sim/engine.cpp density_cells).
 struct DensityHit {
-  std::uint32_t index;
+  std::uint32_t cell, bin;
   double weight;
 };
 
@@ -71,7 +71,7 @@ struct DensityHit {
 struct Exact {
   double (*s_of)(void* ctx, int piece, double x, double y);   ///< Stadium<double>::s_of
   void (*density)(void* ctx, const DensityHit* hits, int n);  ///< add these to the tallies
-  /// When set (f_c unweighted): the thread's f_c counts by time cell, indexed as DensityHit::index,
+  /// When set (f_c unweighted): the thread's f_c counts by time cell, indexed cell * bins + bin,
   /// which the kernel increments itself instead of sending the hits to density().
   std::uint64_t* counts = nullptr;
 };

@@ -405,11 +405,11 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
     return abs(sb - nearbyint(sb)) <= V(tol * S.bins);
   };
   const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge, ctx, exact);
-  const V bin = formula::density_bin(s, bins);
-  alignas(sizeof(B)) double index[N];
-  store(fma(time_cell(S, t), bins, bin), index);  // exact: small integers
+  const V bin = formula::density_bin(s, bins), cell = time_cell(S, t);
   const unsigned in = bits(count);
   if (exact.counts) {
+    alignas(sizeof(B)) double index[N];
+    store(fma(cell, bins, bin), index);  // exact: small integers
     if (in == kAllLanes) {  // the common case (a window covering most of the run): no mask walk
       for (int i = 0; i < N; ++i) ++exact.counts[static_cast<std::uint32_t>(index[i])];
     } else {
@@ -417,12 +417,14 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
     }
     return;
   }
+  alignas(sizeof(B)) double cells[N], bin_of[N];
+  store(cell, cells), store(bin, bin_of);
   for_lanes(in, [&](int i) {
     if (used == kDensityBuffer) {
       exact.density(ctx, buf, used);
       used = 0;
     }
-    buf[used++] = {static_cast<std::uint32_t>(index[i]), g.L.w[i]};
+    buf[used++] = {static_cast<std::uint32_t>(cells[i]), static_cast<std::uint32_t>(bin_of[i]), g.L.w[i]};
   });
 }
 
