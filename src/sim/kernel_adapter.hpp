@@ -59,11 +59,7 @@ struct DensityObserver {
     std::pair<long, long>* span = nw > kInline ? heap_span.data() : inline_span;
     for (long parity = 1; parity <= 2 && parity <= n; ++parity) {
       const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
-      // the parity's first and last bounce come cheap (Stretch::end), all others by fma
-      const auto at = [&](long i) {
-        const long j = parity + 2 * i;
-        return j <= 2 || j == n ? st.end(j) : st(j);
-      };
+      const auto at = [&](long i) { return st(parity + 2 * i); };
       const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
       const auto s_at = [&](long i) {
         const Bounce<R> b = at(i);

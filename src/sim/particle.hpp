@@ -43,7 +43,7 @@ struct Bounce {
 /// A fast-forwarded stretch of n bounces as fast_forward() computes them: bounce j (j = 1 .. n) at
 /// x_j = fma(j, dx, x) and t_j = fma(j, dt, t), exact (the sums stay on one grid: next_run), on the
 /// top edge for even j when top_even, on the bottom edge otherwise. `last` is bounce n, which
-/// fast_forward() computes anyway; the first two are one exact addition away (end()).
+/// fast_forward() computes anyway.
 template <class R>
 struct Stretch {
   long n;
@@ -56,15 +56,14 @@ struct Stretch {
   Bounce<R> at(long j, const R& xj, const R& tj) const {
     return {piece(j), Vec2<R>{xj, piece(j) == Piece::top ? r : R(-r)}, tj};
   }
-  /// bounce j, any j in 1 .. n
+  /// bounce j, any j in 1 .. n. Bounces 1, 2 and n (an observer's usual questions: a stretch's ends)
+  /// skip the fused multiply-add, bit for bit: n is `last`, and x + 2 dx is one rounding of an exact
+  /// 2 dx, as the fma's.
   Bounce<R> operator()(long j) const {
-    return at(j, std::fma(R(static_cast<double>(j)), dx, x), std::fma(R(static_cast<double>(j)), dt, t));
-  }
-  /// bounce j, j in {1, 2, n}: bit for bit operator()(j) (x + 2 dx is one rounding of an exact 2 dx,
-  /// as the fma's), without the fused multiply-add's cost
-  Bounce<R> end(long j) const {
     if (j == n) return last;
-    return j == 1 ? at(1, R(x + dx), R(t + dt)) : at(2, R(x + R(2) * dx), R(t + R(2) * dt));
+    if (j == 1) return at(1, R(x + dx), R(t + dt));
+    if (j == 2) return at(2, R(x + R(2) * dx), R(t + R(2) * dt));
+    return at(j, std::fma(R(static_cast<double>(j)), dx, x), std::fma(R(static_cast<double>(j)), dt, t));
   }
 };
 
