@@ -21,7 +21,6 @@ TierChoice choose_tier(const Scene& scene, int threads) {
 }
 
 TierChoice choose_from_audit(const Scene& scene, const AuditReport& rep, std::uint64_t compared) {
-  const std::string names[] = {"float", "double", "long_double"};
   // the trusted tiers, each at its wall time on the audit's ensemble (the same ids): double runs the
   // vectorised engine when the CPU has one and the audit found its curve identical to the scalar one
   const auto seconds_of = [&rep](const std::string& name) {
@@ -35,7 +34,7 @@ TierChoice choose_from_audit(const Scene& scene, const AuditReport& rep, std::ui
   double best_seconds = 0;
   std::string best_verdict;
   for (std::size_t k = 0; k < 3; ++k) {
-    const std::string& name = names[k];
+    const std::string name = to_string(tiers[k]);  // as the audit names its verdicts and ensembles
     bool ok = true;
     std::string why;
     for (const Verdict& v : rep.verdicts)
@@ -74,8 +73,8 @@ TierChoice choose_from_audit(const Scene& scene, const AuditReport& rep, std::ui
             "no ensemble tier passed the audit; ran the most precise one (long_double). Rejected: " + rejected};
   return {tiers[best], "fastest tier the audit trusts for P(t), kappa and alpha, by wall time on the audit's " +
                            std::to_string(compared) + " particles (" + timings +
-                           "; the same ids compared with long double): " + names[static_cast<std::size_t>(best)] +
-                           ", " + best_verdict + (rejected.empty() ? "" : "; rejected: " + rejected)};
+                           "; the same ids compared with long double): " + to_string(tiers[best]) + ", " +
+                           best_verdict + (rejected.empty() ? "" : "; rejected: " + rejected)};
 }
 
 }  // namespace rotleak
