@@ -104,6 +104,48 @@ TEST(FixedSum, StagedTermsReadAsAddedAlsoWhenTheWordWraps) {
   EXPECT_EQ(zero.value(), 0.5);
 }
 
+// Terms at nearby scales share the staging word (fixed_sum.hpp: it starts kStageBelow = 24 binades
+// below its first term): weights spread over 40 binades as importance sampling gives them, added once
+// or n times in random order; and, on a fresh word each, a 53-bit integer 73 .. 128 binades above the
+// word's scale (below 2^126, 2^127, 2^128, 2^129, ...: from 76 on it would not fit the word), once and
+// twice (the sum may wrap instead), then terms 24 and 25 binades below the first one (at the scale,
+// and below it). Reference: each term in a FixedSum of its own, merged.
+TEST(FixedSum, TermsOfNearbyScalesShareTheWordExactly) {
+  const auto one = [](double x, std::uint64_t k) {
+    FixedSum f;
+    f.add_times(x, k);
+    return f;
+  };
+  std::mt19937_64 gen(23);
+  std::uniform_real_distribution<double> exponent(-40, 1);
+  std::uniform_int_distribution<std::uint64_t> times(1, std::uint64_t{1} << 40);
+  FixedSum staged, ref;
+  for (int i = 0; i < 20000; ++i) {
+    const double w = std::exp2(exponent(gen));
+    const std::uint64_t n = i % 3 ? 1 : times(gen);
+    staged.add_times(w, n);
+    ref.merge(one(w, n));
+    if (i % 4999 == 0) {
+      EXPECT_EQ(staged.limbs(), ref.limbs()) << "after " << i + 1 << " terms";
+    }
+  }
+  EXPECT_TRUE(staged == ref);
+  const double m = std::nextafter(2.0, 0.0);  // (2^53 - 1) 2^-52: its integer has 53 bits
+  for (int above : {73, 74, 75, 76, 100, 127, 128})
+    for (int reps = 1; reps <= 2; ++reps) {
+      FixedSum edge, edge_ref;
+      edge.add(m), edge_ref.merge(one(m, 1));      // the word's scale: 2^(-52 - 24)
+      const double x = std::ldexp(m, above - 24);  // its integer sits `above` binades above that scale
+      for (int r = 0; r < reps; ++r) edge.add(x), edge_ref.merge(one(x, 1));
+      for (int below : {24, 25}) {
+        const double y = std::ldexp(m, -below);
+        edge.add(y), edge_ref.merge(one(y, 1));
+      }
+      EXPECT_TRUE(edge == edge_ref) << above << " binades above, " << reps << " times";
+      EXPECT_EQ(edge.limbs(), edge_ref.limbs()) << above << " binades above, " << reps << " times";
+    }
+}
+
 // Split runs weigh particles down to 1e-300 and square those weights: the sum must keep every bit of
 // terms far below 2^-128 (the old fixed grid dropped a 1e-40 entirely), in any order, and its square
 // terms below the range of a double. Exact: a sum of powers of two is checked bit for bit.

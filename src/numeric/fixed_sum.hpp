@@ -6,13 +6,15 @@
 // squares far below the range of a double. Weighted tallies use it for sums of weights and of squared
 // weights; split runs reach P ~ 1e-300, whose line weights square to 1e-600.
 //
-// Terms arrive mostly at one scale at a time (f_c adds one particle's weight to one bin, stretch after
-// stretch): a term at the scale of the one before is added to a 128-bit staging word (its integer times
-// 2^pos, the same pos), and only a term at another scale, or a staging word about to overflow, carries
-// the word into the limbs. Every reader sees the staged word as added (it works on a settled copy), so
+// Terms arrive at a few nearby scales (f_c adds particles' weights, a few binades apart, to each bin):
+// a term is added to a 128-bit staging word, an integer times 2^scale, when it lies at or above that
+// scale and fits (the word starts kStageBelow binades below its first term, so smaller terms fit too);
+// only a term below the scale, one too large for the word, or a sum about to wrap carries the word
+// into the limbs. Every reader sees the staged word as added (it works on a settled copy), so
 // the value, the words and the comparisons are those of the term-by-term sum.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -153,17 +155,26 @@ class FixedSum {
  private:
   static constexpr long kNone = -(1L << 40);
 
-  /// v 2^pos into the staging word when it has that pos (and room), else the word into the limbs first
+  /// Binades below a term that starts the staging word, kept so that smaller terms stage too.
+  static constexpr int kStageBelow = 24;
+  /// v 2^pos into the staging word when it lies at or above the word's scale and fits (v 2^(pos -
+  /// scale) below 2^127, the sum not wrapping), else the word into the limbs first and v starts it again
   void stage(unsigned __int128 v, long pos) {
-    if (pos == staged_pos_) {
-      const unsigned __int128 sum = staged_ + v;
-      if (sum >= v) {  // no wrap-around
+    const long s = pos - staged_pos_;
+    if (s >= 0 && s < 128 && (v >> (127 - s)) == 0) {
+      const unsigned __int128 t = v << s, sum = staged_ + t;
+      if (sum >= t) {  // no wrap-around
         staged_ = sum;
         return;
       }
     }
     settle();
-    staged_ = v, staged_pos_ = pos;
+    const int down = std::min(kStageBelow, leading_zeros(v) - 1);
+    staged_ = v << down, staged_pos_ = pos - down;
+  }
+  static int leading_zeros(unsigned __int128 v) {
+    const auto hi = static_cast<std::uint64_t>(v >> 64);
+    return hi ? std::countl_zero(hi) : 64 + std::countl_zero(static_cast<std::uint64_t>(v));
   }
   /// The staging word into the limbs.
   void settle() {
