@@ -5,11 +5,13 @@
 #include <cmath>
 #include <random>
 
+#include "geometry/formulas.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "names.hpp"
 #include "same_text.hpp"
 #include "sim/engine.hpp"
+#include "sim/kernel_adapter.hpp"
 #include "sim/particle.hpp"
 
 using namespace rotleak;
@@ -86,4 +88,214 @@ TEST(FastForwardOrbit, LongBouncingPhaseInOneJump) {
   EXPECT_EQ(a.t, c.t);
   EXPECT_EQ(a.collisions, c.collisions);
   EXPECT_GT(a.collisions, 1000u);
+}
+
+namespace {
+
+/// f_c of one particle's life, weighted (0.3) and not, in every window.
+struct Density {
+  std::vector<std::uint64_t> counts;
+  std::vector<FixedSum> sums;
+  DensityObserver<double> observer;
+  Density(const Stadium<double>& st, const std::vector<TimeWindow>& windows, int bins)
+      : counts(windows.size() * static_cast<std::size_t>(bins)), sums(counts.size()) {
+    observer = {&st, &windows, bins, counts.data(), sums.data()};
+    observer.weight = 0.3;
+  }
+};
+
+/// Passes on what it is shown, and notes the most stretches one phase() held.
+struct Phases {
+  static constexpr bool active = true;
+  DensityObserver<double>* to;
+  int most = 0;
+  void operator()(Piece p, const Vec2<double>& q, const double& t) { (*to)(p, q, t); }
+  void phase(const Phase<double>& ph) {
+    most = std::max(most, ph.count);
+    to->phase(ph);
+  }
+};
+
+}  // namespace
+
+// The f_c observer counts a fast-forward's phase from its stretches (DensityObserver::phase: window
+// ends by bisection, bin changes from the edge's table, EdgeBins): the counts and the weighted sums
+// of whole lives are those of stepping, bit for bit. Orbits from x = -0.9 on the top edge, slow and
+// fast (|dx| ~ 2 p a bounce, about 0.6 bins of 1000 for p = 3e-3), across x = 0 (where the top edge's
+// s wraps from near 1 to 0), with 2, 7 and 1000 bins and windows that end inside the phases; p = 1e-7
+// crosses x = 0 within 10^-6 of it, so its phase spans more binades of x and t than one phase()
+// holds (Phase::kMax stretches) and is shown in parts.
+TEST(FastForwardOrbit, PhasesCountWhatSteppingCounts) {
+  const Scene s = mupo_scene("0", "0.25");  // the leak on the right arc
+  Model<double> stepping(s.d, s.r, s.width, s.start, s.omega, 5e7), jumping = stepping;
+  jumping.fast_forward = true;
+  const Stadium<double>& st = stepping.stadium;
+  const std::vector<TimeWindow> windows{{0, 5e7}, {1000, 3e6}, {8e6, 8.0001e6}};
+  for (double p : {3e-3, -1e-4, 2.5e-5, 1e-7}) {
+    ParticleState<double> ps;
+    const BoundaryPoint<double> b = st.at(1 - 0.9 / st.perimeter());
+    ps.q = b.q;
+    ps.v = st.velocity(b, p);
+    for (int bins : {2, 7, 1000}) {
+      Density by_step(st, windows, bins), by_phase(st, windows, bins);
+      Phases phases{&by_phase.observer};
+      const ParticleEnd a = run_particle(stepping, ps, by_step.observer);
+      const ParticleEnd c = run_particle(jumping, ps, phases);
+      ASSERT_EQ(a.collisions, c.collisions) << "p " << p;
+      EXPECT_EQ(by_step.counts, by_phase.counts) << "p " << p << ", " << bins << " bins";
+      EXPECT_TRUE(by_step.sums == by_phase.sums) << "p " << p << ", " << bins << " bins";
+      EXPECT_GT(phases.most, 0) << "p " << p;
+      if (p == 1e-7) {
+        EXPECT_EQ(phases.most, Phase<double>::kMax) << "shown in parts";
+        EXPECT_GT(a.collisions, 5000000u);
+      }
+    }
+  }
+}
+
+// The edge's bin table (EdgeBins) against the bin of s_of itself: each change at the first x of its
+// new bin (the x below it still in the old one), each bin one interval, and 2 * 10^5 points of the
+// edge -- random, the ends, 0, -0 and the tiny negative x whose s rounds up to 1 and wraps to 0 --
+// in the interval of their bin. Two stadiums, 1 to 4096 bins, both edges, each with as many
+// changes as its length holds bins.
+TEST(EdgeBins, EachChangeIsWhereTheBinChanges) {
+  std::mt19937_64 gen(5);
+  for (auto [d, r] : {std::pair{"2", "1"}, std::pair{"0.3", "1.7"}}) {
+    const Stadium<double> st(ExactReal::parse(d), ExactReal::parse(r));
+    const double hd = st.half_d();
+    std::uniform_real_distribution<double> ux(-hd, hd);
+    for (int bins : {1, 2, 3, 7, 1000, 4096})
+      for (Piece p : {Piece::top, Piece::bottom}) {
+        const double y = p == Piece::top ? st.r() : -st.r();
+        const auto bin_at = [&](double x) {
+          return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
+        };
+        const EdgeBins<double> e = EdgeBins<double>::build(-hd, hd, bin_at);
+        ASSERT_EQ(e.bin.size(), e.x.size() + 1);
+        for (std::size_t k = 0; k < e.x.size(); ++k) {
+          EXPECT_EQ(bin_at(e.x[k]), e.bin[k + 1]) << bins << " bins, change " << k;
+          EXPECT_EQ(bin_at(std::nextafter(e.x[k], -hd)), e.bin[k]) << bins << " bins, change " << k;
+          if (k > 0) {
+            EXPECT_LT(e.x[k - 1], e.x[k]);
+          }
+        }
+        for (std::size_t k = 0; k < e.bin.size(); ++k)
+          EXPECT_EQ(e.where[static_cast<std::size_t>(e.bin[k])], static_cast<int>(k));
+        std::vector<double> xs{-hd, hd, 0.0, -0.0, -1e-17, -1e-16, -5e-16, 1e-300};
+        for (int i = 0; i < 100000; ++i) xs.push_back(ux(gen));
+        for (double x : xs) {
+          const auto k = static_cast<std::size_t>(std::upper_bound(e.x.begin(), e.x.end(), x) - e.x.begin());
+          EXPECT_EQ(e.bin[k], bin_at(x)) << bins << " bins, x " << x;
+        }
+        // an edge of length d holds about bins d / L of them
+        const double on_edge = bins * 2 * hd / st.perimeter();
+        EXPECT_GE(static_cast<double>(e.x.size()) + 2, on_edge) << bins << " bins";
+      }
+  }
+}
+
+// Bounces that land exactly on a bin change, where the sweep's estimate of the crossing bounce is
+// an integer up to rounding (DensityObserver::phase settles it on exact positions, both ways): a
+// stretch of 41 bounces with x_j = x + j dx exactly, dx = +-1..7 ulps, bounce 1 + 2 G on the change
+// (G = 3 .. 17), for changes across both edges; the phase counts what its bounces one by one count.
+TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
+  const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const std::vector<TimeWindow> windows{{0, 1e9}};
+  const int bins = 1000;
+  std::size_t checked = 0;
+  for (Piece p : {Piece::top, Piece::bottom}) {
+    const double y = p == Piece::top ? st.r() : -st.r();
+    const auto bin_at = [&](double x) {
+      return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
+    };
+    const EdgeBins<double> e = EdgeBins<double>::build(-st.half_d(), st.half_d(), bin_at);
+    for (std::size_t k = 0; k < e.x.size(); k += 7)
+      for (int ulps = -7; ulps <= 7; ++ulps)
+        for (long G = 3; G <= 17; G += 7) {
+          const double edge = e.x[k];
+          if (ulps == 0 || edge == 0) continue;
+          const double dx = ulps * (std::nextafter(std::abs(edge), 4.0) - std::abs(edge));
+          const long n = 41, land = 1 + 2 * G;  // bounce `land` (parity 1) sits on the change
+          const double x = edge - static_cast<double>(land) * dx;
+          const double x_n = x + static_cast<double>(n) * dx;
+          if (std::ilogb(x) != std::ilogb(x_n) || std::ilogb(x) != std::ilogb(edge) || (x > 0) != (x_n > 0)) continue;
+          Stretch<double> s{n, x, dx, 1100, 2, st.r(), p == Piece::bottom, {}};  // bounce 1 on p
+          s.last = s.at(n, x_n, 1100 + 2.0 * n);
+          ASSERT_EQ(s(land).q.x, edge);
+          ASSERT_EQ(s(land).piece, p);
+          Phase<double> ph;
+          ph.push(s);
+          Density whole(st, windows, bins), each(st, windows, bins);
+          whole.observer.phase(ph);
+          for (long j = 1; j <= n; ++j) {
+            const Bounce<double> b = ph(j);
+            each.observer(b.piece, b.q, b.t);
+          }
+          EXPECT_EQ(whole.counts, each.counts) << "change " << k << ", " << ulps << " ulps, G " << G;
+          ++checked;
+        }
+  }
+  EXPECT_GT(checked, 2000u);
+}
+
+// Long stretches (1.6 * 10^7 bounces) with steps of ~10^8 ulps, where the sweep's estimate of a
+// crossing bounce carries rounding of the order of its distance from the next integer: bounce 1 + 2 G
+// (G ~ 10^6 .. 10^7) on a bin change or one ulp either side of it, moving up and down, both edges;
+// the two steps (100000147 and 5^11 ulps) round the estimate of an exact landing above and below G. Reference: each
+// bin's bounces found by bisection on exact positions (bins are monotone in the bounce index), without the estimate or
+// the edge table.
+TEST(FastForwardOrbit, LongStretchesCountWhatBisectionFinds) {
+  const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
+  const std::vector<TimeWindow> windows{{0, 1e12}};
+  const int bins = 1000;
+  std::size_t checked = 0;
+  for (Piece p : {Piece::top, Piece::bottom}) {
+    const double y = p == Piece::top ? st.r() : -st.r();
+    const auto bin_at = [&](double x) {
+      return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
+    };
+    const auto other_bin_at = [&](double x) {  // the even bounces', on the other edge
+      const Piece o = p == Piece::top ? Piece::bottom : Piece::top;
+      return static_cast<int>(formula::density_bin(st.s_of(o, {x, -y}), static_cast<double>(bins)));
+    };
+    const EdgeBins<double> e = EdgeBins<double>::build(-st.half_d(), st.half_d(), bin_at);
+    for (std::size_t k = 0; k < e.x.size(); k += 11)
+      for (int dir : {1, -1})
+        for (int off : {0, 1, -1})
+          for (long G : {999999L, 3000001L, 7777777L})
+            for (double step_ulps : {100000147.0, 48828125.0}) {
+              const double edge = e.x[k], ulp = std::nextafter(std::abs(edge), 4.0) - std::abs(edge);
+              const double dx = dir * step_ulps * ulp;
+              const long n = 16000001, land = 1 + 2 * G;
+              const double x = edge - static_cast<double>(land) * dx + off * ulp;
+              const double x_n = x + static_cast<double>(n) * dx;
+              if (std::ilogb(x) != std::ilogb(x_n) || std::ilogb(x) != std::ilogb(edge) || (x > 0) != (x_n > 0) ||
+                  std::abs(x_n) > st.half_d())
+                continue;
+              Stretch<double> s{n, x, dx, 1e10, 2, st.r(), p == Piece::bottom, {}};
+              s.last = s.at(n, x_n, 1e10 + 2.0 * n);
+              Phase<double> ph;
+              ph.push(s);
+              Density whole(st, windows, bins);
+              whole.observer.phase(ph);
+              std::vector<std::uint64_t> ref(static_cast<std::size_t>(bins), 0);
+              for (long parity = 1; parity <= 2; ++parity) {
+                const long m = (n - parity) / 2 + 1;
+                const auto bin_i = [&](long i) {
+                  const double xi = x + static_cast<double>(parity + 2 * i) * dx;
+                  return parity == 1 ? bin_at(xi) : other_bin_at(xi);
+                };
+                for (long a = 0; a < m;) {
+                  const int b = bin_i(a);
+                  const long z = first_true(a, m, [&](long i) { return bin_i(i) != b; });
+                  ref[static_cast<std::size_t>(b)] += static_cast<std::uint64_t>(z - a);
+                  a = z;
+                }
+              }
+              EXPECT_EQ(whole.counts, ref) << "change " << k << ", dir " << dir << ", off " << off << ", G " << G
+                                           << ", step " << step_ulps << " ulps";
+              ++checked;
+            }
+  }
+  EXPECT_GT(checked, 100u);
 }

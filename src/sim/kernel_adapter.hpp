@@ -19,19 +19,58 @@
 
 namespace rotleak {
 
+/// Where the bin of a straight edge's points changes, so that a bounce's bin on the edge comes from
+/// comparisons of its x: bin(x) is the bin of s_of(x), as the f_c observer computes it, for x in
+/// [-d/2, d/2]. Found once by bisection over the representable x: s is monotone in x on the bottom
+/// edge and on each side of x = 0 on the top one, where it wraps from near 1 to 0, and the two sides'
+/// bins are disjoint for bins >= 2 (above 0.75 and below 0.25), so a bin once left is not met again
+/// along the edge.
+template <class R>
+struct EdgeBins {
+  std::vector<R> x;        ///< ascending: x[k] is the first point of interval k + 1
+  std::vector<int> bin;    ///< the bin of interval k: points in [x[k - 1], x[k]) (from -d/2, to d/2)
+  std::vector<int> where;  ///< the interval of each bin on this edge (each bin is one interval)
+
+  int changes() const { return static_cast<int>(x.size()); }
+
+  /// The table of bin_at(x) over [lo, hi].
+  template <class F>
+  static EdgeBins build(const R& lo, const R& hi, const F& bin_at) {
+    EdgeBins e;
+    R from = lo;
+    int b = bin_at(from);
+    e.bin.push_back(b);
+    const int b_end = bin_at(hi);
+    while (b != b_end) {
+      R to = hi;  // bin_at(from) == b != bin_at(to): the change lies in (from, to]
+      for (;;) {
+        R mid = from + (to - from) / 2;
+        if (mid == from || mid == to) mid = std::nextafter(from, to);
+        if (mid == to) break;
+        (bin_at(mid) == b ? from : to) = mid;
+      }
+      e.x.push_back(to);
+      b = bin_at(to);
+      e.bin.push_back(b);
+      from = to;
+    }
+    e.where.assign(static_cast<std::size_t>(*std::max_element(e.bin.begin(), e.bin.end()) + 1), -1);
+    for (std::size_t k = 0; k < e.bin.size(); ++k) e.where[static_cast<std::size_t>(e.bin[k])] = static_cast<int>(k);
+    return e;
+  }
+};
+
 /// f_c(s): counts collision positions in each requested time window.
 template <class R>
 struct DensityObserver {
   static constexpr bool active = true;
-  /// A stretch whose s moves at least this many bins a bounce (runs of about one bounce) is walked
-  /// bounce by bounce; slower ones have their runs predicted and checked (run_end)
-  static constexpr double kWalkBinsPerBounce = 0.25;
   const Stadium<R>* stadium;
   const std::vector<TimeWindow>* windows;
   int bins;
   std::uint64_t* counts;
   FixedSum* weighted_counts = nullptr;  ///< weighted runs: sums of the particle's weight
   double weight = 1;                    ///< of the particle in flight
+  EdgeBins<R> edges[2] = {};            ///< bottom, top: built at the first phase()
 
   void operator()(Piece p, const Vec2<R>& q, const R& t) {
     const double tt = num_traits<R>::to_double(t);
@@ -43,16 +82,25 @@ struct DensityObserver {
       if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) add(i, b, 1);
   }
 
-  /// A fast-forwarded stretch of n bounces (particle.hpp fast_forward), counted as n calls would count
-  /// them, by bisection: bounces of one parity lie on one edge with t and x monotone in j, so a
-  /// window's bounces are an interval of j, and so is each bin's within it (s is monotone in x on the
-  /// bottom edge; on the top edge it is monotone on each side of x = 0, where it wraps from near 1 to
-  /// 0, and the two sides' bins are disjoint for bins >= 2 since they lie above 0.75 and below 0.25).
-  void stretch(const Stretch<R>& st) {
+  /// A fast-forward's phase of n bounces (particle.hpp fast_forward), counted as n calls would count
+  /// them. Bounces of one parity lie on one edge (|x| <= d/2) with t and x monotone in j, so a
+  /// window's bounces are an interval of j, found by bisection, and so is each bin's within it: its
+  /// ends are where x passes the edge's bin changes (EdgeBins), found from the affine x of a stretch
+  /// and checked on exact bounce positions. The work is per stretch and per bin change, not per bounce.
+  void phase(const Phase<R>& st) {
     const long n = st.n;
     const std::size_t nw = windows->size();
+    if (edges[0].bin.empty()) {
+      for (int top = 0; top < 2; ++top) {
+        const Piece p = top ? Piece::top : Piece::bottom;
+        const R y = top ? stadium->r() : R(-stadium->r());
+        edges[top] = EdgeBins<R>::build(R(-stadium->half_d()), stadium->half_d(), [&](const R& x) {
+          return bin(p, Vec2<R>{x, y});
+        });
+      }
+    }
     // each window's bounces [from, to) among this parity's (on the stack: a fast-forward shows many
-    // short stretches, one per binade of its sums)
+    // phases)
     constexpr std::size_t kInline = 8;
     std::pair<long, long> inline_span[kInline];
     std::vector<std::pair<long, long>> heap_span(nw > kInline ? nw : 0);
@@ -61,11 +109,7 @@ struct DensityObserver {
       const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
       const auto at = [&](long i) { return st(parity + 2 * i); };
       const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
-      const auto s_at = [&](long i) {
-        const Bounce<R> b = at(i);
-        return num_traits<R>::to_double(stadium->s_of(b.piece, b.q));
-      };
-      // (a window usually holds the whole stretch: then the stretch's two end times say so)
+      // (a window usually holds the whole phase: then its two end times say so)
       const double t_first = time(0), t_last = time(m - 1);
       long lo = m, hi = 0;
       for (std::size_t w = 0; w < nw; ++w) {
@@ -81,19 +125,6 @@ struct DensityObserver {
         if (a < e) lo = std::min(lo, a), hi = std::max(hi, e);
       }
       if (lo >= hi) continue;
-      // Runs of equal bins over the windows' union, each added to every window it overlaps. x is
-      // affine in the bounce index (a fixed increment, correctly rounded), so s is too, up to
-      // rounding and the top edge's wrap at x = 0: each run's end is predicted from the mean step of
-      // s, then checked exactly (two bins), and searched for only when the prediction misses.
-      const double s_lo = s_at(lo), s_last = hi - 1 > lo ? s_at(hi - 1) : s_lo;
-      const double step = hi - 1 > lo ? (s_last - s_lo) / static_cast<double>(hi - 1 - lo) : 0;
-      if (bin_of(s_lo) == bin_of(s_last)) {  // one run (bins are monotone in i, the top edge's wrap aside,
-        // and the two sides of the wrap never share a bin): nothing to search
-        for (std::size_t w = 0; w < nw; ++w)
-          if (span[w].first < span[w].second)
-            add(w, bin_of(s_lo), static_cast<std::uint64_t>(span[w].second - span[w].first));
-        continue;
-      }
       // bounces [a, z) in bin b: added to every window they overlap
       const auto run = [&](long a, long z, int b) {
         for (std::size_t w = 0; w < nw; ++w) {
@@ -101,70 +132,86 @@ struct DensityObserver {
           if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
         }
       };
-      if (std::abs(step) * bins >= kWalkBinsPerBounce) {
-        // short runs (a fast orbit): walk the bounces. Within a stretch every x_j = x + j dx is exact
-        // (Stretch), so x_j + 2 dx is x_(j+2) exactly: the walk gives each bounce's x bit for bit, one
-        // addition a bounce instead of a search
-        const Bounce<R> first = at(lo);
-        const R dx = R(2) * st.dx;  // from one bounce of this parity to the next
-        Vec2<R> q = first.q;
-        long a = lo;
-        int b = bin_of(s_lo);
-        for (long i = lo + 1; i < hi; ++i) {
-          q.x += dx;
-          const int bi = bin_of(num_traits<R>::to_double(stadium->s_of(first.piece, q)));
-          if (bi != b) run(a, i, b), a = i, b = bi;
-        }
-        run(a, hi, b);
+      const Bounce<R> first = at(lo);
+      const EdgeBins<R>& e = edges[first.piece == Piece::top ? 1 : 0];
+      const R x_last = at(hi - 1).q.x;
+      const int b_first = bin(first.piece, first.q);
+      if (b_first == bin(first.piece, Vec2<R>{x_last, first.q.y})) {  // one bin (monotone in i): no search
+        run(lo, hi, b_first);
         continue;
       }
-      long a = lo;
-      double s_a = s_lo;
-      while (a < hi) {
-        const int bin0 = bin_of(s_a);
-        const auto moved = [&](long i) { return bin_of(s_at(i)) != bin0; };  // false, then true, in i
-        const long z = run_end(a, hi, s_a, step, bin0, moved);
-        run(a, z, bin0);
-        a = z;
-        if (a < hi) s_a = s_at(a);
-      }
+      const int k = e.where[static_cast<std::size_t>(b_first)];
+      if (x_last > first.q.x)
+        sweep<true>(st, parity, lo, hi, e, k, run);
+      else
+        sweep<false>(st, parity, lo, hi, e, k, run);
     }
   }
 
  private:
+  /// Runs of equal bins among bounces [lo, hi) of one parity (bounce i is j = parity + 2 i of the
+  /// phase), x moving up (or down) from interval k of the edge's table: x leaves interval k where it
+  /// passes x[k] (moving up) or falls below x[k - 1] (moving down). Within a stretch bounce j is
+  /// x + j dx exactly, so the bounce that passes is estimated by one multiplication and settled by
+  /// comparing exact bounce positions. run(a, z, b) takes each run, in order.
+  template <bool Up, class Run>
+  static void sweep(const Phase<R>& st, long parity, long lo, long hi, const EdgeBins<R>& e, int k, const Run& run) {
+    long a = lo;                        // the open run's first bounce; bounce i lies in interval k
+    int g = st.index(parity + 2 * lo);  // the stretch of bounce i
+    for (long i = lo; i < hi; ++g) {
+      const long j = parity + 2 * i;
+      while (st.end[g] < j) ++g;  // stretches too short to hold a bounce of this parity
+      const Stretch<R>& part = st.part[g];
+      const long i_end = std::min(hi, (st.end[g] - parity) / 2 + 1);  // past this stretch's last
+      if (part.dx == 0) {                                             // x stands still in this stretch
+        i = i_end;
+        continue;
+      }
+      long jl = j - st.start(g);  // bounce i in the stretch
+      // bounce j of a stretch is x + j dx exactly, and x + fl(j dx) rounds to it: x and x_j share a
+      // binade, so j dx = x_j - x lies below it and is rounded by at most a quarter of x_j's ulp
+      const auto x_at = [&](long u) { return part.x + R(static_cast<double>(jl + 2 * u)) * part.dx; };
+      const R per_bounce = R(0.5) / part.dx;  // 1 / (x's step from one bounce of this parity to the next)
+      for (;;) {
+        if (Up ? k == e.changes() : k == 0) {  // no bin change left in this direction
+          i = i_end;
+          break;
+        }
+        const R edge = e.x[static_cast<std::size_t>(Up ? k : k - 1)];
+        const auto passed = [&](long u) {
+          const R v = x_at(u);
+          return Up ? v >= edge : v < edge;
+        };
+        const long room = i_end - i;
+        const R guess = (edge - x_at(0)) * per_bounce;  // bounces of this parity to the change
+        long c = room;
+        if (guess < R(static_cast<double>(room))) c = guess > R(0) ? static_cast<long>(std::ceil(guess)) : 0;
+        while (c > 0 && passed(c - 1)) --c;
+        while (c < room && !passed(c)) ++c;
+        if (c == room) {  // the run goes on into the next stretch
+          i = i_end;
+          break;
+        }
+        const R v = x_at(c);
+        const int b = e.bin[static_cast<std::size_t>(k)];
+        if constexpr (Up)
+          while (k < e.changes() && e.x[static_cast<std::size_t>(k)] <= v) ++k;
+        else
+          while (k > 0 && e.x[static_cast<std::size_t>(k - 1)] > v) --k;
+        i += c, jl += 2 * c;
+        run(a, i, b);
+        a = i;
+      }
+    }
+    run(a, hi, e.bin[static_cast<std::size_t>(k)]);
+  }
+
   int bin(Piece p, const Vec2<R>& q) const { return bin_of(num_traits<R>::to_double(stadium->s_of(p, q))); }
   int bin_of(double s) const { return static_cast<int>(formula::density_bin(s, static_cast<double>(bins))); }
-  /// The first i in (a, hi) where moved(i) holds (hi if none), moved being false at a and then true
-  /// from some i on: first where s, moving by about `step` an index from s_a, crosses the edge of
-  /// bin0 it moves towards; then that guess checked and, if it missed, corrected by search.
-  template <class P>
-  long run_end(long a, long hi, double s_a, double step, int bin0, const P& moved) const {
-    long z = hi;
-    if (step > 0 || step < 0) {
-      const double edge = static_cast<double>(step > 0 ? bin0 + 1 : bin0) / bins;
-      const double k = step > 0 ? std::ceil((edge - s_a) / step) : std::floor((s_a - edge) / -step) + 1;
-      z = k >= static_cast<double>(hi - a) ? hi : a + std::max(1L, static_cast<long>(k));
-    }
-    if (z > a + 1 && moved(z - 1)) return first_true(a + 1, z, moved);  // guessed long
-    if (z < hi && !moved(z)) return gallop(z + 1, hi, moved);           // guessed short
-    return z;
-  }
   void add(std::size_t window, int b, std::uint64_t n) {
     const std::size_t k = window * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
     counts[k] += n;
     if (weighted_counts) weighted_counts[k].add_times(weight, n);
-  }
-  /// As first_true(), for an answer likely near lo (pred(lo - 1) false): probes lo, lo + 1, lo + 3, ...
-  /// then bisects the last gap.
-  template <class P>
-  static long gallop(long lo, long hi, const P& pred) {
-    long known_false = lo - 1;
-    for (long step = 1;; step *= 2) {
-      const long probe = known_false + step;
-      if (probe >= hi) return first_true(known_false + 1, hi, pred);
-      if (pred(probe)) return first_true(known_false + 1, probe + 1, pred);
-      known_false = probe;
-    }
   }
 };
 

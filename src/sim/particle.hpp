@@ -1,6 +1,7 @@
 // One particle's life, generic over the tier: next_hit, leak test, reflect, until escape or t_max.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
@@ -32,7 +33,7 @@ struct Model {
   }
 };
 
-/// One bounce of a fast-forwarded stretch, as an observer with a stretch() method is shown it.
+/// One bounce of a fast-forwarded stretch, as an observer with a phase() method is shown it.
 template <class R>
 struct Bounce {
   Piece piece;
@@ -67,10 +68,42 @@ struct Stretch {
   }
 };
 
+/// Consecutive stretches of one fast-forward, shown to an observer together: bounce j (1 .. n) of the
+/// phase is bounce j - start(i) of the stretch i that holds it. Over the whole phase x and t stay
+/// monotone in j (each stretch adds the same step rounded to its binade's grid), and bounces of one
+/// parity stay on one edge, so an observer can search the phase as it would one stretch.
+template <class R>
+struct Phase {
+  static constexpr int kMax = 64;  ///< stretches held; a longer fast-forward is shown in parts
+  Stretch<R> part[kMax];
+  long end[kMax];  ///< bounces through stretch i
+  int count = 0;
+  long n = 0;
+
+  bool full() const { return count == kMax; }
+  void push(const Stretch<R>& s) {
+    part[count] = s;
+    n += s.n;
+    end[count++] = n;
+  }
+  void clear() { count = 0, n = 0; }
+  long start(int i) const { return i == 0 ? 0 : end[i - 1]; }
+  /// the stretch that holds bounce j
+  int index(long j) const {
+    if (j <= end[0] || count == 1) return 0;  // the phase's ends: an observer's usual questions
+    if (j > end[count - 2]) return count - 1;
+    return static_cast<int>(std::lower_bound(end + 1, end + count - 1, j) - end);
+  }
+  Bounce<R> operator()(long j) const {
+    const int i = index(j);
+    return part[i](j - start(i));
+  }
+};
+
 /// What the particle loop reports to its observer at each collision; the default does nothing.
-/// An observer may also take a fast-forwarded stretch whole: stretch(const Stretch<R>&) in place of
-/// its n calls (bounces of one parity lie on one straight edge, with x and t monotone in j); it must
-/// count exactly what the n calls would.
+/// An observer may also take a fast-forward's bounces whole: phase(const Phase<R>&) in place of their
+/// calls one by one (bounces of one parity lie on one straight edge, with x and t monotone in j); it
+/// must count exactly what those calls would.
 template <class R>
 struct NoCollisionObserver {
   static constexpr bool active = false;
@@ -192,6 +225,9 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
     };
     // Stretch by stretch: within one, both sums add a fixed increment each bounce (x and t stay in
     // their binades), so bounce j of the stretch is x + j inc exactly, which one fma gives.
+    constexpr bool whole = requires(Observer & o, const Phase<R>& p) { o.phase(p); };
+    struct NoPhase {};
+    std::conditional_t<whole, Phase<R>, NoPhase> phase;
     for (;;) {
       const SumRun<R> rx = next_run(x, dx, kCap), rt = next_run(t, dt, kCap);
       long J = rx.len < rt.len ? rx.len : rt.len;
@@ -251,15 +287,18 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
             break;
           }
       }
-      // bounces 1..n of this stretch are collisions: shown to the observer, whole or one by one;
-      // then x, t move to bounce n (x_n, t_n)
+      // bounces 1..n of this stretch are collisions: shown to the observer, with the rest of the
+      // phase or one by one; then x, t move to bounce n (x_n, t_n)
       auto show = [&](long n, const R& x_n, const R& t_n) {
         if constexpr (Observer::active) {
           if (observe) {
             Stretch<R> s{n, x, rx.inc, t, rt.inc, st.r(), edge_top(k), {}};
             s.last = s.at(n, x_n, t_n);
-            if constexpr (requires { observe->stretch(s); }) {
-              observe->stretch(s);
+            if constexpr (whole) {
+              if (n > 0) {
+                if (phase.full()) observe->phase(phase), phase.clear();
+                phase.push(s);
+              }
             } else {
               for (long j = 1; j <= n; ++j) {
                 const Bounce<R> b = s(j);
@@ -280,6 +319,8 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       show(last, xj(last), tj(last));
       break;
     }
+    if constexpr (whole)
+      if (observe && phase.count > 0) observe->phase(phase);
     if (k == 0) return true;
     const bool top = edge_top(k);
     ps.q = {x, top ? st.r() : R(-st.r())};
