@@ -116,6 +116,14 @@ struct Phases {
   }
 };
 
+/// The f_c bin of a point x on a straight edge, as the observer computes it (s_of, then the bin).
+auto edge_bin(const Stadium<double>& st, Piece p, int bins) {
+  return [&st, p, bins](double x) {
+    const double y = p == Piece::top ? st.r() : -st.r();
+    return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
+  };
+}
+
 }  // namespace
 
 // The f_c observer counts a fast-forward's phase from its stretches (DensityObserver::phase: window
@@ -166,10 +174,7 @@ TEST(EdgeBins, EachChangeIsWhereTheBinChanges) {
     std::uniform_real_distribution<double> ux(-hd, hd);
     for (int bins : {1, 2, 3, 7, 1000, 4096})
       for (Piece p : {Piece::top, Piece::bottom}) {
-        const double y = p == Piece::top ? st.r() : -st.r();
-        const auto bin_at = [&](double x) {
-          return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
-        };
+        const auto bin_at = edge_bin(st, p, bins);
         const EdgeBins<double> e = EdgeBins<double>::build(-hd, hd, bin_at);
         ASSERT_EQ(e.bin.size(), e.x.size() + 1);
         for (std::size_t k = 0; k < e.x.size(); ++k) {
@@ -204,10 +209,7 @@ TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
   const int bins = 1000;
   std::size_t checked = 0;
   for (Piece p : {Piece::top, Piece::bottom}) {
-    const double y = p == Piece::top ? st.r() : -st.r();
-    const auto bin_at = [&](double x) {
-      return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
-    };
+    const auto bin_at = edge_bin(st, p, bins);
     const EdgeBins<double> e = EdgeBins<double>::build(-st.half_d(), st.half_d(), bin_at);
     for (std::size_t k = 0; k < e.x.size(); k += 7)
       for (int ulps = -7; ulps <= 7; ++ulps)
@@ -241,23 +243,17 @@ TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
 // Long stretches (1.6 * 10^7 bounces) with steps of ~10^8 ulps, where the sweep's estimate of a
 // crossing bounce carries rounding of the order of its distance from the next integer: bounce 1 + 2 G
 // (G ~ 10^6 .. 10^7) on a bin change or one ulp either side of it, moving up and down, both edges;
-// the two steps (100000147 and 5^11 ulps) round the estimate of an exact landing above and below G. Reference: each
-// bin's bounces found by bisection on exact positions (bins are monotone in the bounce index), without the estimate or
-// the edge table.
+// the two steps (100000147 and 5^11 ulps) round the estimate of an exact landing above and below G.
+// Reference: each bin's bounces found by bisection on exact positions (bins are monotone in the
+// bounce index), without the estimate or the edge table.
 TEST(FastForwardOrbit, LongStretchesCountWhatBisectionFinds) {
   const Stadium<double> st(ExactReal::parse("2"), ExactReal::parse("1"));
   const std::vector<TimeWindow> windows{{0, 1e12}};
   const int bins = 1000;
   std::size_t checked = 0;
   for (Piece p : {Piece::top, Piece::bottom}) {
-    const double y = p == Piece::top ? st.r() : -st.r();
-    const auto bin_at = [&](double x) {
-      return static_cast<int>(formula::density_bin(st.s_of(p, {x, y}), static_cast<double>(bins)));
-    };
-    const auto other_bin_at = [&](double x) {  // the even bounces', on the other edge
-      const Piece o = p == Piece::top ? Piece::bottom : Piece::top;
-      return static_cast<int>(formula::density_bin(st.s_of(o, {x, -y}), static_cast<double>(bins)));
-    };
+    const auto bin_at = edge_bin(st, p, bins);
+    const auto other_bin_at = edge_bin(st, p == Piece::top ? Piece::bottom : Piece::top, bins);  // even bounces
     const EdgeBins<double> e = EdgeBins<double>::build(-st.half_d(), st.half_d(), bin_at);
     for (std::size_t k = 0; k < e.x.size(); k += 11)
       for (int dir : {1, -1})
