@@ -1,7 +1,8 @@
 // The default engine against the plain scalar simulator (bench/plain.hpp), both on all cores, in one
 // process, rounds interleaved so that a noisy machine slows both alike: collisions per second on
 // s_L = 0, s_L = 0.25, omega = 2/3, omega = 1e-4 and the quick-start scene with its f_c; and the
-// cost of checkpoints (every 0.2 s, written to disk) on omega = 2/3. Reports, never fails.
+// cost of checkpoints (every 0.2 s, written to disk) on omega = 2/3; and the kernel's ceiling: its flights
+// alone, and with the draws every particle needs. Reports, never fails.
 // Usage: bench_scale [PARTICLES (default 10^6)] [ROUNDS (default 3)] [THREADS (default all)]
 //        [LANES (the vectorised kernel: 0 the widest this CPU runs (default), 4 AVX2, 8 AVX-512)]
 #include <omp.h>
@@ -94,7 +95,8 @@ int main(int argc, char** argv) {
       n.c_str(), threads, rounds, lanes > 0 ? std::to_string(lanes).c_str() : "widest");
   std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |\n");
   std::printf("|---|---|---|---|---|---|\n");
-  double plain_sl0 = 0;  // the plain loop's median rate on s_L = 0, for the ceiling below
+  double plain_sl0 = 0;       // the plain loop's median rate on s_L = 0, for the ceiling below
+  double collisions_sl0 = 0;  // and the collisions of its particles
   for (const Case& c : cases) {
     const Scene s = parse_scene(c.toml + "[ensemble]\nparticles = " + n + "\n");
     RunOptions o;
@@ -102,11 +104,13 @@ int main(int argc, char** argv) {
     o.simd_lanes = lanes;
     std::vector<double> ratios, er, pr;
     Engine ran = Engine::scalar;
+    std::uint64_t collisions = 0;
     for (int k = 0; k < rounds; ++k) {
       std::uint64_t pc = 0;
       const double p = plain_rate(s, threads, pc);
       const RunResult r = run_ensemble(s, o);
       ran = r.engine;
+      collisions = r.tally.collisions;
       const double e = static_cast<double>(r.tally.collisions) / r.wall_seconds;
       er.push_back(e);
       pr.push_back(p);
@@ -116,7 +120,7 @@ int main(int argc, char** argv) {
     for (double x : ratios) all += (all.empty() ? "" : ", ") + std::to_string(x).substr(0, 5);
     std::printf("| %s | %s | %.3g | %.3g | %.2f | %s |\n", c.name, to_string(ran).c_str(), median(er), median(pr),
                 median(ratios), all.c_str());
-    if (plain_sl0 == 0) plain_sl0 = median(pr);
+    if (plain_sl0 == 0) plain_sl0 = median(pr), collisions_sl0 = static_cast<double>(collisions);
     std::fflush(stdout);
   }
 
@@ -147,6 +151,23 @@ int main(int argc, char** argv) {
         "\nceiling, the kernel's next hit and reflection alone (%d lanes, no clock, leak, fate or refill): %.3g "
         "collisions/s, %.2fx the plain loop on s_L = 0 (flight time %.3g)\n",
         w, rate, rate / plain_sl0, sink);
+
+    // what every particle costs before its first flight, in any engine and in the plain loop alike: its
+    // draw and initial state (the sampler, libm's sin and cos), for the s_L = 0 run's particles on every
+    // thread; with the flights at the ceiling and nothing else, the kernel could reach at most
+    // 1 / (1 / ceiling + draw time per collision)
+    const Scene sl0 = parse_scene("[leak]\nstart = \"0\"\n[ensemble]\nparticles = " + n + "\n");
+    const InitialConditions ic0 = initial_conditions(sl0);
+    const auto t1 = Clock::now();
+    double sink0 = 0;
+#pragma omp parallel for num_threads(threads) reduction(+ : sink0) schedule(static)
+    for (std::uint64_t id = 0; id < particles; ++id) sink0 += initial_state(model.stadium, ic0.draw(id)).v.x;
+    const double per_collision = seconds_since(t1) / collisions_sl0, bound = 1 / (1 / rate + per_collision);
+    std::printf(
+        "draws and initial states alone (s_L = 0, %d threads): %.3g s a collision of its run (%.0f ns a particle "
+        "per thread); the ceiling with them: %.3g collisions/s, %.2fx the plain loop (sum of x velocities %.3g)\n",
+        threads, per_collision, 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles), bound,
+        bound / plain_sl0, sink0);
   }
 
   // checkpoints: every 0.2 s the merged tallies go to disk (atomically, fsync), against none; the
