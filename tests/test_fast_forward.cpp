@@ -221,8 +221,7 @@ TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
           const double x = edge - static_cast<double>(land) * dx;
           const double x_n = x + static_cast<double>(n) * dx;
           if (std::ilogb(x) != std::ilogb(x_n) || std::ilogb(x) != std::ilogb(edge) || (x > 0) != (x_n > 0)) continue;
-          Stretch<double> s{n, x, dx, 1100, 2, st.r(), p == Piece::bottom, {}};  // bounce 1 on p
-          s.last = s.at(n, x_n, 1100 + 2.0 * n);
+          Stretch<double> s{n, x, dx, 1100, 2, st.r(), p == Piece::bottom};  // bounce 1 on p
           ASSERT_EQ(s(land).q.x, edge);
           ASSERT_EQ(s(land).piece, p);
           Phase<double> ph;
@@ -268,8 +267,7 @@ TEST(FastForwardOrbit, LongStretchesCountWhatBisectionFinds) {
               if (std::ilogb(x) != std::ilogb(x_n) || std::ilogb(x) != std::ilogb(edge) || (x > 0) != (x_n > 0) ||
                   std::abs(x_n) > st.half_d())
                 continue;
-              Stretch<double> s{n, x, dx, 1e10, 2, st.r(), p == Piece::bottom, {}};
-              s.last = s.at(n, x_n, 1e10 + 2.0 * n);
+              Stretch<double> s{n, x, dx, 1e10, 2, st.r(), p == Piece::bottom};
               Phase<double> ph;
               ph.push(s);
               Density whole(st, windows, bins);

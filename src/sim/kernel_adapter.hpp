@@ -167,10 +167,8 @@ struct DensityObserver {
         i = i_end;
         continue;
       }
-      long jl = j - st.start(g);  // bounce i in the stretch
-      // bounce j of a stretch is x + j dx exactly, and x + fl(j dx) rounds to it: x and x_j share a
-      // binade, so j dx = x_j - x lies below it and is rounded by at most a quarter of x_j's ulp
-      const auto x_at = [&](long u) { return part.x + R(static_cast<double>(jl + 2 * u)) * part.dx; };
+      long jl = j - st.start(g);                                        // bounce i in the stretch
+      const auto x_at = [&](long u) { return part.x_at(jl + 2 * u); };  // exact (Stretch::x_at)
       const R per_bounce = R(0.5) / part.dx;  // 1 / (x's step from one bounce of this parity to the next)
       for (;;) {
         if (Up ? k == e.changes() : k == 0) {  // no bin change left in this direction

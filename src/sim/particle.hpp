@@ -42,29 +42,24 @@ struct Bounce {
 };
 
 /// A fast-forwarded stretch of n bounces as fast_forward() computes them: bounce j (j = 1 .. n) at
-/// x_j = fma(j, dx, x) and t_j = fma(j, dt, t), exact (the sums stay on one grid: next_run), on the
-/// top edge for even j when top_even, on the bottom edge otherwise. `last` is bounce n, which
-/// fast_forward() computes anyway.
+/// x_j = x + j dx and t_j = t + j dt exactly (the sums stay in one binade: next_run), on the top edge
+/// for even j when top_even, on the bottom edge otherwise.
 template <class R>
 struct Stretch {
   long n;
   R x, dx, t, dt;
   R r;  ///< the edges' |y|
   bool top_even;
-  Bounce<R> last;
 
   Piece piece(long j) const { return ((j % 2) == 0) == top_even ? Piece::top : Piece::bottom; }
-  Bounce<R> at(long j, const R& xj, const R& tj) const {
-    return {piece(j), Vec2<R>{xj, piece(j) == Piece::top ? r : R(-r)}, tj};
-  }
-  /// bounce j, any j in 1 .. n. Bounces 1, 2 and n (an observer's usual questions: a stretch's ends)
-  /// skip the fused multiply-add, bit for bit: n is `last`, and x + 2 dx is one rounding of an exact
-  /// 2 dx, as the fma's.
+  /// x_j, bit for bit: x + fl(j dx) rounds to the exact x + j dx, since x and x_j share a binade, so
+  /// j dx = x_j - x lies below it and is rounded by at most a quarter of x_j's ulp (for j up to n)
+  R x_at(long j) const { return x + R(static_cast<double>(j)) * dx; }
+  R t_at(long j) const { return t + R(static_cast<double>(j)) * dt; }  ///< t_j, as x_j
+  /// bounce j, any j in 0 .. n
   Bounce<R> operator()(long j) const {
-    if (j == n) return last;
-    if (j == 1) return at(1, R(x + dx), R(t + dt));
-    if (j == 2) return at(2, R(x + R(2) * dx), R(t + R(2) * dt));
-    return at(j, std::fma(R(static_cast<double>(j)), dx, x), std::fma(R(static_cast<double>(j)), dt, t));
+    const Piece p = piece(j);
+    return {p, Vec2<R>{x_at(j), p == Piece::top ? r : R(-r)}, t_at(j)};
   }
 };
 
@@ -224,7 +219,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       return m.leak.hit(top ? Piece::top : Piece::bottom, q, tj);
     };
     // Stretch by stretch: within one, both sums add a fixed increment each bounce (x and t stay in
-    // their binades), so bounce j of the stretch is x + j inc exactly, which one fma gives.
+    // their binades), so bounce j of the stretch is x + j inc exactly (Stretch::x_at gives it).
     constexpr bool whole = requires(Observer & o, const Phase<R>& p) { o.phase(p); };
     struct NoPhase {};
     std::conditional_t<whole, Phase<R>, NoPhase> phase;
@@ -234,9 +229,10 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       // first bounce j in 1..J that leaves the straight edges, passes t_max, or is in the leak
       long stop = J + 1;
       int why = 0;  // 1 arc, 2 time, 3 leak
-      auto xj = [&](long j) { return std::fma(R(static_cast<double>(j)), rx.inc, x); };
-      auto tj = [&](long j) { return std::fma(R(static_cast<double>(j)), rt.inc, t); };
-      {  // x_j and t_j are monotone in j (a fixed increment, correctly rounded fma): so "left the
+      Stretch<R> s{J, x, rx.inc, t, rt.inc, st.r(), edge_top(k)};
+      auto xj = [&](long j) { return s.x_at(j); };
+      auto tj = [&](long j) { return s.t_at(j); };
+      {  // x_j and t_j are monotone in j (a fixed increment, exact): so "left the
          // straight edges" and "past t_max" are false up to some j and true after, and bisection finds it
         auto first = [&](auto bad) { return first_true(1, J + 1, bad); };
         const long j_arc = first([&](long j) {
@@ -288,12 +284,11 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
           }
       }
       // bounces 1..n of this stretch are collisions: shown to the observer, with the rest of the
-      // phase or one by one; then x, t move to bounce n (x_n, t_n)
-      auto show = [&](long n, const R& x_n, const R& t_n) {
+      // phase or one by one; then x, t move to bounce n
+      auto show = [&](long n) {
+        s.n = n;
         if constexpr (Observer::active) {
           if (observe) {
-            Stretch<R> s{n, x, rx.inc, t, rt.inc, st.r(), edge_top(k), {}};
-            s.last = s.at(n, x_n, t_n);
             if constexpr (whole) {
               if (n > 0) {
                 if (phase.full()) observe->phase(phase), phase.clear();
@@ -307,16 +302,16 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
             }
           }
         }
-        x = x_n, t = t_n, k += n;
+        x = s.x_at(n), t = s.t_at(n), k += n;
       };
       if (why == 0) {  // the whole stretch is free bounces
-        show(J, xj(J), tj(J));
+        show(J);
         continue;
       }
       // Leaving the edges or passing t_max happens on the flight after bounce stop - 1, which the
       // caller's next step computes as stepping would; an escape happens at bounce stop itself.
       const long last = why == 3 ? stop : stop - 1;
-      show(last, xj(last), tj(last));
+      show(last);
       break;
     }
     if constexpr (whole)
