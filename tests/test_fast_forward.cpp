@@ -2,6 +2,7 @@
 // escape time, bit for bit, over many particles, long-lived MUPOs included.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -104,6 +105,29 @@ struct Density {
   }
 };
 
+/// The same counts taken once per time cell (DensityCells, as the vectorised engine takes them) and
+/// folded into the windows by fold().
+struct CellDensity {
+  DensityCells cells;
+  std::vector<std::uint64_t> cell_counts;
+  std::vector<FixedSum> cell_sums;
+  Density windows;
+  DensityObserver<double> observer;
+  CellDensity(const Stadium<double>& st, const std::vector<TimeWindow>& w, int bins) : windows(st, w, bins) {
+    std::vector<double> from, to;
+    for (const TimeWindow& x : w) from.push_back(x.from), to.push_back(x.to);
+    cells.bins = bins;
+    cells.cells = 2 * static_cast<int>(w.size()) + 1;
+    density_cells(static_cast<int>(w.size()), from.data(), to.data(), cells.windows);
+    cell_counts.assign(static_cast<std::size_t>(cells.cells) * static_cast<std::size_t>(bins), 0);
+    cell_sums.assign(cell_counts.size(), FixedSum{});
+    observer = {&st, &w, bins, cell_counts.data(), cell_sums.data()};
+    observer.weight = 0.3;
+    observer.cells = &cells;
+  }
+  void fold() { cells.fold(cell_counts.data(), cell_sums.data(), windows.counts.data(), windows.sums.data()); }
+};
+
 /// Passes on what it is shown, and notes the most stretches one phase() held.
 struct Phases {
   static constexpr bool active = true;
@@ -152,6 +176,19 @@ TEST(FastForwardOrbit, PhasesCountWhatSteppingCounts) {
       ASSERT_EQ(a.collisions, c.collisions) << "p " << p;
       EXPECT_EQ(by_step.counts, by_phase.counts) << "p " << p << ", " << bins << " bins";
       EXPECT_TRUE(by_step.sums == by_phase.sums) << "p " << p << ", " << bins << " bins";
+      // by time cell, as the vectorised engine counts (phases cross the windows' edges): folded, the same
+      CellDensity cell_step(st, windows, bins), cell_phase(st, windows, bins);
+      Phases cell_phases{&cell_phase.observer};
+      run_particle(stepping, ps, cell_step.observer);
+      run_particle(jumping, ps, cell_phases);
+      cell_step.fold(), cell_phase.fold();
+      for (const CellDensity* d : {&cell_step, &cell_phase}) {
+        EXPECT_EQ(by_step.counts, d->windows.counts) << "p " << p << ", " << bins << " bins";
+        EXPECT_TRUE(by_step.sums == d->windows.sums) << "p " << p << ", " << bins << " bins";
+      }
+      EXPECT_TRUE(std::all_of(cell_phase.cell_counts.begin(), cell_phase.cell_counts.end(), [](std::uint64_t n) {
+        return n == 0;
+      })) << "fold leaves the cells zero";
       EXPECT_GT(phases.most, 0) << "p " << p;
       if (p == 1e-7) {
         EXPECT_EQ(phases.most, Phase<double>::kMax) << "shown in parts";

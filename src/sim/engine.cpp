@@ -68,6 +68,7 @@ struct RunSetup {
         kernel = simd_scene(model);
         simd_density(kernel, scene);
         cells.bins = kernel.bins;
+        cells.cells = 2 * kernel.density_windows + 1;
         density_cells(kernel.density_windows, kernel.win_from, kernel.win_to, cells.windows);
         kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : default_simd_lanes();
         if (!simd::lanes_available(kernel.lanes))
@@ -118,8 +119,21 @@ class Worker {
     density_ = {&s.model.stadium, sc.collision_density ? &sc.collision_density->windows : nullptr,
                 sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
                 local.weighted ? local.collision_density_w.data() : nullptr};
-    if (s.engine == Engine::simd && sc.collision_density && !local.weighted)
-      cell_counts_.assign(cells() * static_cast<std::size_t>(s.cells.bins), 0);
+    if (s.engine == Engine::simd && sc.collision_density) {  // f_c by time cell (DensityCells), folded in flush()
+      const auto n = static_cast<std::size_t>(s.cells.cells) * static_cast<std::size_t>(s.cells.bins);
+      cell_counts_.assign(n, 0);
+      if (local.weighted) cell_sums_.assign(n, FixedSum{});
+      density_.counts = cell_counts_.data();
+      density_.weighted_counts = local.weighted ? cell_sums_.data() : nullptr;
+      density_.cells = &s.cells;
+    }
+  }
+
+  /// Completes `local`: the f_c counted by time cell into its windows. Before `local` is read.
+  void flush() {
+    if (!cell_counts_.empty())
+      s_.cells.fold(cell_counts_.data(), cell_sums_.empty() ? nullptr : cell_sums_.data(),
+                    local.collision_density.data(), local.weighted ? local.collision_density_w.data() : nullptr);
   }
 
   /// Particles (ids first_id + [lo, hi)), or the lines they start.
@@ -136,9 +150,8 @@ class Worker {
         SimdContext ctx =
             context(s_.model, lo, hi, local.weighted, [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); });
         simd::Exact exact = kSimdExact;
-        if (!cell_counts_.empty()) exact.counts = cell_counts_.data();
+        if (!cell_counts_.empty() && !local.weighted) exact.counts = cell_counts_.data();
         simd::run(s_.kernel, &ctx, simd_next, simd_finish, exact);
-        if (!cell_counts_.empty()) s_.cells.fold(cell_counts_.data(), local.collision_density.data(), cells());
       }
     } else {
       auto rec = [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); };
@@ -150,8 +163,6 @@ class Worker {
   }
 
  private:
-  std::size_t cells() const { return 2 * static_cast<std::size_t>(s_.kernel.density_windows) + 1; }
-
   /// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
   /// measured slower here: the loop is bound by branch mispredictions, not by its dependency chain.)
   template <class Observer, class Record>
@@ -177,8 +188,8 @@ class Worker {
     SimdContext ctx{&model, s_.source, lo, hi, put, {}};
     if (s_.scene.collision_density) {
       ctx.weights = weights;
-      ctx.density = local.collision_density.data();
-      ctx.density_w = local.weighted ? local.collision_density_w.data() : nullptr;
+      ctx.density = cell_counts_.data();
+      ctx.density_w = local.weighted ? cell_sums_.data() : nullptr;
       if constexpr (std::is_same_v<R, double>) ctx.observer = &density_;
       ctx.cells = &s_.cells;
     }
@@ -225,7 +236,8 @@ class Worker {
   std::vector<EscapeRecord>& records_;
   DensityObserver<R> density_{};
   NoCollisionObserver<R> none_;
-  std::vector<std::uint64_t> cell_counts_;  ///< the kernel's unweighted f_c, by time cell
+  std::vector<std::uint64_t> cell_counts_;  ///< the vectorised engine's f_c, by time cell (DensityCells)
+  std::vector<FixedSum> cell_sums_;         ///< and its weighted sums
   std::vector<simd::Start> starts_;         ///< a split run's members, as the kernel takes them
 };
 
@@ -265,6 +277,7 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
         if (opt.progress && omp_get_thread_num() == 0) opt.progress(d, goal, c, false);
         if (std::chrono::steady_clock::now() >= deadline) halt.store(true, std::memory_order_relaxed);
       }
+      worker.flush();
 #pragma omp critical
       result.tally.merge(worker.local);
     }

@@ -70,12 +70,11 @@ void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
   auto* ctx = static_cast<SimdContext*>(c);
   const std::uint32_t bins = static_cast<std::uint32_t>(ctx->cells->bins);
   for (int i = 0; i < n; ++i) {
-    const std::uint32_t cell = hits[i].cell, b = hits[i].bin;
-    for (unsigned m = ctx->cells->windows[cell]; m; m &= m - 1) {
-      const std::uint32_t k = static_cast<std::uint32_t>(__builtin_ctz(m)) * bins + b;
-      ++ctx->density[k];
-      if (ctx->density_w) ctx->density_w[k].add(hits[i].weight);
-    }
+    const std::uint32_t cell = hits[i].cell;
+    if (!ctx->cells->windows[cell]) continue;  // a gap between windows
+    const std::uint32_t k = cell * bins + hits[i].bin;
+    ++ctx->density[k];
+    if (ctx->density_w) ctx->density_w[k].add(hits[i].weight);
   }
 }
 

@@ -60,6 +60,35 @@ struct EdgeBins {
   }
 };
 
+/// f_c by time cell: a cell is how many window edges a time has passed (t >= from_w, t > to_w), so it fixes
+/// the set of windows that hold the time; the vectorised engine counts a collision once in its cell (the
+/// kernel's hits and the fast-forward's phases alike) and folds the cells into the windows afterwards. The
+/// counts are integers and the weighted sums exact (FixedSum), so the windows get what adding to each of
+/// them would give, bit for bit.
+struct DensityCells {
+  int bins = 0;
+  int cells = 0;                                            ///< 2 windows + 1
+  unsigned windows[2 * simd::kMaxDensityWindows + 1] = {};  ///< bit w: window w holds the cell's times
+
+  /// counts[c bins + b] (and sums[c bins + b], when not null) into density[w bins + b] (density_w) for
+  /// each window w of cell c; the cells are left zero
+  void fold(std::uint64_t* counts, FixedSum* sums, std::uint64_t* density, FixedSum* density_w) const {
+    const auto nb = static_cast<std::size_t>(bins);
+    for (std::size_t c = 0; c < static_cast<std::size_t>(cells); ++c)
+      for (std::size_t b = 0; b < nb; ++b) {
+        const std::size_t k = c * nb + b;
+        if (counts[k] == 0) continue;  // nothing added to the cell's bin (a sum grows only with its count)
+        for (unsigned m = windows[c]; m; m &= m - 1) {
+          const auto w = static_cast<std::size_t>(__builtin_ctz(m));
+          density[w * nb + b] += counts[k];
+          if (sums) density_w[w * nb + b].merge(sums[k]);
+        }
+        counts[k] = 0;
+        if (sums) sums[k] = FixedSum{};
+      }
+  }
+};
+
 /// f_c(s): counts collision positions in each requested time window.
 template <class R>
 struct DensityObserver {
@@ -71,6 +100,10 @@ struct DensityObserver {
   FixedSum* weighted_counts = nullptr;  ///< weighted runs: sums of the particle's weight
   double weight = 1;                    ///< of the particle in flight
   EdgeBins<R> edges[2] = {};            ///< bottom, top: built at the first phase()
+  /// When set (the vectorised engine), a bounce is counted once, in its time cell: counts and
+  /// weighted_counts are then by cell (cells x bins; DensityCells::fold gives the windows). Else by
+  /// window (windows x bins).
+  const DensityCells* cells = nullptr;
 
   void operator()(Piece p, const Vec2<R>& q, const R& t) {
     const double tt = num_traits<R>::to_double(t);
@@ -78,6 +111,12 @@ struct DensityObserver {
     for (const auto& w : *windows) any |= (tt >= w.from && tt <= w.to);
     if (!any) return;
     const int b = bin(p, q);
+    if (cells) {  // once, in the time cell of tt
+      std::size_t c = 0;
+      for (const auto& w : *windows) c += (tt >= w.from ? 1u : 0u) + (tt > w.to ? 1u : 0u);
+      add(c, b, 1);
+      return;
+    }
     for (std::size_t i = 0; i < windows->size(); ++i)
       if (tt >= (*windows)[i].from && tt <= (*windows)[i].to) add(i, b, 1);
   }
@@ -99,8 +138,9 @@ struct DensityObserver {
         });
       }
     }
-    // each window's bounces [from, to) among this parity's (on the stack: a fast-forward shows many
-    // phases)
+    // each window's bounces [from, to) among this parity's: from the first with t >= from to the first
+    // with t > to, so bounce i has passed edge positions as its time has passed the window's edges (on
+    // the stack: a fast-forward shows many phases)
     constexpr std::size_t kInline = 8;
     std::pair<long, long> inline_span[kInline];
     std::vector<std::pair<long, long>> heap_span(nw > kInline ? nw : 0);
@@ -115,7 +155,9 @@ struct DensityObserver {
       for (std::size_t w = 0; w < nw; ++w) {
         const TimeWindow& win = (*windows)[w];
         long a = 0, e = m;
-        if (t_last < win.from || t_first > win.to) {
+        if (t_last < win.from) {
+          a = e = m;
+        } else if (t_first > win.to) {
           a = e = 0;
         } else if (!(t_first >= win.from && t_last <= win.to)) {
           a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
@@ -125,11 +167,27 @@ struct DensityObserver {
         if (a < e) lo = std::min(lo, a), hi = std::max(hi, e);
       }
       if (lo >= hi) continue;
-      // bounces [a, z) in bin b: added to every window they overlap
+      // bounces [a, z) in bin b: added to every window they overlap, or once to each time cell among them
       const auto run = [&](long a, long z, int b) {
-        for (std::size_t w = 0; w < nw; ++w) {
-          const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
-          if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
+        if (!cells) {
+          for (std::size_t w = 0; w < nw; ++w) {
+            const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
+            if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
+          }
+          return;
+        }
+        while (a < z) {  // the cell of bounce a, and the next window edge after it
+          std::size_t c = 0;
+          long next = z;
+          for (std::size_t w = 0; w < nw; ++w)
+            for (const long edge : {span[w].first, span[w].second}) {
+              if (a >= edge)
+                ++c;
+              else if (edge < next)
+                next = edge;
+            }
+          if (cells->windows[c]) add(c, b, static_cast<std::uint64_t>(next - a));
+          a = next;
         }
       };
       const Bounce<R> first = at(lo);
@@ -206,8 +264,9 @@ struct DensityObserver {
 
   int bin(Piece p, const Vec2<R>& q) const { return bin_of(num_traits<R>::to_double(stadium->s_of(p, q))); }
   int bin_of(double s) const { return static_cast<int>(formula::density_bin(s, static_cast<double>(bins))); }
-  void add(std::size_t window, int b, std::uint64_t n) {
-    const std::size_t k = window * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
+  /// n bounces into bin b of row `row` (a window, or a time cell when `cells` is set)
+  void add(std::size_t row, int b, std::uint64_t n) {
+    const std::size_t k = row * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
     counts[k] += n;
     if (weighted_counts) weighted_counts[k].add_times(weight, n);
   }
@@ -229,23 +288,6 @@ simd::Scene simd_scene(const Model<double>& m);
 /// The f_c observer's windows and bins for the kernel.
 void simd_density(simd::Scene& s, const Scene& scene);
 
-/// The kernel's f_c counts by time cell (simd::DensityHit), folded into the windows' counts.
-struct DensityCells {
-  int bins = 0;
-  unsigned windows[2 * simd::kMaxDensityWindows + 1] = {};  ///< bit w: window w holds the cell's times
-
-  /// counts[c bins + b] into density[w bins + b] for each window w of cell c; counts zeroed
-  void fold(std::uint64_t* counts, std::uint64_t* density, std::size_t cells) const {
-    const auto nb = static_cast<std::size_t>(bins);
-    for (std::size_t c = 0; c < cells; ++c)
-      for (unsigned m = windows[c]; m; m &= m - 1) {
-        const auto w = static_cast<std::size_t>(__builtin_ctz(m));
-        for (std::size_t b = 0; b < nb; ++b) density[w * nb + b] += counts[c * nb + b];
-      }
-    std::fill(counts, counts + cells * nb, 0);
-  }
-};
-
 struct SimdContext {
   const Model<double>* model;
   DrawSource draw;
@@ -253,7 +295,7 @@ struct SimdContext {
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
   std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
   bool weights = false;                                       ///< lanes carry their weight (weighted f_c)
-  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts
+  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts, by time cell
   FixedSum* density_w = nullptr;                              ///< and weighted sums
   DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
   const DensityCells* cells = nullptr;                        ///< the kernel's time cells
