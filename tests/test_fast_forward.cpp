@@ -116,10 +116,8 @@ struct CellDensity {
   CellDensity(const Stadium<double>& st, const std::vector<TimeWindow>& w, int bins) : windows(st, w, bins) {
     std::vector<double> from, to;
     for (const TimeWindow& x : w) from.push_back(x.from), to.push_back(x.to);
-    cells.bins = bins;
-    cells.cells = 2 * static_cast<int>(w.size()) + 1;
-    density_cells(static_cast<int>(w.size()), from.data(), to.data(), cells.windows);
-    cell_counts.assign(static_cast<std::size_t>(cells.cells) * static_cast<std::size_t>(bins), 0);
+    cells = DensityCells::of(bins, static_cast<int>(w.size()), from.data(), to.data());
+    cell_counts.assign(static_cast<std::size_t>(cells.cells()) * static_cast<std::size_t>(bins), 0);
     cell_sums.assign(cell_counts.size(), FixedSum{});
     observer = {&st, &w, bins, cell_counts.data(), cell_sums.data()};
     observer.weight = 0.3;

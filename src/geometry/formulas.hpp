@@ -219,6 +219,18 @@ inline T density_bin(const T& s, const T& bins) {
   return select(b < T(0), T(0), select(b > T(bins - T(1)), T(bins - T(1)), b));
 }
 
+/// f_c's time cell of t among `windows` time windows [from[w], to[w]]: how many of their edges t has
+/// passed, counting from[w] when t >= from[w] and to[w] when t > to[w] (0 .. 2 windows, as an
+/// integer-valued T). The cell fixes the set of windows that hold t, so a collision is counted once, in
+/// its cell, and each cell is added to its windows afterwards.
+template <class T>
+inline T time_cell(const T& t, const double* from, const double* to, int windows) {
+  const T one(1.0), zero(0.0);
+  T cell(0.0);
+  for (int w = 0; w < windows; ++w) cell = cell + select(t >= T(from[w]), one, zero) + select(t > T(to[w]), one, zero);
+  return cell;
+}
+
 /// A stationary leak's window on a straight edge: x in [lo, hi].
 template <class T>
 inline mask_of<T> in_x_window(const T& x, const T& lo, const T& hi) {

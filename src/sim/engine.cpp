@@ -67,9 +67,7 @@ struct RunSetup {
       if (engine == Engine::simd) {
         kernel = simd_scene(model);
         simd_density(kernel, scene);
-        cells.bins = kernel.bins;
-        cells.cells = 2 * kernel.density_windows + 1;
-        density_cells(kernel.density_windows, kernel.win_from, kernel.win_to, cells.windows);
+        cells = DensityCells::of(kernel.bins, kernel.density_windows, kernel.win_from, kernel.win_to);
         kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : default_simd_lanes();
         if (!simd::lanes_available(kernel.lanes))
           throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
@@ -120,7 +118,7 @@ class Worker {
                 sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
                 local.weighted ? local.collision_density_w.data() : nullptr};
     if (s.engine == Engine::simd && sc.collision_density) {  // f_c by time cell (DensityCells), folded in flush()
-      const auto n = static_cast<std::size_t>(s.cells.cells) * static_cast<std::size_t>(s.cells.bins);
+      const auto n = static_cast<std::size_t>(s.cells.cells()) * static_cast<std::size_t>(s.cells.bins);
       cell_counts_.assign(n, 0);
       if (local.weighted) cell_sums_.assign(n, FixedSum{});
       density_.counts = cell_counts_.data();

@@ -67,14 +67,21 @@ struct EdgeBins {
 /// them would give, bit for bit.
 struct DensityCells {
   int bins = 0;
-  int cells = 0;                                            ///< 2 windows + 1
+  int n_windows = 0;
+  double from[simd::kMaxDensityWindows] = {}, to[simd::kMaxDensityWindows] = {};  ///< window w: [from[w], to[w]]
   unsigned windows[2 * simd::kMaxDensityWindows + 1] = {};  ///< bit w: window w holds the cell's times
+
+  /// The cells of `windows` time windows (at most simd::kMaxDensityWindows), f_c binned in `bins`.
+  static DensityCells of(int bins, int windows, const double* from, const double* to);
+  int cells() const { return 2 * n_windows + 1; }
+  /// the cell of time t (formula::time_cell)
+  std::size_t cell_of(double t) const { return static_cast<std::size_t>(formula::time_cell(t, from, to, n_windows)); }
 
   /// counts[c bins + b] (and sums[c bins + b], when not null) into density[w bins + b] (density_w) for
   /// each window w of cell c; the cells are left zero
   void fold(std::uint64_t* counts, FixedSum* sums, std::uint64_t* density, FixedSum* density_w) const {
     const auto nb = static_cast<std::size_t>(bins);
-    for (std::size_t c = 0; c < static_cast<std::size_t>(cells); ++c)
+    for (std::size_t c = 0; c < static_cast<std::size_t>(cells()); ++c)
       for (std::size_t b = 0; b < nb; ++b) {
         const std::size_t k = c * nb + b;
         if (counts[k] == 0) continue;  // nothing added to the cell's bin (a sum grows only with its count)
@@ -112,9 +119,7 @@ struct DensityObserver {
     if (!any) return;
     const int b = bin(p, q);
     if (cells) {  // once, in the time cell of tt
-      std::size_t c = 0;
-      for (const auto& w : *windows) c += (tt >= w.from ? 1u : 0u) + (tt > w.to ? 1u : 0u);
-      add(c, b, 1);
+      add(cells->cell_of(tt), b, 1);
       return;
     }
     for (std::size_t i = 0; i < windows->size(); ++i)

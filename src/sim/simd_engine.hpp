@@ -58,9 +58,9 @@ struct Start {
 
 /// One counted collision of the weighted f_c observer: its time cell, its bin and its weight. The time
 /// cell of t is the number of window edges it has passed, counting from_w when t >= from_w and to_w
-/// when t > to_w: 0 .. 2 density_windows; it fixes the set of windows that hold t (density_cells),
-/// so the kernel counts each collision once and the caller adds the cell to each of its windows
-/// (sim/engine.cpp density_cells).
+/// when t > to_w: 0 .. 2 density_windows (formula::time_cell); it fixes the set of windows that hold t
+/// (density_cells), so the kernel counts each collision once and the caller adds the cell to each of
+/// its windows (DensityCells::fold).
 struct DensityHit {
   std::uint32_t cell, bin;
   double weight;

@@ -384,14 +384,10 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
 
-/// The time cell of t: how many window edges it has passed (t >= from, t > to); the cell fixes the set
-/// of windows that hold t, so one count per collision serves every window (the caller folds them).
+/// The time cell of t (formula::time_cell): one count per collision serves every window (the caller
+/// folds the cells into them).
 inline V time_cell(const Scene& S, const V& t) {
-  const V ONE(1.0), ZERO(0.0);
-  V cell(0.0);
-  for (int w = 0; w < S.density_windows; ++w)
-    cell = cell + select(t >= V(S.win_from[w]), ONE, ZERO) + select(t > V(S.win_to[w]), ONE, ZERO);
-  return cell;
+  return formula::time_cell(t, S.win_from, S.win_to, S.density_windows);
 }
 
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
