@@ -95,7 +95,18 @@ INSTANTIATE_TEST_SUITE_P(Cases, CliBadInput,
                                                      std::string("ensemble.particles")},
                                            // an undecidable value once exited 1 without the key
                                            std::pair{std::string("--set stadium.d=pi-pi"), std::string("stadium.d")},
-                                           std::pair{std::string("--bogus"), std::string("--bogus")}),
+                                           std::pair{std::string("--bogus"), std::string("--bogus")},
+                                           // crashes (rc 139): an error path dereferenced a key never given
+                                           std::pair{std::string("--set run.t_max=1"),
+                                                     std::string("ensemble.creation_window = 4.0 (the default)")},
+                                           std::pair{std::string("--set run.splitting=true --set "
+                                                                 "ensemble.sampling=mupo --set run.t_max=100"),
+                                                     std::string("run.split_every")},
+                                           // a confident wrong number: splitting on uniform draws
+                                           std::pair{std::string("--set run.splitting=true"),
+                                                     std::string("ensemble.sampling = \"mupo\"")},
+                                           // the message blamed stadium.r, never given
+                                           std::pair{std::string("--set run.t_max=1e12"), std::string("run.t_max")}),
                          rotleak::test::IndexedName());
 
 TEST(Cli, ADirectoryIsNotAScene) {  // it once ran a default scene, exit 0
@@ -355,4 +366,76 @@ TEST(Cli, FitRedrawsThePicturesOfTheNewFit) {
   EXPECT_NE(slurp(out / "survival.png"), first);
   ASSERT_EQ(run("fit " + out.string() + " --set 'fit.kappa_window=[0, 300]'").status, 0);
   EXPECT_EQ(slurp(out / "survival.png"), first);
+}
+
+// `--set` took every word after it, so `--set leak.omega=2/3 SCENE` said "scene is required".
+TEST(Cli, SetTakesOneValueAndLeavesTheScene) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path o = scratch() / "set_first";
+  fs::remove_all(o);
+  const Outcome r = run("simulate --set leak.omega=2/3 --set ensemble.particles=300 " + scene.string() + " --out " +
+                        o.string() + " --no-progress");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(o / "summary.json"))["scene"]["leak"]["omega"], "2/3");
+}
+
+// `--out README.md` said "pass --force", and --force then refused: what --force cannot replace is said first.
+TEST(Cli, WhatForceCannotReplaceIsSaidWithoutForce) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path file = scratch() / "notes.md";
+  std::ofstream(file) << "keep me\n";
+  for (const char* force : {"", " --force"}) {
+    const Outcome r = run("simulate " + scene.string() + " --out " + file.string() + force);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.err.find("pass --force"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("choose another --out"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(file), "keep me\n");
+}
+
+// A second scan into a directory a scan is writing returned 0 with its points orphaned; a refit during a
+// simulate --force was silently lost. Both take the directory's lock now (held here as a live run holds it).
+TEST(Cli, ScanAndFitTakeTheDirectoryLock) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path runs = scratch() / "lock_run";
+  fs::remove_all(runs);
+  ASSERT_EQ(run("simulate " + scene.string() + " --particles 300 --out " + runs.string() + " --no-progress").status, 0);
+  const std::string before = slurp(runs / "summary.json");
+  for (const char* name : {".lock_scan.lock", ".lock_run.lock"}) {
+    const int fd = ::open((scratch() / name).c_str(), O_RDWR | O_CREAT, 0644);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+    const Outcome r = std::string(name) == ".lock_scan.lock"
+                          ? run("scan " + scene.string() + " --over leak.omega=0 --set ensemble.particles=300 --out " +
+                                (scratch() / "lock_scan").string() + " --no-progress")
+                          : run("fit " + runs.string() + " --set fit.alpha_factor=5");
+    EXPECT_EQ(r.status, 2) << name;
+    EXPECT_NE(r.err.find("another rotleak run"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    ::close(fd);
+    fs::remove(scratch() / name);
+  }
+  EXPECT_FALSE(fs::exists(scratch() / "lock_scan" / "table.csv"));
+  EXPECT_EQ(slurp(runs / "summary.json"), before);
+}
+
+// Re-running a scan with other inputs replaced its points without --force (a 3*10^5-particle point by a
+// 1000-particle one): refused, naming the point and the key that differs; --force replaces.
+TEST(Cli, AScanRerunWithOtherInputsNeedsForce) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path d = scratch() / "rerun_scan";
+  fs::remove_all(d);
+  const std::string base = "scan " + scene.string() + " --over leak.omega=0,1 --out " + d.string() + " --no-progress";
+  ASSERT_EQ(run(base + " --set ensemble.particles=600").status, 0);
+  const std::string table = slurp(d / "table.csv");
+  const Outcome other = run(base + " --set ensemble.particles=300");
+  EXPECT_EQ(other.status, 2);
+  EXPECT_NE(other.err.find("ensemble.particles = 600 there, ensemble.particles = 300 here"), std::string::npos)
+      << other.err;
+  EXPECT_EQ(slurp(d / "table.csv"), table);
+  const Outcome same = run(base + " --set ensemble.particles=600");  // same inputs: resumed, nothing rerun
+  EXPECT_EQ(same.status, 0) << same.err;
+  const Outcome forced = run(base + " --set ensemble.particles=300 --force");
+  EXPECT_EQ(forced.status, 0) << forced.err;
+  EXPECT_NE(slurp(d / "table.csv"), table);
 }

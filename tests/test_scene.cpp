@@ -93,6 +93,59 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"", "stadium.d=pi-pi", "stadium.d"}, BadCase{"", "leak.start=1e100000+ln(2)", "leak.start"}),
     rotleak::test::IndexedName());
 
+// A default that fails its check given another key's value was reported through the key never given: a
+// null dereference in the error path (t_max = 1 left the default creation window 4 outside [0, t_max]; the
+// default split_every outside (0, t_max] or too fine for it). The message names the key and its default.
+TEST(Scene, DefaultThatFailsItsCheckIsNamedNotDereferenced) {
+  EXPECT_NE(error_of("", {"run.t_max=1"}).find("ensemble.creation_window = 4.0 (the default)"), std::string::npos)
+      << error_of("", {"run.t_max=1"});
+  const std::vector<std::string> split = {"run.splitting=true", "ensemble.sampling=mupo"};
+  for (const char* t_max : {"run.t_max=100", "run.t_max=1e8"}) {
+    std::vector<std::string> sets = split;
+    sets.push_back(t_max);
+    const std::string msg = error_of("", sets);
+    EXPECT_EQ(msg.rfind("run.split_every = ", 0), 0u) << msg;
+    EXPECT_NE(msg.find("(the default)"), std::string::npos) << msg;
+  }
+  for (const char* width : {"leak.width=1e-6", "leak.width=0.9"}) {
+    std::vector<std::string> sets = split;
+    sets.insert(sets.end(), {width, "run.t_max=1e6"});
+    EXPECT_EQ(error_of("", sets).rfind("run.split_every = ", 0), 0u) << error_of("", sets);
+  }
+}
+
+// t_max = 1e12 lies in run.t_max's range but makes 4.6e11 collisions a particle on the default stadium:
+// refused as it should be, but the message blamed stadium.r, which the user never touched.
+TEST(Scene, TooManyCollisionsBlameTheKeyGiven) {
+  EXPECT_EQ(error_of("", {"run.t_max=1e12"}).rfind("run.t_max = ", 0), 0u) << error_of("", {"run.t_max=1e12"});
+  EXPECT_EQ(error_of("", {"stadium.r=1e-9"}).rfind("stadium.r = ", 0), 0u) << error_of("", {"stadium.r=1e-9"});
+}
+
+// Counts through --set are read exactly, as --particles reads them (split_cap = 1e6 was refused as "must be
+// an integer" while --particles 1e6 ran); in a file a float count is refused with the way to write it.
+TEST(Scene, CountsReadExactlyThroughSet) {
+  EXPECT_EQ(parse_scene("", {"ensemble.particles=2.5e5"}).particles, 250000u);
+  EXPECT_EQ(parse_scene("", {"run.splitting=true", "ensemble.sampling=mupo", "run.split_cap=1e6"}).splitting.cap,
+            1000000u);
+  EXPECT_NE(error_of("[ensemble]\nparticles = 1e6\n").find("write 1000000"), std::string::npos);
+  EXPECT_EQ(error_of("", {"ensemble.particles=1.5"}).rfind("ensemble.particles = ", 0), 0u);
+}
+
+// A number beyond double's range was "not a number" (1e400) or silently 0 (1e-400).
+TEST(Scene, NumbersBeyondDoubleAreRefusedNotRounded) {
+  const std::vector<std::string> split = {"run.splitting=true", "ensemble.sampling=mupo"};
+  for (const char* bad : {"run.split_every=1e400", "run.split_delta=1e-400", "run.t_max=-1e999"}) {
+    std::vector<std::string> sets = split;
+    sets.push_back(bad);
+    const std::string msg = error_of("", sets);
+    EXPECT_NE(msg.find("beyond the range of a double"), std::string::npos) << bad << ": " << msg;
+    EXPECT_EQ(msg.rfind(std::string(bad).substr(0, std::string(bad).find('=')), 0), 0u) << msg;
+  }
+  std::vector<std::string> zero = split;
+  zero.push_back("run.split_delta=0e-400");  // zero written small is still zero
+  EXPECT_EQ(parse_scene("", zero).splitting.delta, 0.0);
+}
+
 // A large start is reduced modulo 1 exactly: 1e30 + 1/2 is the leak at 1/2 (it was once rounded
 // with a 64-bit floor and no particle escaped).
 TEST(Scene, LargeStartIsReducedExactly) {

@@ -33,6 +33,15 @@ int main(int argc, char** argv) {
       rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app), rotleak::cli::add_verify(app),
       rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),     rotleak::cli::add_regimes(app),
       rotleak::cli::add_merge(app)};
+  // where a command has positional arguments, an option takes one value per use (`--set a=1 --set b=2`):
+  // a repeatable option that took every following word swallowed the scene (`--set leak.omega=2/3 SCENE`
+  // said "scene is required"). Commands without positionals keep lists (`covering --omega 2/3 1e-4`).
+  for (const auto& c : commands) {
+    const auto positional = [](CLI::Option* opt) { return opt->get_positional(); };
+    if (c.app->get_options(positional).empty()) continue;
+    for (CLI::Option* o : c.app->get_options([](CLI::Option* opt) { return !opt->get_positional(); }))
+      o->allow_extra_args(false);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -78,10 +78,14 @@ RunDirectory::RunDirectory(fs::path final, bool force)
   std::error_code ec;
   // refuse what cannot be replaced before creating anything
   if (fs::exists(final_, ec)) {
-    if (!force) throw InputError("--out", shown_, "already exists; pass --force to replace it");
-    if (!fs::is_directory(final_) || (!fs::is_empty(final_) && !fs::exists(final_ / "summary.json")))
+    // what --force cannot replace is said first: "pass --force" and then a refusal was a runaround
+    if (!fs::is_directory(final_))
+      throw InputError("--out", shown_, "exists and is a file, not a run directory; choose another --out");
+    if (!fs::is_empty(final_) && !fs::exists(final_ / "summary.json"))
       throw InputError("--out", shown_,
-                       "exists and is not a rotleak run directory (no summary.json); refusing to replace it");
+                       "exists and is not a rotleak run directory (no summary.json); choose another --out (--force "
+                       "replaces run directories only)");
+    if (!force) throw InputError("--out", shown_, "already exists; pass --force to replace it");
   }
   // parents: remember the ones this run creates, to remove them if it fails
   fs::path parent = final_.parent_path();
@@ -97,10 +101,9 @@ RunDirectory::RunDirectory(fs::path final, bool force)
   }
   const fs::path dir = parent.empty() ? fs::path(".") : parent;
   const std::string name = final_.filename().string();
-  lock_path_ = dir / ("." + name + ".lock");
   staging_ = dir / ("." + name + ".partial-" + std::to_string(::getpid()));
   try {
-    lock();
+    lock_ = std::make_unique<DirectoryLock>(final_, "--out", shown_);
     remove_stale_staging();
     if (!fs::create_directory(staging_, ec))
       throw InputError("--out", shown_, "cannot create a directory there (" + ec.message() + ")");
@@ -110,27 +113,42 @@ RunDirectory::RunDirectory(fs::path final, bool force)
   }
 }
 
-void RunDirectory::lock() {
+fs::path DirectoryLock::path_for(const fs::path& target) {
+  const fs::path final = RunDirectory::normalise(target);
+  const fs::path dir = final.parent_path().empty() ? fs::path(".") : final.parent_path();
+  return dir / ("." + final.filename().string() + ".lock");
+}
+
+DirectoryLock::DirectoryLock(const fs::path& target, const std::string& key, const std::string& shown)
+    : path_(path_for(target)) {
   // flock on a file beside the target; after taking it, make sure the file is still the one at the
-  // path (a finishing run unlinks it), else take the new one.
+  // path (a finishing process unlinks it), else take the new one.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock_fd_ < 0) throw InputError("--out", shown_, "cannot create the lock file " + lock_path_.string());
-    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-      ::close(lock_fd_);
-      lock_fd_ = -1;
-      throw InputError("--out", shown_,
-                       "another rotleak run is writing this directory now; wait for it or choose another --out");
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0)
+      throw InputError(key, shown, "cannot create the lock file " + path_.string() + " (" + std::strerror(errno) + ")");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      fd_ = -1;
+      throw InputError(key, shown,
+                       "another rotleak run is writing this directory now; wait for it or choose another "
+                       "directory");
     }
     struct stat held {
     }, at_path{};
-    if (::fstat(lock_fd_, &held) == 0 && ::stat(lock_path_.c_str(), &at_path) == 0 && held.st_ino == at_path.st_ino &&
+    if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &at_path) == 0 && held.st_ino == at_path.st_ino &&
         held.st_dev == at_path.st_dev)
       return;
-    ::close(lock_fd_);  // unlinked under us: try the file now at the path
-    lock_fd_ = -1;
+    ::close(fd_);  // unlinked under us: try the file now at the path
+    fd_ = -1;
   }
-  throw InputError("--out", shown_, "cannot take the lock " + lock_path_.string());
+  throw InputError(key, shown, "cannot take the lock " + path_.string());
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ < 0) return;
+  ::unlink(path_.c_str());  // before the unlock: a process that opened it then re-checks the path
+  ::close(fd_);
 }
 
 void RunDirectory::remove_stale_staging() const {
@@ -148,11 +166,7 @@ RunDirectory::~RunDirectory() { release(); }
 void RunDirectory::release() {
   std::error_code ec;
   if (!committed_) fs::remove_all(staging_, ec);
-  if (lock_fd_ >= 0) {
-    ::unlink(lock_path_.c_str());  // before the unlock: a run that opened it then re-checks the path (lock())
-    ::close(lock_fd_);
-    lock_fd_ = -1;
-  }
+  lock_.reset();
   if (!committed_)
     for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it)
       fs::remove(*it, ec);  // only if empty

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,27 @@ std::string read_file(const std::filesystem::path& path);
 
 /// Shortest decimal that reads back to the same double (std::to_chars).
 std::string shortest(double x);
+
+/// An exclusive lock on a directory's path, held from construction to destruction: flock on
+/// `.<name>.lock` beside it (the parent must exist), so that a second rotleak process that writes the
+/// same directory -- a run, a scan, a refit -- is refused instead of racing it. The lock file is
+/// unlinked before it is released; a process that opened it in between re-checks the path.
+class DirectoryLock {
+ public:
+  /// Throws InputError (key `key`, value `shown`) when another process holds the lock or the lock file
+  /// cannot be created (with the reason).
+  DirectoryLock(const std::filesystem::path& target, const std::string& key, const std::string& shown);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+  /// `.<name>.lock` beside the (normalised) target.
+  static std::filesystem::path path_for(const std::filesystem::path& target);
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
 
 /// A run directory as a transaction. The target path is normalised (a trailing slash names the same
 /// directory); an exclusive lock (flock on `.<name>.lock` beside it) is held from construction to
@@ -43,15 +65,14 @@ class RunDirectory {
   static std::filesystem::path normalise(const std::filesystem::path& out);
 
  private:
-  void lock();
   void remove_stale_staging() const;
   /// Unless committed: the staging directory and the parents this run created go; the lock is released.
   void release();
 
-  std::filesystem::path final_, staging_, lock_path_;
+  std::filesystem::path final_, staging_;
+  std::unique_ptr<DirectoryLock> lock_;
   std::string shown_;                                   ///< the target as the user wrote it, quoted, for messages
   std::vector<std::filesystem::path> created_parents_;  ///< made by this run, removed if it fails
-  int lock_fd_ = -1;
   bool committed_ = false;
 };
 

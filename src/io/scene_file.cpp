@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include "io/files.hpp"
+#include "numeric/input.hpp"
 
 namespace rotleak {
 
@@ -28,6 +30,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
 };
 const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
+const std::set<std::string> kCountKeys = {"ensemble.particles", "ensemble.seed", "run.split_cap", "fit.min_survivors"};
 
 /// A float as TOML writes it: the shortest decimal that reads back, with a point (1000.0, not 1000).
 std::string toml_float(double x) {
@@ -74,10 +77,17 @@ struct Reader {
     return parse_exact_input(name, text);
   }
 
-  double number(const std::string& section, const std::string& key, double fallback) const {
+  /// A number key, checked: a value outside `ok` is refused naming the key and what was used -- the
+  /// text given, or the default when the key was not given (a default can fail too: creation_window 4
+  /// with t_max 1). Every range check of a number goes through here, so no error path looks up a
+  /// key that may be absent.
+  template <class Ok>
+  double number(const std::string& section, const std::string& key, double fallback, Ok ok,
+                const std::string& allowed) const {
     const toml::node* n = find(section, key);
-    if (!n) return fallback;
-    return as_number(section + "." + key, *n);
+    const double v = n ? as_number(section + "." + key, *n) : fallback;
+    if (!ok(v)) throw InputError(section + "." + key, n ? shown(*n) : toml_float(v) + " (the default)", allowed);
+    return v;
   }
 
   static double as_number(const std::string& name, const toml::node& n) {
@@ -97,6 +107,10 @@ struct Reader {
     const toml::node* n = find(section, key);
     if (!n) return fallback;
     auto i = n->as_integer();
+    if (n->is_floating_point())  // TOML reads 1e6 as a float; --set reads it exactly
+      throw InputError(section + "." + key, shown(*n),
+                       allowed + " (TOML reads 1e6 as a float: write 1000000 in a scene file, or --set " + section +
+                           "." + key + "=1e6)");
     if (!i || i->get() < 0 || static_cast<std::uint64_t>(i->get()) < min)
       throw InputError(section + "." + key, shown(*n), allowed);
     return static_cast<std::uint64_t>(i->get());
@@ -170,18 +184,43 @@ void apply_override(toml::table& root, const std::string& assignment) {
     sec.insert_or_assign(key, value);  // exact keys keep the text verbatim
     return;
   }
+  if (kCountKeys.count(path)) {
+    // a count is read exactly, as --particles reads it: 1e6 and 2.5e5 are integers here, where TOML
+    // would make them floats
+    try {
+      sec.insert_or_assign(key, static_cast<std::int64_t>(parse_count(path, value, 0)));
+      return;
+    } catch (const InputError&) {
+      // not a count: the TOML value below gets the key's own message
+    }
+  }
+  // a decimal the user wrote, exactly, when it is one (1e400 is a number, but not a double)
+  std::optional<mpq_class> exact;
+  try {
+    exact = parse_decimal(value);
+  } catch (const ExactParseError&) {
+  }
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
+    if (exact)
+      throw InputError(path, value, "is beyond the range of a double (magnitudes up to 1.8e308); give a smaller value");
     sec.insert_or_assign(key, value);  // a bare word: validation says whether it is allowed
     return;
+  }
+  if (auto f = parsed.get("v")->as_floating_point(); f && exact && sgn(*exact) != 0) {
+    const double v = f->get();
+    if (v == 0 || !std::isfinite(v))
+      throw InputError(path, value,
+                       std::string("is beyond the range of a double (it would read as ") + (v == 0 ? "0" : "inf") +
+                           "; nonzero magnitudes from 2.2e-308 to 1.8e308)");
   }
   parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
 }
 
 /// Values that make the run meaningless or endless, refused with the allowed range.
-void check_physics(const Scene& s) {
+void check_physics(const Scene& s, bool t_max_given) {
   // omega beyond 1e15 turns per unit time: 1e100000 once became inf in double and no particle
   // escaped. Below the bound the audit's scalar check says up to where each tier resolves the phase
   // (double loses it near omega t_max = 2^53; dd keeps omega = 1e12 at t_max = 2e4).
@@ -205,6 +244,10 @@ void check_physics(const Scene& s) {
                   "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
                   "at most 1e9 are allowed: make the stadium larger or t_max smaller",
                   s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
+    // the key to blame is the one the user gave: t_max, unless only the stadium was changed
+    if (t_max_given || (s.d_text == Scene{}.d_text && s.r_text == Scene{}.r_text))
+      throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
+                       std::string(why) + " (here run.t_max <= " + shortest(std::floor(1e9 * mfp)) + ")");
     throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
   }
 }
@@ -220,18 +263,18 @@ void read_splitting(const Reader& in, Scene& s) {
     if (const toml::node* n = in.find("run", key); n && !s.splitting.on)
       throw InputError(std::string("run.") + key, shown(*n), "applies to run.splitting = true only");
   if (!s.splitting.on) return;
-  s.splitting.every = in.number("run", "split_every", default_split_every(s));
-  if (!(s.splitting.every > 0 && s.splitting.every <= s.t_max))
-    throw InputError("run.split_every", shown(*in.find("run", "split_every")),
-                     "must be a time in (0, run.t_max] = (0, " + shortest(s.t_max) +
-                         "] (default: ln 2 / (lambda L / (pi Area)) = " + shortest(default_split_every(s)) + ")");
-  if (s.t_max / s.splitting.every > 100000)
-    throw InputError("run.split_every", shown(*in.find("run", "split_every")),
-                     "gives more than 10^5 split times before run.t_max; at most 10^5 are allowed");
-  s.splitting.delta = in.number("run", "split_delta", s.splitting.delta);
-  if (!(s.splitting.delta >= 0 && s.splitting.delta <= 1e-3))
-    throw InputError("run.split_delta", shown(*in.find("run", "split_delta")),
-                     "must be an angle in [0, 1e-3] radians (the copy's turn)");
+  const double t_max = s.t_max;
+  s.splitting.every = in.number(
+      "run", "split_every", default_split_every(s), [&](double v) { return v > 0 && v <= t_max; },
+      "must be a time in (0, run.t_max] = (0, " + shortest(t_max) +
+          "] (default: ln 2 / (lambda L / (pi Area)) = " + shortest(default_split_every(s)) + ")");
+  s.splitting.every = in.number(
+      "run", "split_every", s.splitting.every, [&](double v) { return t_max / v <= 100000; },
+      "gives more than 10^5 split times before run.t_max = " + shortest(t_max) +
+          "; at most 10^5 are allowed: set run.split_every to at least " + shortest(t_max / 100000));
+  s.splitting.delta = in.number(
+      "run", "split_delta", s.splitting.delta, [](double v) { return v >= 0 && v <= 1e-3; },
+      "must be an angle in [0, 1e-3] radians (the copy's turn)");
   s.splitting.cap = in.count("run", "split_cap", s.splitting.cap, 2, "must be an integer >= 2 (members of a line)");
   if (s.splitting.cap > 1000000)
     throw InputError("run.split_cap", std::to_string(s.splitting.cap), "must be at most 10^6 members of a line");
@@ -256,14 +299,13 @@ Scene build(const toml::table& root, const std::string& source) {
   s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");
   s.init =
       in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow : InitKind::birkhoff;
-  s.t_max = in.number("run", "t_max", s.t_max);
-  if (!(s.t_max > 0) || s.t_max > 1e12)
-    throw InputError("run.t_max", shown(*in.find("run", "t_max")), "must be a number in (0, 1e12]");
-  s.creation_window = in.number("ensemble", "creation_window", s.creation_window);
-  if (s.creation_window < 0 || s.creation_window > s.t_max)
-    throw InputError("ensemble.creation_window", shown(*in.find("ensemble", "creation_window")),
-                     "must be in [0, run.t_max] = [0, " + shortest(s.t_max) + "]");
-  check_physics(s);
+  s.t_max = in.number(
+      "run", "t_max", s.t_max, [](double v) { return v > 0 && v <= 1e12; }, "must be a number in (0, 1e12]");
+  const double t_max = s.t_max;
+  s.creation_window = in.number(
+      "ensemble", "creation_window", s.creation_window, [&](double v) { return v >= 0 && v <= t_max; },
+      "must be in [0, run.t_max] = [0, " + shortest(t_max) + "] (particles are created within it)");
+  check_physics(s, in.find("run", "t_max") != nullptr);
   s.sampling.kind = in.word("ensemble", "sampling", "uniform", {"uniform", "mupo"}) == "mupo" ? SamplingKind::mupo
                                                                                               : SamplingKind::uniform;
   if (const toml::node* n = in.find("ensemble", "sampling_eps")) {
@@ -299,15 +341,13 @@ Scene build(const toml::table& root, const std::string& source) {
     if (!b) throw InputError("run.fast_forward", shown(*n), "must be true or false");
     s.fast_forward = b->get();
   }
-  s.checkpoint_seconds = in.number("run", "checkpoint_seconds", s.checkpoint_seconds);
-  if (!(s.checkpoint_seconds >= 0) || s.checkpoint_seconds > 1e7)
-    throw InputError("run.checkpoint_seconds", shown(*in.find("run", "checkpoint_seconds")),
-                     "must be a number of seconds in [0, 1e7] (0: no periodic checkpoints)");
+  s.checkpoint_seconds = in.number(
+      "run", "checkpoint_seconds", s.checkpoint_seconds, [](double v) { return v >= 0 && v <= 1e7; },
+      "must be a number of seconds in [0, 1e7] (0: no periodic checkpoints)");
   read_splitting(in, s);
-  s.survival_dt = in.number("observe", "survival_dt", s.survival_dt);
-  if (!(s.survival_dt > 0) || s.t_max / s.survival_dt > 1e8)
-    throw InputError("observe.survival_dt", shown(*in.find("observe", "survival_dt")),
-                     "must be > 0 with t_max / survival_dt <= 1e8 bins");
+  s.survival_dt = in.number(
+      "observe", "survival_dt", s.survival_dt, [&](double v) { return v > 0 && t_max / v <= 1e8; },
+      "must be > 0 with run.t_max / survival_dt <= 1e8 bins (run.t_max = " + shortest(t_max) + ")");
   if (const toml::node* n = in.find("observe", "collision_density")) {
     auto t = n->as_table();
     if (!t)
@@ -350,16 +390,20 @@ Scene build(const toml::table& root, const std::string& source) {
     if (s.kappa_window.to > s.t_max) throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
   }
   if (s.kappa_window.to > s.t_max) s.kappa_window.to = s.t_max;
-  s.alpha_factor = in.number("fit", "alpha_factor", s.alpha_factor);
-  if (!(s.alpha_factor > 1 && s.alpha_factor <= 1e6))
-    throw InputError("fit.alpha_factor", shown(*in.find("fit", "alpha_factor")), "must be in (1, 1e6]");
-  s.alpha_sigma = in.number("fit", "alpha_sigma", s.alpha_sigma);
-  if (!(s.alpha_sigma >= 1 && s.alpha_sigma <= 10))
-    throw InputError("fit.alpha_sigma", shown(*in.find("fit", "alpha_sigma")), "must be in [1, 10] standard errors");
+  s.alpha_factor = in.number(
+      "fit", "alpha_factor", s.alpha_factor, [](double v) { return v > 1 && v <= 1e6; }, "must be in (1, 1e6]");
+  s.alpha_sigma = in.number(
+      "fit", "alpha_sigma", s.alpha_sigma, [](double v) { return v >= 1 && v <= 10; },
+      "must be in [1, 10] standard errors");
   s.min_survivors = in.count("fit", "min_survivors", s.min_survivors, 1, "must be an integer >= 1");
   if (s.splitting.on && s.tier != Tier::double_)
     throw InputError("run.splitting", "true",
                      "runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
+  if (s.splitting.on && s.sampling.kind != SamplingKind::mupo)
+    throw InputError("run.splitting", "true",
+                     "needs ensemble.sampling = \"mupo\": uniform draws start few lines on the bouncing-ball family "
+                     "that carries the tail, and when they die the lines' spread cannot see it (P(t_max) = 2e-38 "
+                     "reported where the truth is 1.7e-5); add --set ensemble.sampling=mupo");
   if (s.splitting.on && s.escape_records)
     throw InputError("run.splitting", "true",
                      "keeps no per-particle escape records (a line has many members): set observe.escapes = false");

@@ -47,6 +47,12 @@ json refit_run(const fs::path& dir, const Scene& scene) {
 
 RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& overrides, const Note& note) {
   check_fit_overrides(overrides);
+  // a refit rewrites summary.json: refused while a simulate --force or a scan writes the directory
+  // (the refit was once silently lost to a run that swapped its directory in afterwards)
+  if (!fs::is_directory(dir))
+    throw InputError("DIR", "\"" + dir.string() + "\"",
+                     "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
+  const DirectoryLock lock(dir, "DIR", "\"" + dir.string() + "\"");
   RefitOutcome out;
   if (!fs::exists(dir / "scan.json")) {
     out.document = refit_run(dir, saved_scene(dir, overrides));

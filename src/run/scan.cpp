@@ -141,6 +141,22 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
+/// The first line where two scenes' texts differ, as "KEY there, KEY here".
+std::string first_difference(const std::string& before, const std::string& now) {
+  std::istringstream a(before), b(now);
+  std::string la, lb, section;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(a, la)), more_b = static_cast<bool>(std::getline(b, lb));
+    if (!more_a && !more_b) return "the same keys";
+    if (more_a && more_b && la == lb) {
+      if (!la.empty() && la.front() == '[') section = la.substr(1, la.find(']') - 1) + ".";
+      continue;
+    }
+    const auto show = [&](const std::string& line) { return line.empty() ? std::string("nothing") : section + line; };
+    return show(more_a ? la : "") + " there, " + show(more_b ? lb : "") + " here";
+  }
+}
+
 }  // namespace
 
 json omega_number_theory(const Scene& scene) {
@@ -292,7 +308,18 @@ ScanOutcome scan(const ScanRequest& req) {
   const Note note = lead ? req.note : Note{};
   const fs::path dir = RunDirectory::normalise(req.out);
   const fs::path points_dir = dir / "points", manifest_path = dir / "points.json";
-  if (lead) fs::create_directories(points_dir);
+  // One scan at a time writes a directory: a second one (or a refit, or a simulate into it) is refused
+  // while this one holds the lock; it once returned 0 with its points orphaned from the table.
+  std::unique_ptr<DirectoryLock> lock;
+  if (lead) {
+    const std::string shown = "\"" + req.out.string() + "\"";
+    std::error_code ec;
+    if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path(), ec);
+    if (ec) throw InputError("--out", shown, "cannot create " + dir.parent_path().string() + " (" + ec.message() + ")");
+    lock = std::make_unique<DirectoryLock>(dir, "--out", shown);
+    fs::create_directories(points_dir, ec);
+    if (ec) throw InputError("--out", shown, "cannot create " + points_dir.string() + " (" + ec.message() + ")");
+  }
   team.all(true);  // the directory is there before any rank looks
   // points.json: slug -> the inputs its run was made from, updated after each point commits. A point
   // counts as done only when its directory is complete and its recorded inputs equal this point's.
@@ -304,6 +331,22 @@ ScanOutcome scan(const ScanRequest& req) {
       manifest = json::object();  // unreadable: every point is redone
     }
   }
+
+  // A point already run from other inputs is replaced only with --force (a 3*10^5-particle point was
+  // once overwritten by a 1000-particle one): refused before anything runs.
+  if (!req.force)
+    for (const Point& p : points) {
+      const fs::path pdir = points_dir / p.slug;
+      if (!fs::exists(pdir / "summary.json")) continue;
+      const bool recorded = manifest.contains(p.slug) && manifest[p.slug].is_string();
+      const std::string before = recorded ? manifest[p.slug].get<std::string>() : std::string();
+      if (recorded && before == p.inputs) continue;
+      throw InputError(
+          "--out", "\"" + req.out.string() + "\"",
+          "point " + p.slug + " holds a run of other inputs (" +
+              (recorded ? first_difference(before, p.inputs) : std::string("not recorded in points.json")) +
+              "); pass --force to replace it, or choose another --out");
+    }
 
   ScanOutcome out;
   out.dir = dir;
