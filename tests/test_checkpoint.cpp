@@ -257,10 +257,20 @@ TEST(Pipeline, ResumeFromACheckpointWritesTheSameRun) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("leak.width"), std::string::npos) << e.what();
   }
+  // the checkpoint keeps the time spent; the resumed run reports it with its own (its rate was once ~2x too
+  // high: this part's seconds over the whole run's collisions). 1000 s stands in for a long first part.
+  TallyFile saved = read_tally_file(d.path / "cut.checkpoint");
+  EXPECT_GT(saved.wall_seconds, 0.0);
+  saved.wall_seconds = 1000;
+  write_tally_file(d.path / "cut.checkpoint", saved);
   SimulateRequest resume = request(d, "cut", {});
   resume.resume = Resume::yes;
   resume.run.threads = 1;
   simulate(resume);
+  const json how = json::parse(read_file(d.path / "cut" / "summary.json")).at("execution");
+  EXPECT_GE(how.at("wall_seconds").get<double>(), 1000.0);
+  EXPECT_LE(how.at("collisions_per_second").get<double>(),
+            json::parse(read_file(d.path / "cut" / "summary.json")).at("collisions").get<double>() / 1000.0);
   EXPECT_FALSE(fs::exists(d.path / "cut.checkpoint"));
   for (const char* f : {"survival.csv", "fc.csv", "escapes.csv"})
     EXPECT_TRUE(test::same_text(read_file(d.path / "cut" / f), read_file(d.path / "whole" / f))) << f;

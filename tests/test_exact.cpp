@@ -83,6 +83,24 @@ TEST(ExactRound, DirectedRoundingBracketsTheValue) {
   mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
 }
 
+// shadow --tiers mpfr:65536 failed: "cannot round (4+(2*(pi*1))) correctly"; the working precision
+// started above its cap. The perimeter rounds at 2^16 and 2^18 bits to MPFR's own correctly rounded value.
+TEST(ExactRound, RoundsAtTheLargestTierPrecisions) {
+  for (const mpfr_prec_t bits : {mpfr_prec_t(1) << 16, mpfr_prec_t(1) << 18}) {
+    mpfr_t got, want;
+    mpfr_init2(got, bits);
+    mpfr_init2(want, bits + 64);
+    ExactReal::parse("4+2*pi").round(got, MPFR_RNDN);
+    mpfr_const_pi(want, MPFR_RNDN);  // 4 + 2 pi at 64 more bits, then rounded once to `bits`
+    mpfr_mul_ui(want, want, 2, MPFR_RNDN);
+    mpfr_add_ui(want, want, 4, MPFR_RNDN);
+    mpfr_prec_round(want, bits, MPFR_RNDN);
+    EXPECT_TRUE(mpfr_equal_p(got, want)) << bits << " bits";
+    mpfr_clear(got);
+    mpfr_clear(want);
+  }
+}
+
 TEST(ExactLiouville, PartialSumsAndEnclosure) {
   EXPECT_EQ(rotleak::liouville_partial_sum(10, 3), mpq_class(110001, 1000000));  // 0.1 + 0.01 + 0.000001
   // The 5-term sum is within 2 * 10^-720 of liouville(10): both round alike at 300 bits.

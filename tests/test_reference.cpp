@@ -95,6 +95,18 @@ TEST(Verify, EveryTierFollowsTheReferenceWithinItsErrorModel) {
     }
 }
 
+// verify --tier mpfr:300 and mpfr:1024 printed worst = 6.9e10 and 6.1e228 beside "pass": the ratio left out
+// the reference's own radius, which is what a tier finer than the reference is compared within. Worst is in
+// units of the whole bound / 64, so a pass has worst <= 64 whatever the tier's precision.
+TEST(Verify, WorstIsWithinTheBoundForTiersFinerThanTheReference) {
+  for (const char* tier : {"double", "mpfr:300", "mpfr:1024"})
+    for (const RefCase& c : stored().cases) {
+      const TierCheck r = check_tier(c, tier, false);
+      EXPECT_TRUE(r.pass) << tier << " " << c.name;
+      EXPECT_LE(r.worst_ratio, 64.0) << tier << " " << c.name;
+    }
+}
+
 TEST(Verify, AChangeBelowDoublesResolutionFailsOnlyTheFinerTiers) {
   // t at collision 3 moved by ~1e-55 (a digit far beyond double's 16 and within mpfr:256's 77):
   // mpfr:256's tolerance there is 64 * 2^-256 * W_3 ~ 1e-74, double's ~1e-13.

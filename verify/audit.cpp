@@ -11,6 +11,7 @@
 
 #include "analysis/fits.hpp"
 #include "io/progress.hpp"
+#include "numeric/input.hpp"
 #include "sim/engine.hpp"
 #include "sim/simd_engine.hpp"
 #include "sim/survival.hpp"
@@ -313,7 +314,15 @@ void verdicts(const Scene& scene, AuditReport& rep) {
 
 }  // namespace
 
+void check_auditable(const Scene& scene) {
+  if (scene.splitting.on)
+    throw InputError("run.splitting", "true",
+                     "the audit follows single particles through every tier and runs unsplit ensembles: leave "
+                     "run.splitting out (the double tier's verdict holds for the split run too)");
+}
+
 AuditReport audit(const Scene& scene, const AuditOptions& opt) {
+  check_auditable(scene);
   const auto t0 = std::chrono::steady_clock::now();
   auto lap = t0;
   const auto since_lap = [&lap] {

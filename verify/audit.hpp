@@ -114,6 +114,9 @@ struct AuditReport {
   int ranks = 1;    ///< MPI processes that shared the audit
 };
 
+/// The audit follows single particles through every tier: a split scene (run.splitting = true) is
+/// refused as input (InputError naming run.splitting); its verdict for the double tier is the unsplit one's.
+void check_auditable(const Scene& scene);
 AuditReport audit(const Scene& scene, const AuditOptions& options);
 
 /// The checks on the scene's scalars alone (no simulation): phase resolution and omega's representation.

@@ -27,6 +27,7 @@ struct AuditArgs {
 
 int run_audit(const AuditArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
+  check_auditable(scene);
   if (a.sample < 4 || a.sample > 1000000)
     throw InputError("--sample", std::to_string(a.sample), "must be in [4, 10^6]");
   const std::uint64_t stats = parse_count("--stats-particles", a.stats, 1000);

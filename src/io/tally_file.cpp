@@ -62,7 +62,9 @@ std::string encode_tally_file(const TallyFile& f) {
                        {"weighted", t.weighted},
                        {"split", t.split},
                        {"records", f.records.size()}};
-  const std::string h = header.dump();
+  json with_time = header;
+  if (f.wall_seconds > 0) with_time["wall_seconds"] = f.wall_seconds;  // checkpoints only: not an input
+  const std::string h = with_time.dump();
   ByteWriter w;
   w.out = std::string(kMagic) + std::to_string(h.size()) + "\n" + h;
   w.words(t.escapes_per_bin);
@@ -120,6 +122,8 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     f.particles = h.at("particles").get<std::uint64_t>();
     f.first_id = h.at("first_id").get<std::uint64_t>();
     f.of = h.at("of").get<std::uint64_t>();
+    f.wall_seconds = h.value("wall_seconds", 0.0);
+    if (!(f.wall_seconds >= 0 && f.wall_seconds < 1e12)) throw std::runtime_error("wall_seconds out of range");
     for (const json& iv : h.at("done"))
       if (!f.done.insert(iv.at(0).get<std::uint64_t>(), iv.at(1).get<std::uint64_t>()))
         throw std::runtime_error("overlapping done blocks");

@@ -3,7 +3,8 @@
 // format for all three, so what one writes the others read.
 //
 // Layout: the line "rotleak-tallies 2", the header's length in bytes and a newline, the header (JSON:
-// the run's inputs as text, its ids, block size, the blocks done, the array sizes), then the arrays
+// the run's inputs as text, its ids, block size, the blocks done, the array sizes; a checkpoint's also
+// the seconds spent so far), then the arrays
 // as little-endian 64-bit words (counts; each exact sum as its lowest limb's index, its limb count
 // and its limbs; escape records), then an
 // FNV-1a 64 checksum of everything before it. The counts are integers and the sums fixed-point
@@ -28,6 +29,9 @@ struct TallyFile {
   IntervalSet done;      ///< blocks (of kBlockSize ids from first_id) whose particles are in the tally
   Tally tally;
   std::vector<EscapeRecord> records;  ///< by id - first_id; entries of blocks not done are zero
+  /// Checkpoints only: the seconds the run has spent on the blocks done, across resumes (0: not kept;
+  /// a resumed run's execution.wall_seconds adds it, so its rate counts the whole run's time).
+  double wall_seconds = 0;
 
   bool complete() const { return done == IntervalSet::range(0, block_count(particles)); }
 };

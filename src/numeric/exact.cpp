@@ -470,7 +470,9 @@ void ExactReal::round(mpfr_t out, mpfr_rnd_t rnd) const {
   mpfr_inits2(target, lo, hi, static_cast<mpfr_ptr>(nullptr));
   mpfr_init2(end, target);
   bool done = false;
-  for (mpfr_prec_t wp = target + 32; wp <= kMaxWorkingBits && !done; wp *= 2) {
+  // up to a few times the target: a tier of 65536 bits once started above kMaxWorkingBits and never tried
+  const mpfr_prec_t most = std::max(kMaxWorkingBits, 4 * target);
+  for (mpfr_prec_t wp = target + 32; wp <= most && !done; wp *= 2) {
     if (!enclose_node(*node_, box, wp)) continue;
     mpfr_set_prec(end, wp);
     mpfi_get_left(end, box);
