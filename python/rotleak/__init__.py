@@ -60,13 +60,21 @@ def _text(value):
     return str(value) if not isinstance(value, float) else repr(value)
 
 
+# the keys read exactly (docs/scenes.md): a float would pass its rounding off as the value meant
+_EXACT_KEYS = ("stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega")
+
+
 def _override(key, value):
+    given = key
     if "." not in key:
         section, _, name = key.partition("_")
         if section not in _SECTIONS or not name:
             raise ValueError("%s = %r: a scene override is section_key=value (sections: %s) or set=['section.key=value']"
                              % (key, value, ", ".join(_SECTIONS)))
         key = section + "." + name
+    if key in _EXACT_KEYS and (isinstance(value, (float, bool)) or not isinstance(value, (int, str, Fraction))):
+        raise ValueError("%s = %r: %s is exact; give a string (\"2/3\", \"ln(19)\"), an int or a Fraction, not a %s "
+                         "(its value is a nearby binary fraction)" % (given, value, key, type(value).__name__))
     return "%s=%s" % (key, _text(value))
 
 
@@ -81,6 +89,13 @@ def simulate(scene, particles=None, threads=0, progress=None, set=(), **override
     Ctrl-C stops it between blocks (KeyboardInterrupt). Bad input raises ValueError naming the key."""
     if isinstance(set, str):
         set = [set]
+    if not isinstance(set, (list, tuple)) or not all(isinstance(x, str) for x in set):
+        raise ValueError("set = %r: must be a list of texts 'section.key=value'" % (set,))
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise ValueError("threads = %r: must be an integer >= 0 (0: all cores)" % (threads,))
+    if progress is not None and not callable(progress):
+        raise ValueError("progress = %r: must be None or a function progress(done, total, collisions, final)"
+                         % (progress,))
     texts = list(set) + [_override(k, v) for k, v in overrides.items()]
     if particles is not None:
         n = _particle_count(particles)
@@ -94,11 +109,14 @@ def simulate(scene, particles=None, threads=0, progress=None, set=(), **override
 def _particle_count(value):
     """An int, or a text "1e6" / "1000000" that is an exact integer >= 1."""
     try:
+        if isinstance(value, bool):  # True is the int 1: not a count anyone means
+            raise ValueError(value)
         n = Fraction(str(value)) if not isinstance(value, int) else Fraction(value)
     except (ValueError, ZeroDivisionError):
         n = None
     if n is None or n.denominator != 1 or n < 1:
-        raise ValueError("particles = %r: must be an integer >= 1 (1000000, 10**6 or \"1e6\")" % (value,))
+        raise ValueError("particles = %r: must be an integer >= 1 (1000000, 10**6 or \"1e6\"; not a bool)"
+                         % (value,))
     return int(n)
 
 

@@ -11,7 +11,9 @@ Both refuse, with one line that says why, a directory that is not a complete run
 schema. pandas is imported only when a table is asked for."""
 import io
 import json
+import math
 import os
+import re
 import tomllib
 
 SCHEMA = 1  # summary.json's and scan.json's "schema" this reader understands
@@ -39,6 +41,33 @@ def _check_schema(doc, what, where):
         raise RotleakError("%s: %s has schema %r; this rotleak package reads schema %d" % (where, what, schema, SCHEMA))
 
 
+_FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?|-?inf|nan")
+_COUNT = re.compile(r"[0-9]+")
+
+
+def check_survival_csv(text, t_max=None, survival_dt=None):
+    """Raises RotleakError with the reason ``rotleak fit`` gives (src/io/run_output.cpp, read_survival_csv,
+    word for word) when survival.csv is damaged: its header, a row that ends the file (truncated), a row
+    that is not t,survivors,P,P_err (decimals as rotleak writes them), or fewer or more rows than the
+    grid t = k * survival_dt up to t_max."""
+    header = "t,survivors,P,P_err\n"
+    if not text.startswith(header):
+        raise RotleakError("survival.csv: expected the header t,survivors,P,P_err")
+    if not text.endswith("\n"):
+        raise RotleakError("survival.csv: ends inside a row (truncated)")
+    rows = text[len(header):-1].split("\n") if len(text) > len(header) else []
+    for line, row in enumerate(rows, start=2):
+        f = row.split(",")
+        if len(f) != 4 or not (_FLOAT.fullmatch(f[0]) and _COUNT.fullmatch(f[1]) and _FLOAT.fullmatch(f[2])
+                               and _FLOAT.fullmatch(f[3])) or int(f[1]) >= 2 ** 64:
+            raise RotleakError("survival.csv line %d: expected t,survivors,P,P_err" % line)
+    if t_max is not None and survival_dt is not None:
+        grid = math.ceil(t_max / survival_dt) + 1
+        if len(rows) != grid:
+            raise RotleakError("survival.csv: %d rows where the grid t = k * survival_dt up to t_max has %d "
+                               "(truncated or of another scene)" % (len(rows), grid))
+
+
 class Run:
     """One run: its summary, its scene and its tables (DataFrames built on first use)."""
 
@@ -50,11 +79,24 @@ class Run:
         if "summary.json" not in self._files:
             raise RotleakError("%s: not a complete run directory (no summary.json: a run directory appears only "
                                "when complete; an interrupted one leaves DIR.checkpoint for --resume)" % where)
-        self.summary = json.loads(self._files["summary.json"])
-        if self.summary.get("command") != "simulate":
-            raise RotleakError("%s: summary.json is not a simulate run's (command = %r)"
-                               % (where, self.summary.get("command")))
+        try:
+            self.summary = json.loads(self._files["summary.json"])
+        except ValueError:
+            raise RotleakError("%s: summary.json: not valid JSON (damaged or truncated)" % where) from None
+        if not isinstance(self.summary, dict) or self.summary.get("command") != "simulate" or not isinstance(
+                self.summary.get("scene"), dict):
+            raise RotleakError("%s: summary.json: not a simulate run's summary" % where)
         _check_schema(self.summary, "summary.json", where)
+        if "survival.csv" in self._files:
+            try:
+                sc = self.summary["scene"]
+                t_max, dt = float(sc["run"]["t_max"]), float(sc["observe"]["survival_dt"])
+            except (KeyError, TypeError, ValueError):
+                raise RotleakError("%s: summary.json: not a simulate run's summary" % where) from None
+            try:
+                check_survival_csv(self._files["survival.csv"], t_max, dt)
+            except RotleakError as e:
+                raise RotleakError("%s: %s" % (where, e)) from None
         missing = [f for f in self.summary.get("files", []) if f not in self._files and not f.endswith(".png")]
         if missing:
             raise RotleakError("%s: incomplete run: summary.json lists %s, which %s missing"
@@ -77,7 +119,12 @@ class Run:
         if name not in self._files:
             return None
         if name not in self._tables:
-            self._tables[name] = _pandas().read_csv(io.StringIO(self._files[name]), **kw)
+            pandas = _pandas()
+            try:
+                self._tables[name] = pandas.read_csv(io.StringIO(self._files[name]), **kw)
+            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
+                raise RotleakError("%s: %s: not a table rotleak wrote (%s)"
+                                   % (self.path or "rotleak.simulate", name, str(e).splitlines()[0])) from None
         return self._tables[name]
 
     @property
@@ -148,7 +195,12 @@ class Scan:
         if not os.path.exists(doc_path):
             raise RotleakError("%s: not a complete scan directory (no scan.json)" % path)
         with open(doc_path, encoding="utf-8") as f:
-            self.document = json.load(f)
+            try:
+                self.document = json.load(f)
+            except ValueError:
+                raise RotleakError("%s: scan.json: not valid JSON (damaged or truncated)" % path) from None
+        if not isinstance(self.document, dict):
+            raise RotleakError("%s: scan.json: not a scan's document" % path)
         if self.document.get("command") != "scan":
             raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))
         _check_schema(self.document, "scan.json", path)
@@ -168,11 +220,18 @@ class Scan:
         """table.csv: the swept keys (exact texts, as strings), the fits, the regime, the number theory."""
         if self._table is None:
             text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation"]
-            self._table = _pandas().read_csv(os.path.join(self.path, "table.csv"),
-                                             dtype={c: str for c in text_columns}, keep_default_na=False,
-                                             na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
-                                                                          "alpha_bound", "tail_end", "tau1", "tau2",
-                                                                          "best_error"]})
+            pandas = _pandas()
+            try:
+                self._table = pandas.read_csv(os.path.join(self.path, "table.csv"),
+                                              dtype={c: str for c in text_columns}, keep_default_na=False,
+                                              na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
+                                                                           "alpha_bound", "tail_end", "tau1", "tau2",
+                                                                           "best_error"]})
+            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
+                raise RotleakError("%s: table.csv: not a table rotleak wrote (%s)"
+                                   % (self.path, str(e).splitlines()[0])) from None
+            if list(self._table.columns[:len(self.keys)]) != self.keys or len(self._table) != len(self.point_names):
+                raise RotleakError("%s: table.csv: not the table of scan.json (other columns or rows)" % self.path)
         return self._table
 
     @property

@@ -3,7 +3,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string_view>
 
 #include "io/scene_file.hpp"
 #include "io/text.hpp"
@@ -27,6 +31,35 @@ std::string survival_csv(const SurvivalCurve& curve) {
   return out;
 }
 
+namespace {
+
+/// A decimal field as rotleak writes it: -?digits[.digits][e[+-]digits], or inf, -inf, nan. The Python
+/// reader (python/rotleak/readers.py) checks the same grammar, so both refuse the same damage.
+bool decimal_field(std::string_view f, bool integer) {
+  if (!integer && (f == "inf" || f == "-inf" || f == "nan")) return true;
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t from = i;
+    while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i;
+    return i > from;
+  };
+  if (integer) return digits() && i == f.size();
+  if (i < f.size() && f[i] == '-') ++i;
+  if (!digits()) return false;
+  if (i < f.size() && f[i] == '.') {
+    ++i;
+    if (!digits()) return false;
+  }
+  if (i < f.size() && (f[i] == 'e' || f[i] == 'E')) {
+    ++i;
+    if (i < f.size() && (f[i] == '+' || f[i] == '-')) ++i;
+    if (!digits()) return false;
+  }
+  return i == f.size();
+}
+
+}  // namespace
+
 SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   SurvivalCurve c;
   c.particles = scene.particles;
@@ -34,18 +67,37 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   c.weighted = scene.sampling.weighted() || c.lines;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  std::size_t pos = text.find('\n');
-  if (pos == std::string::npos || text.compare(0, pos, "t,survivors,P,P_err") != 0)
+  const std::string header = "t,survivors,P,P_err\n";
+  if (text.compare(0, header.size(), header) != 0)
     throw std::runtime_error("survival.csv: expected the header t,survivors,P,P_err");
+  if (text.back() != '\n') throw std::runtime_error("survival.csv: ends inside a row (truncated)");
   std::size_t line = 1;
-  while (++pos < text.size()) {
+  for (std::size_t pos = header.size(); pos < text.size();) {
     const std::size_t end = text.find('\n', pos);
-    const std::string row = text.substr(pos, end - pos);
+    const std::string_view row(text.data() + pos, end - pos);
+    pos = end + 1;
     ++line;
+    std::string_view field[4];
+    std::size_t from = 0, count = 0;
+    for (std::size_t i = 0; i <= row.size() && count < 5; ++i)
+      if (i == row.size() || row[i] == ',') {
+        if (count < 4) field[count] = row.substr(from, i - from);
+        ++count;
+        from = i + 1;
+      }
     double t = 0, P = 0, err = 0;
     unsigned long long k = 0;
-    if (std::sscanf(row.c_str(), "%lf,%llu,%lf,%lf", &t, &k, &P, &err) != 4)
+    const auto number = [](std::string_view f, double& x) {
+      const std::string s(f);  // strtod: inf and nan as written; the grammar was checked first
+      x = std::strtod(s.c_str(), nullptr);
+    };
+    if (count != 4 || !decimal_field(field[0], false) || !decimal_field(field[1], true) ||
+        !decimal_field(field[2], false) || !decimal_field(field[3], false) ||
+        std::from_chars(field[1].data(), field[1].data() + field[1].size(), k).ec != std::errc())
       throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
+    number(field[0], t);
+    number(field[2], P);
+    number(field[3], err);
     c.t.push_back(t);
     c.survivors.push_back(k);
     if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
@@ -57,9 +109,12 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
       c.P_w.push_back(P);
       c.Q.push_back(err * err * n + P * P);  // P_err = sqrt((Q - P^2) / N)
     }
-    if (end == std::string::npos) break;
-    pos = end;
   }
+  const std::size_t grid = scene.survival_bins() + 1;
+  if (c.t.size() != grid)
+    throw std::runtime_error("survival.csv: " + std::to_string(c.t.size()) +
+                             " rows where the grid t = k * survival_dt up to t_max has " + std::to_string(grid) +
+                             " (truncated or of another scene)");
   return c;
 }
 

@@ -114,6 +114,67 @@ class Package(unittest.TestCase):
         with self.assertRaisesRegex(rotleak.RotleakError, "no scan.json"):
             rotleak.read_scan(self.run_dir)
 
+    def test_read_run_refuses_what_fit_refuses_with_the_same_reason(self):
+        # damage a user met: a survival.csv cut mid-row (it loaded as 478 rows with a last P of 0.0) or at a
+        # row's end, a garbage row (t became object dtype), an empty file (pandas' EmptyDataError), a cut
+        # summary.json (a raw JSONDecodeError); rotleak plot printed an IndexError on them
+        with open(os.path.join(self.run_dir, "survival.csv")) as f:
+            good = f.read()
+        with open(os.path.join(self.run_dir, "summary.json")) as f:
+            summary = f.read()
+        lines = good.splitlines(keepends=True)
+        damages = {
+            "cut mid-row": ("survival.csv", good[:len(good) // 3]),
+            "cut at a row's end": ("survival.csv", "".join(lines[:479])),
+            "garbage row": ("survival.csv", "".join(lines[:99] + ["abc,def,1,2\n"] + lines[100:])),
+            "a field too many": ("survival.csv", "".join(lines[:50] + [lines[50].rstrip("\n") + ",7\n"] + lines[51:])),
+            "empty": ("survival.csv", ""),
+            "summary cut": ("summary.json", summary[:300]),
+            "summary not an object": ("summary.json", "[1, 2]\n"),
+        }
+        for what, (name, text) in damages.items():
+            with self.subTest(what):
+                bad = os.path.join(self.tmp, "damaged")
+                shutil.rmtree(bad, ignore_errors=True)
+                shutil.copytree(self.run_dir, bad)
+                with open(os.path.join(bad, name), "w") as f:
+                    f.write(text)
+                fit = subprocess.run([BIN, "fit", bad], capture_output=True, text=True)
+                self.assertEqual(fit.returncode, 2, fit.stderr)
+                prefix = 'rotleak: error: DIR = "%s": ' % bad
+                self.assertTrue(fit.stderr.startswith(prefix), fit.stderr)
+                reason = fit.stderr[len(prefix):].strip()
+                with self.assertRaises(rotleak.RotleakError) as caught:
+                    rotleak.read_run(bad).survival
+                self.assertEqual(str(caught.exception), "%s: %s" % (bad, reason))
+                plot = subprocess.run([BIN, "plot", bad], capture_output=True, text=True)
+                self.assertEqual(plot.returncode, 2, plot.stderr)
+                self.assertEqual(plot.stderr.strip(), "rotleak.plot: cannot draw %s: %s" % (bad, reason))
+                self.assertNotIn("Traceback", plot.stderr)
+        shutil.rmtree(bad)
+
+    def test_python_arguments_of_the_wrong_type_are_refused_by_name(self):
+        # each once ran something other than what was written, or dumped a pybind11 signature
+        cases = [
+            (dict(leak_omega=2 / 3), r"^leak_omega = 0\.6666666666666666: leak\.omega is exact"),
+            (dict(stadium_r=1.0), r"^stadium_r = 1\.0: stadium\.r is exact"),
+            (dict(particles=True), r"^particles = True: must be an integer >= 1"),
+            (dict(threads=2.7), r"^threads = 2\.7: must be an integer >= 0"),
+            (dict(threads="two"), r"^threads = 'two': must be an integer >= 0"),
+            (dict(progress=5), r"^progress = 5: must be None or a function"),
+            (dict(set=[1, 2]), r"^set = \[1, 2\]: must be a list of texts"),
+        ]
+        for kw, message in cases:
+            with self.subTest(kw=repr(kw)):
+                with self.assertRaisesRegex(ValueError, message):
+                    rotleak.simulate(QUICK, **kw)
+        # the serious one: a split run with a default split_every above t_max killed the interpreter
+        with self.assertRaisesRegex(ValueError, r"^run\.split_every = 151\.2\d* \(the default\)"):
+            rotleak.simulate(QUICK, run_splitting=True, ensemble_sampling="mupo", run_t_max=100,
+                             fit_kappa_window=[0, 50])
+        with self.assertRaisesRegex(ValueError, r"ensemble\.sampling = \"mupo\""):
+            rotleak.simulate(QUICK, run_splitting=True)
+
     def test_read_scan_keeps_exact_values_as_text(self):
         scan = rotleak.read_scan(self.scan_dir)
         t = scan.table

@@ -75,8 +75,15 @@ def kind_of(directory):
     path = os.path.join(directory, "summary.json")
     if not os.path.exists(path):
         return None
+    from ..readers import RotleakError
+
     with open(path) as f:
-        doc = json.load(f)
+        try:
+            doc = json.load(f)
+        except ValueError:
+            raise RotleakError("%s: summary.json: not valid JSON (damaged or truncated)" % directory) from None
+    if not isinstance(doc, dict):
+        raise RotleakError("%s: summary.json: not a simulate run's summary" % directory)
     if doc.get("command") == "simulate":
         return "run"
     if "truth" in doc:
@@ -104,8 +111,13 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 1:
         sys.exit("usage: python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
+    from ..readers import RotleakError
+
     try:
         drew = draw(argv[0])
+    except RotleakError as e:  # a damaged directory is bad input: its reason, exit 2 (as rotleak fit)
+        print("rotleak.plot: cannot draw %s" % e, file=sys.stderr)
+        sys.exit(2)
     except Exception as e:  # noqa: BLE001 -- every failure of a plot is reported the same way
         sys.exit("rotleak.plot: cannot draw %s: %s: %s" % (argv[0], type(e).__name__, e))
     print("drew " + ", ".join(drew))

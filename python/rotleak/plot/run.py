@@ -1,7 +1,6 @@
 """A run directory (``rotleak simulate``): survival.png (P(t) log-log and semi-log with the error
 band, the kappa fit and the alpha crossing) and, when fc.csv exists, fc.png (collision density per
 time window)."""
-import json
 import math
 import os
 
@@ -83,9 +82,11 @@ def density(run, summary):
 
 
 def draw(run):
-    """Draws survival.png (and fc.png); returns their paths."""
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
+    """Draws survival.png (and fc.png); returns their paths. A damaged run is refused first, with the
+    reason rotleak fit gives (readers.RotleakError)."""
+    from ..readers import read_run
+
+    summary = read_run(run).summary
     survival(run, summary)
     drew = ["survival.png"] + (["fc.png"] if density(run, summary) else [])
     return [os.path.join(run, d) for d in drew]

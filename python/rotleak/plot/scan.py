@@ -3,7 +3,6 @@ run has them), and per swept key scan_<key>.png (kappa and alpha against the key
 downward arrows, log axes where the key spans decades) with the regime of each point as a coloured
 strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
 scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L."""
-import json
 import os
 
 import matplotlib.pyplot as plt
@@ -125,9 +124,12 @@ def against_covering(scan_dir, doc):
 
 
 def draw(scan_dir):
-    """Draws the scan's pictures; returns their paths."""
-    with open(os.path.join(scan_dir, "scan.json")) as f:
-        doc = json.load(f)
+    """Draws the scan's pictures; returns their paths (a damaged scan is refused first: RotleakError)."""
+    from ..readers import read_scan
+
+    scan = read_scan(scan_dir)
+    scan.table  # noqa: B018 -- read and checked against scan.json before anything is drawn
+    doc = scan.document
     curves(scan_dir, doc)
     drew = ["scan_survival.png"]
     for axis in doc["axes"]:
