@@ -118,6 +118,21 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
   if (!alpha.value) {
     k.note = "no significant crossing of the exponential fit: no tail";
     k.regime = regime(k.tail);
+    // "no tail" holds only above alpha's bound: at 2*10^5 particles omega = 2/3 was called mid with a
+    // bound above the tail 10^6 particles resolve (1.9e-4). The regime is claimed only when the bound
+    // lies below the weakest tail it is meant to exclude (fit.tail_floor); the bound falls about as 1/N.
+    if (rotating && (!alpha.upper_bound || *alpha.upper_bound >= scene.tail_floor)) {
+      k.regime = "undecided";
+      const double scale = alpha.upper_bound ? std::max(1.0, *alpha.upper_bound / scene.tail_floor) : 100.0;
+      k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
+      char note[400];
+      std::snprintf(note, sizeof note,
+                    "no tail seen, but only alpha < %.3g is excluded, not a tail down to fit.tail_floor = %.3g: "
+                    "undecided between mid and high; about %.3g particles would decide it",
+                    alpha.upper_bound ? *alpha.upper_bound : 1.0, scene.tail_floor,
+                    static_cast<double>(*k.resolve_particles));
+      k.note = note;
+    }
     return k;
   }
   const double tc = alpha.crossing_time, min_eff = static_cast<double>(alpha.min_survivors);

@@ -59,9 +59,11 @@ struct TailClass {
 ///   probability 0.25%), or the local exponent over the last resolved stretch exceeds 6 by 3
 ///   standard errors;
 /// - persistent: a significant crossing and neither of those.
-/// regime: stationary for omega = 0, else low (transient), mid (none), high (persistent), and
-/// undecided for a persistent tail when the leak's leading edge leaves the lower straight edge (tau2)
-/// only after the last survivor: its removal could not have been seen.
+/// regime: stationary for omega = 0, else low (transient), mid (none, with alpha's upper bound below
+/// scene.tail_floor), high (persistent), and undecided for an unresolved tail, for none with a bound
+/// at or above tail_floor (a tail above the floor could hide below the bound; resolve_particles: about
+/// N bound / tail_floor), and for a persistent tail when the leak's leading edge leaves the lower
+/// straight edge (tau2) only after the last survivor: its removal could not have been seen.
 /// `fit`: the exponential fit alpha was read against (null: an unresolved tail is not looked for).
 TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
                         const KappaFit* fit = nullptr);

@@ -4,6 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config clang-format git
+  clang libclang-rt-14-dev
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
   libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
   python3 python3-dev python3-matplotlib python3-numpy python3-pandas python3-yaml pybind11-dev

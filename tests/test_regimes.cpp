@@ -65,6 +65,29 @@ TEST(ClassifyTail, PureExponentialHasNone) {
   EXPECT_EQ(k.regime, "mid");
 }
 
+// "No tail" holds only above alpha's bound: at 2*10^5 particles a point was called mid with a bound above
+// the tail 10^6 particles then resolved. 2*10^4 particles of a pure exponential bound alpha only above
+// fit.tail_floor: undecided, naming about the particles that would decide it; a floor above the bound
+// decides mid.
+TEST(ClassifyTail, NoTailAboveABoundOverTheFloorIsUndecided) {
+  std::mt19937_64 gen(11);
+  const SurvivalCurve c = sample_curve(20000, 20000, Mixture{0}, gen);
+  const KappaFit fit = fit_kappa(c, 0, 300);
+  const AlphaResult alpha = find_alpha(c, fit);
+  ASSERT_TRUE(alpha.upper_bound.has_value());
+  Scene s = scene("1e-4");
+  ASSERT_GT(*alpha.upper_bound, s.tail_floor);
+  const TailClass open = classify_tail(s, c, alpha);
+  EXPECT_EQ(open.tail, "none");
+  EXPECT_EQ(open.regime, "undecided");
+  ASSERT_TRUE(open.resolve_particles.has_value());
+  EXPECT_EQ(*open.resolve_particles, static_cast<std::uint64_t>(std::ceil(20000 * *alpha.upper_bound / s.tail_floor)));
+  EXPECT_NE(open.note.find("would decide it"), std::string::npos) << open.note;
+  s.tail_floor = 2 * *alpha.upper_bound;
+  EXPECT_EQ(classify_tail(s, c, alpha).regime, "mid");
+  EXPECT_EQ(classify_tail(scene("0"), c, alpha).regime, "stationary");
+}
+
 TEST(ClassifyTail, AnAlgebraicTailIsPersistent) {
   std::mt19937_64 gen(2);
   const TailClass k = classify(sample_curve(1000000, 20000, Mixture{5e-4}, gen));

@@ -101,7 +101,7 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
 
   // One thread, and then as if killed during point 2 (its directory never committed) and with point 3
-  // run from other inputs (its recorded inputs differ): only those two run again.
+  // run from other inputs (its recorded inputs differ): refused without --force; the missing one alone runs again.
   const fs::path part = base / "part";
   scan(request(part, 1));
   EXPECT_TRUE(test::same_text(read(part / "table.csv"), table)) << "thread count changed the table";
@@ -113,9 +113,20 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   std::string edited = manifest;
   edited.replace(manifest.find("particles = 30000", at), 17, "particles = 30001");
   std::ofstream(part / "points.json") << edited;
+  // a point holding a run of other inputs is not replaced without --force: refused before anything runs
+  try {
+    scan(request(part, 2));
+    ADD_FAILURE() << "a point of other inputs was replaced without --force";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(p2 + " holds a run of other inputs (ensemble.particles = 30001 there"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(part / "points" / p1));
+  std::ofstream(part / "points.json") << manifest;  // the record as it was: only the missing point runs
   const ScanOutcome resumed = scan(request(part, 2));
-  EXPECT_EQ(resumed.ran, 2u);
-  EXPECT_EQ(resumed.skipped, 2u);
+  EXPECT_EQ(resumed.ran, 1u);
+  EXPECT_EQ(resumed.skipped, 3u);
   EXPECT_TRUE(test::same_text(read(part / "table.csv"), table));
 
   ScanRequest force = request(part, 2);
@@ -197,7 +208,9 @@ TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
   const fs::path& base = scratch.path;
   RegimesRequest r;
   r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
-  r.overrides = {"ensemble.particles=100000", "ensemble.sampling=mupo", "run.fast_forward=true", "run.t_max=8000"};
+  // 10^5 mupo particles bound a missing tail near 1.2e-4 (6 max_weight / N): a floor of 3e-4 lets them decide
+  r.overrides = {"ensemble.particles=100000", "ensemble.sampling=mupo", "run.fast_forward=true", "run.t_max=8000",
+                 "fit.tail_floor=3e-4"};
   r.coarse = "1e-4,1e-3";
   r.steps = 1;
   r.out = base;
@@ -220,6 +233,16 @@ TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
   running = 0;
   EXPECT_EQ(find_regimes(r).at("boundaries"), doc.at("boundaries"));
   EXPECT_EQ(running, 0) << "a resumed search ran a probe again";
+  // At the default floor (1e-4) the same probes cannot tell mid from high (2*10^5 particles once placed
+  // mid/high at 7e-2 against 1e-2 at 10^6): the boundary is not reported as found, and the reason names
+  // the undecided probes and about the particles that would decide them. Refitted, not simulated again.
+  r.overrides.pop_back();
+  const json coarse = find_regimes(r);
+  EXPECT_EQ(running, 0);
+  EXPECT_TRUE(coarse.at("boundaries").at("low_mid").is_null()) << coarse.dump(1);
+  const std::string why = coarse.at("reasons").at("low_mid");
+  EXPECT_NE(why.find("undecided at this resolution"), std::string::npos) << why;
+  EXPECT_NE(why.find("omega = 1e-3"), std::string::npos) << why;
   fs::remove_all(base);
 }
 

@@ -91,8 +91,10 @@ std::string shadow_text(const ShadowResult& r) {
   appendf(out, "%-12s %10s %12s %10s %10s %8s %11s %9s\n", "tier", "horizon", "horizon t", "decision", "escape",
           "exact", "ln-growth/k", "seconds");
   for (const auto& t : r.tiers) {
+    char when[32] = "-";  // six digits in the table (summary.json and shadow.csv keep every digit)
+    if (t.horizon) std::snprintf(when, sizeof when, "%.6g", t.horizon_time);
     appendf(out, "%-12s %10s %12s %10s %10s %8s %11.3g %9.3g%s\n", t.name.c_str(),
-            t.horizon ? std::to_string(*t.horizon).c_str() : "-", t.horizon ? shortest(t.horizon_time).c_str() : "-",
+            t.horizon ? std::to_string(*t.horizon).c_str() : "-", when,
             t.decision ? std::to_string(*t.decision).c_str() : "-", t.escape ? std::to_string(*t.escape).c_str() : "-",
             t.escape_exact ? "yes" : "no", t.growth_per_collision, t.seconds,
             t.stopped.empty() ? "" : ("  (" + t.stopped + ")").c_str());

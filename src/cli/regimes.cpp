@@ -27,6 +27,9 @@ std::string interval(const json& b) {
                 b.at("lo_omega").get<std::string>().c_str(), b.at("hi_omega").get<std::string>().c_str(),
                 b.at("lo_regime").get<std::string>().c_str(), b.at("hi_regime").get<std::string>().c_str(),
                 static_cast<unsigned long long>(b.at("particles").get<std::uint64_t>()));
+  // a boundary its own resolution cannot place is flagged, never printed as if measured
+  if (b.contains("unplaced") && b.at("unplaced").is_string())
+    return std::string("NOT PLACED at this resolution: ") + b.at("unplaced").get<std::string>();
   return buf;
 }
 

@@ -39,8 +39,8 @@ int run_scan(ScanArgs a) {
   if (a.json_out)
     std::cout << out.document.dump(2) << "\n";
   else
-    std::printf("%s\n%zu points (%zu run, %zu already complete); wrote %s/table.csv and scan.json\n", out.csv.c_str(),
-                out.points, out.ran, out.skipped, out.dir.c_str());
+    std::printf("%s\n%zu points (%zu run, %zu already complete); wrote %s/table.csv and scan.json\n",
+                scan_table_text(out.document).c_str(), out.points, out.ran, out.skipped, out.dir.c_str());
   return 0;
 }
 

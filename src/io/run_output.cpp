@@ -11,6 +11,7 @@
 
 #include "io/scene_file.hpp"
 #include "io/text.hpp"
+#include "numeric/input.hpp"
 #include "version.hpp"
 
 namespace rotleak {
@@ -353,8 +354,11 @@ std::string summary_text(const RunSummary& r) {
             *r.leak_times.tau2);
   out += "\n";
   if (r.tail_class.resolve_particles)
-    appendf(out, "        a tail is seen but alpha is not resolved: about %.2g particles would resolve it (%s)\n",
+    appendf(out, "        %s: about %.2g particles would %s (%s)\n",
+            r.tail_class.tail == "none" ? "undecided, no tail seen above the bound only"
+                                        : "a tail is seen but alpha is not resolved",
             static_cast<double>(*r.tail_class.resolve_particles),
+            r.tail_class.tail == "none" ? "decide it" : "resolve it",
             (to_string(r.scene.sampling.kind) + " sampling").c_str());
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
@@ -392,6 +396,58 @@ json write_run(RunDirectory& dir, const RunSummary& r, const std::vector<std::st
     write_file_atomic(dir.file(name), text);
   dir.commit();
   return std::move(t.summary);
+}
+
+}  // namespace rotleak
+
+namespace rotleak {
+
+json read_run_summary(const std::filesystem::path& dir, const std::string& text) {
+  const std::string shown = "\"" + dir.string() + "\"";
+  json s;
+  try {
+    s = json::parse(text);
+  } catch (const json::exception&) {
+    throw InputError("DIR", shown, "summary.json: not valid JSON (damaged or truncated)");
+  }
+  if (!s.is_object() || !s.contains("command") || s["command"] != "simulate" || !s.contains("scene") ||
+      !s["scene"].is_object())
+    throw InputError("DIR", shown, "summary.json: not a simulate run's summary");
+  return s;
+}
+
+json read_scan_document(const std::filesystem::path& dir, const std::string& text) {
+  const std::string shown = "\"" + dir.string() + "\"";
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception&) {
+    throw InputError("DIR", shown, "scan.json: not valid JSON (damaged or truncated)");
+  }
+  const auto bad = [&] { return InputError("DIR", shown, "scan.json: not a scan's document"); };
+  if (!doc.is_object() || !doc.contains("command") || doc["command"] != "scan" || !doc.contains("axes") ||
+      !doc["axes"].is_array() || !doc.contains("points") || !doc["points"].is_array())
+    throw bad();
+  for (const json& a : doc["axes"]) {
+    if (!a.is_object() || !a.contains("key") || !a["key"].is_string() || !a.contains("values") ||
+        !a["values"].is_array())
+      throw bad();
+    for (const json& v : a["values"])
+      if (!v.is_string()) throw bad();
+  }
+  for (const json& p : doc["points"]) {
+    if (!p.is_object() || !p.contains("point") || !p["point"].is_string() || !p.contains("values") ||
+        !p["values"].is_object() || !p.contains("number_theory"))
+      throw bad();
+    const std::string name = p["point"].get<std::string>();
+    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos) throw bad();
+    for (const json& a : doc["axes"]) {
+      const std::string key = a["key"].get<std::string>();
+      if (!p["values"].contains(key) || !p["values"][key].is_string()) throw bad();
+    }
+  }
+  if (doc.contains("fit_overrides") && !doc["fit_overrides"].is_array()) throw bad();
+  return doc;
 }
 
 }  // namespace rotleak

@@ -3,6 +3,7 @@
 // summary.json schema is documented in docs/output.md.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,14 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
 /// A survival.csv back as a curve of the scene that wrote it (weighted runs: the second moment from
 /// P_err, Q = N P_err^2 + P^2). Throws std::runtime_error naming the line on a malformed row.
 SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene);
+
+/// A run's summary.json text, checked (valid JSON, an object of a simulate run with its scene);
+/// otherwise an InputError (key DIR, value `dir`) with the reason the Python reader (rotleak.read_run)
+/// gives.
+json read_run_summary(const std::filesystem::path& dir, const std::string& text);
+/// A scan's scan.json text, checked: an object of a scan whose axes hold a key and text values and whose
+/// points name a directory under points/ with the swept values; otherwise an InputError (key DIR).
+json read_scan_document(const std::filesystem::path& dir, const std::string& text);
 /// The fit objects of summary.json (kappa, alpha, tail_exponent, tail, rate_jumps, predicted), set in
 /// place: `rotleak fit` replaces them in a saved summary.json keeping every other field.
 void put_fits(json& s, const RunSummary& r);

@@ -26,7 +26,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
-    {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors"}},
+    {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors", "tail_floor"}},
 };
 const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
@@ -396,6 +396,9 @@ Scene build(const toml::table& root, const std::string& source) {
       "fit", "alpha_sigma", s.alpha_sigma, [](double v) { return v >= 1 && v <= 10; },
       "must be in [1, 10] standard errors");
   s.min_survivors = in.count("fit", "min_survivors", s.min_survivors, 1, "must be an integer >= 1");
+  s.tail_floor = in.number(
+      "fit", "tail_floor", s.tail_floor, [](double v) { return v > 0 && v < 1; },
+      "must be in (0, 1): the weakest tail weight a regime claims to exclude");
   if (s.splitting.on && s.tier != Tier::double_)
     throw InputError("run.splitting", "true",
                      "runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
@@ -473,7 +476,8 @@ json scene_json(const Scene& s) {
   j["fit"] = {{"kappa_window", {s.kappa_window.from, s.kappa_window.to}},
               {"alpha_factor", s.alpha_factor},
               {"alpha_sigma", s.alpha_sigma},
-              {"min_survivors", s.min_survivors}};
+              {"min_survivors", s.min_survivors},
+              {"tail_floor", s.tail_floor}};
   return j;
 }
 
@@ -515,6 +519,7 @@ std::string simulation_inputs(const Scene& scene, const std::string& engine) {
   physics.min_survivors = 0;
   json doc = scene_json(physics);
   doc["run"].erase("checkpoint_seconds");
+  doc["fit"].erase("tail_floor");  // added after the others: the inputs of earlier runs and scans stay as they were
   return scene_to_toml(doc) + "# engine = " + engine + "\n";
 }
 

@@ -20,7 +20,21 @@ class InputError : public std::runtime_error {
  private:
   /// A text longer than `limit` bytes is quoted by a prefix and its length: the message stays one readable
   /// line even when it quotes an exact value of 100 KB.
-  static std::string quoted_prefix(const std::string& value, std::size_t limit) {
+  static std::string quoted_prefix(const std::string& raw, std::size_t limit) {
+    // control characters as escapes: a value holding a newline (a TOML string) keeps the message one line
+    std::string value;
+    for (const char ch : raw) {
+      const auto u = static_cast<unsigned char>(ch);
+      if (u >= 0x20 && u != 0x7f) {
+        value += ch;
+      } else {
+        static const char* hex = "0123456789abcdef";
+        value += ch == '\n'   ? std::string("\\n")
+                 : ch == '\t' ? std::string("\\t")
+                 : ch == '\r' ? std::string("\\r")
+                              : std::string("\\x") + hex[u >> 4] + hex[u & 15];
+      }
+    }
     if (value.size() <= limit) return value;
     std::size_t cut = limit - 20;
     while (cut > 0 && (static_cast<unsigned char>(value[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character

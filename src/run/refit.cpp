@@ -20,39 +20,19 @@ void check_fit_overrides(const std::vector<std::string>& overrides) {
       throw InputError("--set", o, "only fit.* keys change without simulating (run simulate again for the others)");
 }
 
-namespace {
-
-/// A run's summary.json, or the reason it is not one: the same words as the Python reader's
-/// (python/rotleak/readers.py), which refuses what this refuses.
-json read_summary(const fs::path& dir, const std::string& text) {
-  const std::string shown = "\"" + dir.string() + "\"";
-  json s;
-  try {
-    s = json::parse(text);
-  } catch (const json::exception&) {
-    throw InputError("DIR", shown, "summary.json: not valid JSON (damaged or truncated)");
-  }
-  if (!s.is_object() || !s.contains("command") || s["command"] != "simulate" || !s.contains("scene") ||
-      !s["scene"].is_object())
-    throw InputError("DIR", shown, "summary.json: not a simulate run's summary");
-  return s;
-}
-
-}  // namespace
-
 Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides) {
   if (!fs::exists(dir / "summary.json") || !fs::exists(dir / "survival.csv"))
     throw InputError("DIR", "\"" + dir.string() + "\"",
                      "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
   Scene scene = load_scene((dir / "scene.toml").string(), overrides);
-  const json old = read_summary(dir, read_file(dir / "summary.json"));
+  const json old = read_run_summary(dir, read_file(dir / "summary.json"));
   scene.source = old.at("scene").value("source", scene.source);
   return scene;
 }
 
 json refit_run(const fs::path& dir, const Scene& scene) {
   const std::string old_text = read_file(dir / "summary.json");
-  json s = read_summary(dir, old_text);
+  json s = read_run_summary(dir, old_text);
   RunSummary r;
   r.scene = scene;
   try {
@@ -84,7 +64,7 @@ RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& override
     return out;
   }
   out.scan = true;
-  json doc = json::parse(read_file(dir / "scan.json"));
+  json doc = read_scan_document(dir, read_file(dir / "scan.json"));
   std::vector<ScanAxis> axes;
   for (const json& a : doc.at("axes")) axes.push_back({a.at("key"), a.at("values").get<std::vector<std::string>>()});
   std::vector<json> summaries;

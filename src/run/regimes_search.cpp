@@ -1,5 +1,6 @@
 #include "run/regimes_search.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +24,12 @@ struct Probe {
   json alpha;
   double crossing_time = 0;
   std::uint64_t particles = 0;
+  std::uint64_t resolve = 0;  ///< undecided: about the particles that would decide it (0: none said)
+
+  /// no tail seen, but the bound lies above fit.tail_floor: neither mid nor high at this resolution
+  bool open() const { return regime == "undecided" && tail == "none"; }
+  /// low, or undecided with a tail that tau2 came too late to show removed (the search's low side)
+  bool low_side() const { return regime == "low" || (regime == "undecided" && tail != "none"); }
 };
 
 Probe probe_of(const json& row, const std::string& omega) {
@@ -34,6 +41,8 @@ Probe probe_of(const json& row, const std::string& omega) {
   p.alpha = row.at("alpha");
   if (!p.alpha.at("crossing_time").is_null()) p.crossing_time = p.alpha.at("crossing_time");
   p.particles = row.at("particles");
+  if (row.at("tail").contains("resolve_particles") && row.at("tail").at("resolve_particles").is_number())
+    p.resolve = row.at("tail").at("resolve_particles");
   return p;
 }
 
@@ -46,6 +55,22 @@ std::string log_midpoint(double a, double b) {
 
 json probe_json(const Probe& p) {
   return {{"omega", p.omega}, {"regime", p.regime}, {"tail", p.tail}, {"alpha", p.alpha}, {"particles", p.particles}};
+}
+
+/// "the probes at omega = a, b are undecided ...: about N particles would decide them", or empty.
+std::string open_probes(const std::vector<Probe>& probes) {
+  std::string omegas;
+  std::uint64_t most = 0;
+  for (const Probe& p : probes)
+    if (p.open()) {
+      omegas += (omegas.empty() ? "" : ", ") + p.omega;
+      most = std::max(most, p.resolve);
+    }
+  if (omegas.empty()) return "";
+  char line[160];
+  std::snprintf(line, sizeof line, "about %.2g particles a probe would decide them", static_cast<double>(most));
+  return "undecided at this resolution (no tail seen, but the alpha bound lies above fit.tail_floor) at omega = " +
+         omegas + ": " + line;
 }
 
 }  // namespace
@@ -74,7 +99,7 @@ json find_regimes(const RegimesRequest& req) {
     probes.push_back(probe_of(coarse.document.at("points")[i], coarse_values[i]));
   std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) { return a.value < b.value; });
 
-  auto is_low = [](const Probe& p) { return p.regime == "low" || p.regime == "undecided"; };
+  auto is_low = [](const Probe& p) { return p.low_side(); };
   json boundaries = json::object(), reasons = json::object();
   // low/mid: the last low (or undecided) probe below the first mid probe after it
   std::optional<std::size_t> lm;
@@ -93,6 +118,7 @@ json find_regimes(const RegimesRequest& req) {
 
   auto bisect = [&](const std::string& name, Probe lo, Probe hi, auto lower_side) {
     json steps = json::array();
+    std::string unplaced;  // a probe this resolution cannot classify stops the bisection: the boundary is flagged
     for (int k = 0; k < req.steps && hi.value / lo.value > 1.1; ++k) {
       const std::string mid = log_midpoint(lo.value, hi.value);
       if (req.note)
@@ -100,9 +126,14 @@ json find_regimes(const RegimesRequest& req) {
       const ScanOutcome o = run_scan(dir / name / ("probe-" + std::to_string(k)), {mid});
       const Probe p = probe_of(o.document.at("points")[0], mid);
       steps.push_back(probe_json(p));
+      if (p.open()) {
+        unplaced = "the boundary lies in [" + lo.omega + ", " + hi.omega + "] only: the probe " + open_probes({p});
+        break;
+      }
       (lower_side(p) ? lo : hi) = p;
     }
-    return json{{"lo", lo.value},
+    return json{{"unplaced", unplaced.empty() ? json(nullptr) : json(unplaced)},
+                {"lo", lo.value},
                 {"hi", hi.value},
                 {"lo_omega", lo.omega},
                 {"hi_omega", hi.omega},
@@ -115,14 +146,18 @@ json find_regimes(const RegimesRequest& req) {
     boundaries["low_mid"] = bisect("low_mid", probes[*lm], probes[*lm + 1], is_low);
   } else {
     boundaries["low_mid"] = nullptr;
-    reasons["low_mid"] = "the coarse scan has no low (or undecided) omega directly below a mid one";
+    const std::string open = open_probes(probes);
+    reasons["low_mid"] = "the coarse scan has no low (or undecided with a tail) omega directly below a mid one" +
+                         (open.empty() ? std::string() : "; " + open);
   }
   if (mh) {
     boundaries["mid_high"] =
         bisect("mid_high", probes[*mh], probes[*mh + 1], [](const Probe& p) { return p.regime != "high"; });
   } else {
     boundaries["mid_high"] = nullptr;
-    reasons["mid_high"] = "the coarse scan has no mid omega directly below a high one (above the low/mid boundary)";
+    const std::string open = open_probes(probes);
+    reasons["mid_high"] = "the coarse scan has no mid omega directly below a high one (above the low/mid boundary)" +
+                          (open.empty() ? std::string() : "; " + open);
   }
 
   // The geometry's predictions: low/mid where the leak reaches the lower edge (tau1) just when the

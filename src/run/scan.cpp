@@ -261,6 +261,43 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   return out;
 }
 
+std::string scan_table_text(const json& document) {
+  const auto g3 = [](const json& v) {
+    if (!v.is_number()) return std::string("-");
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", v.get<double>());
+    return std::string(b);
+  };
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> head;
+  for (const json& a : document.at("axes")) head.push_back(a.at("key").get<std::string>());
+  for (const char* h : {"kappa", "alpha", "tail", "regime", "particles"}) head.emplace_back(h);
+  rows.push_back(head);
+  for (const json& p : document.at("points")) {
+    std::vector<std::string> r;
+    for (const json& a : document.at("axes")) r.push_back(p.at("values").at(a.at("key").get<std::string>()));
+    const json &k = p.at("kappa"), &al = p.at("alpha");
+    r.push_back(k.at("value").is_number() ? g3(k.at("value")) + " +- " + g3(k.at("error")) : "-");
+    r.push_back(al.at("value").is_number()         ? g3(al.at("value")) + " +- " + g3(al.at("error"))
+                : al.at("upper_bound").is_number() ? "< " + g3(al.at("upper_bound"))
+                                                   : "-");
+    r.push_back(p.at("tail").at("class").get<std::string>());
+    r.push_back(p.at("tail").at("regime").get<std::string>());
+    r.push_back(csv_number(p.at("particles")));
+    rows.push_back(std::move(r));
+  }
+  std::vector<std::size_t> width(head.size(), 0);
+  for (const auto& r : rows)
+    for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size());
+  std::string out;
+  for (const auto& r : rows) {
+    for (std::size_t c = 0; c < r.size(); ++c)
+      out += r[c] + (c + 1 < r.size() ? std::string(width[c] - r[c].size() + 2, ' ') : std::string());
+    out += '\n';
+  }
+  return out;
+}
+
 ScanOutcome scan(const ScanRequest& req) {
   if (req.axes.empty()) throw InputError("--over", "", "at least one KEY=VALUES");
   for (std::size_t a = 0; a < req.axes.size(); ++a)

@@ -79,5 +79,9 @@ ScanOutcome scan(const ScanRequest& request);
 /// collisions); summaries carry "scan_values" and "number_theory" beside summary.json's fields; inputs-only, so
 /// byte-identical for any thread count and for a resumed scan. Timings are in scan.json only.
 std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<json>& summaries);
+/// The scan's table as a person reads it on a terminal (scan.json's points): the swept values, kappa
+/// with its error, alpha with its error or its bound ("< 2.3e-3"), the tail class and regime, the
+/// particles; aligned columns, three significant digits. table.csv keeps every digit.
+std::string scan_table_text(const json& document);
 
 }  // namespace rotleak

@@ -84,6 +84,9 @@ struct Scene {
   /// lies alpha_sigma standard errors above the fit with at least min_survivors effective survivors.
   double alpha_factor = 10, alpha_sigma = 3;
   std::uint64_t min_survivors = 100;
+  /// The weakest tail a regime claims to exclude: a rotating leak with no tail seen is "mid" only when
+  /// alpha's upper bound lies below it; otherwise its regime is undecided (analysis/regimes.hpp).
+  double tail_floor = 1e-4;
 
   std::string source;  ///< file it came from, if any
 

@@ -2,6 +2,7 @@
 regimes.png: every probe (coarse and bisection) as alpha, or its upper bound, against omega, coloured
 by regime, with the boundaries found and the predicted omega_sweep."""
 import json
+import math
 import os
 
 import matplotlib.pyplot as plt
@@ -37,25 +38,33 @@ def draw(directory):
     drew = scan.draw(os.path.join(directory, "coarse")) if os.path.exists(
         os.path.join(directory, "coarse", "scan.json")) else []
     fig, ax = plt.subplots(figsize=(9, 4.8))
+    ys = []
     for x, p, sub in probes(directory):
         a = p["alpha"]
         y, marker = (a["value"], "o") if a["value"] is not None else (a["upper_bound"], "v")
         if y is None:
             continue
+        ys.append(y)
         ax.scatter([x], [y], marker=marker, s=36 if sub == "coarse" else 18,
                    color=REGIME_COLOURS.get(p["tail"]["regime"], "k"))
     for name, colour in REGIME_COLOURS.items():
         ax.scatter([], [], marker="s", color=colour, label=name)
     for key, b in (doc.get("boundaries") or {}).items():
         if b:
-            ax.axvspan(b["lo"], b["hi"], color="k", alpha=0.12, lw=0)
-            ax.text(b["hi"], 1, " " + key.replace("_", "/"), transform=ax.get_xaxis_transform(), fontsize=8,
-                    va="top")
+            unplaced = b.get("unplaced") is not None  # only bracketed: a probe inside was undecided
+            ax.axvspan(b["lo"], b["hi"], color="k", alpha=0.12, lw=0, hatch="//" if unplaced else None)
+            ax.text(b["hi"], 1, " " + key.replace("_", "/") + (" (not placed)" if unplaced else ""),
+                    transform=ax.get_xaxis_transform(), fontsize=8, va="top")
     sweep = (doc.get("predicted") or {}).get("omega_sweep")
     if sweep:
         ax.axvline(sweep, color="k", ls=":", lw=1, label="omega_sweep")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    if ys:  # whole decades, at least two, so the axis has ticks to read (it once had one)
+        lo, hi = 10 ** math.floor(math.log10(min(ys))), 10 ** math.ceil(math.log10(max(ys)))
+        if hi / lo < 100:
+            lo, hi = lo / 10 ** (1 if hi / lo >= 10 else 1), hi * (1 if hi / lo >= 10 else 10)
+        ax.set_ylim(lo, hi)
     ax.set_xlabel("omega")
     ax.set_ylabel("alpha (triangles: upper bounds)")
     ax.set_title("regimes: coarse probes (large) and bisection probes (small); grey: boundaries")

@@ -61,7 +61,7 @@ def density(run, summary):
         return False
     header, rows = read_csv(path)
     s = [float(r[0]) for r in rows]
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = plt.subplots(figsize=(10, 4))
     for col in range(1, len(header), 2):
         ax.plot(s, [float(r[col]) for r in rows], lw=1, label=header[col].replace("fc", "t in "))
     leak = summary["scene"]["leak"]
@@ -73,8 +73,10 @@ def density(run, summary):
         ax.plot([], [], color="C3", alpha=0.4, lw=6, label="leak")
     ax.set_xlabel("s")
     ax.set_ylabel("f_c(s)")
-    ax.set_title("collision density")
-    ax.legend(fontsize=8)
+    ax.set_title("collision density f_c(s): s_L = %s, width = %s, omega = %s, N = %d"
+                 % (leak["start"], leak["width"], leak["omega"], summary["particles"]), fontsize=10)
+    # the legend beside the axes, where it covers no spike (it once hid one)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     save(fig, os.path.join(run, "fc.png"))

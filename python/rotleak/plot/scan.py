@@ -3,9 +3,11 @@ run has them), and per swept key scan_<key>.png (kappa and alpha against the key
 downward arrows, log axes where the key spans decades) with the regime of each point as a coloured
 strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
 scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L."""
+import math
 import os
 
 import matplotlib.pyplot as plt
+from matplotlib import ticker
 
 from . import exact_text, read_csv, save
 
@@ -45,6 +47,8 @@ def curves(scan_dir, doc):
         ax.grid(True, which="both", alpha=0.3)
     ax1.set_xscale("log")
     ax2.legend(fontsize=7, ncol=2)
+    keys = ", ".join(a["key"] for a in doc["axes"])
+    fig.suptitle("P(t) of every point of the scan over %s (%d points)" % (keys, len(doc["points"])))
     fig.tight_layout()
     save(fig, os.path.join(scan_dir, "scan_survival.png"))
 
@@ -58,7 +62,10 @@ def against_key(scan_dir, doc, key):
     if not pts:
         return None
     xs = [x for x, _ in pts]
-    logx = min(xs) > 0 and max(xs) / min(xs) >= 30
+    positive = [x for x in xs if x > 0]
+    # log where the values span decades; a 0 among them (a stationary point) stays on the axis through a
+    # linear stretch below the smallest positive value (symlog)
+    logx = bool(positive) and min(xs) >= 0 and max(positive) / min(positive) >= 30
     fig, (ax_k, ax_a, ax_r) = plt.subplots(3, 1, figsize=(8, 8), sharex=True,
                                            gridspec_kw={"height_ratios": [3, 3, 0.6]})
     kx = [(x, p["kappa"]) for x, p in pts if p["kappa"]["value"] is not None]
@@ -82,17 +89,29 @@ def against_key(scan_dir, doc, key):
     for name, colour in REGIME_COLOURS.items():
         ax_r.scatter([], [], marker="s", color=colour, label=name)
     ax_r.set_yticks([])
-    ax_r.legend(fontsize=7, ncol=5, loc="upper center", bbox_to_anchor=(0.5, -0.6))
+    ax_r.set_ylabel("regime", rotation=0, ha="right", va="center", fontsize=8)
+    handles, labels = ax_r.get_legend_handles_labels()
     sweep = doc["points"][0]["predicted"]["omega_sweep"]
     if key == "leak.omega" and min(xs) / 2 <= sweep <= max(xs) * 2:  # only where it is on the axis
         for ax in (ax_k, ax_a, ax_r):
             ax.axvline(sweep, color="k", ls=":", lw=1)
         ax_a.text(sweep, ax_a.get_ylim()[1], " omega_sweep", fontsize=7, va="top")
-    if logx:
+    if logx and min(xs) > 0:
         ax_r.set_xscale("log")
+    elif logx:
+        ax_r.set_xscale("symlog", linthresh=min(positive) / 2, linscale=0.5)
+        ax_r.set_xlim(-min(positive) / 4, max(positive) * 2)  # 0 and the positive side only
+        # 0, then whole decades from the smallest positive value (a decade inside the linear stretch overlapped 0)
+        ax_r.set_xticks([0] + [10.0 ** k for k in range(math.ceil(math.log10(min(positive)) - 1e-9),
+                                                          math.floor(math.log10(max(positive)) + 1e-9) + 1)])
+        ax_r.xaxis.set_minor_locator(ticker.NullLocator())
     ax_r.set_xlabel(key)
-    fig.suptitle("scan over %s" % key)
-    fig.tight_layout()
+    particles = sorted({p["particles"] for _, p in pts})
+    fig.suptitle("kappa, alpha and regime against %s (%s particles a point)"
+                 % (key, "/".join("%g" % n for n in particles)))
+    # the regimes' key below the x label, in space kept for it (it once covered the label)
+    fig.legend(handles, labels, fontsize=7, ncol=len(labels), loc="lower center", frameon=False)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
     name = "scan_%s.png" % key.replace(".", "_")
     save(fig, os.path.join(scan_dir, name))
     return name
@@ -104,16 +123,23 @@ def against_covering(scan_dir, doc):
     if len({p["number_theory"]["covering_zero_measure"] for p in pts}) < 2:
         return None
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for p in pts:
+    placed = []  # label positions in points, so that neighbours' labels step aside instead of overlapping
+    for p in sorted(pts, key=lambda q: q["number_theory"]["covering_zero_measure"]):
         x = p["number_theory"]["covering_zero_measure"]
         label = ", ".join(p["values"].values())
+        y = p["alpha"]["value"] if p["alpha"]["value"] is not None else p["alpha"]["upper_bound"]
+        if y is None:
+            continue
         if p["alpha"]["value"] is not None:
-            ax.errorbar([x], [p["alpha"]["value"]], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
-            ax.annotate(label, (x, p["alpha"]["value"]), fontsize=7, xytext=(4, 2), textcoords="offset points")
-        elif p["alpha"]["upper_bound"] is not None:
-            ax.scatter([x], [p["alpha"]["upper_bound"]], marker="v", color="C1")
-            ax.annotate(label, (x, p["alpha"]["upper_bound"]), fontsize=7, xytext=(4, 2), textcoords="offset points")
+            ax.errorbar([x], [y], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
+        else:
+            ax.scatter([x], [y], marker="v", color="C1")
+        near = sum(1 for (qx, qy) in placed if abs(qx - x) < 0.05 and abs(math.log10(qy / y)) < 0.15)
+        placed.append((x, y))
+        ax.annotate(label, (x, y), fontsize=7, xytext=(4, 2 - 9 * near), textcoords="offset points")
     ax.set_yscale("log")
+    ax.yaxis.set_major_locator(ticker.LogLocator(numticks=8))
+    ax.yaxis.set_minor_formatter(ticker.NullFormatter())  # minor labels overlapped on short log axes
     ax.set_xlabel("zero measure of f_L (delta = %s)" % pts[0]["number_theory"]["covering_delta"])
     ax.set_ylabel("alpha (triangles: upper bounds)")
     ax.set_title("tail weight against the MUPO covering")
