@@ -7,7 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAK_SANITIZE=ON -DROTLEAK_TESTS=ON \
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+  -DROTLEAK_SANITIZE=ON -DROTLEAK_TESTS=ON \
   -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null
 cmake --build build-asan -j"$(nproc)"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=0"

@@ -143,13 +143,15 @@ TEST(Cli, MessagesQuoteInputAsWritten) {
   EXPECT_EQ(nlohmann::json::parse(terms.out)["omega"]["certified_terms"], 20000);
 }
 
-// A plot that cannot be drawn is one line on stderr and exit 1, no traceback, no half picture.
+// A plot of a damaged directory is one line on stderr and exit 2 (bad input, as rotleak fit says it), no
+// traceback, no half picture.
 TEST(Cli, PlotFailureIsOneLine) {
   const fs::path bad = scratch() / "bad_run";
   fs::create_directories(bad);
   std::ofstream(bad / "summary.json") << "{";
   const Outcome o = run("plot " + bad.string());
-  EXPECT_EQ(o.status, 1);
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("summary.json: not valid JSON (damaged or truncated)"), std::string::npos) << o.err;
   EXPECT_EQ(o.err.find("Traceback"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("cannot draw"), std::string::npos) << o.err;
   for (const auto& e : fs::directory_iterator(bad)) EXPECT_EQ(e.path().extension(), ".json") << e.path();
@@ -348,8 +350,9 @@ TEST(Cli, PlotDrawsEveryKindOfDirectory) {
     EXPECT_TRUE(fs::exists(base / dir / picture)) << dir;
   }
   const Outcome none = run("plot " + scratch().string());
-  EXPECT_EQ(none.status, 1);
+  EXPECT_EQ(none.status, 2);  // not a directory rotleak wrote: bad input, one line, no exception's type name
   EXPECT_NE(none.err.find("not a complete rotleak directory"), std::string::npos) << none.err;
+  EXPECT_EQ(none.err.find("Error:"), std::string::npos) << none.err;
 }
 
 // rotleak fit redraws the pictures of a run it refits (they once kept the old fit): the picture

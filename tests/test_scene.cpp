@@ -90,7 +90,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"", "ensemble.creation_window=1e300", "ensemble.creation_window"},
         BadCase{"[observe]\ncollision_density = { windows = [[0, 30000]] }\n", "", "observe.collision_density.windows"},
         BadCase{"", "stadium.r=1e-300", "stadium.r"}, BadCase{"", "leak.omega=1e100000", "leak.omega"},
-        BadCase{"", "stadium.d=pi-pi", "stadium.d"}, BadCase{"", "leak.start=1e100000+ln(2)", "leak.start"}),
+        BadCase{"", "stadium.d=pi-pi", "stadium.d"}, BadCase{"", "leak.start=1e100000+ln(2)", "leak.start"},
+        // exact and positive, but 0 in double: d = 1e-400 ran as a circle
+        BadCase{"", "stadium.d=1e-400", "stadium.d"}, BadCase{"", "leak.width=1e-400", "leak.width"},
+        // an array was quoted over four lines
+        BadCase{"", "fit.kappa_window=[0,1e300]", "fit.kappa_window = [0, 1e+300]"}),
     rotleak::test::IndexedName());
 
 // A default that fails its check given another key's value was reported through the key never given: a
@@ -144,6 +148,12 @@ TEST(Scene, NumbersBeyondDoubleAreRefusedNotRounded) {
   std::vector<std::string> zero = split;
   zero.push_back("run.split_delta=0e-400");  // zero written small is still zero
   EXPECT_EQ(parse_scene("", zero).splitting.delta, 0.0);
+}
+
+// An exact value quoted as in a scene file (--set 'leak.omega="2/3"') is the text inside the quotes.
+TEST(Scene, QuotedExactValuesThroughSetAreTheTextInside) {
+  EXPECT_EQ(parse_scene("", {"leak.omega=\"2/3\""}).omega_text, "2/3");
+  EXPECT_EQ(parse_scene("", {"leak.omega=2/3"}).omega_text, "2/3");
 }
 
 // A large start is reduced modulo 1 exactly: 1e30 + 1/2 is the leak at 1/2 (it was once rounded

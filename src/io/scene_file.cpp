@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include "io/files.hpp"
 #include "numeric/input.hpp"
 
@@ -47,6 +48,10 @@ std::string shown(const toml::node& n) {
     os << toml_float(f->get());  // 1000.0 as written, not 1000
   } else if (n.is_table()) {
     os << "{...}";
+  } else if (auto a = n.as_array()) {  // inline, as written: toml++ would print one element a line
+    os << "[";
+    for (std::size_t i = 0; i < a->size(); ++i) os << (i ? ", " : "") << shown(*a->get(i));
+    os << "]";
   } else {
     n.visit([&](auto&& v) { os << v; });
   }
@@ -181,7 +186,9 @@ void apply_override(toml::table& root, const std::string& assignment) {
   if (!root.contains(section)) root.insert(section, toml::table{});
   toml::table& sec = *root.get_as<toml::table>(section);
   if (kExactKeys.count(path)) {
-    sec.insert_or_assign(key, value);  // exact keys keep the text verbatim
+    // exact keys keep the text verbatim; a value quoted as in a scene file ("2/3") is the text inside
+    const bool quoted = value.size() >= 2 && value.front() == '"' && value.back() == '"';
+    sec.insert_or_assign(key, quoted ? value.substr(1, value.size() - 2) : value);
     return;
   }
   if (kCountKeys.count(path)) {
@@ -294,6 +301,14 @@ Scene build(const toml::table& root, const std::string& source) {
   if (s.r.sign() <= 0) throw InputError("stadium.r", "\"" + s.r_text + "\"", "must be > 0");
   if (s.width.sign() <= 0 || (s.width - ExactReal::parse("1")).sign() >= 0)
     throw InputError("leak.width", "\"" + s.width_text + "\"", "must be in (0, 1) (a fraction of the perimeter)");
+  // positive, but the tiers run it rounded: d = 1e-400 once ran as a circle (d = 0 in double)
+  for (const auto& [key, value, text] :
+       {std::tuple{"stadium.d", &s.d, &s.d_text}, std::tuple{"stadium.r", &s.r, &s.r_text},
+        std::tuple{"leak.width", &s.width, &s.width_text}})
+    if (!std::isnormal(value->to_double()))
+      throw InputError(key, "\"" + *text + "\"",
+                       "rounds to " + shortest(value->to_double()) +
+                           " in double, which the tiers run: give a value of at least 2.3e-308");
 
   s.particles = in.count("ensemble", "particles", s.particles, 1, "must be an integer >= 1");
   s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");

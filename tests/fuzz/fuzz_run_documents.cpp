@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (data[0] & 1) {
       const rotleak::json doc = rotleak::read_scan_document("fuzz", text);
       for (const rotleak::json& p : doc.at("points"))
-        for (const rotleak::json& a : doc.at("axes")) (void)p.at("values").at(a.at("key").get<std::string>()).get<std::string>();
+        for (const rotleak::json& a : doc.at("axes"))
+          (void)p.at("values").at(a.at("key").get<std::string>()).get<std::string>();
     } else {
       (void)rotleak::read_run_summary("fuzz", text).at("scene").value("source", std::string());
     }

@@ -101,7 +101,9 @@ def draw(directory):
     drawers = {"run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
                "regimes": regimes.draw}
     if kind is None:
-        raise ValueError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
+        from ..readers import RotleakError
+
+        raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
                          "no scan.json, no regimes.json)" % directory)
     return drawers[kind](directory)
 
