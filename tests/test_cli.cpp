@@ -442,3 +442,21 @@ TEST(Cli, AScanRerunWithOtherInputsNeedsForce) {
   EXPECT_EQ(forced.status, 0) << forced.err;
   EXPECT_NE(slurp(d / "table.csv"), table);
 }
+
+// scan --out on a read-only file system exited 1 with a raw "filesystem error", and simulate said "cannot
+// create the lock file" without the reason. A parent that is a file fails the same calls (as root, where
+// permissions do not): exit 2, one line, the reason from the system.
+TEST(Cli, AnOutputThatCannotBeCreatedIsBadInputWithItsReason) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path file = scratch() / "plain_file";
+  std::ofstream(file) << "x\n";
+  for (const std::string& cmd :
+       {"scan " + scene.string() + " --over leak.omega=0 --set ensemble.particles=100 --out " + (file / "D").string(),
+        "simulate " + scene.string() + " --particles 100 --out " + (file / "R").string()}) {
+    const Outcome r = run(cmd + " --no-progress");
+    EXPECT_EQ(r.status, 2) << cmd << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("Not a directory"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
+  }
+}

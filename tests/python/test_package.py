@@ -259,7 +259,7 @@ class Package(unittest.TestCase):
         texts, save = [], picture.save
 
         def capture(fig, path):
-            texts.extend(t.get_text() for ax in fig.axes for t in ax.texts)
+            texts.extend(ax.get_title(loc="left") for ax in fig.axes)  # above each panel: it hides no data
             save(fig, path)
 
         picture.save = capture
@@ -272,6 +272,8 @@ class Package(unittest.TestCase):
         self.assertNotEqual(n[0], n[1])
         self.assertIn("delta = 1e-7, N = %d" % n[0], texts[0])
         self.assertIn("delta = 1e-9, N = %d" % n[1], texts[1])
+        for t in texts:  # delta once; the omega's own label carried it a second time
+            self.assertEqual(t.count("delta"), 1, t)
 
     def test_benchmark_pictures_draw_from_their_csv(self):
         tiers = os.path.join(self.tmp, "tiers.csv")

@@ -25,7 +25,8 @@ def draw(rows):
         ax.fill_between(t, lo, hi, color=color, alpha=0.25, lw=0)
     ax.set_xlabel("t")
     ax.set_ylabel("P(t)")
-    ax.set_title("s_L = 0, stationary: uniform vs importance-sampled starts (bands: 1 standard error)")
+    ax.set_title("s_L = 0, stationary: uniform vs importance-sampled starts\n(bands: one standard error)",
+                 fontsize=10)  # two lines: one was cut at the figure's edge
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()

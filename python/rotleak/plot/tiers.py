@@ -2,6 +2,8 @@
 the median trust horizon in collisions, one point per tier.
 
 Usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
+import math
+
 import matplotlib.pyplot as plt
 
 from . import bench_main
@@ -10,10 +12,13 @@ from . import bench_main
 def draw(rows):
     """The figure of the benchmark's rows."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for r in rows:
+    placed = []  # a label near an earlier one steps down (mpfr:128 and float128 once overlapped)
+    for r in sorted(rows, key=lambda q: -float(q["ratio_to_double"])):
         x, y = float(r["median_horizon_collisions"]), float(r["ratio_to_double"])
         ax.loglog([x], [y], "o", color="C0")
-        ax.annotate(r["tier"], (x, y), textcoords="offset points", xytext=(6, -3), fontsize=9)
+        near = sum(1 for (qx, qy) in placed if abs(math.log10(qx / x)) < 0.25 and abs(math.log10(qy / y)) < 0.12)
+        placed.append((x, y))
+        ax.annotate(r["tier"], (x, y), textcoords="offset points", xytext=(6, -3 - 11 * near), fontsize=9)
     ax.set_xlabel("median trust horizon (collisions within 1e-6 of the truth)")
     ax.set_ylabel("cost per collision / double")
     ax.set_title("what each precision tier buys (s_L = 0 scene)")
