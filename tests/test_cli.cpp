@@ -433,8 +433,7 @@ TEST(Cli, AScanRerunWithOtherInputsNeedsForce) {
   const std::string table = slurp(d / "table.csv");
   const Outcome other = run(base + " --set ensemble.particles=300");
   EXPECT_EQ(other.status, 2);
-  EXPECT_NE(other.err.find("ensemble.particles = 600 there, ensemble.particles = 300 here"), std::string::npos)
-      << other.err;
+  EXPECT_NE(other.err.find("ensemble.particles: 600 vs 300, there vs here"), std::string::npos) << other.err;
   EXPECT_EQ(slurp(d / "table.csv"), table);
   const Outcome same = run(base + " --set ensemble.particles=600");  // same inputs: resumed, nothing rerun
   EXPECT_EQ(same.status, 0) << same.err;

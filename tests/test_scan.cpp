@@ -118,7 +118,8 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
     scan(request(part, 2));
     ADD_FAILURE() << "a point of other inputs was replaced without --force";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(p2 + " holds a run of other inputs (ensemble.particles = 30001 there"),
+    EXPECT_NE(std::string(e.what()).find(
+                  p2 + " holds a run of other inputs (ensemble.particles: 30001 vs 30000, there vs here"),
               std::string::npos)
         << e.what();
   }

@@ -402,14 +402,22 @@ json write_run(RunDirectory& dir, const RunSummary& r, const std::vector<std::st
 
 namespace rotleak {
 
+namespace {
+
+/// A JSON document of a directory, or an InputError (DIR) naming the file: the reason the readers share.
+json parse_document(const std::string& shown, const std::string& text, const std::string& file) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception&) {
+    throw InputError("DIR", shown, file + ": not valid JSON (damaged or truncated)");
+  }
+}
+
+}  // namespace
+
 json read_run_summary(const std::filesystem::path& dir, const std::string& text) {
   const std::string shown = "\"" + dir.string() + "\"";
-  json s;
-  try {
-    s = json::parse(text);
-  } catch (const json::exception&) {
-    throw InputError("DIR", shown, "summary.json: not valid JSON (damaged or truncated)");
-  }
+  const json s = parse_document(shown, text, "summary.json");
   if (!s.is_object() || !s.contains("command") || s["command"] != "simulate" || !s.contains("scene") ||
       !s["scene"].is_object())
     throw InputError("DIR", shown, "summary.json: not a simulate run's summary");
@@ -418,12 +426,7 @@ json read_run_summary(const std::filesystem::path& dir, const std::string& text)
 
 json read_scan_document(const std::filesystem::path& dir, const std::string& text) {
   const std::string shown = "\"" + dir.string() + "\"";
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception&) {
-    throw InputError("DIR", shown, "scan.json: not valid JSON (damaged or truncated)");
-  }
+  const json doc = parse_document(shown, text, "scan.json");
   const auto bad = [&] { return InputError("DIR", shown, "scan.json: not a scan's document"); };
   if (!doc.is_object() || !doc.contains("command") || doc["command"] != "scan" || !doc.contains("axes") ||
       !doc["axes"].is_array() || !doc.contains("points") || !doc["points"].is_array())

@@ -13,6 +13,7 @@
 #include "io/files.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/input.hpp"
 #include "run/refit.hpp"
@@ -139,22 +140,6 @@ std::string csv_field(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
   return q + "\"";
-}
-
-/// The first line where two scenes' texts differ, as "KEY there, KEY here".
-std::string first_difference(const std::string& before, const std::string& now) {
-  std::istringstream a(before), b(now);
-  std::string la, lb, section;
-  while (true) {
-    const bool more_a = static_cast<bool>(std::getline(a, la)), more_b = static_cast<bool>(std::getline(b, lb));
-    if (!more_a && !more_b) return "the same keys";
-    if (more_a && more_b && la == lb) {
-      if (!la.empty() && la.front() == '[') section = la.substr(1, la.find(']') - 1) + ".";
-      continue;
-    }
-    const auto show = [&](const std::string& line) { return line.empty() ? std::string("nothing") : section + line; };
-    return show(more_a ? la : "") + " there, " + show(more_b ? lb : "") + " here";
-  }
 }
 
 }  // namespace
@@ -378,11 +363,11 @@ ScanOutcome scan(const ScanRequest& req) {
       const bool recorded = manifest.contains(p.slug) && manifest[p.slug].is_string();
       const std::string before = recorded ? manifest[p.slug].get<std::string>() : std::string();
       if (recorded && before == p.inputs) continue;
-      throw InputError(
-          "--out", "\"" + req.out.string() + "\"",
-          "point " + p.slug + " holds a run of other inputs (" +
-              (recorded ? first_difference(before, p.inputs) : std::string("not recorded in points.json")) +
-              "); pass --force to replace it, or choose another --out");
+      throw InputError("--out", "\"" + req.out.string() + "\"",
+                       "point " + p.slug + " holds a run of other inputs (" +
+                           (recorded ? inputs_difference(before, p.inputs) + ", there vs here"
+                                     : std::string("not recorded in points.json")) +
+                           "); pass --force to replace it, or choose another --out");
     }
 
   ScanOutcome out;
