@@ -459,3 +459,52 @@ TEST(Cli, AnOutputThatCannotBeCreatedIsBadInputWithItsReason) {
     EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
   }
 }
+
+// What the newcomer met in the reports: verify --tier mpfr:300 showed worst = 6.9e10 with "pass" and
+// "bits 32/32" where nothing was stored; shadow --tiers mpfr:65536 failed to round the perimeter; the
+// shadow table printed 17 digits; audit of a split scene exited 1 with internal wording; scan printed the
+// raw CSV on stdout.
+TEST(Cli, ReportsSayWhatTheyMeasured) {
+  const Outcome v = run("verify --tier mpfr:300");
+  ASSERT_EQ(v.status, 0) << v.err;
+  std::istringstream lines(v.out);
+  std::string line;
+  bool seen = false;
+  while (std::getline(lines, line))
+    if (line.rfind("mpfr:300", 0) == 0) {
+      seen = true;
+      std::istringstream f(line);
+      std::string tier, cases, horizon, reached, worst, decisions, bits;
+      f >> tier >> cases >> horizon >> reached >> worst >> decisions >> bits;
+      EXPECT_LE(std::stod(worst), 64.0) << line;
+      EXPECT_EQ(bits, "none") << line;
+    }
+  EXPECT_TRUE(seen) << v.out;
+
+  const std::string quick = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml";
+  const Outcome sh = run("shadow " + quick + " --particle 3 --tiers double,mpfr:65536 --collisions 40");
+  EXPECT_EQ(sh.status, 0) << sh.err;
+  std::istringstream rows(sh.out);
+  while (std::getline(rows, line))
+    if (line.rfind("double ", 0) == 0) {
+      std::istringstream f(line);
+      std::string tier, horizon, when;
+      f >> tier >> horizon >> when;
+      EXPECT_LE(when.size(), 8u) << line;  // six significant digits, not 17
+    }
+
+  const Outcome a = run("audit " + quick +
+                        " --set run.splitting=true --set ensemble.sampling=mupo --set run.t_max=3000 "
+                        "--set observe.collision_density={bins=10}");
+  EXPECT_EQ(a.status, 2) << a.err;
+  EXPECT_EQ(a.err.rfind("rotleak: error: run.splitting = true:", 0), 0u) << a.err;
+
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path d = scratch() / "scan_stdout";
+  fs::remove_all(d);
+  const Outcome sc = run("scan " + scene.string() + " --over leak.omega=0,1 --set ensemble.particles=300 --out " +
+                         d.string() + " --no-progress");
+  ASSERT_EQ(sc.status, 0) << sc.err;
+  EXPECT_EQ(sc.out.find("kappa_err"), std::string::npos) << sc.out;  // a table to read, not table.csv again
+  EXPECT_NE(sc.out.find("regime"), std::string::npos) << sc.out;
+}

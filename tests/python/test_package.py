@@ -275,6 +275,89 @@ class Package(unittest.TestCase):
         for t in texts:  # delta once; the omega's own label carried it a second time
             self.assertEqual(t.count("delta"), 1, t)
 
+    def test_pictures_keep_labels_clear_of_the_data_and_of_each_other(self):
+        # each once failed as a user saw it: the regimes' legend covered scan_<key>'s x label, f_L's labels sat
+        # on the data, fc's legend covered a spike, tick labels overlapped (0 beside 1e-4; minor log labels),
+        # regimes.png had one y tick, scan plots had no title, the sampling title ran off the figure
+        from rotleak import plot
+        from rotleak.plot import covering, regimes, run, sampling, scan, tiers
+
+        seen = {}  # picture name -> its figure, drawn as it would be saved
+
+        def boxes_overlap(a, b):
+            return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+        def labels(texts, r):
+            return [t.get_window_extent(r) for t in texts if t.get_visible() and t.get_text()]
+
+        def disjoint(extents):
+            return all(not boxes_overlap(a, b) for i, a in enumerate(extents) for b in extents[i + 1:])
+
+        modules = (scan, run, covering, regimes)
+        saved = {m: m.save for m in modules}
+        try:
+            for m in modules:
+                m.save = lambda fig, path: (fig.canvas.draw(), seen.__setitem__(os.path.basename(path), fig))
+            wide = os.path.join(self.tmp, "wide_scan")
+            cli("scan", QUICK, "--over", "leak.omega=0,1e-4,1", "--set", "ensemble.particles=2000", "--out", wide)
+            plot.draw(wide)
+            fig = seen["scan_leak_omega.png"]
+            r = fig.canvas.get_renderer()
+            self.assertTrue(fig._suptitle and fig._suptitle.get_text())
+            bottom = fig.axes[-1]
+            legend = fig.legends[0].get_window_extent(r)
+            self.assertFalse(boxes_overlap(legend, bottom.xaxis.label.get_window_extent(r)))
+            self.assertTrue(disjoint(labels(bottom.get_xticklabels(), r)), [t.get_text() for t in bottom.get_xticklabels()])
+            self.assertTrue(seen["scan_survival.png"]._suptitle.get_text())
+            fig = seen["scan_alpha_covering.png"]
+            r = fig.canvas.get_renderer()
+            ax = fig.axes[0]
+            self.assertTrue(disjoint(labels(ax.get_yticklabels(which="both"), r)))
+            self.assertTrue(disjoint(labels(ax.texts, r)), [t.get_text() for t in ax.texts])
+
+            plot.draw(self.run_dir)
+            fig = seen["fc.png"]
+            r = fig.canvas.get_renderer()
+            ax = fig.axes[0]
+            self.assertFalse(boxes_overlap(ax.get_legend().get_window_extent(r), ax.get_window_extent(r)))
+
+            cov = os.path.join(self.tmp, "cov_layout")
+            cli("covering", "--omega", "1e-4", "--delta", "1e-12", "--resolution", "200", "--out", cov)
+            plot.draw(cov)
+            fig = seen["f_L.png"]
+            for ax in fig.axes:
+                self.assertEqual(len(ax.texts), 0)  # the panel's label is its title, above the data
+                lo, hi = ax.get_ylim()
+                self.assertGreater(lo, 0)  # nearly uniform f_L: the axis spans the data, not 0..max
+
+            reg = os.path.join(self.tmp, "regimes_layout")
+            shutil.copytree(wide, os.path.join(reg, "coarse"))
+            with open(os.path.join(reg, "regimes.json"), "w") as f:
+                json.dump({"boundaries": {"low_mid": None, "mid_high": None}, "predicted": {"omega_sweep": 0.005}}, f)
+            plot.draw(reg)
+            ax = seen["regimes.png"].axes[0]
+            lo, hi = ax.get_ylim()
+            self.assertGreaterEqual(len([y for y in ax.get_yticks() if lo <= y <= hi]), 2)
+
+            rows = [{"tier": t, "median_horizon_collisions": x, "ratio_to_double": y} for t, x, y in (
+                ("double", "24", "1"), ("float128", "66", "25.59"), ("mpfr:128", "76", "28.71"))]
+            fig = tiers.draw(rows)
+            fig.canvas.draw()
+            self.assertTrue(disjoint(labels(fig.axes[0].texts, fig.canvas.get_renderer())))
+            fig = sampling.draw([{"t": "100", "survivors_uniform": "10", "P_uniform": "0.5", "err_uniform": "0.01",
+                                  "effective_mupo": "100", "P_mupo": "0.5", "err_mupo": "0.01"},
+                                 {"t": "200", "survivors_uniform": "5", "P_uniform": "0.25", "err_uniform": "0.01",
+                                  "effective_mupo": "50", "P_mupo": "0.25", "err_mupo": "0.01"}])
+            fig.canvas.draw()
+            title = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
+            self.assertGreaterEqual(title.x0, 0)
+            self.assertLessEqual(title.x1, fig.bbox.x1)
+        finally:
+            for m, f in saved.items():
+                m.save = f
+            import matplotlib.pyplot as plt
+            plt.close("all")
+
     def test_benchmark_pictures_draw_from_their_csv(self):
         tiers = os.path.join(self.tmp, "tiers.csv")
         with open(tiers, "w") as f:
