@@ -5,11 +5,13 @@
 # so the committed corpus does not grow. Prints per target the executions and the coverage libFuzzer
 # reports; exits non-zero on a crash, a hang, a leak or an out-of-memory, with the input kept in
 # build-fuzz/findings/<target>/.
-# Usage: scripts/fuzz.sh [SECONDS_EACH]   (default 10, the suite's short run; 600 for the long run)
+# Usage: [FUZZ_TARGETS="fuzz_scene ..."] scripts/fuzz.sh [SECONDS_EACH]   (default 10, the suite's short
+# run; 600 for the long run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
-targets=(fuzz_scene fuzz_tally fuzz_survival_csv fuzz_run_documents)
+# FUZZ_TARGETS: a subset, space-separated (two shells can share the machine's cores)
+read -r -a targets <<<"${FUZZ_TARGETS:-fuzz_scene fuzz_tally fuzz_survival_csv fuzz_run_documents}"
 bash scripts/setup.sh
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAK_FUZZ=ON \
   -DROTLEAK_TESTS=OFF -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null
