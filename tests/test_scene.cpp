@@ -145,6 +145,12 @@ TEST(Scene, NumbersBeyondDoubleAreRefusedNotRounded) {
     EXPECT_NE(msg.find("beyond the range of a double"), std::string::npos) << bad << ": " << msg;
     EXPECT_EQ(msg.rfind(std::string(bad).substr(0, std::string(bad).find('=')), 0), 0u) << msg;
   }
+  // the same in a scene file, where the TOML parser rounds silently
+  const std::string file =
+      "[run]\nsplitting = true\nsplit_delta = 1e-4_00\nsplit_every = 150.0\n[ensemble]\nsampling = "
+      "\"mupo\"\n";
+  EXPECT_EQ(error_of(file).rfind("run.split_delta = 1e-400: is beyond the range of a double", 0), 0u) << error_of(file);
+  EXPECT_NE(error_of("[run]\nt_max = 1e999\n").find("line 2"), std::string::npos);  // the parser refuses overflow
   std::vector<std::string> zero = split;
   zero.push_back("run.split_delta=0e-400");  // zero written small is still zero
   EXPECT_EQ(parse_scene("", zero).splitting.delta, 0.0);

@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <tuple>
 #include "io/files.hpp"
 #include "numeric/input.hpp"
@@ -428,6 +429,41 @@ Scene build(const toml::table& root, const std::string& source) {
   return s;
 }
 
+/// A decimal that a scene file writes as nonzero but double reads as 0 or infinity (1e-400, 1e400): TOML
+/// parsers round it silently, so the text of every float is read back exactly from the file and such a
+/// value refused, as --set refuses it.
+void check_float_range(const toml::node& n, const std::string& name, const std::vector<std::string_view>& lines) {
+  if (auto t = n.as_table()) {
+    for (auto&& [k, v] : *t)
+      check_float_range(v, name.empty() ? std::string(k.str()) : name + "." + std::string(k.str()), lines);
+    return;
+  }
+  if (auto a = n.as_array()) {
+    for (auto&& v : *a) check_float_range(v, name, lines);
+    return;
+  }
+  const auto f = n.as_floating_point();
+  if (!f) return;
+  const toml::source_region& at = n.source();
+  if (at.begin.line != at.end.line || at.begin.line == 0 || at.begin.line > lines.size() ||
+      at.end.column <= at.begin.column)
+    return;
+  const std::string_view line = lines[at.begin.line - 1];
+  if (at.end.column - 1 > line.size()) return;  // columns count characters: a line with others before it is skipped
+  std::string token(line.substr(at.begin.column - 1, at.end.column - at.begin.column));
+  std::erase(token, '_');
+  try {
+    const mpq_class q = parse_decimal(token);
+    const double v = f->get();
+    if (sgn(q) != 0 && (v == 0 || !std::isfinite(v)))
+      throw InputError(name, token,
+                       std::string("is beyond the range of a double (it would read as ") + (v == 0 ? "0" : "inf") +
+                           "; nonzero magnitudes from 2.2e-308 to 1.8e308)");
+  } catch (const ExactParseError&) {
+    // inf, nan or a text that is not the number's: the key's own check decides
+  }
+}
+
 toml::table parse_toml(const std::string& text, const std::string& source) {
   try {
     return toml::parse(text, source);
@@ -442,6 +478,13 @@ toml::table parse_toml(const std::string& text, const std::string& source) {
 
 Scene parse_scene(const std::string& text, const std::vector<std::string>& overrides, const std::string& source) {
   toml::table root = parse_toml(text, source);
+  std::vector<std::string_view> lines;
+  for (std::size_t at = 0; at <= text.size();) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    lines.emplace_back(text.data() + at, end - at);
+    at = end + 1;
+  }
+  check_float_range(root, "", lines);
   for (const auto& o : overrides) apply_override(root, o);
   return build(root, source);
 }
