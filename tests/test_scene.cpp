@@ -94,7 +94,9 @@ INSTANTIATE_TEST_SUITE_P(
         // exact and positive, but 0 in double: d = 1e-400 ran as a circle
         BadCase{"", "stadium.d=1e-400", "stadium.d"}, BadCase{"", "leak.width=1e-400", "leak.width"},
         // an array was quoted over four lines
-        BadCase{"", "fit.kappa_window=[0,1e300]", "fit.kappa_window = [0, 1e+300]"}),
+        BadCase{"", "fit.kappa_window=[0,1e300]", "fit.kappa_window = [0, 1e+300]"},
+        // a section that is a value, then --set into it: a null dereference (fuzz_scene's first find)
+        BadCase{"leak = \"2/3\"\n", "leak.start=2e30", "leak = \"2/3\": must be a table [leak]"}),
     rotleak::test::IndexedName());
 
 // A default that fails its check given another key's value was reported through the key never given: a

@@ -185,7 +185,10 @@ void apply_override(toml::table& root, const std::string& assignment) {
     throw InputError(path, "\"" + value + "\"", "unknown key; allowed: " + list);
   }
   if (!root.contains(section)) root.insert(section, toml::table{});
-  toml::table& sec = *root.get_as<toml::table>(section);
+  toml::table* found = root.get_as<toml::table>(section);
+  if (!found)  // `leak = "2/3"` in the file and --set leak.start=...: once a null dereference (found by fuzz_scene)
+    throw InputError(section, shown(*root.get(section)), "must be a table [" + section + "]");
+  toml::table& sec = *found;
   if (kExactKeys.count(path)) {
     // exact keys keep the text verbatim; a value quoted as in a scene file ("2/3") is the text inside
     const bool quoted = value.size() >= 2 && value.front() == '"' && value.back() == '"';
