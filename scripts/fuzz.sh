@@ -27,6 +27,7 @@ for t in "${targets[@]}"; do
     "$bin" -runs=0 tests/fuzz/regressions/$t/* >"$work/$t.regressions.log" 2>&1 ||
       { echo "fuzz: $t: a kept regression input fails again"; tail -30 "$work/$t.regressions.log"; status=1; continue; }
   fi
+  start=$(date +%s)
   if ! "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="$findings/" "$work/$t" "tests/fuzz/corpus/$t" >"$work/$t.log" 2>&1; then
     echo "fuzz: $t FAILED (input in $findings/)"
@@ -36,6 +37,7 @@ for t in "${targets[@]}"; do
   runs=$(grep -oE 'stat::number_of_executed_units: *[0-9]+' "$work/$t.log" | grep -oE '[0-9]+$' || echo "?")
   cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$work/$t.log" | tail -1 || echo "cov: ?")
   corpus=$(find "$work/$t" -type f | wc -l)
-  printf 'fuzz: %-20s %ss  %s executions  %s  corpus %s new inputs\n' "$t" "$seconds" "$runs" "$cov" "$corpus"
+  printf 'fuzz: %-20s %ss  %s executions  %s  corpus %s new inputs\n' "$t" "$(($(date +%s) - start))" "$runs" "$cov" \
+    "$corpus"
 done
 exit $status

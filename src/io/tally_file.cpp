@@ -91,8 +91,13 @@ std::string encode_tally_file(const TallyFile& f) {
     w.word(r.collisions);
     w.word(static_cast<std::uint64_t>(r.fate));
   }
-  w.word(fnv1a(w.out.data(), w.out.size()));
-  return w.out;
+  return sealed_tally_bytes(std::move(w.out));
+}
+
+std::string sealed_tally_bytes(std::string body) {
+  const std::uint64_t sum = fnv1a(body.data(), body.size());
+  body.append(reinterpret_cast<const char*>(&sum), 8);
+  return body;
 }
 
 TallyFile decode_tally_file(const std::string& in, const std::string& where) {

@@ -37,6 +37,9 @@ struct TallyFile {
 };
 
 std::string encode_tally_file(const TallyFile& f);
+/// `body` followed by the checksum a tally file ends with (encode_tally_file's last step). A fuzzer seals
+/// the contents it mutates, so that they reach the checks behind the checksum.
+std::string sealed_tally_bytes(std::string body);
 /// Throws std::runtime_error naming `where` on a damaged or foreign file.
 TallyFile decode_tally_file(const std::string& bytes, const std::string& where);
 
