@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <tuple>
 
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
@@ -105,6 +106,30 @@ TEST(TallyFile, RoundTripsBitForBitAndRefusesDamage) {
   EXPECT_THROW(decode_tally_file(bad, "mem"), std::runtime_error);
   EXPECT_THROW(decode_tally_file(bytes.substr(0, bytes.size() - 9), "mem"), std::runtime_error);
   EXPECT_THROW(decode_tally_file("{}", "mem"), std::runtime_error);
+  // damage behind a valid checksum (found by fuzz_tally): a float where a count belongs was converted with
+  // undefined behaviour, and a size larger than the file was allocated before it was read
+  const std::string body = bytes.substr(0, bytes.size() - 8);
+  for (const auto& [from, to, why] :
+       {std::tuple<std::string, std::string, std::string>{
+            "\"records\":", "\"records\":5.7e54,\"x\":", "records is not a count"},
+        {"\"survival_bins\":", "\"survival_bins\":1000000000000,\"x\":", "sizes larger than the file"},
+        {"\"weighted\":", "\"weighted\":3,\"x\":", "weighted is not true or false"}}) {
+    // the header edited and its length prefix with it ("rotleak-tallies 2\n<length>\n<header>"), so that
+    // the reader gets past the JSON to the checks of its values
+    const std::size_t magic = body.find('\n') + 1, nl = body.find('\n', magic);
+    std::string header = body.substr(nl + 1, std::stoull(body.substr(magic, nl - magic)));
+    const std::string rest = body.substr(nl + 1 + header.size());
+    const auto at = header.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    header.replace(at, from.size(), to);
+    const std::string edited = body.substr(0, magic) + std::to_string(header.size()) + "\n" + header + rest;
+    try {
+      decode_tally_file(sealed_tally_bytes(edited), "mem");
+      ADD_FAILURE() << "accepted: " << to;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("header unreadable: " + why), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(TallyFile, InputsDifferenceNamesTheKey) {

@@ -120,23 +120,45 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   json h;
   try {
     h = json::parse(in.substr(nl + 1, hlen));
-    if (h.at("block_size").get<std::uint64_t>() != kBlockSize)
+    // every number is checked for its type before it is read: a float where a count belongs (5.7e54) was
+    // converted with undefined behaviour (found by fuzz_tally), and a size is held against the bytes that
+    // follow before anything is allocated for it
+    const auto count = [&](const json& v, const char* what) {
+      if (!v.is_number_unsigned()) throw std::runtime_error(std::string(what) + " is not a count: " + v.dump());
+      return v.get<std::uint64_t>();
+    };
+    const auto flag = [&](const char* key) {
+      if (!h.at(key).is_boolean()) throw std::runtime_error(std::string(key) + " is not true or false");
+      return h.at(key).get<bool>();
+    };
+    if (count(h.at("block_size"), "block_size") != kBlockSize)
       throw std::runtime_error("written with blocks of " + h.at("block_size").dump() + " particles, this build uses " +
                                std::to_string(kBlockSize));
+    if (!h.at("inputs").is_string()) throw std::runtime_error("inputs is not a text");
     f.inputs = h.at("inputs").get<std::string>();
-    f.particles = h.at("particles").get<std::uint64_t>();
-    f.first_id = h.at("first_id").get<std::uint64_t>();
-    f.of = h.at("of").get<std::uint64_t>();
+    f.particles = count(h.at("particles"), "particles");
+    f.first_id = count(h.at("first_id"), "first_id");
+    f.of = count(h.at("of"), "of");
+    if (h.contains("wall_seconds") && !h.at("wall_seconds").is_number()) throw std::runtime_error("wall_seconds");
     f.wall_seconds = h.value("wall_seconds", 0.0);
     if (!(f.wall_seconds >= 0 && f.wall_seconds < 1e12)) throw std::runtime_error("wall_seconds out of range");
+    if (!h.at("done").is_array()) throw std::runtime_error("done is not a list");
     for (const json& iv : h.at("done"))
-      if (!f.done.insert(iv.at(0).get<std::uint64_t>(), iv.at(1).get<std::uint64_t>()))
+      if (!iv.is_array() || !f.done.insert(count(iv.at(0), "done"), count(iv.at(1), "done")))
         throw std::runtime_error("overlapping done blocks");
-    f.tally.escapes_per_bin.assign(h.at("survival_bins").get<std::size_t>(), 0);
-    f.tally.collision_density.assign(h.at("density_bins").get<std::size_t>(), 0);
-    f.tally.weighted = h.at("weighted").get<bool>();
-    f.tally.split = h.at("split").get<bool>();
-    f.records.resize(h.at("records").get<std::size_t>());
+    const std::uint64_t survival_bins = count(h.at("survival_bins"), "survival_bins"),
+                        density_bins = count(h.at("density_bins"), "density_bins"),
+                        records = count(h.at("records"), "records");
+    const std::uint64_t room = (in.size() - nl) / 8;  // words after the header, at most
+    if (survival_bins > room || density_bins > room || records > room / 4)
+      throw std::runtime_error("sizes larger than the file (" + std::to_string(survival_bins) + " bins, " +
+                               std::to_string(density_bins) + " density bins, " + std::to_string(records) +
+                               " records in " + std::to_string(in.size()) + " bytes)");
+    f.tally.escapes_per_bin.assign(survival_bins, 0);
+    f.tally.collision_density.assign(density_bins, 0);
+    f.tally.weighted = flag("weighted");
+    f.tally.split = flag("split");
+    f.records.resize(records);
   } catch (const std::exception& e) {
     throw std::runtime_error(where + ": tally file header unreadable: " + e.what());
   }
