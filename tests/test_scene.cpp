@@ -125,6 +125,9 @@ TEST(Scene, DefaultThatFailsItsCheckIsNamedNotDereferenced) {
 TEST(Scene, TooManyCollisionsBlameTheKeyGiven) {
   EXPECT_EQ(error_of("", {"run.t_max=1e12"}).rfind("run.t_max = ", 0), 0u) << error_of("", {"run.t_max=1e12"});
   EXPECT_EQ(error_of("", {"stadium.r=1e-9"}).rfind("stadium.r = ", 0), 0u) << error_of("", {"stadium.r=1e-9"});
+  // t_max written in the scene file (as quickstart.toml writes it) is not what made the run too long
+  const std::string file = "[run]\nt_max = 20000\n";
+  EXPECT_EQ(error_of(file, {"stadium.r=1e-300"}).rfind("stadium.r = ", 0), 0u) << error_of(file, {"stadium.r=1e-300"});
 }
 
 // Counts through --set are read exactly, as --particles reads them (split_cap = 1e6 was refused as "must be

@@ -255,8 +255,10 @@ void check_physics(const Scene& s, bool t_max_given) {
                   "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
                   "at most 1e9 are allowed: make the stadium larger or t_max smaller",
                   s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
-    // the key to blame is the one the user gave: t_max, unless only the stadium was changed
-    if (t_max_given || (s.d_text == Scene{}.d_text && s.r_text == Scene{}.r_text))
+    // the key to blame: t_max when even the default stadium (d = 2, r = 1) would make too many collisions
+    // with it (t_max = 1e12 once blamed stadium.r, never given), else the stadium's smaller size
+    const double mfp_default = pi * (4 + pi) / (4 + 2 * pi);
+    if (s.t_max / mfp_default > 1e9)
       throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
                        std::string(why) + " (here run.t_max <= " + shortest(std::floor(1e9 * mfp)) + ")");
     throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
