@@ -153,6 +153,39 @@ class Package(unittest.TestCase):
                 self.assertNotIn("Traceback", plot.stderr)
         shutil.rmtree(bad)
 
+    def test_random_damage_is_refused_alike_by_fit_and_read_run(self):
+        # Random cuts and byte changes of survival.csv (seed ROTLEAK_TEST_SEED, printed on failure): whatever
+        # rotleak fit accepts, read_run accepts; whatever fit refuses (exit 2), read_run refuses with the same
+        # reason. Both read the same grammar, row count and header, so this holds for every damage.
+        import random
+        seed = int(os.environ.get("ROTLEAK_TEST_SEED", "32"))
+        rng = random.Random(seed)
+        with open(os.path.join(self.run_dir, "survival.csv")) as f:
+            good = f.read()
+        bad = os.path.join(self.tmp, "random_damage")
+        for case in range(40):
+            if case % 2 == 0:
+                text = good[:rng.randrange(len(good))]
+            else:
+                at = rng.randrange(len(good))
+                text = good[:at] + rng.choice("0123456789.,-e\nx ") + good[at + 1:]
+            shutil.rmtree(bad, ignore_errors=True)
+            shutil.copytree(self.run_dir, bad)
+            with open(os.path.join(bad, "survival.csv"), "w") as f:
+                f.write(text)
+            fit = subprocess.run([BIN, "fit", bad], capture_output=True, text=True)
+            where = "seed %d case %d" % (seed, case)
+            self.assertIn(fit.returncode, (0, 2), where + ": " + fit.stderr)
+            if fit.returncode == 0:
+                shutil.copyfile(os.path.join(self.run_dir, "summary.json"), os.path.join(bad, "summary.json"))
+                rotleak.read_run(bad).survival  # noqa: B018 -- accepted by both
+                continue
+            reason = fit.stderr.strip().split('": ', 1)[1]
+            with self.assertRaises(rotleak.RotleakError, msg=where) as caught:
+                rotleak.read_run(bad).survival  # noqa: B018
+            self.assertEqual(str(caught.exception), "%s: %s" % (bad, reason), where)
+        shutil.rmtree(bad)
+
     def test_python_arguments_of_the_wrong_type_are_refused_by_name(self):
         # each once ran something other than what was written, or dumped a pybind11 signature
         cases = [
