@@ -440,6 +440,26 @@ TEST(Cli, AScanRerunWithOtherInputsNeedsForce) {
   const Outcome forced = run(base + " --set ensemble.particles=300 --force");
   EXPECT_EQ(forced.status, 0) << forced.err;
   EXPECT_NE(slurp(d / "table.csv"), table);
+  // a damaged record (points.json not an object: once exit 1 at the first point written) records nothing:
+  // the complete points are not replaced without --force, and with it the scan runs through
+  std::ofstream(d / "points.json") << "[]\n";
+  const Outcome damaged = run(base + " --set ensemble.particles=300");
+  EXPECT_EQ(damaged.status, 2) << damaged.err;
+  EXPECT_NE(damaged.err.find("not recorded in points.json"), std::string::npos) << damaged.err;
+  EXPECT_EQ(run(base + " --set ensemble.particles=300 --force").status, 0);
+}
+
+// The lock file's own failure says why (it once said only "cannot create the lock file"): here the lock's
+// name is taken by a directory.
+TEST(Cli, ALockFileThatCannotBeMadeSaysWhy) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  fs::create_directories(scratch() / ".lockdir_run.lock");
+  const Outcome r =
+      run("simulate " + scene.string() + " --particles 100 --out " + (scratch() / "lockdir_run").string());
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("cannot create the lock file"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(Is a directory)"), std::string::npos) << r.err;
+  fs::remove(scratch() / ".lockdir_run.lock");
 }
 
 // scan --out on a read-only file system exited 1 with a raw "filesystem error", and simulate said "cannot

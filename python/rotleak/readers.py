@@ -185,6 +185,31 @@ def read_run(path):
     return Run.from_directory(path)
 
 
+def _is_scan_document(doc):
+    """The rules rotleak fit reads scan.json by (src/io/run_output.cpp, read_scan_document): a scan's
+    object whose axes hold a key and text values and whose points name a directory with the swept values."""
+    if not isinstance(doc, dict):
+        return False
+    if doc.get("command") != "scan":
+        return True  # another command's document: the reader's command check names it
+    axes, points = doc.get("axes"), doc.get("points")
+    if not isinstance(axes, list) or not isinstance(points, list):
+        return False
+    for a in axes:
+        if not isinstance(a, dict) or not isinstance(a.get("key"), str) or not isinstance(a.get("values"), list):
+            return False
+        if not all(isinstance(v, str) for v in a["values"]):
+            return False
+    for p in points:
+        if not isinstance(p, dict) or not isinstance(p.get("point"), str) or not isinstance(p.get("values"), dict):
+            return False
+        if "number_theory" not in p or p["point"] in ("", ".", "..") or "/" in p["point"]:
+            return False
+        if not all(isinstance(p["values"].get(a["key"]), str) for a in axes):
+            return False
+    return "fit_overrides" not in doc or isinstance(doc["fit_overrides"], list)
+
+
 class Scan:
     """A scan: its table, its scan.json and each point's run."""
 
@@ -199,7 +224,7 @@ class Scan:
                 self.document = json.load(f)
             except ValueError:
                 raise RotleakError("%s: scan.json: not valid JSON (damaged or truncated)" % path) from None
-        if not isinstance(self.document, dict):
+        if not _is_scan_document(self.document):
             raise RotleakError("%s: scan.json: not a scan's document" % path)
         if self.document.get("command") != "scan":
             raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))

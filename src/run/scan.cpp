@@ -350,8 +350,11 @@ ScanOutcome scan(const ScanRequest& req) {
     try {
       manifest = json::parse(read_file(manifest_path));
     } catch (const std::exception&) {
-      manifest = json::object();  // unreadable: every point is redone
+      manifest = json::object();  // unreadable: no point is recorded
     }
+    // not an object ([] once failed the first record with exit 1): no point is recorded either, so a
+    // complete point is replaced only under --force
+    if (!manifest.is_object()) manifest = json::object();
   }
 
   // A point already run from other inputs is replaced only with --force (a 3*10^5-particle point was

@@ -186,6 +186,36 @@ class Package(unittest.TestCase):
             self.assertEqual(str(caught.exception), "%s: %s" % (bad, reason), where)
         shutil.rmtree(bad)
 
+    def test_random_damage_of_a_scan_is_a_rotleak_error(self):
+        # read_scan on scan.json or table.csv cut or changed at random (seed ROTLEAK_TEST_SEED): it reads
+        # them, or refuses with a RotleakError naming the file; never a JSONDecodeError, a pandas error, a
+        # KeyError or a TypeError
+        import random
+        seed = int(os.environ.get("ROTLEAK_TEST_SEED", "32"))
+        rng = random.Random(seed)
+        bad = os.path.join(self.tmp, "random_scan")
+        for case in range(60):
+            name = ("scan.json", "table.csv")[case % 2]
+            with open(os.path.join(self.scan_dir, name)) as f:
+                good = f.read()
+            if case % 4 < 2:
+                text = good[:rng.randrange(len(good))]
+            else:
+                at = rng.randrange(len(good))
+                text = good[:at] + rng.choice('0123456789.,-e\n"{}[]:x ') + good[at + 1:]
+            shutil.rmtree(bad, ignore_errors=True)
+            shutil.copytree(self.scan_dir, bad)
+            with open(os.path.join(bad, name), "w") as f:
+                f.write(text)
+            try:
+                scan = rotleak.read_scan(bad)
+                scan.table  # noqa: B018
+                scan.keys  # noqa: B018
+                scan.points  # noqa: B018
+            except rotleak.RotleakError as e:
+                self.assertIn(bad, str(e), "seed %d case %d" % (seed, case))
+        shutil.rmtree(bad)
+
     def test_python_arguments_of_the_wrong_type_are_refused_by_name(self):
         # each once ran something other than what was written, or dumped a pybind11 signature
         cases = [
