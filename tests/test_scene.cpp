@@ -156,6 +156,9 @@ TEST(Scene, NumbersBeyondDoubleAreRefusedNotRounded) {
       "\"mupo\"\n";
   EXPECT_EQ(error_of(file).rfind("run.split_delta = 1e-400: is beyond the range of a double", 0), 0u) << error_of(file);
   EXPECT_NE(error_of("[run]\nt_max = 1e999\n").find("line 2"), std::string::npos);  // the parser refuses overflow
+  // .5 is not a TOML number but lies well within double's range: the key's own message, not "beyond the range"
+  EXPECT_EQ(error_of("", {"run.t_max=.5"}).find("beyond the range"), std::string::npos)
+      << error_of("", {"run.t_max=.5"});
   std::vector<std::string> zero = split;
   zero.push_back("run.split_delta=0e-400");  // zero written small is still zero
   EXPECT_EQ(parse_scene("", zero).splitting.delta, 0.0);

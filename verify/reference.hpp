@@ -107,12 +107,13 @@ struct TierCheck {
   std::size_t collisions = 0;       ///< the reference's
   std::size_t must_reach = 0;       ///< its horizon under the error model
   std::size_t matched_through = 0;  ///< last collision within the error model (all before it too)
-  double worst_ratio = 0;           ///< max over its horizon of divergence / (u W_k)
+  double worst_ratio = 0;           ///< max over its horizon of 64 divergence / (64 u W_k + the reference's radius)
   std::size_t decisions_required = 0, decisions_reproduced = 0;
   std::optional<std::size_t> first_wrong_decision;
   std::string bits;  ///< "identical", "differ by collision K", "not stored", "not checked"
   bool bits_ok = true;
-  std::string stopped;  ///< interval tiers: where an undecided branch stopped it
+  bool bits_compared = false;  ///< fingerprints of this tier were stored and compared
+  std::string stopped;         ///< interval tiers: where an undecided branch stopped it
   bool pass = false;
 };
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -168,6 +169,25 @@ void check_known_keys(const toml::table& root) {
   }
 }
 
+/// A nonzero decimal that double cannot hold is refused naming `name`: above the largest double (TOML
+/// refuses it: `read` empty) or read as 0 (TOML rounds 1e-400 to 0 silently). `read` is what TOML made of
+/// `text`. A text that is not a decimal (inf, nan, a word, .5) is left to the key's own check; one in range
+/// (.5 is not a TOML number, but not beyond double either) too.
+void check_representable(const std::string& name, const std::string& text, std::optional<double> read) {
+  mpq_class q;
+  try {
+    q = parse_decimal(text);
+  } catch (const ExactParseError&) {
+    return;
+  }
+  const bool overflow = abs(q) > mpq_class(std::numeric_limits<double>::max());
+  const bool underflow = sgn(q) != 0 && read && *read == 0;
+  if (overflow || underflow)
+    throw InputError(name, text,
+                     std::string("is beyond the range of a double (it would read as ") + (overflow ? "inf" : "0") +
+                         "; nonzero magnitudes from 2.2e-308 to 1.8e308)");
+}
+
 void apply_override(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -205,28 +225,15 @@ void apply_override(toml::table& root, const std::string& assignment) {
       // not a count: the TOML value below gets the key's own message
     }
   }
-  // a decimal the user wrote, exactly, when it is one (1e400 is a number, but not a double)
-  std::optional<mpq_class> exact;
-  try {
-    exact = parse_decimal(value);
-  } catch (const ExactParseError&) {
-  }
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
-    if (exact)
-      throw InputError(path, value, "is beyond the range of a double (magnitudes up to 1.8e308); give a smaller value");
-    sec.insert_or_assign(key, value);  // a bare word: validation says whether it is allowed
+    check_representable(path, value, std::nullopt);  // TOML refuses what overflows a double (1e400)
+    sec.insert_or_assign(key, value);                // a bare word: validation says whether it is allowed
     return;
   }
-  if (auto f = parsed.get("v")->as_floating_point(); f && exact && sgn(*exact) != 0) {
-    const double v = f->get();
-    if (v == 0 || !std::isfinite(v))
-      throw InputError(path, value,
-                       std::string("is beyond the range of a double (it would read as ") + (v == 0 ? "0" : "inf") +
-                           "; nonzero magnitudes from 2.2e-308 to 1.8e308)");
-  }
+  if (auto f = parsed.get("v")->as_floating_point()) check_representable(path, value, f->get());
   parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
 }
 
@@ -457,16 +464,7 @@ void check_float_range(const toml::node& n, const std::string& name, const std::
   if (at.end.column - 1 > line.size()) return;  // columns count characters: a line with others before it is skipped
   std::string token(line.substr(at.begin.column - 1, at.end.column - at.begin.column));
   std::erase(token, '_');
-  try {
-    const mpq_class q = parse_decimal(token);
-    const double v = f->get();
-    if (sgn(q) != 0 && (v == 0 || !std::isfinite(v)))
-      throw InputError(name, token,
-                       std::string("is beyond the range of a double (it would read as ") + (v == 0 ? "0" : "inf") +
-                           "; nonzero magnitudes from 2.2e-308 to 1.8e308)");
-  } catch (const ExactParseError&) {
-    // inf, nan or a text that is not the number's: the key's own check decides
-  }
+  check_representable(name, token, f->get());
 }
 
 toml::table parse_toml(const std::string& text, const std::string& source) {

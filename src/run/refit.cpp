@@ -20,10 +20,18 @@ void check_fit_overrides(const std::vector<std::string>& overrides) {
       throw InputError("--set", o, "only fit.* keys change without simulating (run simulate again for the others)");
 }
 
+namespace {
+
+/// What `rotleak fit DIR` reads, said when DIR is not one.
+InputError not_a_result_directory(const fs::path& dir) {
+  return InputError("DIR", "\"" + dir.string() + "\"",
+                    "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
+}
+
+}  // namespace
+
 Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides) {
-  if (!fs::exists(dir / "summary.json") || !fs::exists(dir / "survival.csv"))
-    throw InputError("DIR", "\"" + dir.string() + "\"",
-                     "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
+  if (!fs::exists(dir / "summary.json") || !fs::exists(dir / "survival.csv")) throw not_a_result_directory(dir);
   Scene scene = load_scene((dir / "scene.toml").string(), overrides);
   const json old = read_run_summary(dir, read_file(dir / "summary.json"));
   scene.source = old.at("scene").value("source", scene.source);
@@ -53,9 +61,7 @@ RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& override
   check_fit_overrides(overrides);
   // a refit rewrites summary.json: refused while a simulate --force or a scan writes the directory
   // (the refit was once silently lost to a run that swapped its directory in afterwards)
-  if (!fs::is_directory(dir))
-    throw InputError("DIR", "\"" + dir.string() + "\"",
-                     "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
+  if (!fs::is_directory(dir)) throw not_a_result_directory(dir);
   const DirectoryLock lock(dir, "DIR", "\"" + dir.string() + "\"");
   RefitOutcome out;
   if (!fs::exists(dir / "scan.json")) {

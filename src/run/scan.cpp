@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "analysis/continued_fraction.hpp"
@@ -357,19 +358,22 @@ ScanOutcome scan(const ScanRequest& req) {
     if (!manifest.is_object()) manifest = json::object();
   }
 
+  // the inputs points.json records for a point, if any
+  const auto recorded = [&manifest](const std::string& slug) -> std::optional<std::string> {
+    if (!manifest.contains(slug) || !manifest[slug].is_string()) return std::nullopt;
+    return manifest[slug].get<std::string>();
+  };
   // A point already run from other inputs is replaced only with --force (a 3*10^5-particle point was
   // once overwritten by a 1000-particle one): refused before anything runs.
   if (!req.force)
     for (const Point& p : points) {
-      const fs::path pdir = points_dir / p.slug;
-      if (!fs::exists(pdir / "summary.json")) continue;
-      const bool recorded = manifest.contains(p.slug) && manifest[p.slug].is_string();
-      const std::string before = recorded ? manifest[p.slug].get<std::string>() : std::string();
-      if (recorded && before == p.inputs) continue;
+      if (!fs::exists(points_dir / p.slug / "summary.json")) continue;
+      const std::optional<std::string> before = recorded(p.slug);
+      if (before == p.inputs) continue;
       throw InputError("--out", "\"" + req.out.string() + "\"",
                        "point " + p.slug + " holds a run of other inputs (" +
-                           (recorded ? inputs_difference(before, p.inputs) + ", there vs here"
-                                     : std::string("not recorded in points.json")) +
+                           (before ? inputs_difference(*before, p.inputs) + ", there vs here"
+                                   : std::string("not recorded in points.json")) +
                            "); pass --force to replace it, or choose another --out");
     }
 
@@ -383,8 +387,7 @@ ScanOutcome scan(const ScanRequest& req) {
     const Point& p = points[i];
     const fs::path pdir = points_dir / p.slug;
     // every rank must take the same way: a point is skipped only where every rank finds it complete
-    const bool complete = team.all(fs::exists(pdir / "summary.json") && manifest.contains(p.slug) &&
-                                   manifest[p.slug].is_string() && manifest[p.slug].get<std::string>() == p.inputs);
+    const bool complete = team.all(fs::exists(pdir / "summary.json") && recorded(p.slug) == p.inputs);
     if (complete && !req.force) {
       ++out.skipped;
       if (!lead) continue;
