@@ -41,6 +41,15 @@ def _check_schema(doc, what, where):
         raise RotleakError("%s: %s has schema %r; this rotleak package reads schema %d" % (where, what, schema, SCHEMA))
 
 
+def json_document(text, name, where):
+    """The JSON document `name` of the directory `where`, or a RotleakError with the reason rotleak fit gives
+    (src/io/run_output.cpp, parse_document)."""
+    try:
+        return json.loads(text)
+    except ValueError:
+        raise RotleakError("%s: %s: not valid JSON (damaged or truncated)" % (where, name)) from None
+
+
 _FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?|-?inf|nan")
 _COUNT = re.compile(r"[0-9]+")
 
@@ -79,10 +88,7 @@ class Run:
         if "summary.json" not in self._files:
             raise RotleakError("%s: not a complete run directory (no summary.json: a run directory appears only "
                                "when complete; an interrupted one leaves DIR.checkpoint for --resume)" % where)
-        try:
-            self.summary = json.loads(self._files["summary.json"])
-        except ValueError:
-            raise RotleakError("%s: summary.json: not valid JSON (damaged or truncated)" % where) from None
+        self.summary = json_document(self._files["summary.json"], "summary.json", where)
         if not isinstance(self.summary, dict) or self.summary.get("command") != "simulate" or not isinstance(
                 self.summary.get("scene"), dict):
             raise RotleakError("%s: summary.json: not a simulate run's summary" % where)
@@ -188,10 +194,8 @@ def read_run(path):
 def _is_scan_document(doc):
     """The rules rotleak fit reads scan.json by (src/io/run_output.cpp, read_scan_document): a scan's
     object whose axes hold a key and text values and whose points name a directory with the swept values."""
-    if not isinstance(doc, dict):
+    if not isinstance(doc, dict) or doc.get("command") != "scan":
         return False
-    if doc.get("command") != "scan":
-        return True  # another command's document: the reader's command check names it
     axes, points = doc.get("axes"), doc.get("points")
     if not isinstance(axes, list) or not isinstance(points, list):
         return False
@@ -220,14 +224,11 @@ class Scan:
         if not os.path.exists(doc_path):
             raise RotleakError("%s: not a complete scan directory (no scan.json)" % path)
         with open(doc_path, encoding="utf-8") as f:
-            try:
-                self.document = json.load(f)
-            except ValueError:
-                raise RotleakError("%s: scan.json: not valid JSON (damaged or truncated)" % path) from None
+            self.document = json_document(f.read(), "scan.json", path)
+        if isinstance(self.document, dict) and self.document.get("command") != "scan":
+            raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))
         if not _is_scan_document(self.document):
             raise RotleakError("%s: scan.json: not a scan's document" % path)
-        if self.document.get("command") != "scan":
-            raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))
         _check_schema(self.document, "scan.json", path)
         if not os.path.exists(os.path.join(path, "table.csv")):
             raise RotleakError("%s: incomplete scan: no table.csv" % path)

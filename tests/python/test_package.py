@@ -30,6 +30,29 @@ def cli(*args):
                    stdout=subprocess.DEVNULL)
 
 
+def seeded():
+    """(seed, random.Random(seed)) for a test that draws random cases: ROTLEAK_TEST_SEED, else 32."""
+    import random
+    seed = int(os.environ.get("ROTLEAK_TEST_SEED", "32"))
+    return seed, random.Random(seed)
+
+
+def damaged_copy(rng, source_dir, name, copy_dir, cut, alphabet):
+    """copy_dir: a copy of source_dir whose file `name` is cut at a random place (cut) or has one random
+    character replaced by one of `alphabet`; returns nothing, the copy is on disk."""
+    with open(os.path.join(source_dir, name)) as f:
+        good = f.read()
+    if cut:
+        text = good[:rng.randrange(len(good))]
+    else:
+        at = rng.randrange(len(good))
+        text = good[:at] + rng.choice(alphabet) + good[at + 1:]
+    shutil.rmtree(copy_dir, ignore_errors=True)
+    shutil.copytree(source_dir, copy_dir)
+    with open(os.path.join(copy_dir, name), "w") as f:
+        f.write(text)
+
+
 def without_execution(doc):
     doc = dict(doc)
     doc.pop("execution")
@@ -157,22 +180,10 @@ class Package(unittest.TestCase):
         # Random cuts and byte changes of survival.csv (seed ROTLEAK_TEST_SEED, printed on failure): whatever
         # rotleak fit accepts, read_run accepts; whatever fit refuses (exit 2), read_run refuses with the same
         # reason. Both read the same grammar, row count and header, so this holds for every damage.
-        import random
-        seed = int(os.environ.get("ROTLEAK_TEST_SEED", "32"))
-        rng = random.Random(seed)
-        with open(os.path.join(self.run_dir, "survival.csv")) as f:
-            good = f.read()
+        seed, rng = seeded()
         bad = os.path.join(self.tmp, "random_damage")
         for case in range(40):
-            if case % 2 == 0:
-                text = good[:rng.randrange(len(good))]
-            else:
-                at = rng.randrange(len(good))
-                text = good[:at] + rng.choice("0123456789.,-e\nx ") + good[at + 1:]
-            shutil.rmtree(bad, ignore_errors=True)
-            shutil.copytree(self.run_dir, bad)
-            with open(os.path.join(bad, "survival.csv"), "w") as f:
-                f.write(text)
+            damaged_copy(rng, self.run_dir, "survival.csv", bad, case % 2 == 0, "0123456789.,-e\nx ")
             fit = subprocess.run([BIN, "fit", bad], capture_output=True, text=True)
             where = "seed %d case %d" % (seed, case)
             self.assertIn(fit.returncode, (0, 2), where + ": " + fit.stderr)
@@ -190,23 +201,11 @@ class Package(unittest.TestCase):
         # read_scan on scan.json or table.csv cut or changed at random (seed ROTLEAK_TEST_SEED): it reads
         # them, or refuses with a RotleakError naming the file; never a JSONDecodeError, a pandas error, a
         # KeyError or a TypeError
-        import random
-        seed = int(os.environ.get("ROTLEAK_TEST_SEED", "32"))
-        rng = random.Random(seed)
+        seed, rng = seeded()
         bad = os.path.join(self.tmp, "random_scan")
         for case in range(60):
-            name = ("scan.json", "table.csv")[case % 2]
-            with open(os.path.join(self.scan_dir, name)) as f:
-                good = f.read()
-            if case % 4 < 2:
-                text = good[:rng.randrange(len(good))]
-            else:
-                at = rng.randrange(len(good))
-                text = good[:at] + rng.choice('0123456789.,-e\n"{}[]:x ') + good[at + 1:]
-            shutil.rmtree(bad, ignore_errors=True)
-            shutil.copytree(self.scan_dir, bad)
-            with open(os.path.join(bad, name), "w") as f:
-                f.write(text)
+            damaged_copy(rng, self.scan_dir, ("scan.json", "table.csv")[case % 2], bad, case % 4 < 2,
+                         '0123456789.,-e\n"{}[]:x ')
             try:
                 scan = rotleak.read_scan(bad)
                 scan.table  # noqa: B018

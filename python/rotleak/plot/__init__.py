@@ -43,6 +43,14 @@ def read_csv(path):
     return rows[0], rows[1:]
 
 
+def annotate_clear(ax, placed, label, xy, near, offset=(4, 2), step=9, **kw):
+    """Annotates `xy` with `label`, stepped down `step` points for each earlier label in `placed` that
+    `near(earlier_xy, xy)` calls close, so that neighbours' labels do not overlap; records `xy` in `placed`."""
+    crowd = sum(1 for q in placed if near(q, xy))
+    placed.append(xy)
+    ax.annotate(label, xy, textcoords="offset points", xytext=(offset[0], offset[1] - step * crowd), **kw)
+
+
 def exact_text(text):
     """A scene's exact value as a float for drawing only ("1/3", "0.1022"); None for irrationals."""
     try:
@@ -66,8 +74,6 @@ def bench_main(name, draw_rows):
 
 def kind_of(directory):
     """Which rotleak command wrote a directory: run, scan, shadow, covering, regimes; None otherwise."""
-    import json
-
     if os.path.exists(os.path.join(directory, "regimes.json")):
         return "regimes"
     if os.path.exists(os.path.join(directory, "scan.json")):
@@ -75,13 +81,10 @@ def kind_of(directory):
     path = os.path.join(directory, "summary.json")
     if not os.path.exists(path):
         return None
-    from ..readers import RotleakError
+    from ..readers import RotleakError, json_document
 
     with open(path) as f:
-        try:
-            doc = json.load(f)
-        except ValueError:
-            raise RotleakError("%s: summary.json: not valid JSON (damaged or truncated)" % directory) from None
+        doc = json_document(f.read(), "summary.json", directory)
     if not isinstance(doc, dict):
         raise RotleakError("%s: summary.json: not a simulate run's summary" % directory)
     if doc.get("command") == "simulate":

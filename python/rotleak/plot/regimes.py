@@ -62,8 +62,9 @@ def draw(directory):
     ax.set_yscale("log")
     if ys:  # whole decades, at least two, so the axis has ticks to read (it once had one)
         lo, hi = 10 ** math.floor(math.log10(min(ys))), 10 ** math.ceil(math.log10(max(ys)))
-        if hi / lo < 100:
-            lo, hi = lo / 10 ** (1 if hi / lo >= 10 else 1), hi * (1 if hi / lo >= 10 else 10)
+        if hi / lo < 100:  # one decade or none: a decade more below, and above too when there was none
+            hi = hi * 10 if hi == lo else hi
+            lo = lo / 10
         ax.set_ylim(lo, hi)
     ax.set_xlabel("omega")
     ax.set_ylabel("alpha (triangles: upper bounds)")

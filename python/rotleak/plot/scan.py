@@ -9,7 +9,7 @@ import os
 import matplotlib.pyplot as plt
 from matplotlib import ticker
 
-from . import exact_text, read_csv, save
+from . import annotate_clear, exact_text, read_csv, save
 
 REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4"}
 
@@ -123,7 +123,7 @@ def against_covering(scan_dir, doc):
     if len({p["number_theory"]["covering_zero_measure"] for p in pts}) < 2:
         return None
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    placed = []  # label positions in points, so that neighbours' labels step aside instead of overlapping
+    placed = []  # points labelled so far: a neighbour's label steps aside (annotate_clear)
     for p in sorted(pts, key=lambda q: q["number_theory"]["covering_zero_measure"]):
         x = p["number_theory"]["covering_zero_measure"]
         label = ", ".join(p["values"].values())
@@ -134,9 +134,8 @@ def against_covering(scan_dir, doc):
             ax.errorbar([x], [y], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
         else:
             ax.scatter([x], [y], marker="v", color="C1")
-        near = sum(1 for (qx, qy) in placed if abs(qx - x) < 0.05 and abs(math.log10(qy / y)) < 0.15)
-        placed.append((x, y))
-        ax.annotate(label, (x, y), fontsize=7, xytext=(4, 2 - 9 * near), textcoords="offset points")
+        annotate_clear(ax, placed, label, (x, y), lambda q, p: abs(q[0] - p[0]) < 0.05 and
+                       abs(math.log10(q[1] / p[1])) < 0.15, fontsize=7)
     ax.set_yscale("log")
     ax.yaxis.set_major_locator(ticker.LogLocator(numticks=8))
     ax.yaxis.set_minor_formatter(ticker.NullFormatter())  # minor labels overlapped on short log axes

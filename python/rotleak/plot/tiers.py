@@ -6,7 +6,7 @@ import math
 
 import matplotlib.pyplot as plt
 
-from . import bench_main
+from . import annotate_clear, bench_main
 
 
 def draw(rows):
@@ -16,9 +16,8 @@ def draw(rows):
     for r in sorted(rows, key=lambda q: -float(q["ratio_to_double"])):
         x, y = float(r["median_horizon_collisions"]), float(r["ratio_to_double"])
         ax.loglog([x], [y], "o", color="C0")
-        near = sum(1 for (qx, qy) in placed if abs(math.log10(qx / x)) < 0.25 and abs(math.log10(qy / y)) < 0.12)
-        placed.append((x, y))
-        ax.annotate(r["tier"], (x, y), textcoords="offset points", xytext=(6, -3 - 11 * near), fontsize=9)
+        annotate_clear(ax, placed, r["tier"], (x, y), lambda q, p: abs(math.log10(q[0] / p[0])) < 0.25 and
+                       abs(math.log10(q[1] / p[1])) < 0.12, offset=(6, -3), step=11, fontsize=9)
     ax.set_xlabel("median trust horizon (collisions within 1e-6 of the truth)")
     ax.set_ylabel("cost per collision / double")
     ax.set_title("what each precision tier buys (s_L = 0 scene)")
