@@ -43,8 +43,15 @@ struct AlphaResult {
   /// P at the first crossing of 10x the exponential fit that lies more than 3 standard errors (P's
   /// and the extrapolated line's) above it, while at least min_survivors effective survivors remain
   std::optional<double> value;
-  double std_error = 0;                   ///< binomial and fit-extrapolation errors combined
-  double crossing_time = 0;               ///< t of that crossing (when resolved)
+  /// Statistical error: P's error at the crossing times the crossing-shift factor kappa / (kappa + s)
+  /// (s = d ln P / dt there: a P that reads high crosses earlier, where P is larger) and the fit's
+  /// extrapolation error times |s| / (kappa + s), combined (docs/model.md "Observables").
+  double std_error = 0;
+  /// Window systematic: half the spread of alpha over kappa's window family (alpha found again with
+  /// each member's fit), beside std_error; empty when fewer than two members resolve alpha.
+  std::optional<double> systematic;
+  double shift_factor = 1;                ///< kappa / (kappa + s) at the crossing
+  double crossing_time = 0;               ///< t of that crossing, interpolated between grid points
   std::optional<double> upper_bound;      ///< when no crossing before statistics run out
   double resolved_until = 0;              ///< last t with at least min_survivors survivors
   double bound_until = 0;                 ///< no crossing: last t where P's upper limit lies below factor x the fit
@@ -52,6 +59,11 @@ struct AlphaResult {
   double factor = 10;
   double sigma = 3;  ///< standard errors P must lie above the fit for the crossing to count
   std::uint64_t min_survivors = 100;
+  /// Weighted runs without splitting: the smallest alpha their uniform share can carry, factor x
+  /// min_survivors x max_weight / N (the exponential part at the crossing, alpha / factor, is sampled
+  /// by that share alone, eps N particles of weight max_weight); a value or bound below it is unreliable
+  /// (typical runs read low: the few heavy uniform draws it needs are missing), and the note says so.
+  std::optional<double> uniform_reach;
   std::string note;
 };
 
@@ -71,5 +83,12 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10, double sigma = 3,
                        std::uint64_t min_survivors = 100);
 TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a);
+/// alpha's window systematic (AlphaResult::systematic): alpha found again with kappa fitted on each
+/// window of k.window_family (add_window_systematic first); half of (largest - smallest) over the
+/// members that resolve alpha, the main value included.
+/// Sets a.uniform_reach for a weighted run without splitting and, when alpha (or its bound) lies below
+/// it, says in the note that it is unreliable there.
+void add_uniform_reach(AlphaResult& a, const SurvivalCurve& c);
+void add_alpha_systematic(AlphaResult& a, const SurvivalCurve& c, const KappaFit& k);
 
 }  // namespace rotleak

@@ -86,11 +86,12 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
   };
   if (!alpha.value && fit && fit->ok) {
     // a tail seen later: P sigma errors (its own and the fit's extrapolation) above factor x the fit,
-    // with min_survivors effective survivors there
+    // with at least kSeeTail effective survivors there (alpha asks for min_survivors; a tail carried
+    // by 58-108 unsplit lines at 82/83 was once called "none" at 10^30 times the fit)
     const double min_eff = static_cast<double>(alpha.min_survivors);
     std::size_t seen = c.t.size();
     for (std::size_t i = 0; i < c.t.size() && seen == c.t.size(); ++i) {
-      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < min_eff) continue;
+      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < std::min(min_eff, kSeeTail)) continue;
       const double line = alpha.factor * std::exp(fit->log_amplitude - fit->value * c.t[i]);
       const double err = std::hypot(c.P_err(i), line * c.t[i] * fit->std_error);
       if (c.P(i) - line > alpha.sigma * err) seen = i;

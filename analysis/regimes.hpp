@@ -45,9 +45,14 @@ struct TailClass {
   std::optional<std::uint64_t> resolve_particles;
 };
 
+/// The effective survivors (lines, for split runs) at which a tail above the fit is seen and called
+/// `unresolved` when alpha itself, which asks for fit.min_survivors, is not resolved: below about 10 the
+/// sample's own spread is no error estimate.
+inline constexpr double kSeeTail = 10;
+
 /// The documented rule (docs/output.md):
 /// - none: alpha has no significant crossing (find_alpha), and nowhere later does P lie `sigma`
-///   errors above factor x the fit with min_survivors effective survivors;
+///   errors above factor x the fit with min(kSeeTail, min_survivors) effective survivors;
 /// - unresolved: no significant crossing where alpha is read (the first one), but later P does lie
 ///   significantly above factor x the fit: a tail is seen, its weight is not resolved. It names the
 ///   particle count that would keep min_survivors effective survivors through the crossing

@@ -18,6 +18,8 @@ void fit_curve(RunSummary& s) {
   s.kappa = fit_kappa(s.curve, scene.kappa_window.from, scene.kappa_window.to);
   add_window_systematic(s.kappa, s.curve, scene.t_max);
   s.alpha = find_alpha(s.curve, s.kappa, scene.alpha_factor, scene.alpha_sigma, scene.min_survivors);
+  add_alpha_systematic(s.alpha, s.curve, s.kappa);
+  add_uniform_reach(s.alpha, s.curve);
   s.tail = fit_tail(s.curve, s.alpha);
   s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa);
   s.leak_times = leak_times(scene);

@@ -63,6 +63,13 @@ for p in scan1/points/*/; do
   python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["execution"]["ranks"] != 2)' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
 done
 echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
+# calibrate: a scan over seeds, then files from the points: the same bytes under 2 ranks
+cal=("$scene" --seeds 3 --particles 3000 --set run.t_max=2000 --no-progress)
+"$bin" calibrate "${cal[@]}" --threads 2 --out cal1 >/dev/null
+"$mpirun" -np 2 "$bin" calibrate "${cal[@]}" --threads 1 --out cal2 >/dev/null
+cmp -s cal1/calibration.csv cal2/calibration.csv || { echo "calibrate under 2 ranks: calibration.csv differs"; exit 1; }
+cmp -s cal1/calibration.json cal2/calibration.json || { echo "calibrate under 2 ranks: calibration.json differs"; exit 1; }
+echo "calibrate under 2 ranks: calibration.csv and calibration.json identical to one process"
 # the audit: its ensembles split by blocks, its shadows by particle; audit.json the same but for
 # the timing and layout fields (seconds, timing, threads, ranks)
 audit=("$scene" --set leak.omega=2/3 --sample 48 --stats-particles 30000 --stratify-particles 30000
@@ -86,5 +93,5 @@ echo "audit under 3 ranks: audit.json identical to one process (timings aside)"
 set +e
 msg=$("$mpirun" -np 2 "$bin" omega 2/3 2>&1 >/dev/null)
 set -e
-grep -q "only \`rotleak simulate\`, \`rotleak scan\` and \`rotleak audit\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
+grep -q "only \`rotleak simulate\`, \`scan\`, \`calibrate\` and \`audit\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
 echo "other commands under mpirun: refused with one line"

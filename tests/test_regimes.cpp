@@ -243,3 +243,43 @@ TEST(ClassifyTail, UnresolvedWhenTheTailIsSeenOnlyAfterItsCrossing) {
   // without the fit it is not looked for (the classification of old)
   EXPECT_EQ(classify_tail(scene("70/71"), curve(1e-6), none_found).tail, "none");
 }
+
+// A tail carried by few effective lines (a split run at 82/83 with 10^5 lines: 58-108 unsplit tail
+// lines, P at t_max 10^30 times the fit) is seen and called unresolved, never none; below kSeeTail
+// effective lines (the sample spread is then no error) it is not claimed.
+TEST(ClassifyTail, ATailOnFewLinesIsUnresolvedNotNone) {
+  const std::uint64_t n = 100000;
+  const auto curve = [&](double lines_in_tail) {
+    SurvivalCurve c;
+    c.particles = n;
+    c.weighted = c.lines = true;
+    c.max_weight = 2;
+    double g = 0;
+    for (int k = 0; k <= 20000; ++k) {
+      const double t = k, p = std::exp(-kKappa * t) + 1e-5 * 1000 / (1000 + t);
+      const double eff = t < 1500 ? 5000 : lines_in_tail;
+      c.t.push_back(t);
+      c.survivors.push_back(n);
+      c.P_w.push_back(p);
+      c.R.push_back(static_cast<double>(n) / eff);
+      g = std::max(g, (c.R.back() - 1) / static_cast<double>(n));
+      c.G.push_back(g);
+      c.lines_alive.push_back(static_cast<std::uint64_t>(eff));
+    }
+    return c;
+  };
+  KappaFit fit;
+  fit.ok = true;
+  fit.value = kKappa;
+  fit.std_error = 1e-6;
+  fit.from = 0;
+  fit.to = 300;
+  AlphaResult none_found;
+  none_found.upper_bound = 1e-6;
+  const TailClass few = classify_tail(scene("82/83"), curve(58), none_found, &fit);
+  EXPECT_EQ(few.tail, "unresolved") << few.note;
+  ASSERT_TRUE(few.resolve_particles.has_value());
+  EXPECT_EQ(*few.resolve_particles, static_cast<std::uint64_t>(std::ceil(n * 100 / 58.0)));
+  const TailClass too_few = classify_tail(scene("82/83"), curve(5), none_found, &fit);
+  EXPECT_EQ(too_few.tail, "none") << too_few.note;
+}

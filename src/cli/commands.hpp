@@ -24,6 +24,7 @@ Command add_scan(CLI::App& app);
 Command add_fit(CLI::App& app);
 Command add_regimes(CLI::App& app);
 Command add_merge(CLI::App& app);
+Command add_calibrate(CLI::App& app);
 
 /// Exit statuses: 0 done, 1 failed while running, 2 bad input.
 inline constexpr int kExitBadInput = 2;

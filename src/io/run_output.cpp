@@ -239,6 +239,9 @@ void put_fits(json& s, const RunSummary& r) {
   s["alpha"] = {
       {"value", nullable(alpha.value)},
       {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
+      {"systematic", nullable(alpha.systematic)},
+      {"shift_factor", alpha.value ? json(alpha.shift_factor) : json(nullptr)},
+      {"uniform_reach", nullable(alpha.uniform_reach)},
       {"upper_bound", nullable(alpha.upper_bound)},
       {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
       {"factor", alpha.factor},
@@ -334,16 +337,26 @@ std::string summary_text(const RunSummary& r) {
   else
     appendf(out, "kappa: not resolved (%s in [%g, %g])\n", kappa.points < 3 ? "too few grid points" : "no escape",
             kappa.from, kappa.to);
-  if (alpha.value)
-    appendf(out, "alpha = %.3g +- %.2g   (P at t = %g, first time P > %g x exponential fit)\n", *alpha.value,
-            alpha.std_error, alpha.crossing_time, alpha.factor);
-  else if (alpha.upper_bound && alpha.crossing_not_significant)
+  if (alpha.value) {
+    appendf(out, "alpha = %.3g +- %.2g (stat.)", *alpha.value, alpha.std_error);
+    if (alpha.systematic)
+      appendf(out, " +- %.2g (window)", *alpha.systematic);
+    else
+      out += " +- ? (window: fewer than two of kappa's windows resolve alpha)";
+    appendf(out, "   (P at t = %.6g, where P first exceeds %g x the fit)\n", alpha.crossing_time, alpha.factor);
+  } else if (alpha.upper_bound && alpha.crossing_not_significant)
     appendf(out, "alpha < %.3g   (P crosses %g x the fit at t = %g, but not %g standard errors above the fit)\n",
             *alpha.upper_bound, alpha.factor, alpha.resolved_until, alpha.sigma);
   else if (alpha.upper_bound)
     appendf(out, "alpha < %.3g   (P + %g errors stays below %g x the fit up to t = %g; >= %llu survive until t = %g)\n",
             *alpha.upper_bound, alpha.sigma, alpha.factor, alpha.bound_until,
             static_cast<unsigned long long>(alpha.min_survivors), alpha.resolved_until);
+  if (alpha.uniform_reach && (alpha.value || alpha.upper_bound) &&
+      alpha.value.value_or(alpha.upper_bound.value_or(0.0)) < *alpha.uniform_reach)
+    appendf(out,
+            "warning: alpha is unreliable below %.3g, the reach of the mupo scheme's uniform share at this particle "
+            "count; set run.splitting = true\n",
+            *alpha.uniform_reach);
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);

@@ -342,6 +342,7 @@ ScanOutcome scan(const ScanRequest& req) {
     lock = std::make_unique<DirectoryLock>(dir, "--out", shown);
     fs::create_directories(points_dir, ec);
     if (ec) throw InputError("--out", shown, "cannot create " + points_dir.string() + " (" + ec.message() + ")");
+    for (auto it = req.finish_files.rbegin(); it != req.finish_files.rend(); ++it) fs::remove(dir / *it, ec);
   }
   team.all(true);  // the directory is there before any rank looks
   // points.json: slug -> the inputs its run was made from, updated after each point commits. A point
@@ -457,6 +458,7 @@ ScanOutcome scan(const ScanRequest& req) {
                   {"axes", axes},      {"points", rows},       {"ran", out.ran},          {"skipped", out.skipped}};
   write_file_atomic(dir / "table.csv", out.csv);
   write_file_atomic(dir / "scan.json", out.document.dump(2) + "\n");
+  if (req.finish) req.finish(out);
   return out;
 }
 

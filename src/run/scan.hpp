@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,8 @@ ScanAxis parse_axis(const std::string& text);
 std::string point_slug(std::size_t index, std::size_t count, const std::vector<ScanAxis>& axes,
                        const std::vector<std::size_t>& choice);
 
+struct ScanOutcome;
+
 struct ScanRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< --set, applied before the swept keys
@@ -50,6 +53,12 @@ struct ScanRequest {
   /// The processes sharing the scan (null: current_team()): under mpirun every point's particles are
   /// shared by all ranks (as `rotleak simulate` shares them); rank 0 alone writes and reports.
   const Team* team = nullptr;
+  /// Called on rank 0 with the outcome once table.csv and scan.json are written, while the scan still
+  /// holds the directory's lock (`rotleak calibrate` writes its files there); may be empty.
+  std::function<void(const ScanOutcome&)> finish;
+  /// The files finish writes: removed as soon as the lock is held, so that while points run the
+  /// directory never shows them from an earlier scan as if complete.
+  std::vector<std::string> finish_files;
 };
 
 struct ScanOutcome {

@@ -73,7 +73,10 @@ def bench_main(name, draw_rows):
 
 
 def kind_of(directory):
-    """Which rotleak command wrote a directory: run, scan, shadow, covering, regimes; None otherwise."""
+    """Which rotleak command wrote a directory: run, scan, calibration, shadow, covering, regimes; None
+    otherwise."""
+    if os.path.exists(os.path.join(directory, "calibration.json")):
+        return "calibration"
     if os.path.exists(os.path.join(directory, "regimes.json")):
         return "regimes"
     if os.path.exists(os.path.join(directory, "scan.json")):
@@ -98,16 +101,16 @@ def kind_of(directory):
 
 def draw(directory):
     """Draws a directory rotleak wrote; returns the paths of the pictures."""
-    from . import covering, regimes, run, scan, shadow
+    from . import calibration, covering, regimes, run, scan, shadow
 
     kind = kind_of(directory)
     drawers = {"run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
-               "regimes": regimes.draw}
+               "regimes": regimes.draw, "calibration": calibration.draw}
     if kind is None:
         from ..readers import RotleakError
 
         raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
-                         "no scan.json, no regimes.json)" % directory)
+                         "no scan.json, no regimes.json, no calibration.json)" % directory)
     return drawers[kind](directory)
 
 

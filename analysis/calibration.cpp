@@ -1,0 +1,110 @@
+#include "analysis/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rotleak {
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+  const double hi = v[m];
+  if (v.size() % 2) return hi;
+  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
+}
+
+}  // namespace
+
+SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& e) {
+  if (x.size() != e.size() || x.size() < 2) throw std::invalid_argument("seed_spread: needs >= 2 values and errors");
+  SeedSpread s;
+  s.n = x.size();
+  const double n = static_cast<double>(s.n);
+  double sum = 0;
+  for (double v : x) sum += v;
+  s.pooled = sum / n;
+  double ss = 0;
+  for (double v : x) ss += (v - s.pooled) * (v - s.pooled);
+  s.sd = std::sqrt(ss / (n - 1));
+  s.pooled_err = s.sd / std::sqrt(n);
+  s.median_err = median(e);
+  s.sd_over_err = s.median_err > 0 ? s.sd / s.median_err : 0.0;
+  double chi2 = 0, in1 = 0, in2 = 0;
+  for (std::size_t k = 0; k < s.n; ++k) {
+    // the others' mean: the seed's own value is not its own reference
+    const double others = (sum - x[k]) / (n - 1), d = std::abs(x[k] - others);
+    if (e[k] > 0) chi2 += (x[k] - s.pooled) * (x[k] - s.pooled) / (e[k] * e[k]);
+    in1 += d <= e[k] ? 1 : 0;
+    in2 += d <= 2 * e[k] ? 1 : 0;
+  }
+  s.chi2_dof = chi2 / (n - 1);
+  s.coverage1 = in1 / n;
+  s.coverage2 = in2 / n;
+  const double m = median(x);
+  s.max_over_median = m != 0 ? *std::max_element(x.begin(), x.end()) / m : 0.0;
+  return s;
+}
+
+std::string spread_verdict(const SeedSpread& s) {
+  if (!(s.median_err > 0)) return "no errors reported";
+  if (s.sd_over_err > kHonestBand[1] || s.coverage2 < kHonestCoverage2) return "errors too small";
+  if (s.sd_over_err < kHonestBand[0]) return "errors too large";
+  return "honest";
+}
+
+SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves) {
+  if (curves.empty()) throw std::invalid_argument("pool_curves: no curves");
+  const SurvivalCurve& first = curves.front();
+  for (const SurvivalCurve& c : curves)
+    if (c.t != first.t || c.weighted != first.weighted || c.lines != first.lines || c.particles != first.particles)
+      throw std::invalid_argument("pool_curves: the runs differ in grid, sampling or particles");
+  const std::size_t points = first.t.size();
+  const double K = static_cast<double>(curves.size());
+  SurvivalCurve p;
+  p.t = first.t;
+  p.weighted = first.weighted;
+  p.lines = first.lines;
+  p.max_weight = first.max_weight;
+  p.particles = first.particles * curves.size();
+  p.survivors.assign(points, 0);
+  for (const SurvivalCurve& c : curves)
+    for (std::size_t i = 0; i < points; ++i) p.survivors[i] += c.survivors[i];
+  if (!p.weighted) return p;
+  const double n_total = static_cast<double>(p.particles);
+  double g = 0;
+  for (std::size_t i = 0; i < points; ++i) {
+    double sp = 0, sq = 0;  // seed order: the pooled curve does not depend on how the seeds were run
+    for (const SurvivalCurve& c : curves) {
+      sp += c.P_w[i];
+      sq += p.lines ? c.R[i] * c.P_w[i] * c.P_w[i] : c.Q[i];
+    }
+    p.P_w.push_back(sp / K);
+    if (p.lines) {
+      const double r = sp > 0 ? K * sq / (sp * sp) : 0.0;
+      p.R.push_back(r);
+      if (r > 0) g = std::max(g, (r - 1) / n_total);
+      p.G.push_back(g);
+      std::uint64_t alive = 0;
+      for (const SurvivalCurve& c : curves) alive += c.lines_alive[i];
+      p.lines_alive.push_back(alive);
+    } else {
+      p.Q.push_back(sq / K);
+    }
+  }
+  return p;
+}
+
+bool resolved_in_seeds(const std::vector<SurvivalCurve>& curves, std::size_t i, double min_effective) {
+  std::vector<double> eff;
+  for (const SurvivalCurve& c : curves) {
+    if (!(c.P(i) > 0)) return false;
+    eff.push_back(c.effective(i));
+  }
+  return median(eff) >= min_effective;
+}
+
+}  // namespace rotleak

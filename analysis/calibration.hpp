@@ -1,0 +1,55 @@
+// Calibration of error bars against independent seeds: K runs of one scene that differ only in
+// ensemble.seed are K independent draws of every statistic, so the spread of a statistic across them
+// is its true standard error, whatever the run's own error model assumes. A statistic's reported
+// errors are honest where the spread matches them (sd / median error near 1) and where each run's
+// value lies within 2 of its errors of the others' mean about 95% of the time (docs/model.md,
+// "Calibration"). Nothing here runs anything: run/calibrate.hpp runs the seeds and writes the files.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/survival.hpp"
+
+namespace rotleak {
+
+/// One statistic's values and reported errors over the seeds (seeds without a value left out).
+struct SeedSpread {
+  std::size_t n = 0;           ///< seeds with a value
+  double pooled = 0;           ///< mean of the values
+  double pooled_err = 0;       ///< sd / sqrt(n): the pooled mean's error from the spread itself
+  double sd = 0;               ///< sample standard deviation of the values (n - 1)
+  double median_err = 0;       ///< median of the reported errors
+  double sd_over_err = 0;      ///< sd / median_err (1 for honest errors); 0 when median_err is 0
+  double chi2_dof = 0;         ///< sum ((x_k - mean) / e_k)^2 / (n - 1) over seeds with e_k > 0
+  double coverage1 = 0;        ///< fraction of seeds with |x_k - mean of the others| <= e_k
+  double coverage2 = 0;        ///< ... <= 2 e_k
+  double max_over_median = 0;  ///< largest value over the median value (a rare heavy seed shows here)
+};
+
+/// What honest errors look like over enough seeds: sd / median error within the band, and at least the
+/// floor's share of the seeds within 2 errors of the others' mean (95% for Gaussian errors; with K = 100
+/// seeds its sampling error is about 2%, and sd / err's about 7%).
+inline constexpr double kHonestBand[2] = {0.7, 1.5};
+inline constexpr double kHonestCoverage2 = 0.9;
+
+/// "honest", "errors too small" (sd / err above the band or coverage under the floor), "errors too large"
+/// (sd / err below the band), or "no errors reported" (median error 0).
+std::string spread_verdict(const SeedSpread& s);
+
+/// The spread of x (values) against e (their reported errors), both one entry per seed. Needs n >= 2.
+SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& e);
+
+/// The pooled curve of K runs of one scene with different seeds (same grid): the run of all their
+/// particles together. P is the mean of the seeds' P; its second moment is pooled the same way (lines:
+/// R = K sum R_k P_k^2 / (sum P_k)^2; weighted: Q the mean of Q_k; counts summed), so the pooled curve's
+/// fits are those of one run of K N particles. Throws std::invalid_argument when the grids differ.
+SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves);
+
+/// Whether P at grid index i is resolved in every seed: P > 0 and at least min_effective effective
+/// survivors (lines, for split runs) in the median seed.
+bool resolved_in_seeds(const std::vector<SurvivalCurve>& curves, std::size_t i, double min_effective);
+
+}  // namespace rotleak

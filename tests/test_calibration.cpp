@@ -1,0 +1,98 @@
+// Seed calibration (analysis/calibration.hpp): the spread statistics on draws with known errors, the
+// pooled curve against its formula, and `calibrate` end to end on a small scene (its files read back).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "analysis/calibration.hpp"
+#include "io/files.hpp"
+#include "numeric/input.hpp"
+#include "run/calibrate.hpp"
+#include "scratch.hpp"
+
+using namespace rotleak;
+
+// Gaussian values with their true errors: sd / err near 1 and coverage near 68% / 95% (K = 4000: the
+// sampling errors are 1.1%, 0.7% and 0.35%; the bands are 4 of them). Errors reported half as large:
+// sd / err near 2 and the verdict says so.
+TEST(SeedSpread, HonestErrorsCalibrateAndSmallOnesAreCaught) {
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> normal(0, 1);
+  const std::size_t K = 4000;
+  std::vector<double> x(K), e(K, 0.1), half(K, 0.05);
+  for (double& v : x) v = 3 + 0.1 * normal(gen);
+  const SeedSpread s = seed_spread(x, e);
+  EXPECT_NEAR(s.sd_over_err, 1, 0.045);
+  EXPECT_NEAR(s.chi2_dof, 1, 0.09);
+  EXPECT_NEAR(s.coverage1, 0.6827, 0.03);
+  EXPECT_NEAR(s.coverage2, 0.9545, 0.014);
+  EXPECT_NEAR(s.pooled, 3, 4 * 0.1 / std::sqrt(K));
+  EXPECT_EQ(spread_verdict(s), "honest");
+  const SeedSpread t = seed_spread(x, half);
+  EXPECT_NEAR(t.sd_over_err, 2, 0.09);
+  EXPECT_EQ(spread_verdict(t), "errors too small");
+  EXPECT_THROW(seed_spread({1.0}, {0.1}), std::invalid_argument);
+}
+
+// Pooling split runs: P the mean, R = K sum R_k P_k^2 / (sum P_k)^2, N the sum: P's error of the pool is
+// that of one run of all lines.
+TEST(PoolCurves, SplitRunsPoolToOneRunOfAllLines) {
+  SurvivalCurve a, b;
+  for (SurvivalCurve* c : {&a, &b}) {
+    c->weighted = c->lines = true;
+    c->particles = 1000;
+    c->t = {0, 1};
+    c->survivors = {1000, 900};
+    c->lines_alive = {1000, 900};
+  }
+  a.P_w = {1, 0.5};
+  a.R = {1, 2};
+  b.P_w = {1, 0.3};
+  b.R = {1, 4};
+  a.G = {0, 0.001};
+  b.G = {0, 0.003};
+  const SurvivalCurve p = pool_curves({a, b});
+  EXPECT_EQ(p.particles, 2000u);
+  EXPECT_DOUBLE_EQ(p.P(1), 0.4);
+  // sum Y^2 = N (R_a P_a^2 + R_b P_b^2) = 1000 (0.5 + 0.36); sum Y = 1000 (0.8); R = 2000 sum Y^2 / (sum Y)^2
+  EXPECT_DOUBLE_EQ(p.R[1], 2 * (0.5 + 0.36) / (0.8 * 0.8));
+  EXPECT_EQ(p.lines_alive[1], 1800u);
+  SurvivalCurve other = b;
+  other.t = {0, 2};
+  EXPECT_THROW(pool_curves({a, other}), std::invalid_argument);
+}
+
+// calibrate on a tiny uniform scene: calibration.csv has a row per grid time, calibration.json the
+// statistics, both written under the directory, the points are ordinary runs; a second call skips them.
+TEST(Calibrate, WritesItsFilesAndResumes) {
+  const test::ScratchDir dir("rotleak_calibrate_test_");
+  std::filesystem::create_directories(dir.path);
+  const std::string scene = (dir.path / "scene.toml").string();
+  write_file_atomic(scene, "[ensemble]\nparticles = 3000\n[run]\nt_max = 500\n[observe]\nsurvival_dt = 5\n");
+  CalibrateRequest req;
+  req.scene_path = scene;
+  req.seeds = 4;
+  req.out = dir.path / "cal";
+  req.run.threads = 1;
+  const CalibrateOutcome out = calibrate(req);
+  EXPECT_EQ(out.ran, 4u);
+  const std::string csv = read_file(req.out / "calibration.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "t,resolved,seeds,P,P_err,P_err_model,sd_over_err,chi2_dof,coverage1,coverage2,max_over_median");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 101);
+  EXPECT_EQ(out.document.at("seeds").size(), 4u);
+  EXPECT_TRUE(out.document.at("statistics").contains("kappa"));
+  EXPECT_TRUE(out.document.at("statistics").contains("kappa_total"));
+  EXPECT_GT(out.document.at("P").at("resolved_times").get<int>(), 50);
+  const CalibrateOutcome again = calibrate(req);
+  EXPECT_EQ(again.ran, 0u);
+  EXPECT_EQ(again.skipped, 4u);
+  EXPECT_EQ(read_file(req.out / "calibration.csv"), csv);
+  req.seeds = 1;
+  EXPECT_THROW(calibrate(req), InputError);
+  req.seeds = 4;
+  req.overrides = {"ensemble.seed=3"};
+  EXPECT_THROW(calibrate(req), InputError);
+}
