@@ -44,6 +44,17 @@ SurvivalCurve exact_curve(double n, double t_max, const std::function<double(dou
 
 const double kKappa = 4.4e-3;
 
+// Lifetimes of the designed curve P = (1 - w) e^{-kappa t} + w (1 + t/t0)^-z.
+struct TailLife {
+  double w, z, t0;
+  std::exponential_distribution<double> expo{kKappa};
+  std::uniform_real_distribution<double> u{0, 1};
+  double operator()(std::mt19937_64& g) {
+    if (u(g) < w) return t0 * (std::pow(1 - u(g), -1 / z) - 1);  // inverse of (1 + t/t0)^-z
+    return expo(g);
+  }
+};
+
 }  // namespace
 
 TEST(FitKappa, RecoversTheRateOfAPureExponential) {
@@ -145,12 +156,7 @@ TEST(FindAlpha, ErrorCarriesTheCrossingShiftFactor) {
   const AlphaResult a_true = find_alpha(truth, fit_kappa(truth, 0, 300));
   ASSERT_TRUE(a_true.value.has_value());
   std::mt19937_64 gen(33);
-  std::exponential_distribution<double> expo(kKappa);
-  std::uniform_real_distribution<double> u(0, 1);
-  auto life = [&](std::mt19937_64& g) {
-    if (u(g) < w) return t0 * (std::pow(1 - u(g), -1 / z) - 1);
-    return expo(g);
-  };
+  TailLife life{w, z, t0};
   const int reps = 400;
   double sum = 0, sum2 = 0, factor = 0;
   for (int r = 0; r < reps; ++r) {
@@ -279,12 +285,7 @@ TEST(FindAlpha, MatchesTheNoiseFreeCurveWithinItsError) {
   ASSERT_TRUE(tail_true.z.has_value());
 
   std::mt19937_64 gen(4);
-  std::exponential_distribution<double> expo(kKappa);
-  std::uniform_real_distribution<double> u(0, 1);
-  auto life = [&](std::mt19937_64& g) {
-    if (u(g) < w) return t0 * (std::pow(1 - u(g), -1 / z) - 1);  // inverse of (1 + t/t0)^-z
-    return expo(g);
-  };
+  TailLife life{w, z, t0};
   const SurvivalCurve c = sample_curve(4000000, 20000, life, gen);
   const AlphaResult a = find_alpha(c, fit_kappa(c, 0, 300));
   ASSERT_TRUE(a.value.has_value());

@@ -56,6 +56,17 @@ TailClass classify(const SurvivalCurve& c, const std::string& omega = "1e-4") {
   return classify_tail(scene(omega), c, find_alpha(c, k));
 }
 
+// The exponential fit the tail is judged against, given rather than fitted: kappa on [0, 300].
+KappaFit known_fit() {
+  KappaFit fit;
+  fit.ok = true;
+  fit.value = kKappa;
+  fit.std_error = 1e-6;
+  fit.from = 0;
+  fit.to = 300;
+  return fit;
+}
+
 }  // namespace
 
 TEST(ClassifyTail, PureExponentialHasNone) {
@@ -217,12 +228,7 @@ TEST(ClassifyTail, UnresolvedWhenTheTailIsSeenOnlyAfterItsCrossing) {
     }
     return c;
   };
-  KappaFit fit;
-  fit.ok = true;
-  fit.value = kKappa;
-  fit.std_error = 1e-6;
-  fit.from = 0;
-  fit.to = 300;
+  const KappaFit fit = known_fit();
   AlphaResult none_found;  // no value: no significant crossing where alpha is read
   none_found.upper_bound = 1e-6;
   const TailClass poor = classify_tail(scene("70/71"), curve(1e-6), none_found, &fit);
@@ -268,12 +274,7 @@ TEST(ClassifyTail, ATailOnFewLinesIsUnresolvedNotNone) {
     }
     return c;
   };
-  KappaFit fit;
-  fit.ok = true;
-  fit.value = kKappa;
-  fit.std_error = 1e-6;
-  fit.from = 0;
-  fit.to = 300;
+  const KappaFit fit = known_fit();
   AlphaResult none_found;
   none_found.upper_bound = 1e-6;
   const TailClass few = classify_tail(scene("82/83"), curve(58), none_found, &fit);

@@ -5,7 +5,6 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
-#include "io/progress.hpp"
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
 #include "run/team.hpp"
@@ -26,11 +25,7 @@ int run_calibrate(CalibrateArgs a) {
   a.request.first_seed = parse_count("--first-seed", a.first_seed);
   if (!a.particles.empty())
     a.request.overrides.push_back("ensemble.particles=" + std::to_string(parse_count("--particles", a.particles)));
-  if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
-  a.request.run.threads = a.threads;
-  a.request.run.engine = parse_engine("--engine", a.engine);
-  a.request.run.progress = progress_on_stderr(!a.no_progress && ::isatty(2));
-  if (!a.no_progress) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  scan_run_options(a.threads, a.engine, a.no_progress, a.request.run, a.request.note);
   const CalibrateOutcome out = calibrate(a.request);
   if (current_team().rank() != 0) return 0;  // under MPI rank 0 reports
   if (a.json_out)
@@ -49,8 +44,7 @@ Command add_calibrate(CLI::App& app) {
       "calibrate",
       "Are my error bars honest here? K seeds of a scene: their spread against the errors each run reports");
   sub->add_option("scene", args->request.scene_path, "Scene file (TOML)")->required();
-  sub->add_option("--seeds", args->seeds, "Number of seeds K (>= 2; 100 for a calibration worth the name)")
-      ->required();
+  sub->add_option("--seeds", args->seeds, "Number of seeds K (>= 2; 100 for a calibration worth the name)")->required();
   sub->add_option("--first-seed", args->first_seed, "First seed (default 1): seeds S .. S + K - 1");
   sub->add_option("--out", args->request.out, "Directory (points/, calibration.csv, calibration.json)")->required();
   sub->add_option("--particles", args->particles, "Override ensemble.particles (100000, 1e5)");

@@ -4,6 +4,8 @@
 #include <functional>
 #include <string>
 
+#include "run/pipeline.hpp"
+
 namespace rotleak::cli {
 
 /// A subcommand: its CLI11 node and the function that runs it once parsed (returns the exit status).
@@ -25,6 +27,10 @@ Command add_fit(CLI::App& app);
 Command add_regimes(CLI::App& app);
 Command add_merge(CLI::App& app);
 Command add_calibrate(CLI::App& app);
+
+/// The run options of a command that runs a scan (scan, calibrate): --threads (>= 0), --engine, the
+/// progress line on a terminal and the per-point status lines unless --no-progress.
+void scan_run_options(int threads, const std::string& engine, bool no_progress, RunOptions& run, Note& note);
 
 /// Exit statuses: 0 done, 1 failed while running, 2 bad input.
 inline constexpr int kExitBadInput = 2;

@@ -29,11 +29,7 @@ int run_scan(ScanArgs a) {
   if (a.particles_given) {
     a.request.overrides.push_back("ensemble.particles=" + std::to_string(parse_count("--particles", a.particles)));
   }
-  if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
-  a.request.run.threads = a.threads;
-  a.request.run.engine = parse_engine("--engine", a.engine);
-  a.request.run.progress = progress_on_stderr(!a.no_progress && ::isatty(2));
-  if (!a.no_progress) a.request.note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  scan_run_options(a.threads, a.engine, a.no_progress, a.request.run, a.request.note);
   const ScanOutcome out = scan(a.request);
   if (current_team().rank() != 0) return 0;  // under MPI rank 0 reports
   if (a.json_out)
@@ -45,6 +41,14 @@ int run_scan(ScanArgs a) {
 }
 
 }  // namespace
+
+void scan_run_options(int threads, const std::string& engine, bool no_progress, RunOptions& run, Note& note) {
+  if (threads < 0) throw InputError("--threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  run.threads = threads;
+  run.engine = parse_engine("--engine", engine);
+  run.progress = progress_on_stderr(!no_progress && ::isatty(2));
+  if (!no_progress) note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+}
 
 Command add_scan(CLI::App& app) {
   auto args = std::make_shared<ScanArgs>();

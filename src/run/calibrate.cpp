@@ -142,7 +142,9 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   fit_curve(all);
   json fits = json::object();
   put_fits(fits, all);
-  json pooled_doc = {{"particles", pooled.particles}, {"kappa", fits.at("kappa")}, {"alpha", fits.at("alpha")},
+  json pooled_doc = {{"particles", pooled.particles},
+                     {"kappa", fits.at("kappa")},
+                     {"alpha", fits.at("alpha")},
                      {"tail", fits.at("tail")}};
 
   // alpha's upper bounds: a bound below the pooled alpha is a bound that failed
@@ -249,7 +251,8 @@ CalibrateOutcome calibrate(const CalibrateRequest& req) {
   CalibrateOutcome out;
   sr.finish = [&out](const ScanOutcome& scan) {
     std::vector<fs::path> dirs;
-    for (const json& p : scan.document.at("points")) dirs.push_back(scan.dir / "points" / p.at("point").get<std::string>());
+    for (const json& p : scan.document.at("points"))
+      dirs.push_back(scan.dir / "points" / p.at("point").get<std::string>());
     out.document = calibration_document(dirs, out.csv);
     write_file_atomic(scan.dir / "calibration.csv", out.csv);
     write_file_atomic(scan.dir / "calibration.json", out.document.dump(2) + "\n");  // last: complete
