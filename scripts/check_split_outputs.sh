@@ -27,15 +27,21 @@ df = pd.read_csv(run + "/survival.csv")
 assert list(df.columns) == header and len(df) == len(rows)
 assert str(df["P"].dtype) == "float64" and str(df["survivors"].dtype) == "int64"
 assert 0 < df["P"].iloc[-1] < 1e-15, df["P"].iloc[-1]
-assert df["P_err"].iloc[-1] < df["P"].iloc[-1]
+# at 100/101 with 2*10^4 lines P(8000) rests on unsplit lines a run this size rarely draws: its error
+# says so (the allowance for them, docs/model.md), and the summary names when it took over
+assert df["P_err"].iloc[-1] > df["P"].iloc[-1]
 s = json.load(open(run + "/summary.json"))
 sp = s["splitting"]
 for key in ("rule", "split_every", "split_delta", "split_cap", "levels", "splits", "roulette_removed",
-            "max_population", "max_line", "lines", "smallest_P"):
+            "max_population", "max_line", "lines", "unsplit_allowance", "smallest_P"):
     assert key in sp, key
 assert len(sp["lines"]) == 4
 for at in sp["lines"]:
-    assert set(at) == {"t", "lines_alive", "members", "P", "P_err", "effective_lines"}, at
+    assert set(at) == {"t", "lines_alive", "members", "P", "P_err", "effective_lines", "unsplit_lines",
+                       "unsplit_P"}, at
+ua = sp["unsplit_allowance"]
+assert set(ua) == {"reliable_until", "rate_from", "decay_rate", "typical_weight", "dominates_from"}, ua
+assert ua["rate_from"] <= ua["reliable_until"] < ua["dominates_from"] < 8000, ua
 assert set(sp["smallest_P"]) == {"t", "P", "P_err", "lines_alive"}
 assert s["scene"]["run"]["splitting"] is True
 assert abs(sp["smallest_P"]["P"] - df["P"][df["P"] > 0].min()) <= 1e-12 * sp["smallest_P"]["P"]

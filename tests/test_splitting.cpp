@@ -139,13 +139,14 @@ Outcome deep(std::uint64_t seed, std::vector<std::string> sets, std::uint64_t li
 }
 
 // (b) The copy's turn is the perturbation rounding makes anyway: turns of 1e-6, 1e-9 and 1e-14 rad
-// give the same P at P ~ 1e-8 and ~ 1e-12 (t = 4000, 6000). Independent seeds, 6 comparisons (a
+// give the same P at P ~ 1e-4 and ~ 1e-5 (t = 2000, 2500, where the lines' spread is P's error; later,
+// unsplit lines no run of 6*10^4 lines draws reliably carry P). Independent seeds, 6 comparisons (a
 // correct engine fails with probability <= 4e-4).
 TEST(Splitting, TheCopysTurnDoesNotMoveP) {
   const Outcome a = deep(31, {"run.split_delta=1e-6"}), b = deep(32, {"run.split_delta=1e-9"}),
                 c = deep(33, {"run.split_delta=1e-14"});
   int comparisons = 0;
-  for (double t : {4000, 6000}) {
+  for (double t : {2000, 2500}) {
     const std::size_t i = at_time(a.curve, t);
     comparisons += compare(a.curve, b.curve, i, "1e-6 vs 1e-9");
     comparisons += compare(a.curve, c.curve, i, "1e-6 vs 1e-14");
@@ -157,16 +158,17 @@ TEST(Splitting, TheCopysTurnDoesNotMoveP) {
 }
 
 // (c) The schedule only moves the variance: split_every = 100, 150 and 300 give the same P wherever
-// both runs of a pair resolve it (100 effective lines), at five times from 500 to 6000 (P from 1e-1
-// to 1e-12). Splitting every 300 halves the population each period, so its lines die out before
-// t = 6000 (those comparisons are skipped); every 100 outgrows the decay and the roulette holds each
-// line at split_cap members. Independent seeds, at most 15 comparisons (a correct engine fails with
-// probability <= 1e-3).
+// both runs of a pair resolve it (100 effective lines), at five times from 500 to 2500 (P from 1e-1
+// to 1e-5; later, unsplit lines a run of 2*10^4 lines rarely draws carry P, and the allowance for them
+// leaves it unresolved). Splitting every 300 halves the population each period, so its lines thin out
+// (comparisons where they are too few are skipped); every 100 outgrows the decay and the roulette holds
+// each line at split_cap members. Independent seeds, at most 15 comparisons (a correct engine fails
+// with probability <= 1e-3).
 TEST(Splitting, TheScheduleDoesNotMoveP) {
   const Outcome a = deep(41, {"run.split_every=100"}, 20000), b = deep(42, {"run.split_every=150"}, 20000),
                 c = deep(43, {"run.split_every=300"}, 20000);
   int comparisons = 0;
-  for (double t : {500, 1000, 2500, 4000, 6000}) {
+  for (double t : {500, 1000, 1500, 2000, 2500}) {
     const std::size_t i = at_time(a.curve, t);
     comparisons += compare(a.curve, b.curve, i, "100 vs 150");
     comparisons += compare(a.curve, c.curve, i, "100 vs 300");
@@ -224,8 +226,30 @@ TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
   EXPECT_TRUE(test::same_text(csv, survival_csv(b.curve))) << "resumed";
 }
 
-// Deep P stays a number: 100/101 reaches P(6000) ~ 1e-12 with a few per cent error from 6*10^4 lines,
-// survival.csv prints it, reads back, and the error is what the lines' spread gives.
+// The small calibration: at 100/101, t = 4000, unsplit lines of weight ~0.019 (|p| ~ 1e-3, in the gaps
+// of the leak's covering) carry 2.5e-9 +- 0.4e-9 of P (targeted runs; P itself is ~1e-8), and a run of
+// 10^5 lines draws one in about one seed of a hundred (200 seeds: sd of P / median P_err = 125 there,
+// 1% of the seeds within 2 errors). A run that drew none once reported P(4000) resolved with a 3% error
+// (266 effective lines at 2*10^4 lines). Now the allowance for unsplit lines not drawn dominates its
+// error before t = 4000 and P there is not resolved (fewer than fit.min_survivors effective lines).
+TEST(Splitting, AtOmega100Over101PAt4000IsNotClaimedResolved) {
+  const Outcome r = deep(61, {"run.t_max=4000"}, 20000);
+  const std::size_t i = at_time(r.curve, 4000);
+  EXPECT_EQ(r.curve.unsplit_lines[i], 0u) << "this seed drew no such line (the case the error must cover)";
+  ASSERT_TRUE(r.curve.unsplit_model.dominates_from.has_value());
+  EXPECT_LT(*r.curve.unsplit_model.dominates_from, 4000);
+  EXPECT_LT(r.curve.effective(i), static_cast<double>(r.scene.min_survivors))
+      << "P(4000) = " << r.curve.P(i) << " +- " << r.curve.P_err(i);
+  // where the lines' spread still holds (t = 2000), the allowance is not there
+  const std::size_t early = at_time(r.curve, 2000);
+  EXPECT_LT(r.curve.t[early], *r.curve.unsplit_model.dominates_from);
+  EXPECT_GE(r.curve.effective(early), static_cast<double>(r.scene.min_survivors));
+}
+
+// Deep P stays a number: 100/101 reaches P(6000) ~ 1e-12 from 6*10^4 lines, survival.csv prints it and
+// reads it back with its error. That error is not the few per cent the lines' spread gives: at t = 6000
+// P depends on unsplit lines a typical run has not drawn (one seed in a hundred has one, and it carries
+// 10^5 times P), and the allowance for them dominates (docs/model.md, "Unsplit lines not drawn").
 TEST(Splitting, DeepValuesSurviveTheFile) {
   const Outcome r = deep(51, {}, 20000);
   const std::string csv = survival_csv(r.curve);
@@ -233,7 +257,9 @@ TEST(Splitting, DeepValuesSurviveTheFile) {
   const std::size_t last = r.curve.t.size() - 1;
   EXPECT_LT(r.curve.P(last), 1e-10);
   EXPECT_GT(r.curve.P(last), 0.0);
-  EXPECT_LT(r.curve.P_err(last) / r.curve.P(last), 0.2);
+  ASSERT_TRUE(r.curve.unsplit_model.dominates_from.has_value());
+  EXPECT_LT(*r.curve.unsplit_model.dominates_from, 4000);
+  EXPECT_GT(r.curve.P_err(last), r.curve.P(last));
   EXPECT_DOUBLE_EQ(back.P(last), r.curve.P(last));
   EXPECT_NEAR(back.P_err(last), r.curve.P_err(last), 1e-12 * r.curve.P_err(last));
   EXPECT_GT(r.curve.lines_alive[last], 0u);

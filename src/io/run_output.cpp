@@ -209,9 +209,18 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
                   {"members", curve.survivors[i]},
                   {"P", curve.P(i)},
                   {"P_err", curve.P_err(i)},
-                  {"effective_lines", curve.effective(i)}});
+                  {"effective_lines", curve.effective(i)},
+                  {"unsplit_lines", curve.unsplit_lines.empty() ? json(nullptr) : json(curve.unsplit_lines[i])},
+                  {"unsplit_P", curve.unsplit_P.empty() ? json(nullptr) : json(curve.unsplit_P[i])}});
   }
   j["lines"] = at;
+  const auto& m = curve.unsplit_model;
+  j["unsplit_allowance"] = m.on ? json{{"reliable_until", m.reliable_until},
+                                       {"rate_from", m.rate_from},
+                                       {"decay_rate", m.decay_rate},
+                                       {"typical_weight", m.typical_weight},
+                                       {"dominates_from", m.dominates_from ? json(*m.dominates_from) : json(nullptr)}}
+                                : json(nullptr);
   std::size_t deepest = 0;
   for (std::size_t i = 0; i < curve.t.size(); ++i)
     if (curve.P(i) > 0 && curve.P(i) < curve.P(deepest)) deepest = i;

@@ -12,7 +12,7 @@ namespace rotleak {
 
 namespace {
 
-constexpr const char* kMagic = "rotleak-tallies 2\n";
+constexpr const char* kMagic = "rotleak-tallies 3\n";
 
 std::uint64_t fnv1a(const char* p, std::size_t n) {
   std::uint64_t h = 1469598103934665603ull;
@@ -84,6 +84,10 @@ std::string encode_tally_file(const TallyFile& f) {
     w.words(t.culled_per_bin);
     for (std::uint64_t x : {t.splits, t.culls, t.levels, t.max_population, t.max_line}) w.word(x);
     for (const FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) put_sum(w, *sum);
+    put_sums(w, t.unsplit_out);
+    put_sums(w, t.unsplit2_out);
+    w.words(t.unsplit_left);
+    put_sum(w, t.w2_start);
   }
   for (const EscapeRecord& r : f.records) {
     w.real(r.t);
@@ -196,6 +200,13 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     r.words(t.culled_per_bin);
     for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
     for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
+    t.unsplit_out.resize(points);
+    t.unsplit2_out.resize(points);
+    t.unsplit_left.resize(points);
+    get_sums(r, t.unsplit_out);
+    get_sums(r, t.unsplit2_out);
+    r.words(t.unsplit_left);
+    t.w2_start = get_sum(r);
   }
   for (EscapeRecord& e : f.records) {
     e.t = r.real();

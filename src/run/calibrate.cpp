@@ -1,5 +1,6 @@
 #include "run/calibrate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -63,6 +64,23 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   }
   const std::size_t K = curves.size(), points = curves.front().t.size();
   const double min_eff = static_cast<double>(scene.min_survivors);
+  // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn
+  // dominates its error (summary.json splitting.unsplit_allowance.dominates_from; none: never)
+  double model_from = std::numeric_limits<double>::infinity();
+  {
+    std::vector<double> from;
+    for (const json& s : summaries) {
+      double f = std::numeric_limits<double>::infinity();
+      if (s.contains("splitting") && s.at("splitting").contains("unsplit_allowance")) {
+        const json& a = s.at("splitting").at("unsplit_allowance");
+        if (a.is_object() && a.contains("dominates_from") && a.at("dominates_from").is_number())
+          f = a.at("dominates_from").get<double>();
+      }
+      from.push_back(f);
+    }
+    std::sort(from.begin(), from.end());
+    model_from = from[from.size() / 2];
+  }
 
   // P(t) at every grid time
   csv = "t,resolved,seeds,P,P_err,P_err_model,sd_over_err,chi2_dof,coverage1,coverage2,max_over_median\n";
@@ -77,7 +95,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
       e[k] = curves[k].P_err(i);
     }
     const SeedSpread s = seed_spread(x, e);
-    const bool ok = resolved_in_seeds(curves, i, min_eff);
+    const bool ok = resolved_in_seeds(curves, i, min_eff) && curves.front().t[i] < model_from;
     appendf(csv, "%s,%d,%zu,%s,%s,%s,%s,%s,%s,%s,%s\n", shortest(curves.front().t[i]).c_str(), ok ? 1 : 0, K,
             shortest(s.pooled).c_str(), shortest(s.pooled_err).c_str(), shortest(pooled.P_err(i)).c_str(),
             shortest(s.sd_over_err).c_str(), shortest(s.chi2_dof).c_str(), shortest(s.coverage1).c_str(),
@@ -95,7 +113,8 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   json P = {{"resolved_times", resolved},
             {"min_effective", min_eff},
             {"band", {kHonestBand[0], kHonestBand[1]}},
-            {"coverage2_floor", kHonestCoverage2}};
+            {"coverage2_floor", kHonestCoverage2},
+            {"model_from", std::isinf(model_from) ? json(nullptr) : json(model_from)}};
   if (resolved > 0) {
     P["from"] = first;
     P["to"] = last;

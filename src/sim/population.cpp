@@ -126,6 +126,15 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
 
   std::vector<LineBook> books;
   std::vector<double> w0(hi - lo);
+  std::vector<char> unsplit(hi - lo, 1);  // the line's one member has never split
+  // a line leaves the unsplit stratum from grid index g on (its member escaped or first split)
+  const auto leave_unsplit = [&](std::uint64_t line, std::size_t g) {
+    if (!unsplit[line - lo]) return;
+    unsplit[line - lo] = 0;
+    t.unsplit_out[g].add(w0[line - lo]);
+    t.unsplit2_out[g].add_square(w0[line - lo]);
+    ++t.unsplit_left[g];
+  };
   std::vector<Member> pop;
   books.reserve(hi - lo);
   pop.reserve(hi - lo);
@@ -133,6 +142,7 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
     const InitialDraw d = sampler.draw(id);
     w0[id - lo] = sampler.weight(d);
     t.w_start.add(w0[id - lo]);
+    t.w2_start.add_square(w0[id - lo]);
     books.emplace_back(w0[id - lo], points);
     pop.push_back({initial_state(st, d), 0, id, 0, 0});
   }
@@ -172,6 +182,7 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
         ++t.escaped;
         book.add(pop[i].level, -1);
         book.changed(grid_of(ends[i].t), t);
+        leave_unsplit(line, grid_of(ends[i].t));
         if (book.dead()) ++t.lines_ended[grid_of(ends[i].t)];
       }
       if (!last) {
@@ -182,6 +193,7 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
           if (ends[i].fate != Fate::survived) continue;
           Member m{ends[i].last, ends[i].collisions, line, 0, pop[i].level};
           if (rule.copies(m) == 2) {
+            leave_unsplit(line, grid_of(stop));
             book.add(m.level, -1);
             ++m.level;
             book.add(m.level, 2);

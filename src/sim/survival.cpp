@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace rotleak {
 
@@ -27,6 +29,49 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
   return out;
 }
 
+/// The allowance for unsplit lines a run has not drawn (docs/model.md "Deep tails", "Unsplit lines not
+/// drawn"): past the last time t_r at which at least kUnsplitReliable unsplit lines are alive, their
+/// share of P is taken to go on decaying at the rate it showed over [t_a, t_r] (t_a the last time with
+/// 2 kUnsplitReliable of them), P_u(t) = P_u(t_r) exp(-gamma (t - t_r)), carried by lines of their
+/// typical weight w = N sum w^2 / sum w at t_r: a Poisson number of such lines adds w P_u(t) / N to P's
+/// variance, beyond what the unsplit lines still alive add to the lines' spread. R (hence P_err, the
+/// effective lines and G) includes it.
+void add_unsplit_allowance(SurvivalCurve& c) {
+  const std::size_t points = c.t.size();
+  if (points == 0 || c.unsplit_lines.size() != points) return;
+  const double n = static_cast<double>(c.particles);
+  std::size_t r = points, a = points;
+  for (std::size_t j = points; j-- > 0;)
+    if (c.unsplit_lines[j] >= kUnsplitReliable) {
+      r = j;
+      break;
+    }
+  if (r == points || r + 1 == points || !(c.unsplit_P[r] > 0)) return;
+  for (std::size_t j = r + 1; j-- > 0;)
+    if (c.unsplit_lines[j] >= 2 * kUnsplitReliable) {
+      a = j;
+      break;
+    }
+  double gamma = 0;
+  if (a < r && c.unsplit_P[a] > c.unsplit_P[r]) gamma = std::log(c.unsplit_P[a] / c.unsplit_P[r]) / (c.t[r] - c.t[a]);
+  const double w = n * c.unsplit_var[r] / c.unsplit_P[r];
+  c.unsplit_model = {true, c.t[r], c.t[a < points ? a : r], gamma, w, std::nullopt};
+  double g = r > 0 ? c.G[r - 1] : 0.0;
+  for (std::size_t j = 0; j < points; ++j) {
+    if (j > r && c.P_w[j] > 0) {
+      const double expected = c.unsplit_P[r] * std::exp(-gamma * (c.t[j] - c.t[r]));
+      const double extra = std::max(0.0, w * expected / n - c.unsplit_var[j]);
+      const double own = c.P_w[j] * c.P_w[j] * std::max(0.0, c.R[j] - 1) / n;
+      if (extra > own && !c.unsplit_model.dominates_from) c.unsplit_model.dominates_from = c.t[j];
+      c.R[j] += n * extra / (c.P_w[j] * c.P_w[j]);
+    }
+    if (j >= r) {
+      if (c.R[j] > 0) g = std::max(g, (c.R[j] - 1) / n);
+      c.G[j] = g;
+    }
+  }
+}
+
 namespace {
 
 /// The split run's P, R, G and lines alive from the exact line tallies.
@@ -34,8 +79,8 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   c.weighted = c.lines = true;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  FixedSum in, out, in2, out2;
-  std::uint64_t ended = 0;
+  FixedSum in, out, in2, out2, u = tally.w_start, u2 = tally.w2_start;
+  std::uint64_t ended = 0, left = 0;
   double g = 0;
   for (std::size_t j = 0; j < tally.line_in.size(); ++j) {
     in.merge(tally.line_in[j]);
@@ -52,7 +97,16 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
     if (r > 0) g = std::max(g, (r - 1) / n);
     c.G.push_back(g);
     c.lines_alive.push_back(scene.particles - ended);
+    if (j < tally.unsplit_out.size()) {
+      u = u.minus(tally.unsplit_out[j]);
+      u2 = u2.minus(tally.unsplit2_out[j]);
+      left += tally.unsplit_left[j];
+    }
+    c.unsplit_lines.push_back(scene.particles - left);
+    c.unsplit_P.push_back(u.value() / n);
+    c.unsplit_var.push_back(u2.value() / (n * n));
   }
+  add_unsplit_allowance(c);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/engine.hpp"
@@ -42,7 +43,28 @@ struct SurvivalCurve {
   /// independent increments with the variance the lines show; the running maximum keeps that
   /// variance from falling where the spread of a few lines happens to dip.
   std::vector<double> G;
+  /// Split runs: the unsplit lines (Tally::unsplit_out) at each grid time: their count, their weight
+  /// sum over N (their share of P) and their squared weights' sum over N^2 (their share of P's variance).
+  std::vector<std::uint64_t> unsplit_lines;
+  std::vector<double> unsplit_P, unsplit_var;
+  /// The allowance for unsplit lines not drawn (add_unsplit_allowance), when it applies.
+  struct UnsplitModel {
+    bool on = false;
+    double reliable_until = 0;  ///< t_r: the last time with kUnsplitReliable unsplit lines alive
+    double rate_from = 0;       ///< t_a: the decay rate is measured over [t_a, t_r]
+    double decay_rate = 0;      ///< gamma
+    double typical_weight = 0;  ///< N sum w^2 / sum w of the unsplit lines at t_r
+    /// The first grid time at which the allowance exceeds the lines' own variance (none: it never does):
+    /// from there on P's error is mostly the model's, and P is not claimed resolved.
+    std::optional<double> dominates_from;
+  } unsplit_model;
 };
+
+/// Unsplit lines alive below which their own spread no longer measures their share of P's error.
+inline constexpr std::uint64_t kUnsplitReliable = 10;
+
+/// Adds to a split curve's R the allowance for unsplit lines the run has not drawn (docs/model.md).
+void add_unsplit_allowance(SurvivalCurve& c);
 
 /// Grid times t_k = k dt for k = 0..bins, the last one clamped to t_max.
 std::vector<double> survival_times(const Scene& scene);

@@ -49,6 +49,14 @@ struct Tally {
   /// roulette survivors gained equals the weight escaped, removed by the roulette, and alive at the
   /// end (survived to t_max, or stuck). A split keeps it exactly; check_conservation() enforces it.
   FixedSum w_start, w_gained, w_escaped, w_removed, w_alive_end;
+  /// The unsplit lines (split runs): lines whose one member has never split (a bouncing-ball stretch at
+  /// every split time so far), each of weight w0; they carry the heaviest lines of a run. A line leaves
+  /// the stratum when its member escapes or first splits, from grid index j on: unsplit_out[j] adds w0,
+  /// unsplit2_out[j] w0^2 and unsplit_left[j] 1. With w2_start the sum of w0^2 over all lines, the
+  /// stratum's weight at t_j is w_start - sum_{i <= j} unsplit_out[i] (and likewise its square and count).
+  std::vector<FixedSum> unsplit_out, unsplit2_out;
+  std::vector<std::uint64_t> unsplit_left;
+  FixedSum w2_start;
 
   void resize(const Scene& scene);
   /// A particle's end: its fate at time t (escapes binned by dt), its collisions, and, for weighted
