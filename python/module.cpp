@@ -19,6 +19,7 @@
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
+#include "run/calibrate.hpp"
 #include "run/pipeline.hpp"
 #include "version.hpp"
 
@@ -101,6 +102,41 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
   return out;
 }
 
+/// `rotleak calibrate` into `out`: the seeds' runs (those complete skipped), calibration.csv and
+/// calibration.json; returns calibration.json's text. Ctrl-C stops it between blocks (its points are kept).
+std::string calibrate(const std::string& scene_path, const std::vector<std::string>& overrides,
+                      std::uint64_t seeds, std::uint64_t first_seed, const std::string& out, int threads, bool force) {
+  if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  rotleak::CalibrateRequest req;
+  req.scene_path = scene_path;
+  req.overrides = overrides;
+  req.seeds = seeds;
+  req.first_seed = first_seed;
+  req.out = out;
+  req.force = force;
+  req.run.threads = threads;
+  std::atomic<bool> stop{false};
+  req.run.stop = &stop;
+  req.run.progress = [&](std::uint64_t, std::uint64_t, std::uint64_t, bool) {
+    if (g_interrupt.load()) stop.store(true);
+  };
+  std::optional<rotleak::CalibrateOutcome> outcome;
+  {
+    SigintGuard guard(in_main_thread());
+    py::gil_scoped_release released;
+    try {
+      outcome = rotleak::calibrate(req);
+    } catch (const rotleak::RunInterrupted&) {
+      // below, with the GIL
+    }
+  }
+  if (!outcome) {
+    PyErr_SetString(PyExc_KeyboardInterrupt, "rotleak.calibrate interrupted: the seeds done so far are kept");
+    throw py::error_already_set();
+  }
+  return outcome->document.dump();
+}
+
 std::string omega(const std::string& value, long long terms, const std::string& max_den, const std::string& eps,
                   int digits, int convergents) {
   rotleak::OmegaRequest r;
@@ -157,6 +193,9 @@ PYBIND11_MODULE(_rotleak, m) {
   });
   m.def("simulate", &simulate, py::arg("scene"), py::arg("overrides"), py::arg("threads"), py::arg("progress"),
         "Runs a scene in process; returns [(file name, bytes)] as `rotleak simulate` would write them.");
+  m.def("calibrate", &calibrate, py::arg("scene"), py::arg("overrides"), py::arg("seeds"), py::arg("first_seed"),
+        py::arg("out"), py::arg("threads"), py::arg("force"),
+        "Runs `rotleak calibrate` into a directory; returns calibration.json's text.");
   m.def("omega", &omega, py::arg("value"), py::arg("terms"), py::arg("max_den"), py::arg("eps"), py::arg("digits"),
         py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
   m.def("covering", &covering, py::arg("omegas"), py::arg("deltas"), py::arg("lam"), py::arg("d"), py::arg("r"),

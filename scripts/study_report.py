@@ -22,8 +22,12 @@ def fmt(x, digits=4):
 
 
 def alpha_text(a):
+    """alpha as value +- stat. +- syst. (the window systematic; "?" when kappa's windows do not resolve it),
+    or its upper bound."""
     if a["value"] is not None:
-        return "%.3g +- %.2g" % (a["value"], a["error"])
+        syst = a.get("systematic")
+        return "%.3g +- %.2g (stat.) +- %s (syst.)" % (a["value"], a["error"], "%.2g" % syst if syst is not None
+                                                      else "?")
     if a["upper_bound"] is not None:
         return "< %.2g" % a["upper_bound"]
     return "-"
@@ -123,7 +127,7 @@ def main():
             ours = p[q]["value"]
             pub = float(row[q])
             diff = "%+.1f%%" % (100 * (ours / pub - 1)) if ours else "-"
-            shown = "%.4g +- %.1g" % (ours, p[q]["error"]) if ours else alpha_text(p[q])
+            shown = alpha_text(p[q]) if q == "alpha" else "%.4g +- %.1g" % (ours, p[q]["error"]) if ours else "-"
             out.append("| %s, s_L = %s | %g | %s | %s |" % (q, row["s_L"], pub, shown, diff))
     for row in literature("rotating.csv"):
         if row["quantity"] != "alpha":

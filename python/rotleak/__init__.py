@@ -27,10 +27,10 @@ try:
     from ._version import __version__  # written by the build (cmake/version.cmake)
 except ImportError:  # the source tree's python/, not a build or an install
     __version__ = "unknown"
-from .readers import SCHEMA, RotleakError, Run, Scan, read_run, read_scan
+from .readers import SCHEMA, Calibration, RotleakError, Run, Scan, read_calibration, read_run, read_scan
 
-__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "read_run", "read_scan", "simulate", "omega",
-           "covering", "Omega", "Covering"]
+__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "read_run", "read_scan",
+           "read_calibration", "simulate", "calibrate", "omega", "covering", "Omega", "Covering"]
 
 # scene sections, for keyword overrides: leak_omega="2/3" is --set leak.omega=2/3
 _SECTIONS = ("stadium", "leak", "ensemble", "run", "observe", "fit")
@@ -104,6 +104,34 @@ def simulate(scene, particles=None, threads=0, progress=None, set=(), **override
         raise ValueError("scene = %s: no such file" % scene)
     files = _module().simulate(os.fspath(scene), texts, int(threads), progress)
     return Run(dict(files))
+
+
+def calibrate(scene, seeds, out, particles=None, first_seed=1, threads=0, force=False, set=(), **overrides):
+    """Runs ``rotleak calibrate`` in process: ``seeds`` runs of the scene (ensemble.seed = first_seed ..
+    first_seed + seeds - 1) into the directory ``out`` (seeds already complete there are skipped), then
+    calibration.csv and calibration.json; returns the :class:`Calibration` read back. The other arguments
+    are those of :func:`simulate` (``set`` texts, keyword overrides section_key=value). "Are my error bars
+    honest here?": see ``.P["honest"]`` and ``.statistics``."""
+    if isinstance(set, str):
+        set = [set]
+    if not isinstance(set, (list, tuple)) or not all(isinstance(x, str) for x in set):
+        raise ValueError("set = %r: must be a list of texts 'section.key=value'" % (set,))
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+        raise ValueError("threads = %r: must be an integer >= 0 (0: all cores)" % (threads,))
+    texts = list(set) + [_override(k, v) for k, v in overrides.items()]
+    if particles is not None:
+        texts.append("ensemble.particles=%d" % _particle_count(particles))
+    if not os.path.exists(scene):
+        raise ValueError("scene = %s: no such file" % scene)
+    _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
+                        os.fspath(out), int(threads), bool(force))
+    return read_calibration(out)
+
+
+def _count(name, value, least):
+    if isinstance(value, bool) or not isinstance(value, int) or value < least:
+        raise ValueError("%s = %r: must be an integer >= %d" % (name, value, least))
+    return value
 
 
 def _particle_count(value):

@@ -5,7 +5,9 @@ a dict), and the tables as pandas DataFrames: ``survival`` (t, survivors, P, P_e
 window ``fc[from,to]`` and ``count[from,to]``) and ``escapes`` (id, fate, t, s, collisions), each None
 when the run did not record it. ``read_scan(dir)`` gives a :class:`Scan`: ``table`` (table.csv as a
 DataFrame, the swept keys and the text columns kept as strings), ``document`` (scan.json) and ``points``
-(each point's Run, read when first asked for). ``rotleak.simulate`` returns the same Run without the disk.
+(each point's Run, read when first asked for). ``read_calibration(dir)`` gives a :class:`Calibration`:
+``table`` (calibration.csv as a DataFrame), ``document`` (calibration.json), ``statistics`` and ``scan``
+(the seeds' runs as a Scan). ``rotleak.simulate`` returns the same Run without the disk.
 
 Both refuse, with one line that says why, a directory that is not a complete run or scan of this
 schema. pandas is imported only when a table is asked for."""
@@ -251,7 +253,7 @@ class Scan:
                 self._table = pandas.read_csv(os.path.join(self.path, "table.csv"),
                                               dtype={c: str for c in text_columns}, keep_default_na=False,
                                               na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
-                                                                           "alpha_bound", "tail_end", "tau1", "tau2",
+                                                                           "alpha_syst", "alpha_bound", "tail_end", "tau1", "tau2",
                                                                            "best_error"]})
             except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
                 raise RotleakError("%s: table.csv: not a table rotleak wrote (%s)"
@@ -282,3 +284,73 @@ class Scan:
 def read_scan(path):
     """The scan directory ``path`` (rotleak scan --out) as a :class:`Scan`."""
     return Scan(path)
+
+
+_CALIBRATION_COLUMNS = ["t", "resolved", "seeds", "P", "P_err", "P_err_model", "sd_over_err", "chi2_dof", "coverage1",
+                        "coverage2", "max_over_median"]
+
+
+class Calibration:
+    """A calibration (rotleak calibrate): per grid time the seeds' spread of P against the errors the runs
+    report (``table``), the same per statistic (``statistics``: kappa, alpha, ..., stat. and ``_total``), P's
+    summary over its resolved times (``P``), and the seeds' runs (``scan``)."""
+
+    def __init__(self, path):
+        if not os.path.isdir(path):
+            raise RotleakError("%s: no such directory" % path)
+        doc_path = os.path.join(path, "calibration.json")
+        if not os.path.exists(doc_path):
+            raise RotleakError("%s: not a complete calibration directory (no calibration.json)" % path)
+        with open(doc_path, encoding="utf-8") as f:
+            self.document = json_document(f.read(), "calibration.json", path)
+        if not isinstance(self.document, dict) or self.document.get("command") != "calibrate":
+            raise RotleakError("%s: calibration.json is not a calibration's" % path)
+        _check_schema(self.document, "calibration.json", path)
+        for key, kind in (("seeds", list), ("P", dict), ("statistics", dict), ("alpha_bounds", dict),
+                          ("pooled", dict)):
+            if not isinstance(self.document.get(key), kind):
+                raise RotleakError("%s: calibration.json: %s is not a%s %s" % (path, key, "n" if kind is dict else "",
+                                                                             "object" if kind is dict else "array"))
+        if not os.path.exists(os.path.join(path, "calibration.csv")):
+            raise RotleakError("%s: incomplete calibration: no calibration.csv" % path)
+        self.path = path
+        self._table = None
+
+    @property
+    def table(self):
+        """calibration.csv as a DataFrame, one row per grid time."""
+        if self._table is None:
+            pandas = _pandas()
+            try:
+                self._table = pandas.read_csv(os.path.join(self.path, "calibration.csv"))
+            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
+                raise RotleakError("%s: calibration.csv: not a table rotleak wrote (%s)"
+                                   % (self.path, str(e).splitlines()[0])) from None
+            if list(self._table.columns) != _CALIBRATION_COLUMNS:
+                raise RotleakError("%s: calibration.csv: columns %s, not %s"
+                                   % (self.path, list(self._table.columns), _CALIBRATION_COLUMNS))
+        return self._table
+
+    @property
+    def statistics(self):
+        return self.document["statistics"]
+
+    @property
+    def P(self):
+        return self.document["P"]
+
+    @property
+    def scan(self):
+        """The seeds' runs, a :class:`Scan` over ensemble.seed."""
+        return Scan(self.path)
+
+    def __repr__(self):
+        honest = self.document["P"].get("honest")
+        return "<rotleak.Calibration %s: %d seeds, P %s>" % (
+            self.path, len(self.document["seeds"]), "honest" if honest else "not honest" if honest is False else
+            "not resolved anywhere")
+
+
+def read_calibration(path):
+    """The calibration directory ``path`` (rotleak calibrate --out) as a :class:`Calibration`."""
+    return Calibration(path)

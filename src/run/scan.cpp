@@ -223,7 +223,7 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   std::string out;
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
   out +=
-      "kappa,kappa_err,alpha,alpha_err,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
+      "kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
       "best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
@@ -231,7 +231,10 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
     const json& k = s.at("kappa");
     const json& al = s.at("alpha");
     out += csv_number(k.at("value")) + "," + (k.at("value").is_null() ? "" : csv_number(k.at("error"))) + ",";
-    out += csv_number(al.at("value")) + "," + csv_number(al.at("error")) + "," + csv_number(al.at("upper_bound")) + ",";
+    // alpha's window systematic (absent from summaries written before it existed: empty)
+    const std::string syst = al.contains("systematic") ? csv_number(al.at("systematic")) : std::string();
+    out += csv_number(al.at("value")) + "," + csv_number(al.at("error")) + "," + syst + "," +
+           csv_number(al.at("upper_bound")) + ",";
     const json& tail = s.at("tail");
     const json& pred = s.at("predicted");
     out += tail.at("class").get<std::string>() + "," + tail.at("regime").get<std::string>() + "," +
@@ -264,7 +267,9 @@ std::string scan_table_text(const json& document) {
     for (const json& a : document.at("axes")) r.push_back(p.at("values").at(a.at("key").get<std::string>()));
     const json &k = p.at("kappa"), &al = p.at("alpha");
     r.push_back(k.at("value").is_number() ? g3(k.at("value")) + " +- " + g3(k.at("error")) : "-");
-    r.push_back(al.at("value").is_number()         ? g3(al.at("value")) + " +- " + g3(al.at("error"))
+    const std::string syst =
+        al.contains("systematic") && al.at("systematic").is_number() ? " +- " + g3(al.at("systematic")) : "";
+    r.push_back(al.at("value").is_number()         ? g3(al.at("value")) + " +- " + g3(al.at("error")) + syst
                 : al.at("upper_bound").is_number() ? "< " + g3(al.at("upper_bound"))
                                                    : "-");
     r.push_back(p.at("tail").at("class").get<std::string>());

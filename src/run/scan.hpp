@@ -83,7 +83,7 @@ json omega_number_theory(const Scene& scene);
 ScanOutcome scan(const ScanRequest& request);
 
 /// table.csv from a scan directory's points (the swept keys, then kappa, kappa_err, alpha,
-/// alpha_err, alpha_bound, tail, regime, tail_end, tau1, tau2, omega_sweep, cf_2r_omega,
+/// alpha_err, alpha_syst, alpha_bound, tail, regime, tail_end, tau1, tau2, omega_sweep, cf_2r_omega,
 /// best_approximation, best_error, covering_zero_measure, covering_max_zero_gap, particles,
 /// collisions); summaries carry "scan_values" and "number_theory" beside summary.json's fields; inputs-only, so
 /// byte-identical for any thread count and for a resumed scan. Timings are in scan.json only.

@@ -241,12 +241,50 @@ class Package(unittest.TestCase):
         scan = rotleak.read_scan(self.scan_dir)
         t = scan.table
         self.assertEqual(t["leak.omega"].tolist(), ["0", "1", "2/3"])
-        self.assertEqual(t.shape, (3, 19))  # the swept key, then the 18 columns docs/output.md lists
+        self.assertEqual(t.shape, (3, 20))  # the swept key, then the 19 columns docs/output.md lists
         self.assertTrue(pd.api.types.is_float_dtype(t["kappa"]))
         self.assertEqual(t["particles"].tolist(), [4000] * 3)
         self.assertEqual(sorted(scan.points), sorted(scan.point_names))
         p = scan.point(scan.point_names[2])
         self.assertEqual(p.summary["kappa"], scan.document["points"][2]["kappa"])
+
+    def test_calibration_reads_back_with_csv_json_and_pandas(self):
+        """rotleak calibrate's files (docs/output.md "Calibration") with the standard readers, the package's
+        Calibration the same, and rotleak.calibrate in process writing the same bytes as the command."""
+        import csv
+        scene = os.path.join(SRC, "data", "scenes", "stationary_sL_0.toml")
+        out = os.path.join(self.tmp, "calibration")
+        subprocess.run([BIN, "calibrate", scene, "--seeds", "4", "--particles", "3000", "--set", "run.t_max=400",
+                        "--no-progress", "--out", out], check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(out, "calibration.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0]), ["t", "resolved", "seeds", "P", "P_err", "P_err_model", "sd_over_err",
+                                         "chi2_dof", "coverage1", "coverage2", "max_over_median"])
+        self.assertEqual(len(rows), 401)  # the grid t = 0..400
+        self.assertTrue(all(r["resolved"] in ("0", "1") and r["seeds"] == "4" for r in rows))
+        with open(os.path.join(out, "calibration.json")) as f:
+            doc = json.load(f)
+        for key, kind in (("command", str), ("schema", int), ("scene", str), ("seeds", list), ("particles", int),
+                          ("P", dict), ("statistics", dict), ("alpha_bounds", dict), ("pooled", dict),
+                          ("files", list)):
+            self.assertIsInstance(doc[key], kind, key)
+        self.assertEqual(doc["seeds"], [1, 2, 3, 4])
+        self.assertIn("kappa", doc["statistics"])
+        table = pd.read_csv(os.path.join(out, "calibration.csv"))
+        self.assertEqual(len(table), 401)
+        self.assertTrue(pd.api.types.is_float_dtype(table["sd_over_err"]))
+        cal = rotleak.read_calibration(out)
+        self.assertEqual(cal.statistics, doc["statistics"])
+        self.assertEqual(len(cal.table), 401)
+        self.assertEqual(len(cal.scan.point_names), 4)
+        again = rotleak.calibrate(scene, 4, os.path.join(self.tmp, "calibration2"), particles=3000, run_t_max=400)
+        with open(os.path.join(out, "calibration.csv")) as a, \
+                open(os.path.join(again.path, "calibration.csv")) as b:
+            self.assertEqual(a.read(), b.read())
+        with self.assertRaises(rotleak.RotleakError):
+            rotleak.read_calibration(self.scan_dir)  # a scan is not a calibration
+        with self.assertRaises(ValueError):
+            rotleak.calibrate(scene, 1, os.path.join(self.tmp, "calibration3"))
 
     def test_progress_reaches_the_end_and_its_exception_stops_the_run(self):
         calls = []
