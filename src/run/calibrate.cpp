@@ -95,7 +95,8 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
       e[k] = curves[k].P_err(i);
     }
     const SeedSpread s = seed_spread(x, e);
-    const bool ok = resolved_in_seeds(curves, i, min_eff) && curves.front().t[i] < model_from;
+    // judged where P is resolved and has an error to judge (P(0) = 1 exactly in a uniform run has none)
+    const bool ok = resolved_in_seeds(curves, i, min_eff) && curves.front().t[i] < model_from && s.median_err > 0;
     appendf(csv, "%s,%d,%zu,%s,%s,%s,%s,%s,%s,%s,%s\n", shortest(curves.front().t[i]).c_str(), ok ? 1 : 0, K,
             shortest(s.pooled).c_str(), shortest(s.pooled_err).c_str(), shortest(pooled.P_err(i)).c_str(),
             shortest(s.sd_over_err).c_str(), shortest(s.chi2_dof).c_str(), shortest(s.coverage1).c_str(),
