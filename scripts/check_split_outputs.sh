@@ -40,8 +40,12 @@ for at in sp["lines"]:
     assert set(at) == {"t", "lines_alive", "members", "P", "P_err", "effective_lines", "unsplit_lines",
                        "unsplit_P"}, at
 ua = sp["unsplit_allowance"]
-assert set(ua) == {"reliable_until", "rate_from", "decay_rate", "typical_weight", "dominates_from"}, ua
-assert ua["rate_from"] <= ua["reliable_until"] < ua["dominates_from"] < 8000, ua
+assert set(ua) == {"dominates_from", "groups"} and 0 < ua["dominates_from"] < 8000, ua
+for k in ua["groups"]:
+    assert set(k) == {"weights", "reliable_until", "rate_from", "decay_rate", "typical_weight"}, k
+    low, high = k["weights"]  # high is null for the heaviest class
+    assert low <= k["typical_weight"] and (high is None or k["typical_weight"] < high), k
+    assert k["rate_from"] <= k["reliable_until"], k
 assert set(sp["smallest_P"]) == {"t", "P", "P_err", "lines_alive"}
 assert s["scene"]["run"]["splitting"] is True
 assert abs(sp["smallest_P"]["P"] - df["P"][df["P"] > 0].min()) <= 1e-12 * sp["smallest_P"]["P"]

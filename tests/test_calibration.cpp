@@ -11,6 +11,7 @@
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
 #include "scratch.hpp"
+#include "sim/tally.hpp"
 
 using namespace rotleak;
 
@@ -97,15 +98,20 @@ TEST(Calibrate, WritesItsFilesAndResumes) {
   EXPECT_THROW(calibrate(req), InputError);
 }
 
-// The allowance for unsplit lines not drawn, by hand: 50 unsplit lines of weight 0.02 each (N = 1000
-// lines) until t = 10, then 15 until t = 20, then 5: t_r = 20 (the last time with 10), t_a = 10 (the
-// last with 20), gamma = ln(P_u(10) / P_u(20)) / 10, and past t_r P's variance gains
-// w P_u(t_r) exp(-gamma (t - t_r)) / N less what the 5 lines alive still give.
-TEST(UnsplitAllowance, ExtendsTheStratumsDecayPastItsLastReliableTime) {
+// The allowance for unsplit lines not drawn, by hand: a group of 50 unsplit lines of weight 0.02 (N = 1000
+// lines) until t = 10, then 15 until t = 20, then 5: t_r = 20 (the last time with 10), t_a = 10 (the last
+// with 20, after the first split at t = 2), gamma = ln(P_g(10) / P_g(20)) / 10, and past t_r P's variance
+// gains w P_g(t_r) exp(-gamma (t - t_r)) / N less what the 5 lines alive still give. A second group of 500
+// light lines (weight 1e-6) stays populated and adds nothing.
+TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
   SurvivalCurve c;
   c.weighted = c.lines = true;
   c.particles = 1000;
-  const double n = 1000, w = 0.02;
+  c.first_split = 2;
+  const double n = 1000, w = 0.02, light = 1e-6;
+  SurvivalCurve::UnsplitGroup heavy, many;
+  heavy.classes = {unsplit_class(w)};
+  many.classes = {unsplit_class(light)};
   for (int k = 0; k <= 40; ++k) {
     const std::uint64_t alive = k <= 10 ? 50 : k <= 20 ? 15 : 5;
     c.t.push_back(k);
@@ -114,25 +120,41 @@ TEST(UnsplitAllowance, ExtendsTheStratumsDecayPastItsLastReliableTime) {
     c.P_w.push_back(1e-2 * std::exp(-0.1 * k));
     c.R.push_back(2);
     c.G.push_back(1 / n);
-    c.unsplit_lines.push_back(alive);
-    c.unsplit_P.push_back(static_cast<double>(alive) * w / n);
-    c.unsplit_var.push_back(static_cast<double>(alive) * w * w / (n * n));
+    heavy.lines.push_back(alive);
+    heavy.P.push_back(static_cast<double>(alive) * w / n);
+    heavy.var.push_back(static_cast<double>(alive) * w * w / (n * n));
+    many.lines.push_back(500);
+    many.P.push_back(500 * light / n);
+    many.var.push_back(500 * light * light / (n * n));
   }
+  c.unsplit = {heavy, many};
   const SurvivalCurve before = c;
   add_unsplit_allowance(c);
-  ASSERT_TRUE(c.unsplit_model.on);
-  EXPECT_EQ(c.unsplit_model.reliable_until, 20);
-  EXPECT_EQ(c.unsplit_model.rate_from, 10);
+  const SurvivalCurve::UnsplitGroup& h = c.unsplit[0];
+  ASSERT_TRUE(h.allowance);
+  EXPECT_FALSE(c.unsplit[1].allowance);
+  EXPECT_EQ(h.reliable_until, 20);
+  EXPECT_EQ(h.rate_from, 10);
   const double gamma = std::log(50.0 / 15.0) / 10;
-  EXPECT_NEAR(c.unsplit_model.decay_rate, gamma, 1e-12);
-  EXPECT_NEAR(c.unsplit_model.typical_weight, w, 1e-12);
+  EXPECT_NEAR(h.decay_rate, gamma, 1e-12);
+  EXPECT_NEAR(h.typical_weight, w, 1e-12);
   for (int k = 0; k <= 40; ++k) {
     const double added = c.P_w[k] * c.P_w[k] * (c.R[k] - before.R[k]) / n;
     const double expect =
         k <= 20 ? 0.0 : std::max(0.0, w * (15 * w / n) * std::exp(-gamma * (k - 20)) / n - 5 * w * w / (n * n));
     EXPECT_NEAR(added, expect, 1e-12 * (expect + 1e-30)) << "t = " << k;
   }
-  ASSERT_TRUE(c.unsplit_model.dominates_from.has_value());
-  EXPECT_GT(*c.unsplit_model.dominates_from, 20);
+  ASSERT_TRUE(c.allowance_dominates_from.has_value());
+  EXPECT_GT(*c.allowance_dominates_from, 20);
   for (std::size_t k = 1; k < c.G.size(); ++k) EXPECT_GE(c.G[k], c.G[k - 1]);
+}
+
+// Weight classes come from the binary exponent alone: factors of 8, the heaviest from 1/4 up.
+TEST(UnsplitAllowance, WeightClassesAreFactorsOfEight) {
+  EXPECT_EQ(unsplit_class(2.0), 0);
+  EXPECT_EQ(unsplit_class(0.25), 0);
+  EXPECT_EQ(unsplit_class(0.2499), 1);
+  EXPECT_EQ(unsplit_class(1.0 / 32), 1);
+  EXPECT_EQ(unsplit_class(0.0312), 2);
+  EXPECT_EQ(unsplit_class(1e-300), kUnsplitClasses - 1);
 }

@@ -214,13 +214,24 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
                   {"unsplit_P", curve.unsplit_P.empty() ? json(nullptr) : json(curve.unsplit_P[i])}});
   }
   j["lines"] = at;
-  const auto& m = curve.unsplit_model;
-  j["unsplit_allowance"] = m.on ? json{{"reliable_until", m.reliable_until},
-                                       {"rate_from", m.rate_from},
-                                       {"decay_rate", m.decay_rate},
-                                       {"typical_weight", m.typical_weight},
-                                       {"dominates_from", m.dominates_from ? json(*m.dominates_from) : json(nullptr)}}
-                                : json(nullptr);
+  json groups = json::array();
+  for (const SurvivalCurve::UnsplitGroup& k : curve.unsplit)
+    if (k.allowance) {
+      // the group's weight range: from its lightest class's lower end to its heaviest's upper (null: none)
+      const int lightest = k.classes.back(), heaviest = k.classes.front();
+      groups.push_back({{"weights",
+                         {lightest == kUnsplitClasses - 1 ? 0.0 : std::ldexp(1.0, -3 * lightest - 2),
+                          heaviest == 0 ? json(nullptr) : json(std::ldexp(1.0, -3 * heaviest + 1))}},
+                        {"reliable_until", k.reliable_until},
+                        {"rate_from", k.rate_from},
+                        {"decay_rate", k.decay_rate},
+                        {"typical_weight", k.typical_weight}});
+    }
+  j["unsplit_allowance"] =
+      groups.empty() ? json(nullptr)
+                     : json{{"dominates_from",
+                             curve.allowance_dominates_from ? json(*curve.allowance_dominates_from) : json(nullptr)},
+                            {"groups", groups}};
   std::size_t deepest = 0;
   for (std::size_t i = 0; i < curve.t.size(); ++i)
     if (curve.P(i) > 0 && curve.P(i) < curve.P(deepest)) deepest = i;

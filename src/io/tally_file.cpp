@@ -84,10 +84,17 @@ std::string encode_tally_file(const TallyFile& f) {
     w.words(t.culled_per_bin);
     for (std::uint64_t x : {t.splits, t.culls, t.levels, t.max_population, t.max_line}) w.word(x);
     for (const FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) put_sum(w, *sum);
-    put_sums(w, t.unsplit_out);
-    put_sums(w, t.unsplit2_out);
-    w.words(t.unsplit_left);
-    put_sum(w, t.w2_start);
+    const auto put_cell = [&w](const UnsplitCell& c) {
+      w.word(c.lines);
+      put_sum(w, c.w);
+      put_sum(w, c.w2);
+    };
+    for (const UnsplitCell& c : t.unsplit_start) put_cell(c);
+    w.word(t.unsplit_left.size());
+    for (const auto& [key, cell] : t.unsplit_left) {
+      w.word(key);
+      put_cell(cell);
+    }
   }
   for (const EscapeRecord& r : f.records) {
     w.real(r.t);
@@ -200,13 +207,24 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     r.words(t.culled_per_bin);
     for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
     for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
-    t.unsplit_out.resize(points);
-    t.unsplit2_out.resize(points);
-    t.unsplit_left.resize(points);
-    get_sums(r, t.unsplit_out);
-    get_sums(r, t.unsplit2_out);
-    r.words(t.unsplit_left);
-    t.w2_start = get_sum(r);
+    const auto get_cell = [&r](UnsplitCell& c) {
+      c.lines = r.word();
+      c.w = get_sum(r);
+      c.w2 = get_sum(r);
+    };
+    for (UnsplitCell& c : t.unsplit_start) get_cell(c);
+    const std::uint64_t cells = r.word();
+    // a cell takes at least 5 words: a count larger than the bytes left is damage, not an allocation
+    if (cells > (in.size() - r.at) / 40)
+      throw std::runtime_error(where + ": tally file: " + std::to_string(cells) + " unsplit cells");
+    std::uint64_t previous = 0;
+    for (std::uint64_t k = 0; k < cells; ++k) {
+      const std::uint64_t key = r.word();
+      if ((k > 0 && key <= previous) || key / kUnsplitClasses >= points)
+        throw std::runtime_error(where + ": tally file: unsplit cells out of order or off the grid");
+      previous = key;
+      get_cell(t.unsplit_left[key]);
+    }
   }
   for (EscapeRecord& e : f.records) {
     e.t = r.real();

@@ -131,9 +131,8 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
   const auto leave_unsplit = [&](std::uint64_t line, std::size_t g) {
     if (!unsplit[line - lo]) return;
     unsplit[line - lo] = 0;
-    t.unsplit_out[g].add(w0[line - lo]);
-    t.unsplit2_out[g].add_square(w0[line - lo]);
-    ++t.unsplit_left[g];
+    const double w = w0[line - lo];
+    t.unsplit_left[g * kUnsplitClasses + static_cast<std::uint64_t>(unsplit_class(w))].add(w);
   };
   std::vector<Member> pop;
   books.reserve(hi - lo);
@@ -142,7 +141,7 @@ void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule
     const InitialDraw d = sampler.draw(id);
     w0[id - lo] = sampler.weight(d);
     t.w_start.add(w0[id - lo]);
-    t.w2_start.add_square(w0[id - lo]);
+    t.unsplit_start[static_cast<std::size_t>(unsplit_class(w0[id - lo]))].add(w0[id - lo]);
     books.emplace_back(w0[id - lo], points);
     pop.push_back({initial_state(st, d), 0, id, 0, 0});
   }

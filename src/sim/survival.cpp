@@ -30,45 +30,55 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
 }
 
 /// The allowance for unsplit lines a run has not drawn (docs/model.md "Deep tails", "Unsplit lines not
-/// drawn"): past the last time t_r at which at least kUnsplitReliable unsplit lines are alive, their
-/// share of P is taken to go on decaying at the rate it showed over [t_a, t_r] (t_a the last time with
-/// 2 kUnsplitReliable of them), P_u(t) = P_u(t_r) exp(-gamma (t - t_r)), carried by lines of their
-/// typical weight w = N sum w^2 / sum w at t_r: a Poisson number of such lines adds w P_u(t) / N to P's
-/// variance, beyond what the unsplit lines still alive add to the lines' spread. R (hence P_err, the
-/// effective lines and G) includes it.
+/// drawn"), group by group: past the last time t_r at which at least kUnsplitReliable of a group's lines
+/// are alive, its share of P is taken to go on decaying at the rate it showed over [t_a, t_r] (t_a the
+/// last time after the first split with 2 kUnsplitReliable of them, else the first split time),
+/// P_g(t) = P_g(t_r) exp(-gamma (t - t_r)), carried by lines of its typical weight w = N sum w^2 / sum w
+/// at t_r: a Poisson number of such lines adds w P_g(t) / N to P's variance, beyond what the group's
+/// lines still alive add to the lines' spread. R (hence P_err, the effective lines and G) includes the
+/// sum over the groups.
 void add_unsplit_allowance(SurvivalCurve& c) {
   const std::size_t points = c.t.size();
-  if (points == 0 || c.unsplit_lines.size() != points) return;
+  if (points == 0) return;
   const double n = static_cast<double>(c.particles);
-  std::size_t r = points, a = points;
-  for (std::size_t j = points; j-- > 0;)
-    if (c.unsplit_lines[j] >= kUnsplitReliable) {
-      r = j;
-      break;
-    }
-  if (r == points || r + 1 == points || !(c.unsplit_P[r] > 0)) return;
-  for (std::size_t j = r + 1; j-- > 0;)
-    if (c.unsplit_lines[j] >= 2 * kUnsplitReliable) {
-      a = j;
-      break;
-    }
-  double gamma = 0;
-  if (a < r && c.unsplit_P[a] > c.unsplit_P[r]) gamma = std::log(c.unsplit_P[a] / c.unsplit_P[r]) / (c.t[r] - c.t[a]);
-  const double w = n * c.unsplit_var[r] / c.unsplit_P[r];
-  c.unsplit_model = {true, c.t[r], c.t[a < points ? a : r], gamma, w, std::nullopt};
-  double g = r > 0 ? c.G[r - 1] : 0.0;
-  for (std::size_t j = 0; j < points; ++j) {
-    if (j > r && c.P_w[j] > 0) {
-      const double expected = c.unsplit_P[r] * std::exp(-gamma * (c.t[j] - c.t[r]));
-      const double extra = std::max(0.0, w * expected / n - c.unsplit_var[j]);
+  std::vector<double> extra(points, 0.0);
+  std::size_t first = points;  // the first grid index any allowance applies to
+  for (SurvivalCurve::UnsplitGroup& k : c.unsplit) {
+    if (k.lines.size() != points) continue;
+    std::size_t r = points, a = std::min(c.first_split, points - 1);
+    for (std::size_t j = points; j-- > 0;)
+      if (k.lines[j] >= kUnsplitReliable) {
+        r = j;
+        break;
+      }
+    if (r == points || r + 1 == points || !(k.P[r] > 0)) continue;
+    for (std::size_t j = r + 1; j-- > c.first_split;)
+      if (k.lines[j] >= 2 * kUnsplitReliable) {
+        a = j;
+        break;
+      }
+    double gamma = 0;
+    if (a < r && k.P[a] > k.P[r]) gamma = std::log(k.P[a] / k.P[r]) / (c.t[r] - c.t[a]);
+    const double w = n * k.var[r] / k.P[r];
+    k.allowance = true;
+    k.reliable_until = c.t[r];
+    k.rate_from = c.t[std::min(a, r)];
+    k.decay_rate = gamma;
+    k.typical_weight = w;
+    for (std::size_t j = r + 1; j < points; ++j)
+      extra[j] += std::max(0.0, w * k.P[r] * std::exp(-gamma * (c.t[j] - c.t[r])) / n - k.var[j]);
+    first = std::min(first, r + 1);
+  }
+  if (first == points) return;
+  double g = first > 0 ? c.G[first - 1] : 0.0;
+  for (std::size_t j = first; j < points; ++j) {
+    if (c.P_w[j] > 0 && extra[j] > 0) {
       const double own = c.P_w[j] * c.P_w[j] * std::max(0.0, c.R[j] - 1) / n;
-      if (extra > own && !c.unsplit_model.dominates_from) c.unsplit_model.dominates_from = c.t[j];
-      c.R[j] += n * extra / (c.P_w[j] * c.P_w[j]);
+      if (extra[j] > own && !c.allowance_dominates_from) c.allowance_dominates_from = c.t[j];
+      c.R[j] += n * extra[j] / (c.P_w[j] * c.P_w[j]);
     }
-    if (j >= r) {
-      if (c.R[j] > 0) g = std::max(g, (c.R[j] - 1) / n);
-      c.G[j] = g;
-    }
+    if (c.R[j] > 0) g = std::max(g, (c.R[j] - 1) / n);
+    c.G[j] = g;
   }
 }
 
@@ -79,8 +89,13 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   c.weighted = c.lines = true;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  FixedSum in, out, in2, out2, u = tally.w_start, u2 = tally.w2_start;
-  std::uint64_t ended = 0, left = 0;
+  FixedSum in, out, in2, out2;
+  std::uint64_t ended = 0;
+  // the unsplit lines by class, on the grid: the start cells less the cells that left
+  std::vector<UnsplitCell> alive(tally.unsplit_start.begin(), tally.unsplit_start.end());
+  std::vector<std::vector<std::uint64_t>> cls_lines(kUnsplitClasses);
+  std::vector<std::vector<double>> cls_P(kUnsplitClasses), cls_var(kUnsplitClasses);
+  auto next_cell = tally.unsplit_left.begin();
   double g = 0;
   for (std::size_t j = 0; j < tally.line_in.size(); ++j) {
     in.merge(tally.line_in[j]);
@@ -97,15 +112,53 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
     if (r > 0) g = std::max(g, (r - 1) / n);
     c.G.push_back(g);
     c.lines_alive.push_back(scene.particles - ended);
-    if (j < tally.unsplit_out.size()) {
-      u = u.minus(tally.unsplit_out[j]);
-      u2 = u2.minus(tally.unsplit2_out[j]);
-      left += tally.unsplit_left[j];
+    for (; next_cell != tally.unsplit_left.end() && next_cell->first / kUnsplitClasses == j; ++next_cell) {
+      UnsplitCell& a = alive[next_cell->first % kUnsplitClasses];
+      a.lines -= next_cell->second.lines;
+      a.w = a.w.minus(next_cell->second.w);
+      a.w2 = a.w2.minus(next_cell->second.w2);
     }
-    c.unsplit_lines.push_back(scene.particles - left);
-    c.unsplit_P.push_back(u.value() / n);
-    c.unsplit_var.push_back(u2.value() / (n * n));
+    std::uint64_t lines = 0;
+    FixedSum total;
+    for (std::size_t k = 0; k < alive.size(); ++k) {
+      cls_lines[k].push_back(alive[k].lines);
+      cls_P[k].push_back(alive[k].w.value() / n);
+      cls_var[k].push_back(alive[k].w2.value() / (n * n));
+      lines += alive[k].lines;
+      total.merge(alive[k].w);
+    }
+    c.unsplit_lines.push_back(lines);
+    c.unsplit_P.push_back(total.value() / n);
   }
+  // the groups: each class measurable after the first split time on its own, the rest pooled
+  const std::size_t points = c.t.size();
+  c.first_split = std::min(points - 1, static_cast<std::size_t>(scene.splitting.every / scene.survival_dt) + 1);
+  SurvivalCurve::UnsplitGroup rest;
+  rest.lines.assign(points, 0);
+  rest.P.assign(points, 0.0);
+  rest.var.assign(points, 0.0);
+  for (int k = 0; k < kUnsplitClasses; ++k) {
+    if (tally.unsplit_start[static_cast<std::size_t>(k)].lines == 0) continue;
+    const auto& L = cls_lines[static_cast<std::size_t>(k)];
+    const bool measurable = std::any_of(L.begin() + static_cast<std::ptrdiff_t>(c.first_split), L.end(),
+                                        [](std::uint64_t x) { return x >= 2 * kUnsplitReliable; });
+    if (measurable) {
+      SurvivalCurve::UnsplitGroup g;
+      g.classes = {k};
+      g.lines = L;
+      g.P = cls_P[static_cast<std::size_t>(k)];
+      g.var = cls_var[static_cast<std::size_t>(k)];
+      c.unsplit.push_back(std::move(g));
+    } else {
+      rest.classes.push_back(k);
+      for (std::size_t j = 0; j < points; ++j) {  // class by class in a fixed order: deterministic
+        rest.lines[j] += L[j];
+        rest.P[j] += cls_P[static_cast<std::size_t>(k)][j];
+        rest.var[j] += cls_var[static_cast<std::size_t>(k)][j];
+      }
+    }
+  }
+  if (!rest.classes.empty()) c.unsplit.push_back(std::move(rest));
   add_unsplit_allowance(c);
 }
 

@@ -43,21 +43,28 @@ struct SurvivalCurve {
   /// independent increments with the variance the lines show; the running maximum keeps that
   /// variance from falling where the spread of a few lines happens to dip.
   std::vector<double> G;
-  /// Split runs: the unsplit lines (Tally::unsplit_out) at each grid time: their count, their weight
-  /// sum over N (their share of P) and their squared weights' sum over N^2 (their share of P's variance).
+  /// Split runs: the unsplit lines (Tally::unsplit_start and unsplit_left) on the grid: in all (their
+  /// count and their weight sum over N, their share of P) and in groups for the allowance for lines not
+  /// drawn (add_unsplit_allowance): each weight class whose decay can be measured after the first split
+  /// time (at least 2 kUnsplitReliable lines there), and the other classes pooled. A group holds its
+  /// count, its share of P and its squared weights' sum over N^2 (its share of P's variance).
   std::vector<std::uint64_t> unsplit_lines;
-  std::vector<double> unsplit_P, unsplit_var;
-  /// The allowance for unsplit lines not drawn (add_unsplit_allowance), when it applies.
-  struct UnsplitModel {
-    bool on = false;
-    double reliable_until = 0;  ///< t_r: the last time with kUnsplitReliable unsplit lines alive
+  std::vector<double> unsplit_P;
+  struct UnsplitGroup {
+    std::vector<int> classes;  ///< unsplit_class values pooled here
+    std::vector<std::uint64_t> lines;
+    std::vector<double> P, var;
+    bool allowance = false;
+    double reliable_until = 0;  ///< t_r: the last time with kUnsplitReliable of the group's lines alive
     double rate_from = 0;       ///< t_a: the decay rate is measured over [t_a, t_r]
     double decay_rate = 0;      ///< gamma
-    double typical_weight = 0;  ///< N sum w^2 / sum w of the unsplit lines at t_r
-    /// The first grid time at which the allowance exceeds the lines' own variance (none: it never does):
-    /// from there on P's error is mostly the model's, and P is not claimed resolved.
-    std::optional<double> dominates_from;
-  } unsplit_model;
+    double typical_weight = 0;  ///< N sum w^2 / sum w of the group's lines at t_r
+  };
+  std::vector<UnsplitGroup> unsplit;
+  std::size_t first_split = 0;  ///< grid index of the first split time (before it every line is unsplit)
+  /// The first grid time at which the allowances exceed the lines' own variance (none: never): from
+  /// there on P's error is mostly the model's, and P is not claimed resolved.
+  std::optional<double> allowance_dominates_from;
 };
 
 /// Unsplit lines alive below which their own spread no longer measures their share of P's error.

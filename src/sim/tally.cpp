@@ -21,10 +21,8 @@ void Tally::resize(const Scene& scene) {
   if (weighted) collision_density_w.assign(collision_density.size(), FixedSum{});
   if (split) {
     const std::size_t points = escapes_per_bin.size() + 1;
-    for (auto* v : {&line_in, &line_out, &line2_in, &line2_out, &unsplit_out, &unsplit2_out})
-      v->assign(points, FixedSum{});
+    for (auto* v : {&line_in, &line_out, &line2_in, &line2_out}) v->assign(points, FixedSum{});
     lines_ended.assign(points, 0);
-    unsplit_left.assign(points, 0);
     born_per_bin.assign(escapes_per_bin.size(), 0);
     culled_per_bin.assign(escapes_per_bin.size(), 0);
   }
@@ -81,9 +79,6 @@ void Tally::merge(const Tally& o) {
       line2_in[i].merge(o.line2_in[i]);
       line2_out[i].merge(o.line2_out[i]);
       lines_ended[i] += o.lines_ended[i];
-      unsplit_out[i].merge(o.unsplit_out[i]);
-      unsplit2_out[i].merge(o.unsplit2_out[i]);
-      unsplit_left[i] += o.unsplit_left[i];
     }
     for (std::size_t i = 0; i < born_per_bin.size(); ++i) {
       born_per_bin[i] += o.born_per_bin[i];
@@ -95,9 +90,10 @@ void Tally::merge(const Tally& o) {
                         {&w_gained, &o.w_gained},
                         {&w_escaped, &o.w_escaped},
                         {&w_removed, &o.w_removed},
-                        {&w_alive_end, &o.w_alive_end},
-                        {&w2_start, &o.w2_start}})
+                        {&w_alive_end, &o.w_alive_end}})
       a->merge(*b);
+    for (std::size_t c = 0; c < unsplit_start.size(); ++c) unsplit_start[c].merge(o.unsplit_start[c]);
+    for (const auto& [key, cell] : o.unsplit_left) unsplit_left[key].merge(cell);
     levels = std::max(levels, o.levels);
     max_population = std::max(max_population, o.max_population);
     max_line = std::max(max_line, o.max_line);

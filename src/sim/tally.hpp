@@ -2,7 +2,10 @@
 // resumes), and the conservation law every run and merge checks.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "numeric/fixed_sum.hpp"
@@ -19,6 +22,32 @@ struct EscapeRecord {
   std::uint64_t collisions = 0;
   Fate fate = Fate::survived;
 };
+
+/// A set of unsplit lines: how many, and the exact sums of their weights and squared weights.
+struct UnsplitCell {
+  std::uint64_t lines = 0;
+  FixedSum w, w2;
+  void add(double w0) {
+    ++lines;
+    w.add(w0);
+    w2.add_square(w0);
+  }
+  void merge(const UnsplitCell& o) {
+    lines += o.lines;
+    w.merge(o.w);
+    w2.merge(o.w2);
+  }
+};
+
+/// Weight classes of unsplit lines: class c holds w0 in [2^(-3c - 2), 2^(-3c + 1)) (c = 0 takes w0 >= 1/4,
+/// the last class everything below), from the binary exponent alone: the same class on every machine.
+inline constexpr int kUnsplitClasses = 16;
+inline int unsplit_class(double w0) {
+  int e = 0;
+  std::frexp(w0, &e);  // w0 = m 2^e, m in [0.5, 1)
+  const int c = (1 - e) / 3;
+  return c < 0 ? 0 : c >= kUnsplitClasses ? kUnsplitClasses - 1 : c;
+}
 
 /// Integer counts and exact fixed-point sums; merge() is exact and order-independent.
 struct Tally {
@@ -50,13 +79,13 @@ struct Tally {
   /// end (survived to t_max, or stuck). A split keeps it exactly; check_conservation() enforces it.
   FixedSum w_start, w_gained, w_escaped, w_removed, w_alive_end;
   /// The unsplit lines (split runs): lines whose one member has never split (a bouncing-ball stretch at
-  /// every split time so far), each of weight w0; they carry the heaviest lines of a run. A line leaves
-  /// the stratum when its member escapes or first splits, from grid index j on: unsplit_out[j] adds w0,
-  /// unsplit2_out[j] w0^2 and unsplit_left[j] 1. With w2_start the sum of w0^2 over all lines, the
-  /// stratum's weight at t_j is w_start - sum_{i <= j} unsplit_out[i] (and likewise its square and count).
-  std::vector<FixedSum> unsplit_out, unsplit2_out;
-  std::vector<std::uint64_t> unsplit_left;
-  FixedSum w2_start;
+  /// every split time so far), each of weight w0; they carry the heaviest lines of a run. They are kept by
+  /// weight class (unsplit_class: factors of 8), since a few heavy ones can carry the stratum's variance
+  /// among many light ones: unsplit_start[c] holds every line of class c (all start unsplit), and
+  /// unsplit_left[j * kUnsplitClasses + c] those that left it (their member escaped or first split) from
+  /// grid index j on. Sparse: a line leaves at a split time or at its escape.
+  std::array<UnsplitCell, kUnsplitClasses> unsplit_start{};
+  std::map<std::uint64_t, UnsplitCell> unsplit_left;
 
   void resize(const Scene& scene);
   /// A particle's end: its fate at time t (escapes binned by dt), its collisions, and, for weighted
