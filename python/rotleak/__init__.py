@@ -87,21 +87,10 @@ def simulate(scene, particles=None, threads=0, progress=None, set=(), **override
     final) after blocks of particles. set: "section.key=value" texts; keyword overrides section_key=value
     (leak_omega="2/3", run_t_max=5000, ensemble_sampling="mupo"). The GIL is released while it runs;
     Ctrl-C stops it between blocks (KeyboardInterrupt). Bad input raises ValueError naming the key."""
-    if isinstance(set, str):
-        set = [set]
-    if not isinstance(set, (list, tuple)) or not all(isinstance(x, str) for x in set):
-        raise ValueError("set = %r: must be a list of texts 'section.key=value'" % (set,))
-    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
-        raise ValueError("threads = %r: must be an integer >= 0 (0: all cores)" % (threads,))
     if progress is not None and not callable(progress):
         raise ValueError("progress = %r: must be None or a function progress(done, total, collisions, final)"
                          % (progress,))
-    texts = list(set) + [_override(k, v) for k, v in overrides.items()]
-    if particles is not None:
-        n = _particle_count(particles)
-        texts.append("ensemble.particles=%d" % n)
-    if not os.path.exists(scene):
-        raise ValueError("scene = %s: no such file" % scene)
+    texts = _scene_arguments(scene, particles, threads, set, overrides)
     files = _module().simulate(os.fspath(scene), texts, int(threads), progress)
     return Run(dict(files))
 
@@ -112,6 +101,14 @@ def calibrate(scene, seeds, out, particles=None, first_seed=1, threads=0, force=
     calibration.csv and calibration.json; returns the :class:`Calibration` read back. The other arguments
     are those of :func:`simulate` (``set`` texts, keyword overrides section_key=value). "Are my error bars
     honest here?": see ``.P["honest"]`` and ``.statistics``."""
+    texts = _scene_arguments(scene, particles, threads, set, overrides)
+    _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
+                        os.fspath(out), int(threads), bool(force))
+    return read_calibration(out)
+
+
+def _scene_arguments(scene, particles, threads, set, overrides):
+    """The scene's override texts from simulate's and calibrate's arguments, each checked by name."""
     if isinstance(set, str):
         set = [set]
     if not isinstance(set, (list, tuple)) or not all(isinstance(x, str) for x in set):
@@ -123,9 +120,7 @@ def calibrate(scene, seeds, out, particles=None, first_seed=1, threads=0, force=
         texts.append("ensemble.particles=%d" % _particle_count(particles))
     if not os.path.exists(scene):
         raise ValueError("scene = %s: no such file" % scene)
-    _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
-                        os.fspath(out), int(threads), bool(force))
-    return read_calibration(out)
+    return texts
 
 
 def _count(name, value, least):
