@@ -143,12 +143,12 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
     const bool measurable = std::any_of(L.begin() + static_cast<std::ptrdiff_t>(c.first_split), L.end(),
                                         [](std::uint64_t x) { return x >= 2 * kUnsplitReliable; });
     if (measurable) {
-      SurvivalCurve::UnsplitGroup g;
-      g.classes = {k};
-      g.lines = L;
-      g.P = cls_P[static_cast<std::size_t>(k)];
-      g.var = cls_var[static_cast<std::size_t>(k)];
-      c.unsplit.push_back(std::move(g));
+      SurvivalCurve::UnsplitGroup group;
+      group.classes = {k};
+      group.lines = L;
+      group.P = cls_P[static_cast<std::size_t>(k)];
+      group.var = cls_var[static_cast<std::size_t>(k)];
+      c.unsplit.push_back(std::move(group));
     } else {
       rest.classes.push_back(k);
       for (std::size_t j = 0; j < points; ++j) {  // class by class in a fixed order: deterministic
