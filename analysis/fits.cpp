@@ -37,35 +37,56 @@ double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>
   return var;
 }
 
+// The grid points of [from, to] with survivors: their indices and times (kappa's fit window).
+void window_points(const SurvivalCurve& c, double from, double to, std::vector<std::size_t>& idx,
+                   std::vector<double>& x) {
+  for (std::size_t i = 0; i < c.t.size(); ++i)
+    if (c.t[i] >= from && c.t[i] <= to && c.survivors[i] > 0) {
+      idx.push_back(i);
+      x.push_back(c.t[i]);
+    }
+}
+
+// Least-squares weights over the abscissae x: slope = sum w_i y_i, intercept = sum v_i y_i for any y;
+// xm and sxx their mean and spread. False when the x do not spread.
+bool ls_weights(const std::vector<double>& x, std::vector<double>& w, std::vector<double>& v, double& xm, double& sxx) {
+  const std::size_t n = x.size();
+  xm = 0;
+  for (double xi : x) xm += xi;
+  xm /= static_cast<double>(n);
+  sxx = 0;
+  for (double xi : x) sxx += (xi - xm) * (xi - xm);
+  if (!(sxx > 0)) return false;
+  w.resize(n);
+  v.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    w[i] = (x[i] - xm) / sxx;
+    v[i] = 1.0 / static_cast<double>(n) - xm * w[i];
+  }
+  return true;
+}
+
 // Least squares of y = ln P against x over the chosen grid points, errors from greenwood_variance.
 LinearFit fit_line(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& x) {
   LinearFit f;
   const std::size_t n = idx.size();
   if (n < 3) return f;
-  double xm = 0, ym = 0;
+  std::vector<double> w, v;
+  double xm = 0, sxx = 0;
+  if (!ls_weights(x, w, v, xm, sxx)) return f;
+  double ym = 0;
   std::vector<double> y(n);
   for (std::size_t i = 0; i < n; ++i) {
     y[i] = std::log(c.P(idx[i]));
-    xm += x[i];
     ym += y[i];
   }
-  xm /= static_cast<double>(n);
   ym /= static_cast<double>(n);
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    sxx += (x[i] - xm) * (x[i] - xm);
-    sxy += (x[i] - xm) * (y[i] - ym);
-  }
-  if (!(sxx > 0)) return f;
+  double sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) sxy += (x[i] - xm) * (y[i] - ym);
   f.slope = sxy / sxx;
   f.intercept = ym - f.slope * xm;
-  // slope = sum w_i y_i, intercept = sum v_i y_i
-  std::vector<double> w(n), v(n), both(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    w[i] = (x[i] - xm) / sxx;
-    v[i] = 1.0 / static_cast<double>(n) - xm * w[i];
-    both[i] = v[i] + w[i];
-  }
+  std::vector<double> both(n);
+  for (std::size_t i = 0; i < n; ++i) both[i] = v[i] + w[i];
   f.var_slope = greenwood_variance(c, idx, w);
   f.var_intercept = greenwood_variance(c, idx, v);
   f.cov = 0.5 * (greenwood_variance(c, idx, both) - f.var_slope - f.var_intercept);
@@ -98,22 +119,12 @@ double alpha_p_err(const SurvivalCurve& c, std::size_t i, double fit) {
 /// curve's covariance (for a cumulative curve the shared early increments make it positive).
 double cov_with_fit(const SurvivalCurve& c, const KappaFit& k, std::size_t i, double t) {
   std::vector<std::size_t> idx;
-  double xm = 0;
-  for (std::size_t j = 0; j < c.t.size(); ++j)
-    if (c.t[j] >= k.from && c.t[j] <= k.to && c.survivors[j] > 0) {
-      idx.push_back(j);
-      xm += c.t[j];
-    }
-  if (idx.size() < 3) return 0;
-  const double n = static_cast<double>(idx.size());
-  xm /= n;
-  double sxx = 0;
-  for (std::size_t j : idx) sxx += (c.t[j] - xm) * (c.t[j] - xm);
+  std::vector<double> x, w, v;
+  window_points(c, k.from, k.to, idx, x);
+  double xm = 0, sxx = 0;
+  if (idx.size() < 3 || !ls_weights(x, w, v, xm, sxx)) return 0;
   double cov = 0;
-  for (std::size_t j : idx) {
-    const double w = (c.t[j] - xm) / sxx, v = 1 / n - xm * w;
-    cov += (v + t * w) * c.log_cov(i, j);
-  }
+  for (std::size_t j = 0; j < idx.size(); ++j) cov += (v[j] + t * w[j]) * c.log_cov(i, idx[j]);
   return cov;
 }
 
@@ -127,11 +138,7 @@ KappaFit fit_kappa(const SurvivalCurve& c, double from, double to) {
   k.to = to;
   std::vector<std::size_t> idx;
   std::vector<double> x;
-  for (std::size_t i = 0; i < c.t.size(); ++i)
-    if (c.t[i] >= from && c.t[i] <= to && c.survivors[i] > 0) {
-      idx.push_back(i);
-      x.push_back(c.t[i]);
-    }
+  window_points(c, from, to, idx, x);
   const LinearFit f = fit_line(c, idx, x);
   k.points = idx.size();
   // no escape among the fitted points: the decay was not measured (one particle gave "-0 +- 0")
@@ -229,11 +236,12 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
       const double s = log_slope_at(c, i);
       const double rel = k.value + s;
       a.shift_factor = rel > 0 ? k.value / rel : 1.0;
-      const double var_d = std::pow(alpha_p_err(c, i, fit) / P, 2), se_e = k.log_se_at(t_star);
+      const double p_err = alpha_p_err(c, i, fit);
+      const double var_d = std::pow(p_err / P, 2), se_e = k.log_se_at(t_star);
       double var = var_d * a.shift_factor * a.shift_factor;
       if (rel > 0) {
         // the covariance only where P's error is the curve's own (a Poisson floor is not correlated)
-        const double cov = alpha_p_err(c, i, fit) == c.P_err(i) ? cov_with_fit(c, k, i, t_star) : 0.0;
+        const double cov = p_err == c.P_err(i) ? cov_with_fit(c, k, i, t_star) : 0.0;
         var = (k.value * k.value * var_d + s * s * se_e * se_e + 2 * k.value * s * cov) / (rel * rel);
         var = std::max(var, 0.0);
       }

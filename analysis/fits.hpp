@@ -86,9 +86,9 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a);
 /// alpha's window systematic (AlphaResult::systematic): alpha found again with kappa fitted on each
 /// window of k.window_family (add_window_systematic first); half of (largest - smallest) over the
 /// members that resolve alpha, the main value included.
+void add_alpha_systematic(AlphaResult& a, const SurvivalCurve& c, const KappaFit& k);
 /// Sets a.uniform_reach for a weighted run without splitting and, when alpha (or its bound) lies below
 /// it, says in the note that it is unreliable there.
 void add_uniform_reach(AlphaResult& a, const SurvivalCurve& c);
-void add_alpha_systematic(AlphaResult& a, const SurvivalCurve& c, const KappaFit& k);
 
 }  // namespace rotleak

@@ -59,6 +59,26 @@ bool in_main_thread() {
   return threading.attr("current_thread")().is(threading.attr("main_thread")());
 }
 
+/// work() run without the GIL, SIGINT noted in g_interrupt (the work's progress callback turns it into its
+/// stop flag); empty when the work was stopped between blocks (RunInterrupted).
+template <class Result, class Work>
+std::optional<Result> run_released(Work&& work) {
+  std::optional<Result> result;
+  SigintGuard guard(in_main_thread());
+  py::gil_scoped_release released;
+  try {
+    result = work();
+  } catch (const rotleak::RunInterrupted&) {
+    // the caller raises KeyboardInterrupt, with the GIL
+  }
+  return result;
+}
+
+[[noreturn]] void raise_keyboard_interrupt(const char* message) {
+  PyErr_SetString(PyExc_KeyboardInterrupt, message);
+  throw py::error_already_set();
+}
+
 /// (name, bytes) of every file of the run, as the run directory would hold them.
 py::list simulate(const std::string& scene_path, const std::vector<std::string>& overrides, int threads,
                   const std::optional<py::function>& progress) {
@@ -81,21 +101,10 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
       stop.store(true);
     }
   };
-  std::optional<rotleak::RunSummary> summary;
-  {
-    SigintGuard guard(in_main_thread());
-    py::gil_scoped_release released;
-    try {
-      summary = rotleak::run_scene(std::move(scene), opt);
-    } catch (const rotleak::RunInterrupted&) {
-      // handled below, with the GIL
-    }
-  }
+  const std::optional<rotleak::RunSummary> summary =
+      run_released<rotleak::RunSummary>([&] { return rotleak::run_scene(std::move(scene), opt); });
   if (raised) throw std::move(*raised);
-  if (!summary) {
-    PyErr_SetString(PyExc_KeyboardInterrupt, "rotleak.simulate interrupted: the run was stopped between blocks");
-    throw py::error_already_set();
-  }
+  if (!summary) raise_keyboard_interrupt("rotleak.simulate interrupted: the run was stopped between blocks");
   const rotleak::RunTexts texts = rotleak::run_texts(*summary);
   py::list out;
   for (const auto& [name, text] : texts.files) out.append(py::make_tuple(name, py::bytes(text)));
@@ -120,20 +129,9 @@ std::string calibrate(const std::string& scene_path, const std::vector<std::stri
   req.run.progress = [&](std::uint64_t, std::uint64_t, std::uint64_t, bool) {
     if (g_interrupt.load()) stop.store(true);
   };
-  std::optional<rotleak::CalibrateOutcome> outcome;
-  {
-    SigintGuard guard(in_main_thread());
-    py::gil_scoped_release released;
-    try {
-      outcome = rotleak::calibrate(req);
-    } catch (const rotleak::RunInterrupted&) {
-      // below, with the GIL
-    }
-  }
-  if (!outcome) {
-    PyErr_SetString(PyExc_KeyboardInterrupt, "rotleak.calibrate interrupted: the seeds done so far are kept");
-    throw py::error_already_set();
-  }
+  const std::optional<rotleak::CalibrateOutcome> outcome =
+      run_released<rotleak::CalibrateOutcome>([&] { return rotleak::calibrate(req); });
+  if (!outcome) raise_keyboard_interrupt("rotleak.calibrate interrupted: the seeds done so far are kept");
   return outcome->document.dump();
 }
 

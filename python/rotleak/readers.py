@@ -216,19 +216,26 @@ def _is_scan_document(doc):
     return "fit_overrides" not in doc or isinstance(doc["fit_overrides"], list)
 
 
+def _command_document(path, name, command, kind):
+    """The JSON document `name` of the directory `path` that the rotleak command `command` writes (a `kind`
+    directory), or a RotleakError: no directory, no document (incomplete), not JSON, another command's."""
+    if not os.path.isdir(path):
+        raise RotleakError("%s: no such directory" % path)
+    doc_path = os.path.join(path, name)
+    if not os.path.exists(doc_path):
+        raise RotleakError("%s: not a complete %s directory (no %s)" % (path, kind, name))
+    with open(doc_path, encoding="utf-8") as f:
+        doc = json_document(f.read(), name, path)
+    if isinstance(doc, dict) and doc.get("command") != command:
+        raise RotleakError("%s: %s is not a %s's (command = %r)" % (path, name, kind, doc.get("command")))
+    return doc
+
+
 class Scan:
     """A scan: its table, its scan.json and each point's run."""
 
     def __init__(self, path):
-        if not os.path.isdir(path):
-            raise RotleakError("%s: no such directory" % path)
-        doc_path = os.path.join(path, "scan.json")
-        if not os.path.exists(doc_path):
-            raise RotleakError("%s: not a complete scan directory (no scan.json)" % path)
-        with open(doc_path, encoding="utf-8") as f:
-            self.document = json_document(f.read(), "scan.json", path)
-        if isinstance(self.document, dict) and self.document.get("command") != "scan":
-            raise RotleakError("%s: scan.json is not a scan's (command = %r)" % (path, self.document.get("command")))
+        self.document = _command_document(path, "scan.json", "scan", "scan")
         if not _is_scan_document(self.document):
             raise RotleakError("%s: scan.json: not a scan's document" % path)
         _check_schema(self.document, "scan.json", path)
@@ -296,14 +303,8 @@ class Calibration:
     summary over its resolved times (``P``), and the seeds' runs (``scan``)."""
 
     def __init__(self, path):
-        if not os.path.isdir(path):
-            raise RotleakError("%s: no such directory" % path)
-        doc_path = os.path.join(path, "calibration.json")
-        if not os.path.exists(doc_path):
-            raise RotleakError("%s: not a complete calibration directory (no calibration.json)" % path)
-        with open(doc_path, encoding="utf-8") as f:
-            self.document = json_document(f.read(), "calibration.json", path)
-        if not isinstance(self.document, dict) or self.document.get("command") != "calibrate":
+        self.document = _command_document(path, "calibration.json", "calibrate", "calibration")
+        if not isinstance(self.document, dict):
             raise RotleakError("%s: calibration.json is not a calibration's" % path)
         _check_schema(self.document, "calibration.json", path)
         for key, kind in (("seeds", list), ("P", dict), ("statistics", dict), ("alpha_bounds", dict),

@@ -56,8 +56,9 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
     }
     if (curves.size() == 1) scene = s;
   }
+  SurvivalCurve pooled;  // the K runs as one run of K N particles
   try {
-    (void)pool_curves(curves);
+    pooled = pool_curves(curves);
   } catch (const std::invalid_argument&) {
     throw InputError("DIR", "\"" + point_dirs.front().parent_path().string() + "\"",
                      "the runs are not one scene with different seeds (grid, sampling or particles differ)");
@@ -66,7 +67,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   const double min_eff = static_cast<double>(scene.min_survivors);
   // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn
   // dominates its error (summary.json splitting.unsplit_allowance.dominates_from; none: never)
-  double model_from = std::numeric_limits<double>::infinity();
+  double model_from = 0;
   {
     std::vector<double> from;
     for (const json& s : summaries) {
@@ -84,7 +85,6 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
 
   // P(t) at every grid time
   csv = "t,resolved,seeds,P,P_err,P_err_model,sd_over_err,chi2_dof,coverage1,coverage2,max_over_median\n";
-  const SurvivalCurve pooled = pool_curves(curves);
   std::size_t resolved = 0, outside = 0, uncovered = 0;
   double lo = std::numeric_limits<double>::infinity(), hi = 0, worst_cov = 1, t_lo = 0, t_hi = 0, t_cov = 0;
   double first = 0, last = 0;

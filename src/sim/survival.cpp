@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <stdexcept>
 
 namespace rotleak {
 
@@ -84,6 +83,69 @@ void add_unsplit_allowance(SurvivalCurve& c) {
 
 namespace {
 
+/// The unsplit lines on the grid (SurvivalCurve::unsplit_lines, unsplit_P, unsplit) from the exact tallies,
+/// class by class (the classes a line starts in; the start cells less the cells that left), grouped: each
+/// class whose decay can be measured after the first split time on its own, the others pooled in class
+/// order; then their allowance (add_unsplit_allowance).
+void unsplit_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
+  const std::size_t points = c.t.size();
+  const double n = static_cast<double>(scene.particles);
+  std::vector<SurvivalCurve::UnsplitGroup> classes;
+  std::vector<UnsplitCell> alive;
+  std::vector<int> slot(kUnsplitClasses, -1);  // a class's place in `classes`
+  for (int k = 0; k < kUnsplitClasses; ++k) {
+    const UnsplitCell& start = tally.unsplit_start[static_cast<std::size_t>(k)];
+    if (start.lines == 0) continue;
+    slot[static_cast<std::size_t>(k)] = static_cast<int>(classes.size());
+    classes.emplace_back().classes = {k};
+    alive.push_back(start);
+  }
+  auto next_cell = tally.unsplit_left.begin();
+  for (std::size_t j = 0; j < points; ++j) {
+    for (; next_cell != tally.unsplit_left.end() && next_cell->first / kUnsplitClasses == j; ++next_cell) {
+      const int q = slot[next_cell->first % kUnsplitClasses];
+      // a line leaves only the class it started in: more leaving than started is a damaged tally
+      if (q < 0) throw std::logic_error("unsplit lines left a weight class no line started in");
+      UnsplitCell& a = alive[static_cast<std::size_t>(q)];
+      a.lines -= next_cell->second.lines;
+      a.w = a.w.minus(next_cell->second.w);
+      a.w2 = a.w2.minus(next_cell->second.w2);
+    }
+    std::uint64_t lines = 0;
+    FixedSum total;
+    for (std::size_t q = 0; q < classes.size(); ++q) {
+      classes[q].lines.push_back(alive[q].lines);
+      classes[q].P.push_back(alive[q].w.value() / n);
+      classes[q].var.push_back(alive[q].w2.value() / (n * n));
+      lines += alive[q].lines;
+      total.merge(alive[q].w);
+    }
+    c.unsplit_lines.push_back(lines);
+    c.unsplit_P.push_back(total.value() / n);
+  }
+  c.first_split = std::min(points - 1, static_cast<std::size_t>(scene.splitting.every / scene.survival_dt) + 1);
+  SurvivalCurve::UnsplitGroup rest;
+  rest.lines.assign(points, 0);
+  rest.P.assign(points, 0.0);
+  rest.var.assign(points, 0.0);
+  for (SurvivalCurve::UnsplitGroup& k : classes) {
+    const bool measurable = std::any_of(k.lines.begin() + static_cast<std::ptrdiff_t>(c.first_split), k.lines.end(),
+                                        [](std::uint64_t x) { return x >= 2 * kUnsplitReliable; });
+    if (measurable) {
+      c.unsplit.push_back(std::move(k));
+      continue;
+    }
+    rest.classes.push_back(k.classes.front());
+    for (std::size_t j = 0; j < points; ++j) {  // class by class in a fixed order: deterministic
+      rest.lines[j] += k.lines[j];
+      rest.P[j] += k.P[j];
+      rest.var[j] += k.var[j];
+    }
+  }
+  if (!rest.classes.empty()) c.unsplit.push_back(std::move(rest));
+  add_unsplit_allowance(c);
+}
+
 /// The split run's P, R, G and lines alive from the exact line tallies.
 void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   c.weighted = c.lines = true;
@@ -91,11 +153,6 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   const double n = static_cast<double>(scene.particles);
   FixedSum in, out, in2, out2;
   std::uint64_t ended = 0;
-  // the unsplit lines by class, on the grid: the start cells less the cells that left
-  std::vector<UnsplitCell> alive(tally.unsplit_start.begin(), tally.unsplit_start.end());
-  std::vector<std::vector<std::uint64_t>> cls_lines(kUnsplitClasses);
-  std::vector<std::vector<double>> cls_P(kUnsplitClasses), cls_var(kUnsplitClasses);
-  auto next_cell = tally.unsplit_left.begin();
   double g = 0;
   for (std::size_t j = 0; j < tally.line_in.size(); ++j) {
     in.merge(tally.line_in[j]);
@@ -112,54 +169,8 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
     if (r > 0) g = std::max(g, (r - 1) / n);
     c.G.push_back(g);
     c.lines_alive.push_back(scene.particles - ended);
-    for (; next_cell != tally.unsplit_left.end() && next_cell->first / kUnsplitClasses == j; ++next_cell) {
-      UnsplitCell& a = alive[next_cell->first % kUnsplitClasses];
-      a.lines -= next_cell->second.lines;
-      a.w = a.w.minus(next_cell->second.w);
-      a.w2 = a.w2.minus(next_cell->second.w2);
-    }
-    std::uint64_t lines = 0;
-    FixedSum total;
-    for (std::size_t k = 0; k < alive.size(); ++k) {
-      cls_lines[k].push_back(alive[k].lines);
-      cls_P[k].push_back(alive[k].w.value() / n);
-      cls_var[k].push_back(alive[k].w2.value() / (n * n));
-      lines += alive[k].lines;
-      total.merge(alive[k].w);
-    }
-    c.unsplit_lines.push_back(lines);
-    c.unsplit_P.push_back(total.value() / n);
   }
-  // the groups: each class measurable after the first split time on its own, the rest pooled
-  const std::size_t points = c.t.size();
-  c.first_split = std::min(points - 1, static_cast<std::size_t>(scene.splitting.every / scene.survival_dt) + 1);
-  SurvivalCurve::UnsplitGroup rest;
-  rest.lines.assign(points, 0);
-  rest.P.assign(points, 0.0);
-  rest.var.assign(points, 0.0);
-  for (int k = 0; k < kUnsplitClasses; ++k) {
-    if (tally.unsplit_start[static_cast<std::size_t>(k)].lines == 0) continue;
-    const auto& L = cls_lines[static_cast<std::size_t>(k)];
-    const bool measurable = std::any_of(L.begin() + static_cast<std::ptrdiff_t>(c.first_split), L.end(),
-                                        [](std::uint64_t x) { return x >= 2 * kUnsplitReliable; });
-    if (measurable) {
-      SurvivalCurve::UnsplitGroup group;
-      group.classes = {k};
-      group.lines = L;
-      group.P = cls_P[static_cast<std::size_t>(k)];
-      group.var = cls_var[static_cast<std::size_t>(k)];
-      c.unsplit.push_back(std::move(group));
-    } else {
-      rest.classes.push_back(k);
-      for (std::size_t j = 0; j < points; ++j) {  // class by class in a fixed order: deterministic
-        rest.lines[j] += L[j];
-        rest.P[j] += cls_P[static_cast<std::size_t>(k)][j];
-        rest.var[j] += cls_var[static_cast<std::size_t>(k)][j];
-      }
-    }
-  }
-  if (!rest.classes.empty()) c.unsplit.push_back(std::move(rest));
-  add_unsplit_allowance(c);
+  unsplit_curve(scene, tally, c);
 }
 
 }  // namespace
