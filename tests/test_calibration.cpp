@@ -100,15 +100,18 @@ TEST(Calibrate, WritesItsFilesAndResumes) {
 
 // The allowance for unsplit lines not drawn, by hand: a group of 50 unsplit lines of weight 0.02 (N = 1000
 // lines) until t = 10, then 15 until t = 20, then 5: t_r = 20 (the last time with 10), t_a = 10 (the last
-// with 20, after the first split at t = 2), gamma = ln(P_g(10) / P_g(20)) / 10, and past t_r P's variance
-// gains w P_g(t_r) exp(-gamma (t - t_r)) / N less what the 5 lines alive still give. A second group of 500
-// light lines (weight 1e-6) stays populated and adds nothing.
+// with 20, after the first split at t = 2); gamma by maximum likelihood, every leaving after t_a over the
+// lines' time in the group from t_a, 45 / (50 + 10 x 15 + 19 x 5); past t_r P's variance gains
+// w P_g(t_r) max(exp(-gamma (t - t_r)), P(t) / P(t_r)) / N less what the 5 lines alive still give. P decays
+// at 0.1 until t = 30 (slower than gamma: mixing sets the allowance) and at 0.5 after (the group's own
+// rate does). A second group of 500 light lines (weight 1e-6) stays populated and adds nothing.
 TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
   SurvivalCurve c;
   c.weighted = c.lines = true;
   c.particles = 1000;
   c.first_split = 2;
   const double n = 1000, w = 0.02, light = 1e-6;
+  const auto P = [](double t) { return 1e-2 * std::exp(t <= 30 ? -0.1 * t : -3 - 0.5 * (t - 30)); };
   SurvivalCurve::UnsplitGroup heavy, many;
   heavy.classes = {unsplit_class(w)};
   many.classes = {unsplit_class(light)};
@@ -117,7 +120,7 @@ TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
     c.t.push_back(k);
     c.survivors.push_back(1000);
     c.lines_alive.push_back(1000);
-    c.P_w.push_back(1e-2 * std::exp(-0.1 * k));
+    c.P_w.push_back(P(k));
     c.R.push_back(2);
     c.G.push_back(1 / n);
     heavy.lines.push_back(alive);
@@ -135,17 +138,20 @@ TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
   EXPECT_FALSE(c.unsplit[1].allowance);
   EXPECT_EQ(h.reliable_until, 20);
   EXPECT_EQ(h.rate_from, 10);
-  const double gamma = std::log(50.0 / 15.0) / 10;
+  const double gamma = 45.0 / (50 + 10 * 15 + 19 * 5);
   EXPECT_NEAR(h.decay_rate, gamma, 1e-12);
   EXPECT_NEAR(h.typical_weight, w, 1e-12);
+  bool own = false, mixing = false;  // both branches are met
   for (int k = 0; k <= 40; ++k) {
     const double added = c.P_w[k] * c.P_w[k] * (c.R[k] - before.R[k]) / n;
-    const double expect =
-        k <= 20 ? 0.0 : std::max(0.0, w * (15 * w / n) * std::exp(-gamma * (k - 20)) / n - 5 * w * w / (n * n));
+    const double decay = std::max(std::exp(-gamma * (k - 20)), P(k) / P(20));
+    if (k > 20) (decay == P(k) / P(20) ? mixing : own) = true;
+    const double expect = k <= 20 ? 0.0 : std::max(0.0, w * (15 * w / n) * decay / n - 5 * w * w / (n * n));
     EXPECT_NEAR(added, expect, 1e-12 * (expect + 1e-30)) << "t = " << k;
   }
-  ASSERT_TRUE(c.allowance_dominates_from.has_value());
-  EXPECT_GT(*c.allowance_dominates_from, 20);
+  EXPECT_TRUE(own && mixing);
+  ASSERT_TRUE(c.allowance_unresolved_from.has_value());
+  EXPECT_GT(*c.allowance_unresolved_from, 20);
   for (std::size_t k = 1; k < c.G.size(); ++k) EXPECT_GE(c.G[k], c.G[k - 1]);
 }
 

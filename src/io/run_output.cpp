@@ -229,8 +229,8 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
     }
   j["unsplit_allowance"] =
       groups.empty() ? json(nullptr)
-                     : json{{"dominates_from",
-                             curve.allowance_dominates_from ? json(*curve.allowance_dominates_from) : json(nullptr)},
+                     : json{{"unresolved_from",
+                             curve.allowance_unresolved_from ? json(*curve.allowance_unresolved_from) : json(nullptr)},
                             {"groups", groups}};
   std::size_t deepest = 0;
   for (std::size_t i = 0; i < curve.t.size(); ++i)

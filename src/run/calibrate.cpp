@@ -66,7 +66,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   const std::size_t K = curves.size(), points = curves.front().t.size();
   const double min_eff = static_cast<double>(scene.min_survivors);
   // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn
-  // dominates its error (summary.json splitting.unsplit_allowance.dominates_from; none: never)
+  // dominates its error (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
   double model_from = 0;
   {
     std::vector<double> from;
@@ -74,8 +74,8 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
       double f = std::numeric_limits<double>::infinity();
       if (s.contains("splitting") && s.at("splitting").contains("unsplit_allowance")) {
         const json& a = s.at("splitting").at("unsplit_allowance");
-        if (a.is_object() && a.contains("dominates_from") && a.at("dominates_from").is_number())
-          f = a.at("dominates_from").get<double>();
+        if (a.is_object() && a.contains("unresolved_from") && a.at("unresolved_from").is_number())
+          f = a.at("unresolved_from").get<double>();
       }
       from.push_back(f);
     }

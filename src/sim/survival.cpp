@@ -56,16 +56,26 @@ void add_unsplit_allowance(SurvivalCurve& c) {
         a = j;
         break;
       }
-    double gamma = 0;
-    if (a < r && k.P[a] > k.P[r]) gamma = std::log(k.P[a] / k.P[r]) / (c.t[r] - c.t[a]);
+    // The rate from every leaving after t_a (its escape or first split), each line's time in the group
+    // after t_a its exposure (censored at the last grid time): gamma = leavings / exposure, the maximum
+    // likelihood rate. The leavings past t_r count: a rate from the halving before t_r alone, 20 lines
+    // to 10, is uncertain by 40% and set the allowance ahead by a factor e^(0.4 gamma (t - t_r)).
+    double gamma = 0, exposure = 0;
+    for (std::size_t j = a; j + 1 < points; ++j) exposure += static_cast<double>(k.lines[j]) * (c.t[j + 1] - c.t[j]);
+    if (exposure > 0) gamma = static_cast<double>(k.lines[a] - k.lines[points - 1]) / exposure;
     const double w = n * k.var[r] / k.P[r];
     k.allowance = true;
     k.reliable_until = c.t[r];
     k.rate_from = c.t[std::min(a, r)];
     k.decay_rate = gamma;
     k.typical_weight = w;
-    for (std::size_t j = r + 1; j < points; ++j)
-      extra[j] += std::max(0.0, w * k.P[r] * std::exp(-gamma * (c.t[j] - c.t[r])) / n - k.var[j]);
+    // P_g(t) / P_g(t_r): no smaller than the group's own rate gives, nor than the whole population's
+    // decay P(t) / P(t_r) (mixing: a line that leaves its bouncing-ball stretch decays as the chaotic
+    // population does, one that stays in it lives longer; the lines' own error model assumes the same)
+    for (std::size_t j = r + 1; j < points; ++j) {
+      const double own = std::exp(-gamma * (c.t[j] - c.t[r])), mixing = c.P_w[j] / c.P_w[r];
+      extra[j] += std::max(0.0, w * k.P[r] * std::max(own, mixing) / n - k.var[j]);
+    }
     first = std::min(first, r + 1);
   }
   if (first == points) return;
@@ -73,7 +83,7 @@ void add_unsplit_allowance(SurvivalCurve& c) {
   for (std::size_t j = first; j < points; ++j) {
     if (c.P_w[j] > 0 && extra[j] > 0) {
       const double own = c.P_w[j] * c.P_w[j] * std::max(0.0, c.R[j] - 1) / n;
-      if (extra[j] > own && !c.allowance_dominates_from) c.allowance_dominates_from = c.t[j];
+      if (extra[j] > kAllowanceShare * own && !c.allowance_unresolved_from) c.allowance_unresolved_from = c.t[j];
       c.R[j] += n * extra[j] / (c.P_w[j] * c.P_w[j]);
     }
     if (c.R[j] > 0) g = std::max(g, (c.R[j] - 1) / n);

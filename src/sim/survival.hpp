@@ -62,13 +62,19 @@ struct SurvivalCurve {
   };
   std::vector<UnsplitGroup> unsplit;
   std::size_t first_split = 0;  ///< grid index of the first split time (before it every line is unsplit)
-  /// The first grid time at which the allowances exceed the lines' own variance (none: never): from
-  /// there on P's error is mostly the model's, and P is not claimed resolved.
-  std::optional<double> allowance_dominates_from;
+  /// The first grid time at which the allowances exceed kAllowanceShare times the lines' own variance
+  /// (none: never): from there on a third of P's variance or more is the model's, and P is not claimed
+  /// resolved.
+  std::optional<double> allowance_unresolved_from;
 };
 
 /// Unsplit lines alive below which their own spread no longer measures their share of P's error.
 inline constexpr std::uint64_t kUnsplitReliable = 10;
+/// P is resolved while the allowances stay below this share of the lines' own variance: the error is
+/// then at least two thirds measured, at most sqrt(1.5) = 1.22 times the lines' spread where the model
+/// stands for lines rarer than a seed calibration can draw (at a share of 1, a calibration's sd / err
+/// sat at 1 / sqrt 2 = 0.71, the edge of its band, wherever those lines did not turn up).
+inline constexpr double kAllowanceShare = 0.5;
 
 /// Adds to a split curve's R the allowance for unsplit lines the run has not drawn (docs/model.md).
 void add_unsplit_allowance(SurvivalCurve& c);
