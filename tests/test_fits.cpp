@@ -44,6 +44,27 @@ SurvivalCurve exact_curve(double n, double t_max, const std::function<double(dou
 
 const double kKappa = 4.4e-3;
 
+// A split run's curve on t = 0..t_max (dt = 1, N = 10^5 lines) with the given P and effective lines
+// N / R (the lines' G their running maximum); members only counted for escapes.
+SurvivalCurve split_curve(int t_max, const std::function<double(double)>& P,
+                          const std::function<double(double)>& effective) {
+  SurvivalCurve c;
+  c.weighted = c.lines = true;
+  c.particles = 100000;
+  const double n = 1e5;
+  double g = 0;
+  for (int k = 0; k <= t_max; ++k) {
+    c.t.push_back(k);
+    c.survivors.push_back(static_cast<std::uint64_t>(100000 - 10 * k));
+    c.P_w.push_back(P(k));
+    c.R.push_back(n / effective(k));
+    g = std::max(g, (c.R.back() - 1) / n);
+    c.G.push_back(g);
+    c.lines_alive.push_back(1000);
+  }
+  return c;
+}
+
 // Lifetimes of the designed curve P = (1 - w) e^{-kappa t} + w (1 + t/t0)^-z.
 struct TailLife {
   double w, z, t0;
@@ -204,21 +225,9 @@ TEST(FindAlpha, WindowShiftMovesAlphaInsideItsSystematic) {
 // itself. Lines curve with P = the fit exactly (no crossing anywhere): the bound is P + 3 errors at
 // the last resolved time, where P is smallest.
 TEST(FindAlpha, SplitRunUpperBoundCarriesAnErrorMargin) {
-  SurvivalCurve c;
-  c.weighted = c.lines = true;
-  c.particles = 100000;
-  const double n = 1e5;
-  double g = 0;
-  for (int k = 0; k <= 2000; ++k) {
-    c.t.push_back(k);
-    c.survivors.push_back(static_cast<std::uint64_t>(100000 - 10 * k));  // members: only counted for escapes
-    c.P_w.push_back(std::exp(-kKappa * k));
-    const double eff = k <= 1500 ? 1000.0 : 50.0;  // resolved (>= 100 effective lines) until t = 1500
-    c.R.push_back(n / eff);
-    g = std::max(g, (n / eff - 1) / n);
-    c.G.push_back(g);
-    c.lines_alive.push_back(1000);
-  }
+  // resolved (>= 100 effective lines) until t = 1500
+  const SurvivalCurve c = split_curve(
+      2000, [](double t) { return std::exp(-kKappa * t); }, [](double t) { return t <= 1500 ? 1000.0 : 50.0; });
   const KappaFit k = fit_kappa(c, 0, 300);
   ASSERT_TRUE(k.ok);
   const AlphaResult a = find_alpha(c, k);
@@ -235,19 +244,10 @@ TEST(FindAlpha, SplitRunUpperBoundCarriesAnErrorMargin) {
 // the true P, not for the estimate): here P at the last resolved time (t = 1500) sits 2.5% below the
 // next grid point (a roulette rise), with a 2% error, and the bound lies above both.
 TEST(FindAlpha, ARouletteRiseAfterTheLastResolvedTimeStaysUnderTheBound) {
-  SurvivalCurve c;
-  c.weighted = c.lines = true;
-  c.particles = 100000;
-  const double n = 1e5, eff = 2500;  // 2% relative error
-  for (int k = 0; k <= 2000; ++k) {
-    c.t.push_back(k);
-    c.survivors.push_back(static_cast<std::uint64_t>(100000 - 10 * k));
-    const double dip = k == 1500 ? 1 / 1.025 : 1.0;  // the split at t = 1501 raises P by 2.5%
-    c.P_w.push_back(std::exp(-kKappa * k) * dip);
-    c.R.push_back(k <= 1500 ? n / eff + 1 : n / 50);  // resolved until t = 1500
-    c.G.push_back((c.R.back() - 1) / n);
-    c.lines_alive.push_back(1000);
-  }
+  // the split at t = 1501 raises P by 2.5%; 2% relative error (2500 effective lines) until t = 1500
+  const SurvivalCurve c = split_curve(
+      2000, [](double t) { return std::exp(-kKappa * t) * (t == 1500 ? 1 / 1.025 : 1.0); },
+      [](double t) { return t <= 1500 ? 1e5 / (1e5 / 2500 + 1) : 50.0; });
   const KappaFit k = fit_kappa(c, 0, 300);
   ASSERT_TRUE(k.ok);
   const AlphaResult a = find_alpha(c, k);
@@ -263,22 +263,9 @@ TEST(FindAlpha, ARouletteRiseAfterTheLastResolvedTimeStaysUnderTheBound) {
 // crossing at t ~ 2150, effective lines below 100 on [2000, 3000]: no value, resolved until 1999, and
 // the bound lies above P at the crossing.
 TEST(FindAlpha, ACrossingAmongUnresolvedPointsIsNotMeasured) {
-  SurvivalCurve c;
-  c.weighted = c.lines = true;
-  c.particles = 100000;
-  const double n = 1e5, tail = 1e-3;
+  const double tail = 1e-3;
   auto P = [&](double t) { return std::exp(-kKappa * t) + tail * std::exp(-1e-4 * t); };
-  double g = 0;
-  for (int k = 0; k <= 5000; ++k) {
-    c.t.push_back(k);
-    c.survivors.push_back(static_cast<std::uint64_t>(100000 - 10 * k));  // members: only counted for escapes
-    c.P_w.push_back(P(k));
-    const double eff = k >= 2000 && k <= 3000 ? 50.0 : 1000.0;
-    c.R.push_back(n / eff + 1);
-    g = std::max(g, (c.R.back() - 1) / n);
-    c.G.push_back(g);
-    c.lines_alive.push_back(1000);
-  }
+  const SurvivalCurve c = split_curve(5000, P, [](double t) { return t >= 2000 && t <= 3000 ? 50.0 : 1000.0; });
   const KappaFit k = fit_kappa(c, 0, 300);
   ASSERT_TRUE(k.ok);
   const AlphaResult a = find_alpha(c, k);
