@@ -36,6 +36,13 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
 /// at t_r: a Poisson number of such lines adds w P_g(t) / N to P's variance, beyond what the group's
 /// lines still alive add to the lines' spread. R (hence P_err, the effective lines and G) includes the
 /// sum over the groups.
+namespace {
+/// P's share carried by lines that have split (P less the unsplit lines' share).
+double split_share(const SurvivalCurve& c, std::size_t j) {
+  return j < c.unsplit_P.size() ? c.P_w[j] - c.unsplit_P[j] : c.P_w[j];
+}
+}  // namespace
+
 void add_unsplit_allowance(SurvivalCurve& c) {
   const std::size_t points = c.t.size();
   if (points == 0) return;
@@ -69,11 +76,15 @@ void add_unsplit_allowance(SurvivalCurve& c) {
     k.rate_from = c.t[std::min(a, r)];
     k.decay_rate = gamma;
     k.typical_weight = w;
-    // P_g(t) / P_g(t_r): no smaller than the group's own rate gives, nor than the whole population's
-    // decay P(t) / P(t_r) (mixing: a line that leaves its bouncing-ball stretch decays as the chaotic
-    // population does, one that stays in it lives longer; the lines' own error model assumes the same)
+    // P_g(t) / P_g(t_r): no smaller than the group's own rate gives, nor than the split lines' decay
+    // S(t) / S(t_r), S = P less the unsplit lines' share (mixing: a line that leaves its bouncing-ball
+    // stretch decays as the chaotic population does, one that stays in it lives longer; the lines' own
+    // error model assumes the same). Not P's own decay: where the light bouncing-ball lines' tail holds P
+    // up (82/83 past t ~ 3500), the heavy ones are not in it.
+    const double s_r = split_share(c, r);
     for (std::size_t j = r + 1; j < points; ++j) {
-      const double own = std::exp(-gamma * (c.t[j] - c.t[r])), mixing = c.P_w[j] / c.P_w[r];
+      const double own = std::exp(-gamma * (c.t[j] - c.t[r]));
+      const double mixing = s_r > 0 ? std::max(0.0, split_share(c, j)) / s_r : 0.0;
       extra[j] += std::max(0.0, w * k.P[r] * std::max(own, mixing) / n - k.var[j]);
     }
     first = std::min(first, r + 1);
