@@ -40,7 +40,7 @@ for at in sp["lines"]:
     assert set(at) == {"t", "lines_alive", "members", "P", "P_err", "effective_lines", "unsplit_lines",
                        "unsplit_P"}, at
 ua = sp["unsplit_allowance"]
-assert set(ua) == {"dominates_from", "groups"} and 0 < ua["dominates_from"] < 8000, ua
+assert set(ua) == {"unresolved_from", "groups"} and 0 < ua["unresolved_from"] < 8000, ua
 for k in ua["groups"]:
     assert set(k) == {"weights", "reliable_until", "rate_from", "decay_rate", "typical_weight"}, k
     low, high = k["weights"]  # high is null for the heaviest class
