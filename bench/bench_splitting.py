@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Work-normalised variance of P(t) for uniform sampling, mupo sampling alone, and mupo with population
 splitting, on a leak with no tail (omega = 100/101 by default: P falls exponentially to 1e-20 by
-t = 10000), at the times where the split run's P first falls below 1e-4, 1e-8 and 1e-12, and where it
+t = 10000), at the times where the split run's P first falls below 1e-4, 1e-6, 1e-8 and 1e-12, and where it
 is smallest (t_max).
 
 The figure of merit is 1 / (relative variance x work): the larger, the less work for a given relative
 error. Work is counted in collisions (deterministic: the same on any machine and load; fast-forwarded
 bounces included), and the wall seconds of each run are shown beside it. A method "cannot measure" a
-time where it has no survivor (or under 10 effective survivors: its error estimate means nothing there).
+time where it has no survivor or under 10 effective survivors, (P / error)^2: its error estimate means
+nothing there, and for split runs past the unsplit lines' reach the error is the allowance for lines not
+drawn (docs/model.md), which says P is not measured there.
 
 Usage: bench/bench_splitting.py [ROTLEAK] [PARTICLES_PLAIN] [LINES_SPLIT] [OMEGA] [OUT_DIR]
        (defaults: build/rotleak 10000000 1000000 100/101 a temporary directory, removed)
@@ -53,7 +55,7 @@ def main():
             results[name] = run(rotleak, os.path.join(work, name.replace(" ", "_")), n, omega, extra)
         split_rows = results["mupo + splitting"][1]
         targets = []
-        for p in (1e-4, 1e-8, 1e-12):
+        for p in (1e-4, 1e-6, 1e-8, 1e-12):
             i = next((k for k, r in enumerate(split_rows) if 0 < r[2] <= p), None)
             if i is not None:
                 targets.append((p, i))
@@ -74,7 +76,8 @@ def main():
             for name, (s, rows) in results.items():
                 t, surv, P, err = rows[i]
                 n = s["particles"]
-                eff = n * P * P / (err * err + P * P / n) if P > 0 else 0  # N P^2 / Q (Q = N err^2 + P^2)
+                # effective survivors (P / err)^2: the count for binomial errors, N / R for split lines
+                eff = (P / err) ** 2 if err > 0 else (n if P > 0 else 0)
                 if P <= 0 or surv == 0 or eff < 10:
                     cells.append("cannot measure")
                     continue
@@ -83,8 +86,12 @@ def main():
                 fom[(name, p)] = f
                 cells.append("%.3g, %.3g" % (rel, f))
             best_plain = max((fom.get((m, p), 0) for m in ("uniform", "mupo")), default=0)
-            gain = "%.3g x" % (fom[("mupo + splitting", p)] / best_plain) if best_plain and (
-                "mupo + splitting", p) in fom else "only splitting measures it"
+            if ("mupo + splitting", p) not in fom:
+                gain = "none measures it"
+            elif best_plain:
+                gain = "%.3g x" % (fom[("mupo + splitting", p)] / best_plain)
+            else:
+                gain = "only splitting measures it"
             print("| %.2g | %g | %s | %s |" % (p, rows[i][0], " | ".join(cells), gain))
         if keep:
             import matplotlib
@@ -93,7 +100,7 @@ def main():
             fig, ax = plt.subplots(figsize=(7, 4.5))
             for name, (s, rows) in results.items():
                 pts = [(r[2], 1 / ((r[3] / r[2]) ** 2 * s["collisions"])) for r in rows[::25]
-                       if r[2] > 0 and r[3] > 0 and r[1] > 0]
+                       if r[2] > 0 and r[3] > 0 and r[1] > 0 and (r[2] / r[3]) ** 2 >= 10]
                 if pts:
                     ax.loglog([x for x, _ in pts], [y for _, y in pts], ".", ms=3, label=name)
             ax.invert_xaxis()
