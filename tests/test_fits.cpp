@@ -44,6 +44,17 @@ SurvivalCurve exact_curve(double n, double t_max, const std::function<double(dou
 
 const double kKappa = 4.4e-3;
 
+// alpha on a curve with no crossing: kappa on [0, 300], no value, a bound, resolved until the given time.
+AlphaResult bound_of(const SurvivalCurve& c, double resolved_until) {
+  const KappaFit k = fit_kappa(c, 0, 300);
+  EXPECT_TRUE(k.ok);
+  AlphaResult a = find_alpha(c, k);
+  EXPECT_FALSE(a.value.has_value());
+  EXPECT_TRUE(a.upper_bound.has_value());
+  EXPECT_EQ(a.resolved_until, resolved_until);
+  return a;
+}
+
 // A split run's curve on t = 0..t_max (dt = 1, N = 10^5 lines) with the given P and effective lines
 // N / R (the lines' G their running maximum); members only counted for escapes.
 SurvivalCurve split_curve(int t_max, const std::function<double(double)>& P,
@@ -228,12 +239,8 @@ TEST(FindAlpha, SplitRunUpperBoundCarriesAnErrorMargin) {
   // resolved (>= 100 effective lines) until t = 1500
   const SurvivalCurve c = split_curve(
       2000, [](double t) { return std::exp(-kKappa * t); }, [](double t) { return t <= 1500 ? 1000.0 : 50.0; });
-  const KappaFit k = fit_kappa(c, 0, 300);
-  ASSERT_TRUE(k.ok);
-  const AlphaResult a = find_alpha(c, k);
-  ASSERT_FALSE(a.value.has_value());
+  const AlphaResult a = bound_of(c, 1500);
   ASSERT_TRUE(a.upper_bound.has_value());
-  EXPECT_EQ(a.resolved_until, 1500);
   const std::size_t last = 1500;
   EXPECT_GE(*a.upper_bound, c.P(last) + 3 * c.P_err(last) * (1 - 1e-12));
 }
@@ -248,12 +255,8 @@ TEST(FindAlpha, ARouletteRiseAfterTheLastResolvedTimeStaysUnderTheBound) {
   const SurvivalCurve c = split_curve(
       2000, [](double t) { return std::exp(-kKappa * t) * (t == 1500 ? 1 / 1.025 : 1.0); },
       [](double t) { return t <= 1500 ? 1e5 / (1e5 / 2500 + 1) : 50.0; });
-  const KappaFit k = fit_kappa(c, 0, 300);
-  ASSERT_TRUE(k.ok);
-  const AlphaResult a = find_alpha(c, k);
-  ASSERT_FALSE(a.value.has_value());
+  const AlphaResult a = bound_of(c, 1500);
   ASSERT_TRUE(a.upper_bound.has_value());
-  EXPECT_EQ(a.resolved_until, 1500);
   EXPECT_GT(*a.upper_bound, c.P(1501));
 }
 
