@@ -77,13 +77,77 @@ std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, do
   return out;
 }
 
+namespace {
+
+/// The regime a tail class implies: stationary for omega = 0, else low (transient), high (persistent), mid.
+std::string regime_of(bool rotating, const std::string& tail) {
+  if (!rotating) return "stationary";
+  return tail == "transient" ? "low" : tail == "persistent" ? "high" : "mid";
+}
+
+/// The fate of a tail seen from tc on: "transient" (removed: no survivor where an algebraic continuation
+/// would keep 6 effective, or a local exponent above 6 at the end of the resolved range) or "persistent"
+/// (with regime "undecided" where the leak had not swept the lower edge by the last survivor).
+void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, TailClass& k) {
+  const bool rotating = scene.omega.sign() != 0;
+  const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
+  // last resolved time after the crossing, and the first time P is 0 after it
+  std::size_t e = 0, zero = c.t.size();
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] < tc) continue;
+    if (c.P(i) > 0 && c.effective(i) >= min_eff) e = i;
+    if (!(c.P(i) > 0) && zero == c.t.size()) zero = i;
+  }
+  if (e == 0 || c.t[e] < tc) e = static_cast<std::size_t>(std::lower_bound(c.t.begin(), c.t.end(), tc) - c.t.begin());
+  // local exponent over the last resolved stretch [max(t_c, t_e / 1.5), t_e]
+  std::size_t a = e;
+  while (a > 0 && c.t[a - 1] >= std::max(tc, c.t[e] / 1.5)) --a;
+  double z = 0, z_se = 0;
+  if (a < e && c.t[a] > 0) {
+    const double dl = std::log(c.t[e]) - std::log(c.t[a]);
+    z = (std::log(c.P(a)) - std::log(c.P(e))) / dl;
+    z_se = std::sqrt(log_var(c, {a, e}, {1 / dl, -1 / dl}));
+  }
+  k.end_exponent = z;
+  if (zero < c.t.size() && c.t[zero] < scene.t_max) {
+    const double expected = c.effective(e) * std::pow(c.t[e] / c.t[zero], 3.0);
+    if (expected >= 6) {
+      k.tail = "transient";
+      k.tail_end = c.t[zero];
+      k.note = "tail removed: no survivor at t = " + std::to_string(c.t[zero]) +
+               " where an algebraic continuation (exponent <= 3) would keep >= 6 effective survivors";
+      k.regime = regime(k.tail);
+      return;
+    }
+  }
+  if (z - 6 > 3 * z_se && a < e) {
+    k.tail = "transient";
+    k.tail_end = c.t[a];
+    k.note = "tail removed: the local exponent at the end of the resolved range exceeds 6 by 3 standard errors";
+  } else {
+    k.tail = "persistent";
+    k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
+  }
+  k.regime = regime(k.tail);
+  const LeakTimes lt = leak_times(scene);
+  std::size_t last = e;  // last time with a survivor
+  for (std::size_t i = e; i < c.t.size(); ++i)
+    if (c.P(i) > 0) last = i;
+  if (k.tail == "persistent" && lt.tau2 && *lt.tau2 > c.t[last]) {
+    // the leak has not swept the lower edge by the end of the resolved range: whether it removes the
+    // tail (low) or not (high) was not observed
+    k.regime = "undecided";
+    k.note += "; the leak's leading edge leaves the lower edge only at tau2 = " + std::to_string(*lt.tau2) +
+              ", after the last survivor: run longer (t_max > tau2) to see whether the tail is removed";
+  }
+}
+
+}  // namespace
+
 TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
   TailClass k;
   const bool rotating = scene.omega.sign() != 0;
-  auto regime = [&](const std::string& tail) {
-    if (!rotating) return std::string("stationary");
-    return std::string(tail == "transient" ? "low" : tail == "persistent" ? "high" : "mid");
-  };
+  const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
   if (!alpha.value && fit && fit->ok) {
     // a tail seen later: P sigma errors (its own and the fit's extrapolation) above factor x the fit,
     // with at least kSeeTail effective survivors there (alpha asks for min_survivors; a tail carried
@@ -97,6 +161,16 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
       if (c.P(i) - line > alpha.sigma * err) seen = i;
     }
     if (seen < c.t.size()) {
+      // a tail seen and then removed is transient whether or not alpha is resolved (the removal is
+      // measured on the resolved points after it: at omega = 1e-4 with 10^5 mupo particles the crossing
+      // falls where the uniform share's survivors are too few, the sweep at t ~ 5900 does not)
+      tail_fate(scene, c, c.t[seen], static_cast<double>(alpha.min_survivors), k);
+      if (k.tail == "transient") {
+        k.note += "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " +
+                  std::to_string(c.t[seen]) + ")";
+        return k;
+      }
+      k = TailClass{};
       double fewest = std::numeric_limits<double>::infinity(), at = 0;
       for (std::size_t i = 0; i <= seen; ++i)
         if (c.t[i] >= fit->to && c.effective(i) < fewest) fewest = c.effective(i), at = c.t[i];
@@ -136,56 +210,7 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
     }
     return k;
   }
-  const double tc = alpha.crossing_time, min_eff = static_cast<double>(alpha.min_survivors);
-  // last resolved time after the crossing, and the first time P is 0 after it
-  std::size_t e = 0, zero = c.t.size();
-  for (std::size_t i = 0; i < c.t.size(); ++i) {
-    if (c.t[i] < tc) continue;
-    if (c.P(i) > 0 && c.effective(i) >= min_eff) e = i;
-    if (!(c.P(i) > 0) && zero == c.t.size()) zero = i;
-  }
-  if (e == 0 || c.t[e] < tc) e = static_cast<std::size_t>(std::lower_bound(c.t.begin(), c.t.end(), tc) - c.t.begin());
-  // local exponent over the last resolved stretch [max(t_c, t_e / 1.5), t_e]
-  std::size_t a = e;
-  while (a > 0 && c.t[a - 1] >= std::max(tc, c.t[e] / 1.5)) --a;
-  double z = 0, z_se = 0;
-  if (a < e && c.t[a] > 0) {
-    const double dl = std::log(c.t[e]) - std::log(c.t[a]);
-    z = (std::log(c.P(a)) - std::log(c.P(e))) / dl;
-    z_se = std::sqrt(log_var(c, {a, e}, {1 / dl, -1 / dl}));
-  }
-  k.end_exponent = z;
-  if (zero < c.t.size() && c.t[zero] < scene.t_max) {
-    const double expected = c.effective(e) * std::pow(c.t[e] / c.t[zero], 3.0);
-    if (expected >= 6) {
-      k.tail = "transient";
-      k.tail_end = c.t[zero];
-      k.note = "tail removed: no survivor at t = " + std::to_string(c.t[zero]) +
-               " where an algebraic continuation (exponent <= 3) would keep >= 6 effective survivors";
-      k.regime = regime(k.tail);
-      return k;
-    }
-  }
-  if (z - 6 > 3 * z_se && a < e) {
-    k.tail = "transient";
-    k.tail_end = c.t[a];
-    k.note = "tail removed: the local exponent at the end of the resolved range exceeds 6 by 3 standard errors";
-  } else {
-    k.tail = "persistent";
-    k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
-  }
-  k.regime = regime(k.tail);
-  const LeakTimes lt = leak_times(scene);
-  std::size_t last = e;  // last time with a survivor
-  for (std::size_t i = e; i < c.t.size(); ++i)
-    if (c.P(i) > 0) last = i;
-  if (k.tail == "persistent" && lt.tau2 && *lt.tau2 > c.t[last]) {
-    // the leak has not swept the lower edge by the end of the resolved range: whether it removes the
-    // tail (low) or not (high) was not observed
-    k.regime = "undecided";
-    k.note += "; the leak's leading edge leaves the lower edge only at tau2 = " + std::to_string(*lt.tau2) +
-              ", after the last survivor: run longer (t_max > tau2) to see whether the tail is removed";
-  }
+  tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), k);
   return k;
 }
 
