@@ -164,13 +164,13 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
       // a tail seen and then removed is transient whether or not alpha is resolved (the removal is
       // measured on the resolved points after it: at omega = 1e-4 with 10^5 mupo particles the crossing
       // falls where the uniform share's survivors are too few, the sweep at t ~ 5900 does not)
-      tail_fate(scene, c, c.t[seen], static_cast<double>(alpha.min_survivors), k);
-      if (k.tail == "transient") {
-        k.note += "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " +
-                  std::to_string(c.t[seen]) + ")";
-        return k;
+      TailClass fate;
+      tail_fate(scene, c, c.t[seen], min_eff, fate);
+      if (fate.tail == "transient") {
+        fate.note += "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " +
+                     std::to_string(c.t[seen]) + ")";
+        return fate;
       }
-      k = TailClass{};
       double fewest = std::numeric_limits<double>::infinity(), at = 0;
       for (std::size_t i = 0; i <= seen; ++i)
         if (c.t[i] >= fit->to && c.effective(i) < fewest) fewest = c.effective(i), at = c.t[i];

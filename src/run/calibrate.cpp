@@ -65,8 +65,8 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   }
   const std::size_t K = curves.size(), points = curves.front().t.size();
   const double min_eff = static_cast<double>(scene.min_survivors);
-  // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn
-  // dominates its error (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
+  // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn holds a
+  // third of its variance (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
   double model_from = 0;
   {
     std::vector<double> from;

@@ -28,14 +28,6 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
   return out;
 }
 
-/// The allowance for unsplit lines a run has not drawn (docs/model.md "Deep tails", "Unsplit lines not
-/// drawn"), group by group: past the last time t_r at which at least kUnsplitReliable of a group's lines
-/// are alive, its share of P is taken to go on decaying at the rate it showed over [t_a, t_r] (t_a the
-/// last time after the first split with 2 kUnsplitReliable of them, else the first split time),
-/// P_g(t) = P_g(t_r) exp(-gamma (t - t_r)), carried by lines of its typical weight w = N sum w^2 / sum w
-/// at t_r: a Poisson number of such lines adds w P_g(t) / N to P's variance, beyond what the group's
-/// lines still alive add to the lines' spread. R (hence P_err, the effective lines and G) includes the
-/// sum over the groups.
 namespace {
 /// P's share carried by lines that have split (P less the unsplit lines' share).
 double split_share(const SurvivalCurve& c, std::size_t j) {
@@ -43,6 +35,16 @@ double split_share(const SurvivalCurve& c, std::size_t j) {
 }
 }  // namespace
 
+/// The allowance for unsplit lines a run has not drawn (docs/model.md "Deep tails", "Unsplit lines not
+/// drawn"), group by group: past the last time t_r at which at least kUnsplitReliable of a group's lines
+/// are alive, its share of P is extrapolated as P_g(t) = P_g(t_r) max(exp(-gamma (t - t_r)),
+/// S(t) / S(t_r)): gamma the group's own leaving rate by maximum likelihood from t_a on (t_a the last time
+/// after the first split with 2 kUnsplitReliable of its lines, else the first split time), S the split
+/// lines' share (mixing). It is carried by lines of the group's typical weight w = N sum w^2 / sum w at
+/// t_r: a Poisson number of such lines adds w P_g(t) / N to P's variance, beyond what the group's lines
+/// still alive add to the lines' spread. R (hence P_err, the effective lines and G) includes the sum over
+/// the groups, and allowance_unresolved_from marks where it first exceeds kAllowanceShare of the lines'
+/// own variance.
 void add_unsplit_allowance(SurvivalCurve& c) {
   const std::size_t points = c.t.size();
   if (points == 0) return;

@@ -56,7 +56,7 @@ struct SurvivalCurve {
     std::vector<double> P, var;
     bool allowance = false;
     double reliable_until = 0;  ///< t_r: the last time with kUnsplitReliable of the group's lines alive
-    double rate_from = 0;       ///< t_a: the decay rate is measured over [t_a, t_r]
+    double rate_from = 0;       ///< t_a: gamma counts every leaving from t_a on (maximum likelihood)
     double decay_rate = 0;      ///< gamma
     double typical_weight = 0;  ///< N sum w^2 / sum w of the group's lines at t_r
   };
