@@ -36,8 +36,13 @@ inline constexpr double kHonestBand[2] = {0.7, 1.5};
 inline constexpr double kHonestCoverage2 = 0.9;
 
 /// "honest", "errors too small" (sd / err above the band or coverage under the floor), "errors too large"
-/// (sd / err below the band), or "no errors reported" (median error 0).
-std::string spread_verdict(const SeedSpread& s);
+/// (sd / err below the band), or "no errors reported" (median error 0). model_share: the share of the seeds
+/// whose value was taken where a split run's allowance for unsplit lines not drawn holds more than a third
+/// of P's variance (past summary.json's unresolved_from). Where that is most of them and sd / err lies below
+/// the band, the verdict says the seeds cannot test the error: its main term stands for lines rarer than
+/// the seeds drew (docs/model.md, "Calibration against seeds"), which only a spread over enough runs to
+/// draw them could show.
+std::string spread_verdict(const SeedSpread& s, double model_share = 0);
 
 /// The spread of x (values) against e (their reported errors), both one entry per seed. Needs n >= 2.
 SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& e);

@@ -37,6 +37,23 @@ TEST(SeedSpread, HonestErrorsCalibrateAndSmallOnesAreCaught) {
   EXPECT_THROW(seed_spread({1.0}, {0.1}), std::invalid_argument);
 }
 
+// Errors twice the spread: "errors too large", unless most seeds took the value where the allowance for
+// unsplit lines not drawn is the larger part of the error (the seeds cannot test that part: the lines
+// it stands for are rarer than K runs draw); the allowance cannot excuse errors that are too small.
+TEST(SeedSpread, ErrorsTooLargeWhereTheAllowanceDominatesAreUntested) {
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> normal(0, 1);
+  const std::size_t K = 400;
+  std::vector<double> x(K), twice(K, 0.2), half(K, 0.05);
+  for (double& v : x) v = 3 + 0.1 * normal(gen);
+  const SeedSpread s = seed_spread(x, twice);
+  EXPECT_LT(s.sd_over_err, kHonestBand[0]);
+  EXPECT_EQ(spread_verdict(s), "errors too large");
+  EXPECT_EQ(spread_verdict(s, 0.4), "errors too large");
+  EXPECT_EQ(spread_verdict(s, 0.9), "untested: mostly the allowance for lines not drawn");
+  EXPECT_EQ(spread_verdict(seed_spread(x, half), 1.0), "errors too small");
+}
+
 // Pooling split runs: P the mean, R = K sum R_k P_k^2 / (sum P_k)^2, N the sum: P's error of the pool is
 // that of one run of all lines.
 TEST(PoolCurves, SplitRunsPoolToOneRunOfAllLines) {

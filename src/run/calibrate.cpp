@@ -19,7 +19,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-json spread_json(const SeedSpread& s) {
+/// model_seeds: how many of the seeds took their value past their unresolved_from (spread_verdict).
+json spread_json(const SeedSpread& s, std::size_t model_seeds = 0) {
+  const double share = s.n ? static_cast<double>(model_seeds) / static_cast<double>(s.n) : 0.0;
   return {{"seeds", s.n},
           {"pooled", s.pooled},
           {"pooled_err", s.pooled_err},
@@ -30,7 +32,8 @@ json spread_json(const SeedSpread& s) {
           {"coverage1", s.coverage1},
           {"coverage2", s.coverage2},
           {"max_over_median", s.max_over_median},
-          {"verdict", spread_verdict(s)}};
+          {"model_seeds", model_seeds},
+          {"verdict", spread_verdict(s, share)}};
 }
 
 /// The number at obj[key] when it is one.
@@ -68,6 +71,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn holds a
   // third of its variance (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
   double model_from = 0;
+  std::vector<double> seed_model_from;  // each seed's unresolved_from (infinity: none), in seed order
   {
     std::vector<double> from;
     for (const json& s : summaries) {
@@ -79,6 +83,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
       }
       from.push_back(f);
     }
+    seed_model_from = from;
     std::sort(from.begin(), from.end());
     model_from = from[from.size() / 2];
   }
@@ -135,10 +140,12 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
     if (!obj.is_object() || !obj.contains("value") || !obj.contains("error")) continue;
     std::vector<double> v, stat, total;
     bool syst = false;
-    for (const json& s : summaries) {
-      const json& o = s.at(name);
+    std::size_t model_seeds = 0;  // values read at a time (crossing_time) past the seed's unresolved_from
+    for (std::size_t k = 0; k < summaries.size(); ++k) {
+      const json& o = summaries[k].at(name);
       const auto value = number_at(o, "value"), err = number_at(o, "error");
       if (!value || !err) continue;
+      if (const auto at = number_at(o, "crossing_time"); at && *at >= seed_model_from[k]) ++model_seeds;
       auto sy = number_at(o, "systematic");
       if (!sy) sy = number_at(o, "window_systematic");
       syst = syst || sy.has_value();
@@ -150,8 +157,8 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
       stats[name] = {{"seeds", v.size()}, {"verdict", "fewer than 2 seeds give a value"}};
       continue;
     }
-    stats[name] = spread_json(seed_spread(v, stat));
-    if (syst) stats[name + "_total"] = spread_json(seed_spread(v, total));
+    stats[name] = spread_json(seed_spread(v, stat), model_seeds);
+    if (syst) stats[name + "_total"] = spread_json(seed_spread(v, total), model_seeds);
   }
 
   // the pooled curve: all K runs as one run of K N particles, fitted as any run
