@@ -67,6 +67,32 @@ double split_tail_cov(const SurvivalCurve& c, std::size_t a, std::size_t b) {
   return (cov_s + cov_u) / (pa * pb);
 }
 
+// Var(sum_i u_i ln P(t_i)) over grid points in the tail: split runs that hold unsplit lines by the full
+// double sum over split_tail_cov, every other curve by greenwood_variance.
+double tail_log_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
+  if (!(c.lines && !c.unsplit.empty())) return greenwood_variance(c, idx, u);
+  double var = 0;
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    var += u[i] * u[i] * split_tail_cov(c, idx[i], idx[i]);
+    for (std::size_t j = i + 1; j < idx.size(); ++j) var += 2 * u[i] * u[j] * split_tail_cov(c, idx[i], idx[j]);
+  }
+  return std::max(var, 0.0);
+}
+
+// Grid indices of [from, to] spaced by a factor 10^(1/50) in t (50 per decade) among those keep(i) accepts,
+// with their ln t.
+template <class Keep>
+void log_spaced_points(const SurvivalCurve& c, std::size_t from, std::size_t to, Keep keep,
+                       std::vector<std::size_t>& idx, std::vector<double>& x) {
+  double next = c.t[from];
+  for (std::size_t i = from; i <= to; ++i) {
+    if (c.t[i] + 1e-12 < next || !keep(i)) continue;
+    idx.push_back(i);
+    x.push_back(std::log(c.t[i]));
+    next = c.t[i] * std::pow(10.0, 1.0 / 50);
+  }
+}
+
 // The grid points of [from, to] with survivors: their indices and times (kappa's fit window).
 void window_points(const SurvivalCurve& c, double from, double to, std::vector<std::size_t>& idx,
                    std::vector<double>& x) {
@@ -408,25 +434,15 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   }
   std::vector<std::size_t> idx;
   std::vector<double> x;
-  double next = c.t[start];
-  for (std::size_t i = start; i <= end; ++i) {
-    if (c.t[i] + 1e-12 < next) continue;
-    idx.push_back(i);
-    x.push_back(std::log(c.t[i]));
-    next = c.t[i] * std::pow(10.0, 1.0 / 50);  // 50 points per decade
-  }
+  log_spaced_points(
+      c, start, end, [](std::size_t) { return true; }, idx, x);
   LinearFit lf = fit_line(c, idx, x);
   if (!lf.ok) return f;
   if (c.lines && !c.unsplit.empty()) {  // the full double sum over the tail's covariance (split_tail_cov)
     std::vector<double> w, v;
     double xm = 0, sxx = 0;
     ls_weights(x, w, v, xm, sxx);
-    double var = 0;
-    for (std::size_t i = 0; i < idx.size(); ++i) {
-      var += w[i] * w[i] * split_tail_cov(c, idx[i], idx[i]);
-      for (std::size_t j = i + 1; j < idx.size(); ++j) var += 2 * w[i] * w[j] * split_tail_cov(c, idx[i], idx[j]);
-    }
-    lf.var_slope = std::max(var, 0.0);
+    lf.var_slope = tail_log_variance(c, idx, w);
   }
   f.z = -lf.slope;
   f.std_error = std::sqrt(lf.var_slope);
@@ -434,6 +450,105 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   f.to = c.t[end];
   f.points = idx.size();
   return f;
+}
+
+TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint64_t min_survivors) {
+  TailAmplitude a;
+  if (!k.ok) {
+    a.note = "no kappa fit: the exponential head cannot be told from the tail";
+    return a;
+  }
+  const auto resolved = [&](std::size_t i) {
+    return c.P(i) > 0 && c.effective(i) >= static_cast<double>(min_survivors);
+  };
+  std::size_t start = c.t.size(), end = 0;
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (!resolved(i)) continue;
+    end = i;
+    if (start == c.t.size() && c.t[i] > k.to &&
+        std::log(c.P(i)) - (k.log_amplitude - k.value * c.t[i]) > std::log(100.0))
+      start = i;
+  }
+  if (start == c.t.size()) {
+    a.note = "P never exceeds 100 x the extrapolated exponential fit where it is resolved: no tail to measure";
+    return a;
+  }
+  a.from = c.t[start];
+  a.to = c.t[end];
+  a.height = c.t[start] * c.P(start);
+  a.height_error = c.t[start] * c.P_err(start);
+  if (c.t[end] < 2 * c.t[start]) {
+    a.note = "resolved over less than a factor 2 in t past where the exponential head falls under 1% of P";
+    return a;
+  }
+  std::vector<std::size_t> idx;
+  std::vector<double> x;
+  log_spaced_points(c, start, end, resolved, idx, x);
+  if (idx.back() != end) {  // the range's last resolved time belongs to it
+    idx.push_back(end);
+    x.push_back(std::log(c.t[end]));
+  }
+  // ln(t P) = ln t + ln P: its slope against ln t is 1 + the slope of ln P, with ln P's covariance
+  const auto slope_over = [&](std::size_t n, double& b, double& se) {
+    const std::vector<std::size_t> i(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(n));
+    const std::vector<double> xi(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(n));
+    std::vector<double> w, v;
+    double xm = 0, sxx = 0;
+    if (n < 3 || !ls_weights(xi, w, v, xm, sxx)) return false;
+    b = 1;
+    for (std::size_t j = 0; j < n; ++j) b += w[j] * std::log(c.P(i[j]));
+    se = std::sqrt(tail_log_variance(c, i, w));
+    return true;
+  };
+  // the longest flat stretch from the start: the last point at least a factor 2 past it that passes
+  std::size_t n = idx.size();
+  double b = 0, se = 0;
+  bool flat = false;
+  for (; n >= 3 && c.t[idx[n - 1]] >= 2 * c.t[start]; --n) {
+    if (!slope_over(n, b, se)) break;
+    if (n == idx.size()) a.slope = b, a.slope_error = se;  // the whole resolved range, for the note
+    if (std::abs(b) <= kFlatSlope || std::abs(b) <= 3 * se) {
+      flat = true;
+      break;
+    }
+  }
+  if (!flat) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "t P(t) is not flat over any stretch of a factor 2 in t from t = %g: d ln(t P) / d ln t = %.3g +- "
+                  "%.2g over the resolved range, i.e. P ~ t^-%.3g, not C / t",
+                  c.t[start], a.slope, a.slope_error, 1 - a.slope);
+    a.note = buf;
+    return a;
+  }
+  idx.resize(n);
+  a.to = c.t[idx.back()];
+  a.points = n;
+  a.slope = b;
+  a.slope_error = se;
+  std::vector<double> u(n);
+  double sum = 0, early = 0, late = 0;
+  std::size_t n_early = 0;
+  const double mid = 0.5 * (std::log(a.from) + std::log(a.to));
+  for (std::size_t j = 0; j < n; ++j) {
+    const double tp = c.t[idx[j]] * c.P(idx[j]);
+    sum += tp;
+    u[j] = tp / static_cast<double>(n);  // d C / d ln P(t_j)
+    if (std::log(c.t[idx[j]]) <= mid) {
+      early += tp;
+      ++n_early;
+    } else {
+      late += tp;
+    }
+  }
+  a.value = sum / static_cast<double>(n);
+  a.std_error = std::sqrt(tail_log_variance(c, idx, u));
+  if (n_early > 0 && n_early < n)
+    a.drift = 0.5 * std::abs(late / static_cast<double>(n - n_early) - early / static_cast<double>(n_early));
+  a.note = a.to < c.t[end] ? "mean of t P(t) over the flat stretch; past it t P(t) is no longer flat (the tail ends "
+                             "or bends)"
+                           : "mean of t P(t) over the resolved range past the exponential head";
+  return a;
 }
 
 }  // namespace rotleak

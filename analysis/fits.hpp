@@ -79,10 +79,36 @@ struct TailFit {
   std::string note;  ///< why z is not defined, when it is not
 };
 
+/// The tail amplitude C of P ~ C / t (docs/model.md "Observables"): the mean of t P(t) over log-spaced grid
+/// points (50 per decade) of the longest stretch [from, to] over which t P(t) is flat, from the first
+/// resolved time past kappa's window at which P exceeds the extrapolated exponential fit 100 times (its
+/// head then holds under 1% of P) to the last resolved one (at least min_survivors effective survivors).
+/// Flat: the least-squares slope b of ln(t P) against ln t is within kFlatSlope of 0 or within 3 of its
+/// standard errors, over at least a factor 2 in t. Null, with the reason in the note, where no such
+/// stretch exists (no tail, not resolved, or not ~1/t: then slope holds b over the whole resolved range).
+struct TailAmplitude {
+  std::optional<double> value;
+  double std_error = 0;  ///< from P's covariance over the points (a cumulative curve's points are correlated)
+  /// Drift: half the difference of t P's means over the stretch's early and late halves (in ln t): what
+  /// the choice of stretch can move C by where t P is not exactly flat. Beside std_error, like alpha's
+  /// window systematic.
+  double drift = 0;
+  double from = 0, to = 0;  ///< 0 when P never exceeds 100 x the fit where resolved
+  std::size_t points = 0;
+  double slope = 0, slope_error = 0;  ///< b = d ln(t P) / d ln t over [from, to] and its standard error
+  /// t P(t) at `from`, where the exponential head falls under 1% of P, and its error: the tail's height
+  /// where it begins, also where it is not flat (a transient tail near a rational omega declines from there).
+  double height = 0, height_error = 0;
+  std::string note;
+};
+/// |d ln(t P) / d ln t| below which a tail counts as 1/t whatever the errors (z within 10% of 1).
+inline constexpr double kFlatSlope = 0.1;
+
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10, double sigma = 3,
                        std::uint64_t min_survivors = 100);
 TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a);
+TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint64_t min_survivors = 100);
 /// alpha's window systematic (AlphaResult::systematic): alpha found again with kappa fitted on each
 /// window of k.window_family (add_window_systematic first); half of (largest - smallest) over the
 /// members that resolve alpha, the main value included.

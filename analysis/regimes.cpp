@@ -6,6 +6,8 @@
 #include <limits>
 #include <numbers>
 
+#include "analysis/continued_fraction.hpp"
+
 namespace rotleak {
 
 namespace {
@@ -85,10 +87,19 @@ std::string regime_of(bool rotating, const std::string& tail) {
   return tail == "transient" ? "low" : tail == "persistent" ? "high" : "mid";
 }
 
+/// Names the near rational in a regime note: "2 r omega = 2/5 + 4e-05 (omega near 1/5)".
+std::string near_text(const NearRational& n) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "2 r omega = %s %c %.3g", n.rational.c_str(), n.eps < 0 ? '-' : '+', std::abs(n.eps));
+  std::string out = buf;
+  if (!n.omega_rational.empty()) out += " (omega near " + n.omega_rational + ")";
+  return out;
+}
+
 /// The fate of a tail seen from tc on: "transient" (removed: no survivor where an algebraic continuation
 /// would keep 6 effective, or a local exponent above 6 at the end of the resolved range) or "persistent"
 /// (with regime "undecided" where the leak had not swept the lower edge by the last survivor).
-void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, TailClass& k) {
+void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, double steep, TailClass& k) {
   const bool rotating = scene.omega.sign() != 0;
   const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
   // last resolved time after the crossing, and the first time P is 0 after it
@@ -120,10 +131,15 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
       return;
     }
   }
-  if (z - 6 > 3 * z_se && a < e) {
+  if (z - steep > 3 * z_se && a < e) {
     k.tail = "transient";
     k.tail_end = c.t[a];
-    k.note = "tail removed: the local exponent at the end of the resolved range exceeds 6 by 3 standard errors";
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "tail removed: the local exponent at the end of the resolved range, %.3g, exceeds %g by 3 standard "
+                  "errors",
+                  z, steep);
+    k.note = note;
   } else {
     k.tail = "persistent";
     k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
@@ -144,10 +160,53 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
 
 }  // namespace
 
+namespace {
+/// classify_tail without the near-rational regime label (the tail class, `near` set where it applies).
+TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
+                               const KappaFit* fit);
+}  // namespace
+
+std::optional<NearRational> near_rational(const Scene& scene) {
+  if (scene.omega.sign() == 0) return std::nullopt;
+  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
+  const BestApproximations best = best_approximations(x, mpz_class(kNearRationalQ));
+  if (best.list.empty()) return std::nullopt;
+  const Fraction& f = best.list.back();
+  if (best.expansion_exhausted && (x - ExactReal::rational(f.value())).sign() == 0) return std::nullopt;
+  NearRational n;
+  n.rational = f.q == 1 ? f.p.get_str() : f.text();
+  n.q = f.q.get_si();
+  n.eps = (x - ExactReal::rational(f.value())).to_double();
+  if (scene.r.is_rational()) {
+    const mpq_class w = f.value() / (2 * scene.r.as_rational());
+    n.omega_rational = w.get_den() == 1 ? w.get_num().get_str() : w.get_str();
+  }
+  return n;
+}
+
 TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
+  TailClass k = classify_tail_from_P(scene, c, alpha, fit);
+  if (k.tail == "transient" && k.near) {
+    k.regime = "near-rational";
+    k.note += "; near a rational: " + near_text(*k.near) + ", the leak pattern drifts off it";
+  }
+  return k;
+}
+
+namespace {
+TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
+                               const KappaFit* fit) {
   TailClass k;
   const bool rotating = scene.omega.sign() != 0;
   const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
+  // near a rational other than an integer: a tail that forms and dies is looked for more closely
+  std::optional<NearRational> near = rotating ? near_rational(scene) : std::nullopt;
+  if (near && near->q < 2) near.reset();
+  const double steep = near ? kNearSteep : 6.0;
+  const auto with_near = [&](TailClass t) {
+    if (t.tail == "transient") t.near = near;
+    return t;
+  };
   if (!alpha.value && fit && fit->ok) {
     // a tail seen later: P sigma errors (its own and the fit's extrapolation) above factor x the fit,
     // with at least kSeeTail effective survivors there (alpha asks for min_survivors; a tail carried
@@ -165,11 +224,11 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
       // measured on the resolved points after it: at omega = 1e-4 with 10^5 mupo particles the crossing
       // falls where the uniform share's survivors are too few, the sweep at t ~ 5900 does not)
       TailClass fate;
-      tail_fate(scene, c, c.t[seen], min_eff, fate);
+      tail_fate(scene, c, c.t[seen], min_eff, steep, fate);
       if (fate.tail == "transient") {
         fate.note += "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " +
                      std::to_string(c.t[seen]) + ")";
-        return fate;
+        return with_near(fate);
       }
       double fewest = std::numeric_limits<double>::infinity(), at = 0;
       for (std::size_t i = 0; i <= seen; ++i)
@@ -188,6 +247,24 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
           static_cast<double>(*k.resolve_particles), min_eff);
       k.note = note;
       return k;
+    }
+  }
+  if (!alpha.value && near && fit && fit->ok) {
+    // near a rational: a tail that rose kNearBump times above the fit (and sigma errors) and died
+    const double min_eff = static_cast<double>(alpha.min_survivors);
+    for (std::size_t i = 0; i < c.t.size(); ++i) {
+      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < min_eff) continue;
+      const double line = std::exp(fit->log_amplitude - fit->value * c.t[i]);
+      const double err = std::hypot(c.P_err(i), line * c.t[i] * fit->std_error);
+      if (c.P(i) < kNearBump * line || !(c.P(i) - line > alpha.sigma * err)) continue;
+      TailClass fate;
+      tail_fate(scene, c, c.t[i], min_eff, steep, fate);
+      if (fate.tail != "transient") break;
+      char note[200];
+      std::snprintf(note, sizeof note, "; a tail formed below alpha's factor: P = %.3g times the fit at t = %g",
+                    c.P(i) / line, c.t[i]);
+      fate.note += note;
+      return with_near(fate);
     }
   }
   if (!alpha.value) {
@@ -210,8 +287,9 @@ TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaR
     }
     return k;
   }
-  tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), k);
-  return k;
+  tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), steep, k);
+  return with_near(k);
 }
+}  // namespace
 
 }  // namespace rotleak

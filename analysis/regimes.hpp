@@ -34,16 +34,35 @@ struct RateJump {
 };
 std::vector<RateJump> decay_rate_jumps(const SurvivalCurve& c, double window, double min_effective = 100);
 
+/// 2 r omega near a rational: P/Q, the best approximation of the first kind of x = 2 r omega with
+/// Q <= kNearRationalQ, and eps = x - P/Q (what the leak pattern, seen at the bounces, drifts by per bounce
+/// of a bouncing-ball orbit, in turns). Null for omega = 0 and where x is P/Q exactly.
+struct NearRational {
+  std::string rational;  ///< "P/Q" of 2 r omega
+  long long q = 0;
+  double eps = 0;
+  std::string omega_rational;  ///< the rational omega near it, P / (2 r Q), as p/q when 2 r is rational
+};
+inline constexpr long kNearRationalQ = 30;
+std::optional<NearRational> near_rational(const Scene& scene);
+
 struct TailClass {
-  std::string tail = "none";       ///< none, unresolved, transient, persistent
-  std::string regime;              ///< stationary, low, mid, high
+  std::string tail = "none";  ///< none, unresolved, transient, persistent
+  std::string regime;  ///< stationary, low, mid, high, near-rational (a transient tail near a rational), undecided
   std::optional<double> tail_end;  ///< transient: the time the tail was gone (P = 0, or the steep end began)
   double end_exponent = 0;         ///< local -d ln P / d ln t over the last resolved stretch
   std::string note;                ///< the rule that decided it, in words
   /// unresolved: about how many particles (of this sampling) would keep min_survivors effective
   /// survivors through the first crossing, where alpha is read
   std::optional<std::uint64_t> resolve_particles;
+  /// regime "near-rational" (a near-rational transient): the rational 2 r omega lies near, and eps
+  std::optional<NearRational> near;
 };
+
+/// P over the exponential fit at which a tail near a rational is seen (classify_tail).
+inline constexpr double kNearBump = 1.3;
+/// Local exponent at the end of the resolved range above which a tail near a rational is being removed.
+inline constexpr double kNearSteep = 2;
 
 /// The effective survivors (lines, for split runs) at which a tail above the fit is seen and called
 /// `unresolved` when alpha itself, which asks for fit.min_survivors, is not resolved: below about 10 the
@@ -64,6 +83,14 @@ inline constexpr double kSeeTail = 10;
 ///   probability 0.25%), or the local exponent over the last resolved stretch exceeds 6 by 3
 ///   standard errors;
 /// - persistent: a significant crossing and neither of those.
+/// Near a rational (near_rational with Q >= 2: not an integer, whose pattern is a single spot like a slow
+/// leak's), a tail that forms and dies is the pattern drifting off P/Q, and is looked for more closely:
+/// - a tail is also seen where P rises kNearBump times above the fit (and sigma errors), not only factor
+///   times: near 2/3 + 1e-4 a tail forms and dies with P at most 1.7 times the fit;
+/// - the steep end that calls a tail removed is a local exponent above kNearSteep (a MUPO tail goes as
+///   1/t; one steeper by 1 is being removed), not 6: near 1/5 + 2e-5, t P falls 20-fold from t = 3000 to
+///   8000.
+/// and a transient tail there has regime "near-rational" (a near-rational transient), never "low".
 /// regime: stationary for omega = 0, else low (transient), mid (none, with alpha's upper bound below
 /// scene.tail_floor), high (persistent), and undecided for an unresolved tail, for none with a bound
 /// at or above tail_floor (a tail above the floor could hide below the bound; resolve_particles: about

@@ -21,6 +21,7 @@ void fit_curve(RunSummary& s) {
   add_alpha_systematic(s.alpha, s.curve, s.kappa);
   add_uniform_reach(s.alpha, s.curve);
   s.tail = fit_tail(s.curve, s.alpha);
+  s.amplitude = fit_amplitude(s.curve, s.kappa, scene.min_survivors);
   s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa);
   s.leak_times = leak_times(scene);
   s.rate_jumps = decay_rate_jumps(s.curve, 100);

@@ -21,6 +21,7 @@ struct RunSummary {
   KappaFit kappa;
   AlphaResult alpha;
   TailFit tail;
+  TailAmplitude amplitude;                 ///< C in P ~ C / t
   TailClass tail_class;                    ///< none / transient / persistent and the regime, from the measured P(t)
   LeakTimes leak_times;                    ///< the geometry's predicted time scales
   std::vector<RateJump> rate_jumps;        ///< measured jumps of the decay rate (window 100)

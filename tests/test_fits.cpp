@@ -513,3 +513,72 @@ TEST(FitTail, WindowEndsWhereTheLocalSlopeChanges) {
   EXPECT_LT(fc.to, 8000 * 1.5);
   EXPECT_NEAR(*fc.z, 0.85, 0.15);  // local exponent t / (2000 + t) over ~[2500, 8000]
 }
+
+namespace {
+
+// Lifetimes with P(T > t) = (1 - w) exp(-kappa t) + w min(1, (t0 / t)^z), and with `end` > 0 every tail
+// particle still alive at `end` gone within a few time units after it (a tail that is swept away).
+struct ParetoLife {
+  double w, z, t0, end = 0;
+  std::exponential_distribution<double> expo{kKappa};
+  std::uniform_real_distribution<double> u{0, 1};
+  double operator()(std::mt19937_64& g) {
+    if (u(g) >= w) return expo(g);
+    const double t = t0 * std::pow(1 - u(g), -1 / z);
+    return end > 0 && t > end ? end + 5 * u(g) : t;
+  }
+};
+
+}  // namespace
+
+// A C / t tail (C = w t0 = 3) behind an exponential head: C comes back, and its error -- propagated
+// through P's covariance (Greenwood: the points of a cumulative curve are correlated) -- is calibrated.
+// Error model: over K = 40 independent samples the z-scores (C - 3) / error have mean 0 +- 0.16 and rms
+// 1 +- 0.11 (1 / sqrt(2K)); the bands are 3 of those. Independent-point errors would read the rms too
+// large (the mean of 50 correlated points is not 50 times better known than one).
+TEST(FitAmplitude, RecoversCOfAOneOverTTailWithACalibratedError) {
+  const double C = 3;
+  std::mt19937_64 gen(11);
+  const int K = 40;
+  double sum = 0, sum2 = 0;
+  for (int k = 0; k < K; ++k) {
+    ParetoLife life{0.01, 1.0, 300};
+    const SurvivalCurve c = sample_curve(1000000, 20000, life, gen);
+    const KappaFit fit = fit_kappa(c, 0, 300);
+    const TailAmplitude a = fit_amplitude(c, fit);
+    ASSERT_TRUE(a.value.has_value()) << a.note;
+    EXPECT_GT(a.from, 1000);
+    EXPECT_EQ(a.to, 20000) << "a flat tail is measured to the end";
+    const double z = (*a.value - C) / a.std_error;
+    sum += z;
+    sum2 += z * z;
+  }
+  const double mean = sum / K, rms = std::sqrt(sum2 / K);
+  EXPECT_LT(std::abs(mean), 3 * 1 / std::sqrt(double(K))) << "mean z " << mean;
+  EXPECT_NEAR(rms, 1, 3 / std::sqrt(2.0 * K)) << "rms z " << rms;
+}
+
+// P ~ t^-1.5 is not C / t: no amplitude, and the note says why, with the slope of ln(t P) (-0.5).
+TEST(FitAmplitude, ATailThatIsNotOneOverTHasNoAmplitude) {
+  std::mt19937_64 gen(12);
+  ParetoLife life{0.05, 1.5, 300};
+  const SurvivalCurve c = sample_curve(1000000, 20000, life, gen);
+  const TailAmplitude a = fit_amplitude(c, fit_kappa(c, 0, 300));
+  EXPECT_FALSE(a.value.has_value());
+  EXPECT_NE(a.note.find("not flat"), std::string::npos) << a.note;
+  EXPECT_NEAR(a.slope, -0.5, 4 * a.slope_error);
+  EXPECT_GT(a.height, 0);
+}
+
+// A C / t tail swept away at t = 8000: C over the flat stretch only, which ends before the sweep.
+TEST(FitAmplitude, ATailThatEndsIsMeasuredOverItsFlatStretch) {
+  std::mt19937_64 gen(13);
+  ParetoLife life{0.01, 1.0, 300, 8000};
+  const SurvivalCurve c = sample_curve(1000000, 20000, life, gen);
+  const TailAmplitude a = fit_amplitude(c, fit_kappa(c, 0, 300));
+  ASSERT_TRUE(a.value.has_value()) << a.note;
+  EXPECT_LE(a.to, 8000);
+  EXPECT_GE(a.to, 2 * a.from);
+  EXPECT_NEAR(*a.value, 3, 4 * std::hypot(a.std_error, a.drift));
+  EXPECT_NE(a.note.find("no longer flat"), std::string::npos) << a.note;
+}

@@ -284,3 +284,57 @@ TEST(ClassifyTail, ATailOnFewLinesIsUnresolvedNotNone) {
   const TailClass too_few = classify_tail(scene("82/83"), curve(5), none_found, &fit);
   EXPECT_EQ(too_few.tail, "none") << too_few.note;
 }
+
+// The rational 2 r omega lies near (best approximation with q <= 30) and the drift eps, exactly; none for
+// an exact rational or a stationary leak; an integer (q = 1) is reported, and classify_tail keeps "low"
+// for it (the pattern is a single spot creeping like a slow leak).
+TEST(NearRational, NamesTheRationalAndTheDrift) {
+  const auto n = near_rational(scene("1/5+2e-5"));
+  ASSERT_TRUE(n.has_value());
+  EXPECT_EQ(n->rational, "2/5");
+  EXPECT_EQ(n->q, 5);
+  EXPECT_NEAR(n->eps, 4e-5, 1e-15);
+  EXPECT_EQ(n->omega_rational, "1/5");
+  const auto m = near_rational(scene("2/3+1e-4"));
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->rational, "4/3");
+  EXPECT_NEAR(m->eps, 2e-4, 1e-15);
+  EXPECT_EQ(m->omega_rational, "2/3");
+  EXPECT_FALSE(near_rational(scene("1/5")).has_value());
+  EXPECT_FALSE(near_rational(scene("0")).has_value());
+  EXPECT_EQ(near_rational(scene("1e-4"))->q, 1);
+}
+
+// A tail removed gradually (P ~ t^-4 past t = 3000: a local exponent about 4 at the end, between the 2
+// that marks a tail near a rational as being removed and the 6 elsewhere), and a tail that forms below
+// alpha's factor 10 (P at most about 1.7 times the fit) and dies at t = 2000: near 1/5 both are
+// near-rational transients; at exactly 1/5 the first stays persistent and the second is no tail.
+TEST(ClassifyTail, TailsThatDieNearARationalAreNearRationalTransients) {
+  std::mt19937_64 gen(21);
+  const auto gradual_life = [](std::mt19937_64& g) {
+    std::uniform_real_distribution<double> u(0, 1);
+    if (u(g) >= 2e-3) return std::exponential_distribution<double>(kKappa)(g);
+    const double t = 1000 * (1 / (1 - u(g)) - 1);
+    return t <= 3000 ? t : 3000 * std::pow(1 - u(g), -0.25);  // P(T > t | T > 3000) = (3000 / t)^4
+  };
+  const SurvivalCurve gradual = sample_curve(2000000, 20000, gradual_life, gen);
+  const TailClass near = classify(gradual, "1/5+2e-5");
+  EXPECT_EQ(near.tail, "transient") << near.note;
+  EXPECT_EQ(near.regime, "near-rational") << near.note;
+  ASSERT_TRUE(near.near.has_value());
+  EXPECT_NE(near.note.find("2/5 + 4e-05"), std::string::npos) << near.note;
+  const TailClass exact = classify(gradual, "1/5");
+  EXPECT_EQ(exact.tail, "persistent") << exact.note;
+  EXPECT_EQ(exact.regime, "high");
+  EXPECT_FALSE(exact.near.has_value());
+
+  Mixture bump{3e-4, 2000};
+  const SurvivalCurve small = sample_curve(4000000, 20000, bump, gen);
+  const KappaFit k = fit_kappa(small, 0, 300);
+  const AlphaResult a = find_alpha(small, k);
+  ASSERT_FALSE(a.value.has_value()) << "the bump stays below alpha's factor";
+  const TailClass formed = classify_tail(scene("1/5+2e-5"), small, a, &k);
+  EXPECT_EQ(formed.tail, "transient") << formed.note;
+  EXPECT_EQ(formed.regime, "near-rational") << formed.note;
+  EXPECT_EQ(classify_tail(scene("1/5"), small, a, &k).tail, "none");
+}

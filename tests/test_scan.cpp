@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "io/scene_file.hpp"
 #include "numeric/input.hpp"
+#include "run/pipeline.hpp"
 #include "run/refit.hpp"
 #include "run/regimes_search.hpp"
 #include "run/scan.hpp"
@@ -59,6 +62,45 @@ TEST(ScanValues, BadRangesNameTheText) {
   EXPECT_EQ(a.values, (V{"1", "2/3"}));
 }
 
+// The omega sets (analysis/omega_sets.hpp): exact texts a scene reads as they are, every one a valid omega.
+TEST(ScanValues, OmegaSetsExpandToExactValues) {
+  EXPECT_EQ(expand_values("--over", "rationals(qmax=4)"), (V{"1/4", "1/3", "1/2", "2/3", "3/4", "1"}));
+  EXPECT_EQ(expand_values("--over", "rationals(2)"), (V{"1/2", "1"}));
+  // sum of Euler's phi(q) for q <= 30: 278 reduced fractions in (0, 1]
+  EXPECT_EQ(expand_values("--over", "rationals(qmax=30)").size(), 278u);
+  EXPECT_EQ(expand_values("--over", "near(2/3, 1e-5, 1e-4, 1e-3)"), (V{"2/3+1e-5", "2/3+1e-4", "2/3+1e-3"}));
+  EXPECT_EQ(expand_values("--over", "near(1/3, 1e-4, 1e-3, signs=both)"),
+            (V{"1/3-1e-3", "1/3-1e-4", "1/3+1e-4", "1/3+1e-3"}));
+  EXPECT_EQ(expand_values("--over", "near(2/5,1e-6,signs=minus)"), (V{"2/5-1e-6"}));
+  EXPECT_EQ(expand_values("--over", "nobles(3)"), (V{"1/golden", "1/(1+golden)", "1/(2+golden)"}));
+  EXPECT_EQ(expand_values("--over", "sqrtfrac(2, 10)"),
+            (V{"sqrt(2)-1", "sqrt(3)-1", "sqrt(5)-2", "sqrt(6)-2", "sqrt(7)-2", "sqrt(8)-2", "sqrt(10)-3"}));
+  EXPECT_EQ(expand_values("--over", "1/7,nobles(1),golden-1"), (V{"1/7", "1/golden", "golden-1"}));
+  // each value is the number it names: in (0, 1) for the irrational sets, x + e exactly for near
+  for (const std::string& v : expand_values("--over", "nobles(8),sqrtfrac(2,50),near(sqrt(2)-1,1e-9,signs=both)")) {
+    const ExactReal x = ExactReal::parse(v);
+    EXPECT_GT(x.sign(), 0) << v;
+    EXPECT_LT((x - ExactReal::parse("1")).sign(), 0) << v;
+  }
+  EXPECT_DOUBLE_EQ(ExactReal::parse("1/(2+golden)").to_double(), (5 - std::sqrt(5.0)) / 10)
+      << "[0; 3, 1, 1, ...] = (5 - sqrt 5) / 10";
+  EXPECT_EQ((ExactReal::parse("2/3-1e-5") - ExactReal::parse("199997/300000")).sign(), 0);
+}
+
+TEST(ScanValues, BadOmegaSetsNameTheText) {
+  for (const char* bad : {"rationals(0)", "rationals(qmax=301)", "rationals(q=3)", "rationals(3,4)", "rationals(x)",
+                          "near(2/3)", "near(2/3,0)", "near(2/3,-1e-4)", "near(abc,1e-4)", "near(2/3,1e-4,signs=up)",
+                          "nobles(0)", "nobles(51)", "sqrtfrac(1,5)", "sqrtfrac(5,4)", "sqrtfrac(4,4)"}) {
+    try {
+      expand_values("--over leak.omega", bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key(), "--over leak.omega");
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(ScanSlug, IndexedAndFileNameSafe) {
   const std::vector<ScanAxis> axes = {{"leak.omega", {"2/3", "ln(19)"}}, {"leak.width", {"0.01"}}};
   EXPECT_EQ(point_slug(0, 12, axes, {0, 0}), "p00_omega-2o3_width-0.01");
@@ -89,15 +131,15 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   EXPECT_EQ(whole.points, 4u);
   EXPECT_EQ(whole.ran, 4u);
   const std::string table = read(base / "whole" / "table.csv");
-  EXPECT_EQ(
-      table.substr(0, table.find('\n')),
-      "leak.omega,leak.width,kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tau1,tau2,"
-      "omega_sweep,cf_2r_omega,best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,"
-      "particles,collisions")
+  EXPECT_EQ(table.substr(0, table.find('\n')),
+            "leak.omega,leak.width,kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,"
+            "tail_amplitude,tail_amplitude_err,tail_amplitude_syst,tau1,tau2,"
+            "omega_sweep,cf_2r_omega,best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,"
+            "particles,collisions")
       << "every column a row has, named";
   // every row has as many fields as the header names (no comma inside these values)
   for (std::size_t at = 0, end; (end = table.find('\n', at)) != std::string::npos; at = end + 1)
-    EXPECT_EQ(std::count(table.begin() + static_cast<long>(at), table.begin() + static_cast<long>(end), ','), 20)
+    EXPECT_EQ(std::count(table.begin() + static_cast<long>(at), table.begin() + static_cast<long>(end), ','), 23)
         << table.substr(at, end - at);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
 
@@ -246,6 +288,31 @@ TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
   EXPECT_NE(why.find("undecided at this resolution"), std::string::npos) << why;
   EXPECT_NE(why.find("omega = 1e-3"), std::string::npos) << why;
   fs::remove_all(base);
+}
+
+}  // namespace
+}  // namespace rotleak
+
+namespace rotleak {
+namespace {
+
+// The two near-rational transients of the study scene, run as a user runs them (10^5 mupo lines with
+// splitting, t_max 10^4): omega = 1/5 + 2e-5 (t P falls 20-fold from t = 3000 to 8000) and 2/3 + 1e-4 (a
+// tail that rises to 1.7 times the exponential fit and is gone by t ~ 3000) are near-rational transients
+// that name their rational, never "low" or "mid".
+TEST(Regimes, NearRationalTransientsOfTheStudySceneAreLabelled) {
+  for (const auto& [omega, rational] : {std::pair<std::string, std::string>{"1/5+2e-5", "2/5"}, {"2/3+1e-4", "4/3"}}) {
+    const Scene s = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/study/study.toml",
+                               {"ensemble.sampling=mupo", "run.splitting=true", "leak.omega=" + omega,
+                                "run.t_max=10000", "ensemble.particles=100000"});
+    RunOptions o;
+    o.threads = 2;
+    const RunSummary r = run_scene(s, o);
+    EXPECT_EQ(r.tail_class.tail, "transient") << omega << ": " << r.tail_class.note;
+    EXPECT_EQ(r.tail_class.regime, "near-rational") << omega << ": " << r.tail_class.note;
+    ASSERT_TRUE(r.tail_class.near.has_value()) << omega;
+    EXPECT_EQ(r.tail_class.near->rational, rational);
+  }
 }
 
 }  // namespace

@@ -168,6 +168,13 @@ class Run:
     def tail(self):
         return self.summary["tail"]
 
+    @property
+    def tail_amplitude(self):
+        """C in P ~ C / t: ``value``, ``error`` (stat.), ``systematic`` (drift), ``from``, ``to``, ``note``
+        (summary.json's ``tail.amplitude``; ``value`` None, with the reason in ``note``, where the tail is
+        not ~1/t or not resolved)."""
+        return self.summary["tail"]["amplitude"]
+
     def text(self, name):
         """A file of the run exactly as written (or as rotleak simulate would write it)."""
         return self._files[name]
@@ -260,7 +267,9 @@ class Scan:
                 self._table = pandas.read_csv(os.path.join(self.path, "table.csv"),
                                               dtype={c: str for c in text_columns}, keep_default_na=False,
                                               na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
-                                                                           "alpha_syst", "alpha_bound", "tail_end", "tau1", "tau2",
+                                                                           "alpha_syst", "alpha_bound", "tail_end",
+                                                                           "tail_amplitude", "tail_amplitude_err",
+                                                                           "tail_amplitude_syst", "tau1", "tau2",
                                                                            "best_error"]})
             except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
                 raise RotleakError("%s: table.csv: not a table rotleak wrote (%s)"

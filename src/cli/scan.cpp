@@ -56,7 +56,8 @@ Command add_scan(CLI::App& app) {
       "scan", "Run the product of swept scene values, one run directory per point; table.csv and scan.json");
   sub->add_option("scene", args->request.scene_path, "Scene file (TOML)")->required();
   sub->add_option("--over", args->over,
-                  "KEY=VALUES: a comma list (exact texts kept: 2/3,ln(19)), linspace(a,b,n), logspace(a,b,n); "
+                  "KEY=VALUES: a comma list (exact texts kept: 2/3,ln(19)), linspace(a,b,n), logspace(a,b,n), "
+                  "rationals(qmax=Q), near(x,e1,...[,signs=both]), nobles(n), sqrtfrac(a,b); "
                   "repeatable (product)")
       ->required();
   sub->add_option("--out", args->request.out, "Scan directory (points/, table.csv, scan.json)")->required();

@@ -280,6 +280,21 @@ void put_fits(json& s, const RunSummary& r) {
                {"end_exponent", tc.end_exponent},
                {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
                {"rule", tc.note}};
+  s["tail"]["near_rational"] =
+      tc.near ? json{{"rational", tc.near->rational}, {"eps", tc.near->eps}, {"omega_near", tc.near->omega_rational}}
+              : json(nullptr);
+  const TailAmplitude& am = r.amplitude;
+  s["tail"]["amplitude"] = {{"value", nullable(am.value)},
+                            {"error", am.value ? json(am.std_error) : json(nullptr)},
+                            {"systematic", am.value ? json(am.drift) : json(nullptr)},
+                            {"from", am.from > 0 ? json(am.from) : json(nullptr)},
+                            {"to", am.from > 0 ? json(am.to) : json(nullptr)},
+                            {"points", am.points},
+                            {"height", am.from > 0 ? json(am.height) : json(nullptr)},
+                            {"height_error", am.from > 0 ? json(am.height_error) : json(nullptr)},
+                            {"slope", am.value || am.slope_error > 0 ? json(am.slope) : json(nullptr)},
+                            {"slope_error", am.value || am.slope_error > 0 ? json(am.slope_error) : json(nullptr)},
+                            {"note", am.note}};
   json jumps = json::array();
   for (const RateJump& j : r.rate_jumps)
     jumps.push_back({{"t", j.t}, {"rate_before", j.rate_before}, {"rate_after", j.rate_after}});
@@ -380,6 +395,15 @@ std::string summary_text(const RunSummary& r) {
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);
+  if (r.amplitude.value)
+    appendf(out, "C     = %.4g +- %.2g (stat.) +- %.2g (drift)   (P ~ C / t: mean of t P on [%g, %g])\n",
+            *r.amplitude.value, r.amplitude.std_error, r.amplitude.drift, r.amplitude.from, r.amplitude.to);
+  else if (r.amplitude.from > 0 && r.amplitude.slope_error > 0)
+    appendf(out,
+            "C     : none, t P(t) is not flat (d ln(t P) / d ln t = %.3g +- %.2g on [%g, %g]); t P = %.3g +- %.2g at t "
+            "= %g\n",
+            r.amplitude.slope, r.amplitude.slope_error, r.amplitude.from, r.amplitude.to, r.amplitude.height,
+            r.amplitude.height_error, r.amplitude.from);
   appendf(out, "tail  = %s, regime %s", r.tail_class.tail.c_str(), r.tail_class.regime.c_str());
   if (r.tail_class.tail_end) appendf(out, " (gone by t = %g)", *r.tail_class.tail_end);
   if (r.leak_times.tau1)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "numeric/exact.hpp"
 
@@ -43,6 +44,35 @@ class InputError : public std::runtime_error {
 
   std::string key_;
 };
+
+/// s without leading and trailing blanks and tabs.
+inline std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t");
+  if (a == std::string::npos) return "";
+  const auto b = s.find_last_not_of(" \t");
+  return s.substr(a, b - a + 1);
+}
+
+/// Splits a list at commas outside parentheses, each item trimmed; unbalanced parentheses are an
+/// InputError naming `option`.
+inline std::vector<std::string> split_top(const std::string& option, const std::string& text) {
+  std::vector<std::string> items;
+  std::string cur;
+  int depth = 0;
+  for (char ch : text) {
+    if (ch == '(') ++depth;
+    if (ch == ')' && --depth < 0) throw InputError(option, text, "unbalanced ')'");
+    if (ch == ',' && depth == 0) {
+      items.push_back(trim(cur));
+      cur.clear();
+    } else {
+      cur += ch;
+    }
+  }
+  if (depth != 0) throw InputError(option, text, "unbalanced '('");
+  items.push_back(trim(cur));
+  return items;
+}
 
 /// An exact value read from user text; bad text, and a value whose sign cannot be decided (pi-pi: a
 /// zero that no precision proves), are an InputError naming `key`.

@@ -134,20 +134,22 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
     P["honest"] = nullptr;
   }
 
-  // every statistic summary.json reports with an error: stat. alone, and with its systematic beside it
+  // every statistic summary.json reports with an error (an object with a value and an error, at the top level
+  // or one level down: tail.amplitude as tail_amplitude): stat. alone, and with its systematic beside it
   json stats = json::object();
-  for (const auto& [name, obj] : summaries.front().items()) {
-    if (!obj.is_object() || !obj.contains("value") || !obj.contains("error")) continue;
+  const auto add_statistic = [&](const std::string& name, const std::vector<std::string>& path) {
     std::vector<double> v, stat, total;
     bool syst = false;
     std::size_t model_seeds = 0;  // values read at a time (crossing_time) past the seed's unresolved_from
     for (std::size_t k = 0; k < summaries.size(); ++k) {
-      const json& o = summaries[k].at(name);
-      const auto value = number_at(o, "value"), err = number_at(o, "error");
+      const json* o = &summaries[k];
+      for (const std::string& key : path) o = o->is_object() && o->contains(key) ? &o->at(key) : nullptr;
+      if (!o || !o->is_object()) continue;
+      const auto value = number_at(*o, "value"), err = number_at(*o, "error");
       if (!value || !err) continue;
-      if (const auto at = number_at(o, "crossing_time"); at && *at >= seed_model_from[k]) ++model_seeds;
-      auto sy = number_at(o, "systematic");
-      if (!sy) sy = number_at(o, "window_systematic");
+      if (const auto at = number_at(*o, "crossing_time"); at && *at >= seed_model_from[k]) ++model_seeds;
+      auto sy = number_at(*o, "systematic");
+      if (!sy) sy = number_at(*o, "window_systematic");
       syst = syst || sy.has_value();
       v.push_back(*value);
       stat.push_back(*err);
@@ -155,10 +157,19 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
     }
     if (v.size() < 2) {
       stats[name] = {{"seeds", v.size()}, {"verdict", "fewer than 2 seeds give a value"}};
-      continue;
+      return;
     }
     stats[name] = spread_json(seed_spread(v, stat), model_seeds);
     if (syst) stats[name + "_total"] = spread_json(seed_spread(v, total), model_seeds);
+  };
+  const auto has_value = [](const json& o) { return o.is_object() && o.contains("value") && o.contains("error"); };
+  for (const auto& [name, obj] : summaries.front().items()) {
+    if (has_value(obj)) {
+      add_statistic(name, {name});
+    } else if (obj.is_object()) {
+      for (const auto& [inner, o] : obj.items())
+        if (has_value(o)) add_statistic(name + "_" + inner, {name, inner});
+    }
   }
 
   // the pooled curve: all K runs as one run of K N particles, fitted as any run
@@ -212,15 +223,15 @@ std::string calibration_text(const json& d) {
   const json& P = d.at("P");
   appendf(out, "%zu seeds of %s particles each\n", d.at("seeds").size(),
           std::to_string(d.at("particles").get<std::uint64_t>()).c_str());
-  appendf(out, "%-14s %5s %12s %11s %8s %8s %6s %6s %9s  %s\n", "statistic", "seeds", "pooled", "+-", "sd/err",
+  appendf(out, "%-20s %5s %12s %11s %8s %8s %6s %6s %9s  %s\n", "statistic", "seeds", "pooled", "+-", "sd/err",
           "chi2/dof", "in 1", "in 2", "max/med", "verdict");
   const auto row = [&out](const std::string& name, const json& s) {
     if (!s.contains("pooled")) {
-      appendf(out, "%-14s %5zu  %s\n", name.c_str(), s.at("seeds").get<std::size_t>(),
+      appendf(out, "%-20s %5zu  %s\n", name.c_str(), s.at("seeds").get<std::size_t>(),
               s.at("verdict").get<std::string>().c_str());
       return;
     }
-    appendf(out, "%-14s %5zu %12.5g %11.3g %8.3g %8.3g %5.0f%% %5.0f%% %9.3g  %s\n", name.c_str(),
+    appendf(out, "%-20s %5zu %12.5g %11.3g %8.3g %8.3g %5.0f%% %5.0f%% %9.3g  %s\n", name.c_str(),
             s.at("seeds").get<std::size_t>(), s.at("pooled").get<double>(), s.at("pooled_err").get<double>(),
             s.at("sd_over_err").get<double>(), s.at("chi2_dof").get<double>(), 100 * s.at("coverage1").get<double>(),
             100 * s.at("coverage2").get<double>(), s.at("max_over_median").get<double>(),

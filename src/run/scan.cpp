@@ -11,6 +11,7 @@
 
 #include "analysis/continued_fraction.hpp"
 #include "analysis/covering.hpp"
+#include "analysis/omega_sets.hpp"
 #include "io/files.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
@@ -25,33 +26,6 @@ namespace rotleak {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t");
-  if (a == std::string::npos) return "";
-  const auto b = s.find_last_not_of(" \t");
-  return s.substr(a, b - a + 1);
-}
-
-/// Splits at commas outside parentheses; throws on unbalanced parentheses.
-std::vector<std::string> split_top(const std::string& option, const std::string& text) {
-  std::vector<std::string> items;
-  std::string cur;
-  int depth = 0;
-  for (char ch : text) {
-    if (ch == '(') ++depth;
-    if (ch == ')' && --depth < 0) throw InputError(option, text, "unbalanced ')'");
-    if (ch == ',' && depth == 0) {
-      items.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += ch;
-    }
-  }
-  if (depth != 0) throw InputError(option, text, "unbalanced '('");
-  items.push_back(trim(cur));
-  return items;
-}
 
 /// A rational as the text a scene reads exactly: a terminating decimal when the denominator is
 /// 2^i 5^j, else p/q.
@@ -177,6 +151,8 @@ std::vector<std::string> expand_values(const std::string& option, const std::str
     if (item.empty()) throw InputError(option, text, "an empty value in the list");
     if (item.rfind("linspace(", 0) == 0 || item.rfind("logspace(", 0) == 0) {
       for (std::string& v : range_values(option, item, item[1] == 'o')) values.push_back(std::move(v));
+    } else if (auto set = expand_omega_set(option, item)) {
+      for (std::string& v : *set) values.push_back(std::move(v));
     } else {
       values.push_back(item);
     }
@@ -187,8 +163,8 @@ std::vector<std::string> expand_values(const std::string& option, const std::str
 ScanAxis parse_axis(const std::string& text) {
   const auto eq = text.find('=');
   const std::string allowed =
-      "KEY=VALUES with KEY a scene key section.key and VALUES a comma list of values, linspace(a, b, n) or "
-      "logspace(a, b, n)";
+      "KEY=VALUES with KEY a scene key section.key and VALUES a comma list of values, linspace(a, b, n), "
+      "logspace(a, b, n), rationals(qmax=Q), near(x, e1, ... [, signs=both]), nobles(n) or sqrtfrac(a, b)";
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) throw InputError("--over", text, allowed);
   ScanAxis axis;
   axis.key = trim(text.substr(0, eq));
@@ -223,7 +199,8 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   std::string out;
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
   out +=
-      "kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
+      "kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tail_amplitude,tail_amplitude_err,"
+      "tail_amplitude_syst,tau1,tau2,omega_sweep,cf_2r_omega,"
       "best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
@@ -239,6 +216,14 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
     const json& pred = s.at("predicted");
     out += tail.at("class").get<std::string>() + "," + tail.at("regime").get<std::string>() + "," +
            csv_number(tail.at("tail_end")) + ",";
+    // the tail amplitude (absent from summaries written before it existed: empty)
+    if (tail.contains("amplitude")) {
+      const json& am = tail.at("amplitude");
+      out +=
+          csv_number(am.at("value")) + "," + csv_number(am.at("error")) + "," + csv_number(am.at("systematic")) + ",";
+    } else {
+      out += ",,,";
+    }
     out += csv_number(pred.at("tau1")) + "," + csv_number(pred.at("tau2")) + "," + csv_number(pred.at("omega_sweep")) +
            ",";
     const json& nt = s.at("number_theory");
@@ -260,7 +245,7 @@ std::string scan_table_text(const json& document) {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> head;
   for (const json& a : document.at("axes")) head.push_back(a.at("key").get<std::string>());
-  for (const char* h : {"kappa", "alpha", "tail", "regime", "particles"}) head.emplace_back(h);
+  for (const char* h : {"kappa", "alpha", "C", "tail", "regime", "particles"}) head.emplace_back(h);
   rows.push_back(head);
   for (const json& p : document.at("points")) {
     std::vector<std::string> r;
@@ -272,6 +257,11 @@ std::string scan_table_text(const json& document) {
     r.push_back(al.at("value").is_number()         ? g3(al.at("value")) + " +- " + g3(al.at("error")) + syst
                 : al.at("upper_bound").is_number() ? "< " + g3(al.at("upper_bound"))
                                                    : "-");
+    const json& tail = p.at("tail");
+    const json am = tail.contains("amplitude") ? tail.at("amplitude") : json::object();
+    r.push_back(am.contains("value") && am.at("value").is_number()
+                    ? g3(am.at("value")) + " +- " + g3(am.at("error")) + " +- " + g3(am.at("systematic"))
+                    : "-");
     r.push_back(p.at("tail").at("class").get<std::string>());
     r.push_back(p.at("tail").at("regime").get<std::string>());
     r.push_back(csv_number(p.at("particles")));

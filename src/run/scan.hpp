@@ -29,7 +29,8 @@ struct ScanAxis {
 /// `linspace(a, b, n)`: n exact values a + k (b - a) / (n - 1) from decimal a, b (rational
 /// arithmetic; printed as a terminating decimal when there is one, else p/q), or
 /// `logspace(a, b, n)`: n values from a to b (a, b > 0 decimals) equally spaced in log, the ends as
-/// written and the others rounded to 6 significant digits (computed in MPFR, 128 bits).
+/// written and the others rounded to 6 significant digits (computed in MPFR, 128 bits), or
+/// an omega set (analysis/omega_sets.hpp: rationals(qmax=Q), near(x, e...), nobles(n), sqrtfrac(a, b)).
 /// Throws InputError naming `option` and the offending text.
 std::vector<std::string> expand_values(const std::string& option, const std::string& text);
 

@@ -241,7 +241,7 @@ class Package(unittest.TestCase):
         scan = rotleak.read_scan(self.scan_dir)
         t = scan.table
         self.assertEqual(t["leak.omega"].tolist(), ["0", "1", "2/3"])
-        self.assertEqual(t.shape, (3, 20))  # the swept key, then the 19 columns docs/output.md lists
+        self.assertEqual(t.shape, (3, 23))  # the swept key, then the 22 columns docs/output.md lists
         self.assertTrue(pd.api.types.is_float_dtype(t["kappa"]))
         self.assertEqual(t["particles"].tolist(), [4000] * 3)
         self.assertEqual(sorted(scan.points), sorted(scan.point_names))

@@ -1,5 +1,5 @@
 """A run directory (``rotleak simulate``): survival.png (P(t) log-log and semi-log with the error
-band, the kappa fit and the alpha crossing) and, when fc.csv exists, fc.png (collision density per
+band, the kappa fit and the alpha crossing, and t P(t) with the tail amplitude C) and, when fc.csv exists, fc.png (collision density per
 time window)."""
 import math
 import os
@@ -16,7 +16,7 @@ def survival(run, summary):
     err = [float(r[3]) for r in rows if int(r[1]) > 0] if rows and len(rows[0]) > 3 else None
     kappa, alpha = summary["kappa"], summary["alpha"]
     scheme = summary.get("sampling", {}).get("scheme", "uniform")
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(17, 4.5))
     for ax, loglog in ((ax1, True), (ax2, False)):
         split = summary.get("splitting")
         what = (", %s, split every %.4g" % (scheme, split["split_every"]) if split else
@@ -47,6 +47,29 @@ def survival(run, summary):
         ax.grid(True, which="both", alpha=0.3)
     ax1.set_title("log-log")
     ax2.set_title("semi-log")
+    # t P(t): flat where P ~ C / t; the amplitude C and its error over the stretch it was measured on
+    ax3.plot(t, [x * p for x, p in zip(t, P)], lw=1.2, color="C0", label="t P(t)")
+    if err is not None:
+        ax3.fill_between(t, [x * max(p - e, p * 1e-3) for x, p, e in zip(t, P, err)],
+                         [x * (p + e) for x, p, e in zip(t, P, err)], alpha=0.25, lw=0, color="C0")
+    amp = summary["tail"].get("amplitude") or {}
+    if amp.get("value") is not None:
+        c, e = amp["value"], math.hypot(amp["error"], amp["systematic"])
+        ax3.plot([amp["from"], amp["to"]], [c, c], color="C3", lw=1.5,
+                 label="C = %.3g +- %.2g +- %.2g on [%g, %g]" % (c, amp["error"], amp["systematic"], amp["from"],
+                                                                 amp["to"]))
+        ax3.fill_between([amp["from"], amp["to"]], [c - e] * 2, [c + e] * 2, color="C3", alpha=0.2, lw=0)
+    else:
+        ax3.set_title("t P(t): no amplitude (%s)" % amp.get("note", "not measured")[:60], fontsize=8)
+    ax3.set_xscale("log")
+    ax3.set_yscale("log")
+    ax3.set_xlim(left=1)
+    ax3.set_xlabel("t")
+    ax3.set_ylabel("t P(t)")
+    ax3.grid(True, which="both", alpha=0.3)
+    ax3.legend(fontsize=8)
+    if amp.get("value") is not None:
+        ax3.set_title("t P(t): the tail amplitude")
     ax2.legend(fontsize=8)
     leak = summary["scene"]["leak"]
     fig.suptitle("survival: s_L = %s, width = %s, omega = %s (%s tier)" %

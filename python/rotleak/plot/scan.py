@@ -11,7 +11,8 @@ from matplotlib import ticker
 
 from . import annotate_clear, exact_text, read_csv, save
 
-REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4"}
+REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4",
+                  "near-rational": "C1"}
 
 
 def value_of(text):
