@@ -21,7 +21,8 @@ std::optional<std::vector<std::string>> call_args(const std::string& option, con
 
 /// A whole number in [lo, hi] given as plain digits.
 std::optional<unsigned> small_count(const std::string& text, unsigned lo, unsigned hi) {
-  if (text.empty() || text.size() > 6 || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+  if (text.empty() || text.size() > 6 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return std::nullopt;
   const unsigned v = static_cast<unsigned>(std::stoul(text));
   if (v < lo || v > hi) return std::nullopt;
@@ -42,7 +43,8 @@ std::vector<std::string> rationals_up_to(unsigned qmax) {
   std::vector<std::pair<mpq_class, std::string>> v;
   for (unsigned q = 1; q <= qmax; ++q)
     for (unsigned p = 1; p <= q; ++p)
-      if (std::gcd(p, q) == 1) v.emplace_back(mpq_class(p, q), q == 1 ? std::to_string(p) : std::to_string(p) + "/" + std::to_string(q));
+      if (std::gcd(p, q) == 1)
+        v.emplace_back(mpq_class(p, q), q == 1 ? std::to_string(p) : std::to_string(p) + "/" + std::to_string(q));
   std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<std::string> out;
   for (auto& p : v) out.push_back(std::move(p.second));

@@ -1,4 +1,4 @@
-// Sets of rotation speeds a scan sweeps (docs/omega.md, "Omega sets"): every value an exact text the scene
+// Sets of rotation speeds a scan sweeps (docs/output.md, "Value lists"): every value an exact text the scene
 // reads as it is, so a point's omega is the number named, never a rounded stand-in.
 //   rationals(qmax=Q)            every reduced p/q in (0, 1] with q <= Q, ascending
 //   near(x, e1, e2, ... [, signs=plus|minus|both])

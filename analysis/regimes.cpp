@@ -125,6 +125,7 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
     if (expected >= 6) {
       k.tail = "transient";
       k.tail_end = c.t[zero];
+      k.tail_end_range = std::make_pair(c.t[e], c.t[zero]);
       k.note = "tail removed: no survivor at t = " + std::to_string(c.t[zero]) +
                " where an algebraic continuation (exponent <= 3) would keep >= 6 effective survivors";
       k.regime = regime(k.tail);
@@ -134,6 +135,7 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
   if (z - steep > 3 * z_se && a < e) {
     k.tail = "transient";
     k.tail_end = c.t[a];
+    k.tail_end_range = std::make_pair(c.t[a], c.t[e]);
     char note[160];
     std::snprintf(note, sizeof note,
                   "tail removed: the local exponent at the end of the resolved range, %.3g, exceeds %g by 3 standard "

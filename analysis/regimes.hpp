@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/fits.hpp"
@@ -50,8 +51,11 @@ struct TailClass {
   std::string tail = "none";  ///< none, unresolved, transient, persistent
   std::string regime;  ///< stationary, low, mid, high, near-rational (a transient tail near a rational), undecided
   std::optional<double> tail_end;  ///< transient: the time the tail was gone (P = 0, or the steep end began)
-  double end_exponent = 0;         ///< local -d ln P / d ln t over the last resolved stretch
-  std::string note;                ///< the rule that decided it, in words
+  /// Where the rule locates the end, [lo, hi] (its error): P = 0 at tail_end, alive at the last resolved
+  /// time before it; or the steep stretch [tail_end, t_e] whose local exponent called the tail removed.
+  std::optional<std::pair<double, double>> tail_end_range;
+  double end_exponent = 0;  ///< local -d ln P / d ln t over the last resolved stretch
+  std::string note;         ///< the rule that decided it, in words
   /// unresolved: about how many particles (of this sampling) would keep min_survivors effective
   /// survivors through the first crossing, where alpha is read
   std::optional<std::uint64_t> resolve_particles;
@@ -88,7 +92,7 @@ inline constexpr double kSeeTail = 10;
 /// - a tail is also seen where P rises kNearBump times above the fit (and sigma errors), not only factor
 ///   times: near 2/3 + 1e-4 a tail forms and dies with P at most 1.7 times the fit;
 /// - the steep end that calls a tail removed is a local exponent above kNearSteep (a MUPO tail goes as
-///   1/t; one steeper by 1 is being removed), not 6: near 1/5 + 2e-5, t P falls 20-fold from t = 3000 to
+///   1/t; one steeper by 1 is being removed), not 6: near 1/5 + 2e-5, t P falls 60-fold from t = 3000 to
 ///   8000.
 /// and a transient tail there has regime "near-rational" (a near-rational transient), never "low".
 /// regime: stationary for omega = 0, else low (transient), mid (none, with alpha's upper bound below

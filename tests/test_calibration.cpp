@@ -18,12 +18,18 @@ using namespace rotleak;
 // Gaussian values with their true errors: sd / err near 1 and coverage near 68% / 95% (K = 4000: the
 // sampling errors are 1.1%, 0.7% and 0.35%; the bands are 4 of them). Errors reported half as large:
 // sd / err near 2 and the verdict says so.
-TEST(SeedSpread, HonestErrorsCalibrateAndSmallOnesAreCaught) {
-  std::mt19937_64 gen(5);
+// K draws of 3 + 0.1 N(0, 1).
+std::vector<double> gaussian_values(std::size_t K, unsigned seed) {
+  std::mt19937_64 gen(seed);
   std::normal_distribution<double> normal(0, 1);
-  const std::size_t K = 4000;
-  std::vector<double> x(K), e(K, 0.1), half(K, 0.05);
+  std::vector<double> x(K);
   for (double& v : x) v = 3 + 0.1 * normal(gen);
+  return x;
+}
+
+TEST(SeedSpread, HonestErrorsCalibrateAndSmallOnesAreCaught) {
+  const std::size_t K = 4000;
+  const std::vector<double> x = gaussian_values(K, 5), e(K, 0.1), half(K, 0.05);
   const SeedSpread s = seed_spread(x, e);
   EXPECT_NEAR(s.sd_over_err, 1, 0.045);
   EXPECT_NEAR(s.chi2_dof, 1, 0.09);
@@ -41,11 +47,8 @@ TEST(SeedSpread, HonestErrorsCalibrateAndSmallOnesAreCaught) {
 // unsplit lines not drawn is the larger part of the error (the seeds cannot test that part: the lines
 // it stands for are rarer than K runs draw); the allowance cannot excuse errors that are too small.
 TEST(SeedSpread, ErrorsTooLargeWhereTheAllowanceDominatesAreUntested) {
-  std::mt19937_64 gen(7);
-  std::normal_distribution<double> normal(0, 1);
   const std::size_t K = 400;
-  std::vector<double> x(K), twice(K, 0.2), half(K, 0.05);
-  for (double& v : x) v = 3 + 0.1 * normal(gen);
+  const std::vector<double> x = gaussian_values(K, 7), twice(K, 0.2), half(K, 0.05);
   const SeedSpread s = seed_spread(x, twice);
   EXPECT_LT(s.sd_over_err, kHonestBand[0]);
   EXPECT_EQ(spread_verdict(s), "errors too large");

@@ -429,6 +429,23 @@ TEST(FitTail, SplitRunOfLinesThatNeverSplitHasTheWeightedError) {
   EXPECT_NEAR(*ts.z, *tw.z, 1e-12);
   EXPECT_GT(tw.std_error, 1e-3);
   EXPECT_NEAR(ts.std_error, tw.std_error, 1e-9 * tw.std_error);
+
+  // The split share S = P - U is a difference: where the unsplit lines carry nearly all of P it is
+  // rounding noise (S = 1e-14 P), and it grows where lines split late (here 1e-6 P from t = 5000, inside the fitted
+  // range), with P's variance a little above the unsplit lines' own (1%, as an allowance adds). The mixing covariance
+  // Var(S_a) S_b / S_a then read 10^8 times Var(S_a): here z +- 0 (the quadratic form negative), at
+  // liouville(2) C = 0.053 +- 10.8. The part of
+  // S_b descending from S_a's lines is no larger than P_b / P_a of it.
+  SurvivalCurve noisy = split;
+  for (std::size_t k = 0; k < points; ++k) {
+    noisy.unsplit_P[k] = noisy.P_w[k] * (1 - (k < 5000 ? 1e-14 : 1e-6));
+    if (noisy.R[k] > 0) noisy.R[k] = 1 + (noisy.R[k] - 1) * 1.01;
+  }
+  const TailFit tn = fit_tail(noisy, as);
+  ASSERT_TRUE(tn.z.has_value());
+  ASSERT_LT(tn.from, 5000);
+  ASSERT_GT(tn.to, 5000);
+  EXPECT_NEAR(tn.std_error, ts.std_error, 0.1 * ts.std_error);
 }
 
 // kappa's window systematic: on a pure exponential every window of the family measures the same rate

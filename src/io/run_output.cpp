@@ -277,6 +277,8 @@ void put_fits(json& s, const RunSummary& r) {
   s["tail"] = {{"class", tc.tail},
                {"regime", tc.regime},
                {"tail_end", nullable(tc.tail_end)},
+               {"tail_end_range",
+                tc.tail_end_range ? json::array({tc.tail_end_range->first, tc.tail_end_range->second}) : json(nullptr)},
                {"end_exponent", tc.end_exponent},
                {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
                {"rule", tc.note}};

@@ -85,6 +85,12 @@ class Package(unittest.TestCase):
             self.assertEqual(run.summary, json.load(f))
         # the same table pandas reads from the file itself
         pd.testing.assert_frame_equal(run.survival, pd.read_csv(os.path.join(self.run_dir, "survival.csv")))
+        # the tail amplitude: summary.json's tail.amplitude, a value with its errors or null with the reason
+        amp = run.tail_amplitude
+        self.assertEqual(amp, run.summary["tail"]["amplitude"])
+        self.assertEqual(set(amp), {"value", "error", "systematic", "from", "to", "points", "height", "height_error",
+                                    "slope", "slope_error", "note"})
+        self.assertTrue(amp["value"] is not None or amp["note"])
 
     def test_simulate_in_process_writes_the_bytes_the_command_writes(self):
         r = rotleak.simulate(QUICK, particles=20000, threads=2, leak_omega=Fraction(2, 3), observe_escapes=True)

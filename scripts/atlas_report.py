@@ -1,0 +1,267 @@
+#!/usr/bin/env python3
+"""The omega atlas's report (scripts/atlas.sh): reads each set's scan (OUT/<set>/table.csv with pandas,
+OUT/<set>/scan.json) and writes DOCS/README.md (the table: omega exact, Q, kappa, alpha +- stat +- syst,
+C +- stat +- drift, tail class, regime, tail end), DOCS/atlas.csv (the same table) and the figures:
+C against omega, C against Q (even and odd Q apart), the tail end against eps for the eps families, and
+alpha against omega. Usage: atlas_report.py OUT DOCS PARTICLES."""
+import json
+import math
+import os
+import sys
+from fractions import Fraction
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import pandas  # noqa: E402
+
+SETS = "data/atlas/sets.tsv"
+
+
+def sets():
+    out = []
+    with open(SETS, encoding="utf-8") as f:
+        for line in f:
+            if not line.strip() or line.startswith("#"):
+                continue
+            name, title, args = line.rstrip("\n").split("\t")
+            out.append((name, title, args))
+    return out
+
+
+def rational(text):
+    """The exact rational of an omega text, or None (an irrational, a near-rational sum)."""
+    try:
+        return Fraction(text)
+    except ValueError:
+        return None
+
+
+def family(text):
+    """(base rational, signed eps) of a near(x, e) text 'p/q+e' or 'p/q-e', else None."""
+    for sign in ("+", "-"):
+        base, _, eps = text.partition(sign)
+        if eps and rational(base) is not None:
+            try:
+                return rational(base), (1 if sign == "+" else -1) * float(eps)
+            except ValueError:
+                return None
+    return None
+
+
+def big_q(omega, r=1):
+    """Q: the denominator of 2 r omega mod 1 (docs/study/atlas/README.md)."""
+    x = 2 * r * omega
+    return (x - math.floor(x)).denominator
+
+
+def rows_of(out, name):
+    table = pandas.read_csv(os.path.join(out, name, "table.csv"), dtype={"leak.omega": str, "tail": str,
+                                                                      "regime": str, "cf_2r_omega": str},
+                            keep_default_na=False,
+                            na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err", "alpha_syst",
+                                                         "alpha_bound", "tail_end", "tail_amplitude",
+                                                         "tail_amplitude_err", "tail_amplitude_syst"]})
+    with open(os.path.join(out, name, "scan.json"), encoding="utf-8") as f:
+        doc = json.load(f)
+    seconds = sum(p.get("wall_seconds", 0) or 0 for p in doc["points"])
+    rows = []
+    for (_, t), p in zip(table.iterrows(), doc["points"]):
+        w = t["leak.omega"]
+        q = rational(w)
+        fam = family(w)
+        near = p["tail"].get("near_rational")
+        rows.append({"set": name, "omega": w, "value": omega_value(w, t["cf_2r_omega"]),
+                     "Q": big_q(q) if q is not None else (big_q(fam[0]) if fam else None),
+                     "base": fam[0] if fam else None, "eps": fam[1] if fam else None,
+                     "kappa": t["kappa"], "kappa_err": t["kappa_err"], "alpha": t["alpha"], "alpha_err": t["alpha_err"],
+                     "alpha_syst": t["alpha_syst"], "alpha_bound": t["alpha_bound"], "C": t["tail_amplitude"],
+                     "C_err": t["tail_amplitude_err"], "C_syst": t["tail_amplitude_syst"], "tail": t["tail"],
+                     "regime": t["regime"], "tail_end": t["tail_end"],
+                     "near": near["rational"] if near else "", "t_max": p_t_max(out, name, p)})
+    return rows, seconds
+
+
+def omega_value(text, cf_2r_omega, r=1):
+    """omega as a double: exact for rationals and near(x, e) sums, else from the scan's certified partial
+    quotients of 2 r omega (8 of them: good to about 1e-8, plenty for a plot)."""
+    q = rational(text)
+    if q is not None:
+        return float(q)
+    fam = family(text)
+    if fam:
+        return float(fam[0]) + fam[1]
+    terms = [int(a) for a in str(cf_2r_omega).split()]
+    x = Fraction(terms[-1])
+    for a in reversed(terms[:-1]):
+        x = a + 1 / x
+    return float(x) / (2 * r)
+
+
+def p_t_max(out, name, point):
+    path = os.path.join(out, name, "points", point["point"], "summary.json")
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)["scene"]["run"]["t_max"]
+
+
+def fmt(v, e=None, s=None, digits=3):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "-"
+    out = "%.*g" % (digits, v)
+    if e is not None and not (isinstance(e, float) and math.isnan(e)):
+        out += " +- %.2g" % e
+    if s is not None and not (isinstance(s, float) and math.isnan(s)):
+        out += " +- %.2g" % s
+    return out
+
+
+def isnum(v):
+    return v is not None and not (isinstance(v, float) and math.isnan(v))
+
+
+def finish(fig, ax, path, xlabel, ylabel, title, logx=True, legend=True):
+    """Scales, labels, grid and legend of a figure's one panel; writes it to path."""
+    if logx:
+        ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    if legend:
+        ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def figures(rows, docs):
+    """Draws the figures the rows have data for; returns their file names."""
+    drawn = []
+    rat = [r for r in rows if r["set"] == "rationals"]
+    have = [r for r in rat if isnum(r["C"])]
+    if have:
+        c_figures(rat, have, docs)
+        drawn += ["C_vs_omega.png", "C_vs_Q.png"]
+    fams = [r for r in rows if r["eps"] is not None]
+    if fams:
+        tail_end_figure(fams, docs)
+        drawn.append("tail_end_vs_eps.png")
+    if any(isnum(r["alpha"]) or isnum(r["alpha_bound"]) for r in rows):
+        alpha_figure(rows, docs)
+        drawn.append("alpha_vs_omega.png")
+    return drawn
+
+
+def c_figures(rat, have, docs):
+    # C against omega, Q marked
+    fig, ax = plt.subplots(figsize=(11, 4.8))
+    sc = ax.scatter([r["value"] for r in have], [r["C"] for r in have], c=[math.log(r["Q"]) for r in have], s=14,
+                    cmap="viridis")
+    ax.errorbar([r["value"] for r in have], [r["C"] for r in have], yerr=[r["C_err"] for r in have], fmt="none",
+                ecolor="0.6", lw=0.6, zorder=0)
+    for r in have:
+        if r["Q"] <= 5:
+            ax.annotate("%s (Q=%d)" % (r["omega"], r["Q"]), (r["value"], r["C"]), fontsize=7, xytext=(3, 3),
+                        textcoords="offset points")
+    none = [r for r in rat if not isnum(r["C"])]
+    ax.scatter([r["value"] for r in none], [min(r2["C"] for r2 in have) / 3 if have else 1e-3] * len(none),
+               marker="x", color="C3", s=12, label="no C (%d): tail not 1/t or not resolved" % len(none))
+    fig.colorbar(sc, ax=ax, label="ln Q")
+    finish(fig, ax, os.path.join(docs, "C_vs_omega.png"), "omega = p/q, q <= 30", "C  (P ~ C / t)",
+           "tail amplitude against omega (colour: ln Q, Q the denominator of 2 r omega mod 1)", logx=False)
+    # C against Q, even and odd apart
+    fig, ax = plt.subplots(figsize=(8, 4.8))
+    for parity, marker, colour in ((0, "s", "C0"), (1, "o", "C3")):
+        sel = [r for r in have if r["Q"] % 2 == parity]
+        ax.errorbar([r["Q"] + (0.15 if parity else -0.15) for r in sel], [r["C"] for r in sel],
+                    yerr=[r["C_err"] for r in sel], fmt=marker, ms=4, color=colour, lw=0.8,
+                    label="%s Q" % ("even" if parity == 0 else "odd"))
+    finish(fig, ax, os.path.join(docs, "C_vs_Q.png"), "Q", "C", "tail amplitude against Q (every p/q with q <= 30)")
+
+
+def tail_end_figure(fams, docs):
+    fig, ax = plt.subplots(figsize=(8, 4.8))
+    for k, base in enumerate(sorted({r["base"] for r in fams})):
+        for sign, marker in ((1, "o"), (-1, "v")):
+            sel = [r for r in fams if r["base"] == base and (r["eps"] > 0) == (sign > 0)]
+            if not sel:
+                continue
+            ended = [r for r in sel if isnum(r["tail_end"])]
+            ax.plot([abs(r["eps"]) for r in ended], [r["tail_end"] for r in ended], marker, color="C%d" % k,
+                    label="%s %s eps" % (base, "+" if sign > 0 else "-"))
+            open_ = [r for r in sel if not isnum(r["tail_end"]) and r["tail"] in ("persistent", "unresolved")]
+            ax.plot([abs(r["eps"]) for r in open_], [r["t_max"] for r in open_], "^", color="C%d" % k, mfc="none")
+    finish(fig, ax, os.path.join(docs, "tail_end_vs_eps.png"), "|eps| (omega = p/q + eps)",
+           "tail end (open triangles: a tail still there at t_max)", "when a near-rational tail ends")
+
+
+def alpha_figure(rows, docs):
+    fig, ax = plt.subplots(figsize=(11, 4.8))
+    for name, colour in (("rationals", "C0"), ("irrationals", "C2")):
+        sel = [r for r in rows if r["set"] == name]
+        val = [r for r in sel if isnum(r["alpha"])]
+        ax.errorbar([r["value"] for r in val], [r["alpha"] for r in val],
+                    yerr=[math.hypot(r["alpha_err"], r["alpha_syst"] if isnum(r["alpha_syst"]) else 0) for r in val],
+                    fmt="o", ms=3, color=colour, lw=0.6, label="%s: alpha" % name)
+        bnd = [r for r in sel if not isnum(r["alpha"]) and isnum(r["alpha_bound"])]
+        ax.plot([r["value"] for r in bnd], [r["alpha_bound"] for r in bnd], "v", ms=4, color=colour, mfc="none",
+                label="%s: upper bound" % name)
+    finish(fig, ax, os.path.join(docs, "alpha_vs_omega.png"), "omega", "alpha", "alpha against omega", logx=False)
+
+
+def main(argv):
+    if len(argv) != 4:
+        sys.exit("usage: atlas_report.py OUT DOCS PARTICLES")
+    out, docs, particles = argv[1], argv[2], int(argv[3])
+    os.makedirs(docs, exist_ok=True)
+    rows, seconds, titles = [], 0.0, []
+    for name, title, args in sets():
+        if not os.path.exists(os.path.join(out, name, "scan.json")):
+            continue
+        r, s = rows_of(out, name)
+        rows += r
+        seconds += s
+        titles.append((name, title, args, len(r), s))
+    drawn = figures(rows, docs)
+    cols = ["set", "omega", "Q", "kappa", "kappa_err", "alpha", "alpha_err", "alpha_syst", "alpha_bound", "C",
+            "C_err", "C_syst", "tail", "regime", "tail_end", "near", "t_max"]
+    tmp = os.path.join(docs, ".atlas.csv.tmp")
+    pandas.DataFrame([{c: r[c] for c in cols} for r in rows], columns=cols).to_csv(tmp, index=False)
+    os.replace(tmp, os.path.join(docs, "atlas.csv"))
+    wall = None
+    if os.path.exists(os.path.join(out, "seconds")):
+        with open(os.path.join(out, "seconds"), encoding="utf-8") as f:
+            wall = int(f.read().strip())
+    lines = ["# The omega atlas", "",
+             "Written by `scripts/atlas.sh --docs` (the scans and `scripts/atlas_report.py`); every number here "
+             "is read from the scans' `table.csv` and `scan.json`. Each point: %d lines, mupo sampling, the "
+             "fast-forward and population splitting on `data/study/study.toml` (d = 2, r = 1, lambda = 0.01, "
+             "s_L(0) = 0). Q is the denominator of 2 r omega mod 1; C is the tail amplitude (P ~ C / t, "
+             "docs/model.md \"Observables\") +- its stat. error +- its drift; alpha +- stat. +- window "
+             "systematic, or `< bound`." % particles, "",
+             "Runs: %d points, %.0f s of point wall time%s." % (
+                 len(rows), seconds, "; the last `scripts/atlas.sh` call took %d s on the 2-core development "
+                 "machine" % wall if wall is not None else ""), "",
+             "| set | points | what | point seconds |", "|---|---|---|---|"]
+    for name, title, args, n, s in titles:
+        lines.append("| %s | %d | %s (`%s`) | %.0f |" % (name, n, title, args, s))
+    for png in drawn:
+        lines += ["", "![%s](%s)" % (png[:-4].replace("_", " "), png)]
+    lines += ["", "| set | omega | Q | kappa | alpha | C | tail | regime | tail end |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        alpha = fmt(r["alpha"], r["alpha_err"], r["alpha_syst"]) if isnum(r["alpha"]) else (
+            "< %.2g" % r["alpha_bound"] if isnum(r["alpha_bound"]) else "-")
+        regime = r["regime"] + (" (%s)" % r["near"] if r["near"] else "")
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            r["set"], r["omega"], r["Q"] if r["Q"] is not None else "-", fmt(r["kappa"], r["kappa_err"], digits=4),
+            alpha, fmt(r["C"], r["C_err"], r["C_syst"]), r["tail"], regime, fmt(r["tail_end"], digits=5)))
+    tmp = os.path.join(docs, ".README.md.tmp")
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+    os.replace(tmp, os.path.join(docs, "README.md"))
+
+
+if __name__ == "__main__":
+    main(sys.argv)
