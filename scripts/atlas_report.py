@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The omega atlas's report (scripts/atlas.sh): reads each set's scan (OUT/<set>/table.csv with pandas,
 OUT/<set>/scan.json) and writes DOCS/README.md (the table: omega exact, Q, kappa, alpha +- stat +- syst,
-C +- stat +- drift, tail class, regime, tail end), DOCS/atlas.csv (the same table) and the figures:
+C +- stat +- drift or, where t P is not flat, t P where the tail begins, tail class, regime, tail end and
+the range the rule places it in), DOCS/atlas.csv (the same table) and the figures:
 C against omega, C against Q (even and odd Q apart), the tail end against eps for the eps families, and
 alpha against omega. Usage: atlas_report.py OUT DOCS PARTICLES."""
 import json
@@ -72,6 +73,8 @@ def rows_of(out, name):
         q = rational(w)
         fam = family(w)
         near = p["tail"].get("near_rational")
+        amp = p["tail"].get("amplitude") or {}
+        end_range = p["tail"].get("tail_end_range")
         rows.append({"set": name, "omega": w, "value": omega_value(w, t["cf_2r_omega"]),
                      "Q": big_q(q) if q is not None else (big_q(fam[0]) if fam else None),
                      "base": fam[0] if fam else None, "eps": fam[1] if fam else None,
@@ -79,7 +82,9 @@ def rows_of(out, name):
                      "alpha_syst": t["alpha_syst"], "alpha_bound": t["alpha_bound"], "C": t["tail_amplitude"],
                      "C_err": t["tail_amplitude_err"], "C_syst": t["tail_amplitude_syst"], "tail": t["tail"],
                      "regime": t["regime"], "tail_end": t["tail_end"],
-                     "near": near["rational"] if near else "", "t_max": p_t_max(out, name, p)})
+                     "near": near["rational"] if near else "", "t_max": p_t_max(out, name, p),
+                     "height": amp.get("height"), "height_err": amp.get("height_error"), "from": amp.get("from"),
+                     "end_lo": end_range[0] if end_range else None, "end_hi": end_range[1] if end_range else None})
     return rows, seconds
 
 
@@ -226,7 +231,8 @@ def main(argv):
         titles.append((name, title, args, len(r), s))
     drawn = figures(rows, docs)
     cols = ["set", "omega", "Q", "kappa", "kappa_err", "alpha", "alpha_err", "alpha_syst", "alpha_bound", "C",
-            "C_err", "C_syst", "tail", "regime", "tail_end", "near", "t_max"]
+            "C_err", "C_syst", "height", "height_err", "from", "tail", "regime", "tail_end", "end_lo", "end_hi", "near",
+            "t_max"]
     tmp = os.path.join(docs, ".atlas.csv.tmp")
     pandas.DataFrame([{c: r[c] for c in cols} for r in rows], columns=cols).to_csv(tmp, index=False)
     os.replace(tmp, os.path.join(docs, "atlas.csv"))
@@ -239,8 +245,9 @@ def main(argv):
              "is read from the scans' `table.csv` and `scan.json`. Each point: %d lines, mupo sampling, the "
              "fast-forward and population splitting on `data/study/study.toml` (d = 2, r = 1, lambda = 0.01, "
              "s_L(0) = 0). Q is the denominator of 2 r omega mod 1; C is the tail amplitude (P ~ C / t, "
-             "docs/model.md \"Observables\") +- its stat. error +- its drift; alpha +- stat. +- window "
-             "systematic, or `< bound`." % particles, "",
+             "docs/model.md \"Observables\") +- its stat. error +- its drift, or in parentheses, where t P is not "
+             "flat, its height where the tail begins; alpha +- stat. +- window systematic, or `< bound`; the tail "
+             "end with the range [lo, hi] the rule places it in (summary.json `tail.tail_end_range`)." % particles, "",
              "Runs: %d points, %.0f s of point wall time%s." % (
                  len(rows), seconds, "; the last `scripts/atlas.sh` call took %d s on the 2-core development "
                  "machine" % wall if wall is not None else ""), "",
@@ -254,9 +261,15 @@ def main(argv):
         alpha = fmt(r["alpha"], r["alpha_err"], r["alpha_syst"]) if isnum(r["alpha"]) else (
             "< %.2g" % r["alpha_bound"] if isnum(r["alpha_bound"]) else "-")
         regime = r["regime"] + (" (%s)" % r["near"] if r["near"] else "")
+        amp = fmt(r["C"], r["C_err"], r["C_syst"])
+        if amp == "-" and isnum(r["height"]):  # no flat stretch: the tail's height where it begins
+            amp = "(t P = %s at t = %g)" % (fmt(r["height"], r["height_err"]), r["from"])
+        end = fmt(r["tail_end"], digits=5)
+        if isnum(r["end_lo"]):
+            end += " [%.5g, %.5g]" % (r["end_lo"], r["end_hi"])
         lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             r["set"], r["omega"], r["Q"] if r["Q"] is not None else "-", fmt(r["kappa"], r["kappa_err"], digits=4),
-            alpha, fmt(r["C"], r["C_err"], r["C_syst"]), r["tail"], regime, fmt(r["tail_end"], digits=5)))
+            alpha, amp, r["tail"], regime, end))
     tmp = os.path.join(docs, ".README.md.tmp")
     with open(tmp, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")

@@ -3,6 +3,7 @@ band, the kappa fit and the alpha crossing, and t P(t) with the tail amplitude C
 time window)."""
 import math
 import os
+import textwrap
 
 import matplotlib.pyplot as plt
 
@@ -60,9 +61,12 @@ def survival(run, summary):
                                                                  amp["to"]))
         ax3.fill_between([amp["from"], amp["to"]], [c - e] * 2, [c + e] * 2, color="C3", alpha=0.2, lw=0)
     else:
-        ax3.set_title("t P(t): no amplitude (%s)" % amp.get("note", "not measured")[:60], fontsize=8)
+        ax3.set_title("t P(t): no amplitude\n" + textwrap.fill(amp.get("note", "not measured"), 70), fontsize=7)
     ax3.set_xscale("log")
     ax3.set_yscale("log")
+    tp = [x * p for x, p in zip(t, P) if x >= 10 and p > 0]
+    if tp:  # four decades below the highest t P: a tail's plateau, not the collapse after it
+        ax3.set_ylim(bottom=max(tp) * 1e-4, top=max(tp) * 3)
     ax3.set_xlim(left=1)
     ax3.set_xlabel("t")
     ax3.set_ylabel("t P(t)")
