@@ -35,6 +35,5 @@ while IFS=$'\t' read -r name title args; do
     --set run.fast_forward=true --set run.splitting=true --out "$out/$name" >/dev/null
 done <data/atlas/sets.tsv
 seconds=$(($(date +%s) - start))
-echo "$seconds" >"$out/.seconds.tmp" && mv "$out/.seconds.tmp" "$out/seconds"
-/usr/bin/python3 scripts/atlas_report.py "$out" "$docs" "$particles"
+/usr/bin/python3 scripts/atlas_report.py "$out" "$docs" "$particles" "$seconds"
 echo "atlas: report in $docs/README.md ($seconds s)" >&2

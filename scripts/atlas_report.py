@@ -4,7 +4,8 @@ OUT/<set>/scan.json) and writes DOCS/README.md (the table: omega exact, Q, kappa
 C +- stat +- drift or, where t P is not flat, t P where the tail begins, tail class, regime, tail end and
 the range the rule places it in), DOCS/atlas.csv (the same table) and the figures:
 C against omega, C against Q (even and odd Q apart), the tail end against eps for the eps families, and
-alpha against omega. Usage: atlas_report.py OUT DOCS PARTICLES."""
+alpha against omega. Usage: atlas_report.py OUT DOCS PARTICLES SECONDS (SECONDS: the wall time of the
+atlas.sh call)."""
 import json
 import math
 import os
@@ -217,9 +218,9 @@ def alpha_figure(rows, docs):
 
 
 def main(argv):
-    if len(argv) != 4:
-        sys.exit("usage: atlas_report.py OUT DOCS PARTICLES")
-    out, docs, particles = argv[1], argv[2], int(argv[3])
+    if len(argv) != 5:
+        sys.exit("usage: atlas_report.py OUT DOCS PARTICLES SECONDS")
+    out, docs, particles, wall = argv[1], argv[2], int(argv[3]), int(argv[4])
     os.makedirs(docs, exist_ok=True)
     rows, seconds, titles = [], 0.0, []
     for name, title, args in sets():
@@ -236,10 +237,6 @@ def main(argv):
     tmp = os.path.join(docs, ".atlas.csv.tmp")
     pandas.DataFrame([{c: r[c] for c in cols} for r in rows], columns=cols).to_csv(tmp, index=False)
     os.replace(tmp, os.path.join(docs, "atlas.csv"))
-    wall = None
-    if os.path.exists(os.path.join(out, "seconds")):
-        with open(os.path.join(out, "seconds"), encoding="utf-8") as f:
-            wall = int(f.read().strip())
     lines = ["# The omega atlas", "",
              "Written by `scripts/atlas.sh --docs` (the scans and `scripts/atlas_report.py`); every number here "
              "is read from the scans' `table.csv` and `scan.json`. Each point: %d lines, mupo sampling, the "
@@ -248,9 +245,9 @@ def main(argv):
              "docs/model.md \"Observables\") +- its stat. error +- its drift, or in parentheses, where t P is not "
              "flat, its height where the tail begins; alpha +- stat. +- window systematic, or `< bound`; the tail "
              "end with the range [lo, hi] the rule places it in (summary.json `tail.tail_end_range`)." % particles, "",
-             "Runs: %d points, %.0f s of point wall time%s." % (
-                 len(rows), seconds, "; the last `scripts/atlas.sh` call took %d s on the 2-core development "
-                 "machine" % wall if wall is not None else ""), "",
+             "Runs: %d points, %.0f s of point wall time; the `scripts/atlas.sh` call that wrote this took %d s "
+             "(a resumed call counts only what it ran) on the 2-core development machine." % (len(rows), seconds,
+                                                                                             wall), "",
              "| set | points | what | point seconds |", "|---|---|---|---|"]
     for name, title, args, n, s in titles:
         lines.append("| %s | %d | %s (`%s`) | %.0f |" % (name, n, title, args, s))
