@@ -144,7 +144,11 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
     k.note = note;
   } else {
     k.tail = "persistent";
-    k.note = "tail present at the end of the resolved range (local exponent not significantly above 6)";
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "tail present at the end of the resolved range (local exponent %.3g, not significantly above %g)", z,
+                  steep);
+    k.note = note;
   }
   k.regime = regime(k.tail);
   const LeakTimes lt = leak_times(scene);
