@@ -164,42 +164,7 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
   }
 }
 
-}  // namespace
-
-namespace {
 /// classify_tail without the near-rational regime label (the tail class, `near` set where it applies).
-TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
-                               const KappaFit* fit);
-}  // namespace
-
-std::optional<NearRational> near_rational(const Scene& scene) {
-  if (scene.omega.sign() == 0) return std::nullopt;
-  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
-  const BestApproximations best = best_approximations(x, mpz_class(kNearRationalQ));
-  if (best.list.empty()) return std::nullopt;
-  const Fraction& f = best.list.back();
-  if (best.expansion_exhausted && (x - ExactReal::rational(f.value())).sign() == 0) return std::nullopt;
-  NearRational n;
-  n.rational = f.q == 1 ? f.p.get_str() : f.text();
-  n.q = f.q.get_si();
-  n.eps = (x - ExactReal::rational(f.value())).to_double();
-  if (scene.r.is_rational()) {
-    const mpq_class w = f.value() / (2 * scene.r.as_rational());
-    n.omega_rational = w.get_den() == 1 ? w.get_num().get_str() : w.get_str();
-  }
-  return n;
-}
-
-TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
-  TailClass k = classify_tail_from_P(scene, c, alpha, fit);
-  if (k.tail == "transient" && k.near) {
-    k.regime = "near-rational";
-    k.note += "; near a rational: " + near_text(*k.near) + ", the leak pattern drifts off it";
-  }
-  return k;
-}
-
-namespace {
 TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
                                const KappaFit* fit) {
   TailClass k;
@@ -296,6 +261,34 @@ TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const
   tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), steep, k);
   return with_near(k);
 }
+
 }  // namespace
+
+std::optional<NearRational> near_rational(const Scene& scene) {
+  if (scene.omega.sign() == 0) return std::nullopt;
+  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
+  const BestApproximations best = best_approximations(x, mpz_class(kNearRationalQ));
+  if (best.list.empty()) return std::nullopt;
+  const Fraction& f = best.list.back();
+  if (best.expansion_exhausted && (x - ExactReal::rational(f.value())).sign() == 0) return std::nullopt;
+  NearRational n;
+  n.rational = f.q == 1 ? f.p.get_str() : f.text();
+  n.q = f.q.get_si();
+  n.eps = (x - ExactReal::rational(f.value())).to_double();
+  if (scene.r.is_rational()) {
+    const mpq_class w = f.value() / (2 * scene.r.as_rational());
+    n.omega_rational = w.get_den() == 1 ? w.get_num().get_str() : w.get_str();
+  }
+  return n;
+}
+
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
+  TailClass k = classify_tail_from_P(scene, c, alpha, fit);
+  if (k.tail == "transient" && k.near) {
+    k.regime = "near-rational";
+    k.note += "; near a rational: " + near_text(*k.near) + ", the leak pattern drifts off it";
+  }
+  return k;
+}
 
 }  // namespace rotleak

@@ -126,7 +126,7 @@ def isnum(v):
     return v is not None and not (isinstance(v, float) and math.isnan(v))
 
 
-def finish(fig, ax, path, xlabel, ylabel, title, logx=True, legend=True):
+def finish(fig, ax, path, xlabel, ylabel, title, logx=True):
     """Scales, labels, grid and legend of a figure's one panel; writes it to path."""
     if logx:
         ax.set_xscale("log")
@@ -134,8 +134,7 @@ def finish(fig, ax, path, xlabel, ylabel, title, logx=True, legend=True):
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)
-    if legend:
-        ax.legend(fontsize=8)
+    ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -172,7 +171,7 @@ def c_figures(rat, have, docs):
             ax.annotate("%s (Q=%d)" % (r["omega"], r["Q"]), (r["value"], r["C"]), fontsize=7, xytext=(3, 3),
                         textcoords="offset points")
     none = [r for r in rat if not isnum(r["C"])]
-    ax.scatter([r["value"] for r in none], [min(r2["C"] for r2 in have) / 3 if have else 1e-3] * len(none),
+    ax.scatter([r["value"] for r in none], [min(r2["C"] for r2 in have) / 3] * len(none),
                marker="x", color="C3", s=12, label="no C (%d): tail not 1/t or not resolved" % len(none))
     fig.colorbar(sc, ax=ax, label="ln Q")
     finish(fig, ax, os.path.join(docs, "C_vs_omega.png"), "omega = p/q, q <= 30", "C  (P ~ C / t)",

@@ -143,7 +143,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
     std::size_t model_seeds = 0;  // values read at a time (crossing_time) past the seed's unresolved_from
     for (std::size_t k = 0; k < summaries.size(); ++k) {
       const json* o = &summaries[k];
-      for (const std::string& key : path) o = o->is_object() && o->contains(key) ? &o->at(key) : nullptr;
+      for (const std::string& key : path) o = o && o->is_object() && o->contains(key) ? &o->at(key) : nullptr;
       if (!o || !o->is_object()) continue;
       const auto value = number_at(*o, "value"), err = number_at(*o, "error");
       if (!value || !err) continue;
