@@ -456,6 +456,57 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   return f;
 }
 
+namespace {
+
+/// The crossing of C / t with (factor - 1) e^{ln A - kappa t} beyond 1 / kappa (there ln C - ln t - ln((factor - 1)
+/// A) + kappa t rises); nullopt when C / t already lies above at 1 / kappa.
+std::optional<double> two_part_crossing(double C, double log_A, double kappa, double factor) {
+  const auto g = [&](double t) { return std::log(C) - std::log(t) - std::log(factor - 1) - log_A + kappa * t; };
+  double lo = 1 / kappa, hi = 2 / kappa;
+  if (!(g(lo) < 0)) return std::nullopt;
+  while (g(hi) < 0) hi *= 2;
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (g(mid) < 0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+AlphaFromAmplitude alpha_from_amplitude(const KappaFit& k, const TailAmplitude& amp, double factor) {
+  AlphaFromAmplitude out;
+  if (!k.ok || !amp.value || !(factor > 1) || !(k.value > 0)) {
+    out.note = !amp.value ? "no tail amplitude C" : "no kappa fit";
+    return out;
+  }
+  const auto alpha_at = [&](double C, double log_A, double kappa) -> std::optional<std::pair<double, double>> {
+    const auto t = two_part_crossing(C, log_A, kappa, factor);
+    if (!t) return std::nullopt;
+    return std::make_pair(factor / (factor - 1) * C / *t, *t);
+  };
+  const auto base = alpha_at(*amp.value, k.log_amplitude, k.value);
+  if (!base) {
+    out.note = "C / t exceeds (factor - 1) x the fit already at t = 1 / kappa: no crossing of the two-part law";
+    return out;
+  }
+  out.value = base->first;
+  out.crossing_time = base->second;
+  // first-order propagation: C's error (stat. and drift), and (ln A, -kappa) with the fit's covariance
+  const double sC = std::hypot(amp.std_error, amp.drift);
+  const auto partial = [&](double dC, double da, double dk) {
+    const auto up = alpha_at(*amp.value + dC, k.log_amplitude + da, k.value + dk);
+    const auto dn = alpha_at(*amp.value - dC, k.log_amplitude - da, k.value - dk);
+    return up && dn ? (up->first - dn->first) / 2 : 0.0;
+  };
+  const double hC = 1e-4 * *amp.value, ha = 1e-4, hk = 1e-4 * k.value;
+  const double jC = partial(hC, 0, 0) / hC, ja = partial(0, ha, 0) / ha, jb = -partial(0, 0, hk) / hk;  // b = -kappa
+  const double var = jC * jC * sC * sC + ja * ja * k.var_a + jb * jb * k.var_b + 2 * ja * jb * k.cov_ab;
+  out.std_error = std::sqrt(std::max(0.0, var));
+  out.note = "P = A exp(-kappa t) + C / t crosses factor x the fit at t = " + std::to_string(out.crossing_time);
+  return out;
+}
+
 TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint64_t min_survivors) {
   TailAmplitude a;
   if (!k.ok) {

@@ -104,6 +104,19 @@ struct TailAmplitude {
 /// |d ln(t P) / d ln t| below which a tail counts as 1/t whatever the errors (z within 10% of 1).
 inline constexpr double kFlatSlope = 0.1;
 
+/// alpha read off the two-part law P = A exp(-kappa t) + C / t (the kappa fit's A and kappa, the tail's C): the
+/// crossing C / t = (factor - 1) A exp(-kappa t) beyond 1 / kappa, where P = factor x the fit, and alpha =
+/// factor A exp(-kappa t) there. Smoother than the first grid point above the line (find_alpha): it uses the
+/// whole tail's mean instead of one point. Its error propagates C's (stat. and drift) and the fit's
+/// covariance of (ln A, kappa).
+struct AlphaFromAmplitude {
+  std::optional<double> value;
+  double std_error = 0;
+  double crossing_time = 0;
+  std::string note;
+};
+AlphaFromAmplitude alpha_from_amplitude(const KappaFit& k, const TailAmplitude& amp, double factor = 10);
+
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10, double sigma = 3,
                        std::uint64_t min_survivors = 100);

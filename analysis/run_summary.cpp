@@ -1,5 +1,7 @@
 #include "analysis/run_summary.hpp"
 
+#include "numeric/input.hpp"
+
 #include <utility>
 
 namespace rotleak {
@@ -22,8 +24,14 @@ void fit_curve(RunSummary& s) {
   add_uniform_reach(s.alpha, s.curve);
   s.tail = fit_tail(s.curve, s.alpha);
   s.amplitude = fit_amplitude(s.curve, s.kappa, scene.min_survivors);
+  s.alpha_c = alpha_from_amplitude(s.kappa, s.amplitude, scene.alpha_factor);
   s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa);
   s.leak_times = leak_times(scene);
+  try {
+    s.prediction = predict_tail(scene);
+  } catch (const InputError&) {
+    s.prediction.reset();  // a leak too wide for the model: no prediction, the run stands
+  }
   s.rate_jumps = decay_rate_jumps(s.curve, 100);
 }
 

@@ -8,6 +8,7 @@
 
 #include "analysis/fits.hpp"
 #include "analysis/regimes.hpp"
+#include "analysis/tail_model.hpp"
 #include "sim/engine.hpp"
 #include "sim/scene.hpp"
 #include "sim/survival.hpp"
@@ -21,11 +22,13 @@ struct RunSummary {
   KappaFit kappa;
   AlphaResult alpha;
   TailFit tail;
-  TailAmplitude amplitude;                 ///< C in P ~ C / t
-  TailClass tail_class;                    ///< none / transient / persistent and the regime, from the measured P(t)
-  LeakTimes leak_times;                    ///< the geometry's predicted time scales
-  std::vector<RateJump> rate_jumps;        ///< measured jumps of the decay rate (window 100)
-  std::optional<std::string> tier_choice;  ///< why, when the scene asked for run.tier = auto
+  TailAmplitude amplitude;                   ///< C in P ~ C / t
+  AlphaFromAmplitude alpha_c;                ///< alpha from A exp(-kappa t) + C / t
+  TailClass tail_class;                      ///< none / transient / persistent and the regime, from the measured P(t)
+  LeakTimes leak_times;                      ///< the geometry's predicted time scales
+  std::optional<TailPrediction> prediction;  ///< the covering model's tail (none: the scene lies outside it)
+  std::vector<RateJump> rate_jumps;          ///< measured jumps of the decay rate (window 100)
+  std::optional<std::string> tier_choice;    ///< why, when the scene asked for run.tier = auto
 
   double collisions_per_second() const {
     return result.wall_seconds > 0 ? static_cast<double>(result.tally.collisions) / result.wall_seconds : 0.0;

@@ -153,6 +153,12 @@ std::string omega(const std::string& value, long long terms, const std::string& 
 }
 
 /// summary.json's document, f_L.csv at `resolution` bins, and each covering's segments csv.
+/// `rotleak predict --json`'s document for a scene file with overrides (milliseconds: the GIL is kept).
+std::string predict(const std::string& scene, const std::vector<std::string>& overrides) {
+  const rotleak::Scene sc = rotleak::load_scene(scene, overrides);
+  return rotleak::prediction_document(sc, rotleak::predict_tail(sc)).dump(2);
+}
+
 py::tuple covering(const std::vector<std::string>& omegas, const std::vector<std::string>& deltas,
                    const std::string& lambda, const std::string& d, const std::string& r, int resolution) {
   if (resolution < 1 || resolution > 10000000)
@@ -196,6 +202,8 @@ PYBIND11_MODULE(_rotleak, m) {
         "Runs `rotleak calibrate` into a directory; returns calibration.json's text.");
   m.def("omega", &omega, py::arg("value"), py::arg("terms"), py::arg("max_den"), py::arg("eps"), py::arg("digits"),
         py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
+  m.def("predict", &predict, py::arg("scene"), py::arg("overrides"),
+        "The covering model's tail for a scene: rotleak predict --json's document");
   m.def("covering", &covering, py::arg("omegas"), py::arg("deltas"), py::arg("lam"), py::arg("d"), py::arg("r"),
         py::arg("resolution"), "(summary.json text, f_L.csv text, [segments csv]) of `rotleak covering`.");
 }

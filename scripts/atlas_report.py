@@ -59,23 +59,26 @@ def big_q(omega, r=1):
 
 
 def rows_of(out, name):
-    table = pandas.read_csv(os.path.join(out, name, "table.csv"), dtype={"leak.omega": str, "tail": str,
+    table = pandas.read_csv(os.path.join(out, name, "table.csv"), dtype={"leak.omega": str, "tail": str, "predicted_tail": str,
                                                                       "regime": str, "cf_2r_omega": str},
                             keep_default_na=False,
                             na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err", "alpha_syst",
                                                          "alpha_bound", "tail_end", "tail_amplitude",
-                                                         "tail_amplitude_err", "tail_amplitude_syst"]})
+                                                         "tail_amplitude_err", "tail_amplitude_syst",
+                                                         "predicted_amplitude", "predicted_tail_end"]})
     with open(os.path.join(out, name, "scan.json"), encoding="utf-8") as f:
         doc = json.load(f)
     seconds = sum(p.get("wall_seconds", 0) or 0 for p in doc["points"])
     rows = []
     for (_, t), p in zip(table.iterrows(), doc["points"]):
+        scene = point_scene(out, name, p)
         w = t["leak.omega"]
         q = rational(w)
         fam = family(w)
         near = p["tail"].get("near_rational")
         amp = p["tail"].get("amplitude") or {}
         end_range = p["tail"].get("tail_end_range")
+        fall = tail_fall(out, name, p, amp.get("from")) if fam else (None, None)
         rows.append({"set": name, "omega": w, "value": omega_value(w, t["cf_2r_omega"]),
                      "Q": big_q(q) if q is not None else (big_q(fam[0]) if fam else None),
                      "base": fam[0] if fam else None, "eps": fam[1] if fam else None,
@@ -83,7 +86,10 @@ def rows_of(out, name):
                      "alpha_syst": t["alpha_syst"], "alpha_bound": t["alpha_bound"], "C": t["tail_amplitude"],
                      "C_err": t["tail_amplitude_err"], "C_syst": t["tail_amplitude_syst"], "tail": t["tail"],
                      "regime": t["regime"], "tail_end": t["tail_end"],
-                     "near": near["rational"] if near else "", "t_max": p_t_max(out, name, p),
+                     "near": near["rational"] if near else "", "t_max": scene["run"]["t_max"],
+                     "d": scene["stadium"]["d"], "r": scene["stadium"]["r"], "width": scene["leak"]["width"],
+                     "pred_tail": t["predicted_tail"], "pred_C": t["predicted_amplitude"],
+                     "pred_end": t["predicted_tail_end"], "end_half": fall[0], "end_tenth": fall[1],
                      "height": amp.get("height"), "height_err": amp.get("height_error"), "from": amp.get("from"),
                      "end_lo": end_range[0] if end_range else None, "end_hi": end_range[1] if end_range else None})
     return rows, seconds
@@ -105,10 +111,24 @@ def omega_value(text, cf_2r_omega, r=1):
     return float(x) / (2 * r)
 
 
-def p_t_max(out, name, point):
+def tail_fall(out, name, point, start):
+    """The measured end in the model's terms: the first times past `start` (the tail amplitude's `from`) where
+    t P(t) falls to a half and to a tenth of its largest value past `start` (None: not before t_max)."""
+    if not isnum(start):
+        return None, None
+    s = pandas.read_csv(os.path.join(out, name, "points", point["point"], "survival.csv"))
+    s = s[s["t"] >= start]
+    tp = s["t"] * s["P"]
+    top = tp.max()
+    half, tenth = s[tp < 0.5 * top]["t"], s[tp < 0.1 * top]["t"]
+    return (float(half.iloc[0]) if len(half) else None), (float(tenth.iloc[0]) if len(tenth) else None)
+
+
+def point_scene(out, name, point):
+    """The scene a point ran (its summary.json): t_max, the stadium and the leak width."""
     path = os.path.join(out, name, "points", point["point"], "summary.json")
     with open(path, encoding="utf-8") as f:
-        return json.load(f)["scene"]["run"]["t_max"]
+        return json.load(f)["scene"]
 
 
 def fmt(v, e=None, s=None, digits=3):
@@ -216,6 +236,100 @@ def alpha_figure(rows, docs):
     finish(fig, ax, os.path.join(docs, "alpha_vs_omega.png"), "omega", "alpha", "alpha against omega", logx=False)
 
 
+def measured_forms(r):
+    """A tail was seen: a class other than none (unresolved: seen, alpha not resolved)."""
+    return r["tail"] in ("persistent", "transient", "unresolved")
+
+
+def end_check(r):
+    """The predicted end against the measured bracket [end_lo, end_hi] (the rule's own error): the relative
+    distance to the bracket, 0 inside it."""
+    lo, hi, p = r["end_lo"], r["end_hi"], r["pred_end"]
+    return 0.0 if lo <= p <= hi else (p / hi - 1 if p > hi else p / lo - 1)
+
+
+def prediction_section(rows, docs):
+    """The covering model (docs/model.md, "Predicting the tail from omega") against the atlas: C on exact
+    rationals, the tail-forms verdict everywhere, the end on the eps families; the test half is the odd rows of
+    atlas.csv (numbered from 1), the other half is where constants would be fitted (the model has none)."""
+    lines = ["", "## The covering model against the atlas", "",
+             "Predicted by `rotleak predict` (every point's summary.json `predicted.tail`, the scan table's "
+             "`predicted_*` columns); the model has no fitted constant, so both halves are test data; the odd "
+             "rows of atlas.csv (numbered from 1) are the declared test half.", ""]
+    main = [r for r in rows if r["d"] == "2" and r["r"] == "1" and r["width"] == "0.01"]
+    for i, r in enumerate(rows):
+        r["half"] = "test" if i % 2 == 0 else "fit"
+
+    def c_rows(sel):
+        return [r for r in sel if r["eps"] is None and isnum(r["C"]) and isnum(r["pred_C"]) and r["pred_C"] > 0]
+
+    lines += ["| C (exact rationals, d = 2, lambda = 0.01) | half | Q | points | median error | worst error (omega) |",
+              "|---|---|---|---|---|---|"]
+    for half in ("test", "fit"):
+        for parity, name in ((0, "even"), (1, "odd")):
+            sel = [r for r in c_rows(main) if r["half"] == half and r["Q"] is not None and r["Q"] % 2 == parity]
+            if not sel:
+                continue
+            err = sorted((abs(r["pred_C"] / r["C"] - 1), r["omega"]) for r in sel)
+            lines.append("| | %s | %s | %d | %.1f%% | %.1f%% (%s) |" % (
+                half, name, len(sel), 100 * err[len(err) // 2][0], 100 * err[-1][0], err[-1][1]))
+    verdict = [r for r in rows if r["pred_tail"] in ("forms", "none")]
+    lines += ["", "| tail forms? | half | points | right | wrong (omega: measured, predicted) |", "|---|---|---|---|---|"]
+    for half in ("test", "fit"):
+        sel = [r for r in verdict if r["half"] == half]
+        wrong = [r for r in sel if measured_forms(r) != (r["pred_tail"] == "forms")]
+        lines.append("| | %s | %d | %.1f%% | %s |" % (half, len(sel), 100 * (1 - len(wrong) / max(1, len(sel))),
+                                                    ", ".join("%s %s: %s, %s" % (r["set"], r["omega"], r["tail"], r["pred_tail"])
+                                                              for r in wrong) or "-"))
+    ends = [r for r in rows if r["eps"] is not None and isnum(r["pred_end"]) and (isnum(r["end_tenth"]) or
+                                                                                  isnum(r["tail_end"]))]
+    if ends:
+        lines += ["", "The end, measured as the model defines it: the first time past the tail's start where t P falls "
+                  "to a tenth of its largest value (`end_tenth`; a half: `end_half`), beside the tail-class rule's "
+                  "end and its bracket [lo, hi].", "",
+                  "| eps family | d | lambda | omega | measured end_tenth (end_half) | predicted end (half) | predicted / "
+                  "measured | rule's end [lo, hi] |", "|---|---|---|---|---|---|---|---|"]
+        for r in ends:
+            ratio = "%.2f" % (r["pred_end"] / r["end_tenth"]) if isnum(r["end_tenth"]) else "-"
+            lines.append("| %s | %s | %s | %s | %s (%s) | %.4g | %s | %s |" % (
+                r["set"], r["d"], r["width"], r["omega"], fmt(r["end_tenth"], digits=4), fmt(r["end_half"], digits=4),
+                r["pred_end"], ratio, "%.4g [%.4g, %.4g]" % (r["tail_end"], r["end_lo"], r["end_hi"])
+                if isnum(r["tail_end"]) else "-"))
+        both = [r for r in ends if isnum(r["end_tenth"])]
+        inside = sum(abs(r["pred_end"] / r["end_tenth"] - 1) <= 0.25 for r in both)
+        bracket = [r for r in ends if isnum(r["tail_end"])]
+        in_bracket = sum(abs(end_check(r)) <= 0.25 for r in bracket)
+        lines += ["", "Predicted ends within 25%% of the measured end_tenth: %d of %d; within 25%% of the rule's "
+                  "bracket: %d of %d." % (inside, len(both), in_bracket, len(bracket))]
+    other = [r for r in rows if r not in main and (isnum(r["C"]) or isnum(r["pred_C"]))]
+    if other:
+        lines += ["", "| other stadiums and leaks | d | lambda | omega | measured C | predicted C | ratio | tail, "
+                  "predicted |", "|---|---|---|---|---|---|---|---|"]
+        for r in other:
+            ratio = "%.3f" % (r["pred_C"] / r["C"]) if isnum(r["C"]) and isnum(r["pred_C"]) else "-"
+            lines.append("| %s | %s | %s | %s | %s | %s | %s | %s, %s |" % (
+                r["set"], r["d"], r["width"], r["omega"], fmt(r["C"], r["C_err"], r["C_syst"]),
+                "%.4g" % r["pred_C"] if isnum(r["pred_C"]) else "-", ratio, r["tail"], r["pred_tail"] or "-"))
+    have = c_rows(rows)
+    if have:
+        fig, ax = plt.subplots(figsize=(6.4, 5.6))
+        for parity, marker, colour in ((0, "s", "C0"), (1, "o", "C3")):
+            sel = [r for r in have if r["Q"] is not None and r["Q"] % 2 == parity and r in main]
+            ax.errorbar([r["pred_C"] for r in sel], [r["C"] for r in sel], yerr=[r["C_err"] for r in sel], fmt=marker,
+                        ms=4, color=colour, lw=0.7, label="%s Q (d = 2, lambda = 0.01)" % ("even" if parity == 0 else "odd"))
+        sel = [r for r in have if r not in main or r["Q"] is None]
+        if sel:
+            ax.errorbar([r["pred_C"] for r in sel], [r["C"] for r in sel], yerr=[r["C_err"] for r in sel], fmt="D",
+                        ms=4, color="C2", lw=0.7, label="other d or lambda; irrationals")
+        lo, hi = min(r["pred_C"] for r in have) / 1.5, max(r["pred_C"] for r in have) * 1.5
+        ax.plot([lo, hi], [lo, hi], "k-", lw=0.8, label="measured = predicted")
+        ax.set_yscale("log")
+        finish(fig, ax, os.path.join(docs, "C_predicted.png"), "predicted C (covering model, no fitted constant)",
+               "measured C", "tail amplitude: the model against the atlas")
+        lines += ["", "![C predicted](C_predicted.png)"]
+    return lines
+
+
 def main(argv):
     if len(argv) != 5:
         sys.exit("usage: atlas_report.py OUT DOCS PARTICLES SECONDS")
@@ -232,7 +346,7 @@ def main(argv):
     drawn = figures(rows, docs)
     cols = ["set", "omega", "Q", "kappa", "kappa_err", "alpha", "alpha_err", "alpha_syst", "alpha_bound", "C",
             "C_err", "C_syst", "height", "height_err", "from", "tail", "regime", "tail_end", "end_lo", "end_hi", "near",
-            "t_max"]
+            "t_max", "d", "r", "width", "end_half", "end_tenth", "pred_tail", "pred_C", "pred_end"]
     tmp = os.path.join(docs, ".atlas.csv.tmp")
     pandas.DataFrame([{c: r[c] for c in cols} for r in rows], columns=cols).to_csv(tmp, index=False)
     os.replace(tmp, os.path.join(docs, "atlas.csv"))
@@ -266,6 +380,7 @@ def main(argv):
         lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             r["set"], r["omega"], r["Q"] if r["Q"] is not None else "-", fmt(r["kappa"], r["kappa_err"], digits=4),
             alpha, amp, r["tail"], regime, end))
+    lines += prediction_section(rows, docs)
     tmp = os.path.join(docs, ".README.md.tmp")
     with open(tmp, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")

@@ -10,6 +10,10 @@ Or run in process, the same library as ``rotleak simulate`` without the disk::
     run = rotleak.simulate("quickstart.toml", particles=10**6, threads=2, leak_omega="2/3")
     run.summary["kappa"], run.survival                # the same object read_run gives
 
+The covering model's tail for a scene, without a run (docs/model.md, "Predicting the tail from omega")::
+
+    rotleak.predict("quickstart.toml", leak_omega="1/3")["amplitude"]   # C = 0.405 in P ~ C / t
+
 Exact number theory of the leak's speed and its MUPO covering::
 
     rotleak.omega("70/71")["convergents"]            # exact, as strings; .fractions() as Fractions
@@ -30,7 +34,7 @@ except ImportError:  # the source tree's python/, not a build or an install
 from .readers import SCHEMA, Calibration, RotleakError, Run, Scan, read_calibration, read_run, read_scan
 
 __all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "read_run", "read_scan",
-           "read_calibration", "simulate", "calibrate", "omega", "covering", "Omega", "Covering"]
+           "read_calibration", "simulate", "calibrate", "predict", "omega", "covering", "Omega", "Covering"]
 
 # scene sections, for keyword overrides: leak_omega="2/3" is --set leak.omega=2/3
 _SECTIONS = ("stadium", "leak", "ensemble", "run", "observe", "fit")
@@ -105,6 +109,15 @@ def calibrate(scene, seeds, out, particles=None, first_seed=1, threads=0, force=
     _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
                         os.fspath(out), int(threads), bool(force))
     return read_calibration(out)
+
+
+def predict(scene, set=(), **overrides):
+    """The covering model's tail for a scene, without running it (milliseconds): ``rotleak predict --json``'s
+    document as a dict -- ``forms``, ``amplitude`` (C in P ~ C / t) with ``amplitude_error``, ``end``,
+    ``rational``, ``Q``, ``eps``, ``regime``, ``note``, ``candidates`` (docs/output.md). ``set`` and keyword
+    overrides as for :func:`simulate` (leak_omega="2/5+1e-5")."""
+    texts = _scene_arguments(scene, None, 0, set, overrides)
+    return json.loads(_module().predict(os.fspath(scene), texts))
 
 
 def _scene_arguments(scene, particles, threads, set, overrides):

@@ -261,7 +261,7 @@ class Scan:
     def table(self):
         """table.csv: the swept keys (exact texts, as strings), the fits, the regime, the number theory."""
         if self._table is None:
-            text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation"]
+            text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation", "predicted_tail"]
             pandas = _pandas()
             try:
                 self._table = pandas.read_csv(os.path.join(self.path, "table.csv"),
@@ -269,7 +269,8 @@ class Scan:
                                               na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
                                                                            "alpha_syst", "alpha_bound", "tail_end",
                                                                            "tail_amplitude", "tail_amplitude_err",
-                                                                           "tail_amplitude_syst", "tau1", "tau2",
+                                                                           "tail_amplitude_syst", "predicted_amplitude",
+                                                                           "predicted_tail_end", "tau1", "tau2",
                                                                            "best_error"]})
             except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
                 raise RotleakError("%s: table.csv: not a table rotleak wrote (%s)"

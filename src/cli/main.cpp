@@ -28,11 +28,11 @@ int main(int argc, char** argv) {
                                 ? std::string("; ROTLEAK_SIMD_LANES = ") + std::getenv("ROTLEAK_SIMD_LANES")
                                 : std::string()));
   const std::vector<rotleak::cli::Command> commands{
-      rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),     rotleak::cli::add_omega(app),
-      rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),   rotleak::cli::add_lyapunov(app),
-      rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app),  rotleak::cli::add_verify(app),
-      rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),      rotleak::cli::add_regimes(app),
-      rotleak::cli::add_merge(app),    rotleak::cli::add_calibrate(app)};
+      rotleak::cli::add_simulate(app), rotleak::cli::add_plot(app),      rotleak::cli::add_omega(app),
+      rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),    rotleak::cli::add_lyapunov(app),
+      rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app),   rotleak::cli::add_verify(app),
+      rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),       rotleak::cli::add_regimes(app),
+      rotleak::cli::add_merge(app),    rotleak::cli::add_calibrate(app), rotleak::cli::add_predict(app)};
   // where a command has positional arguments, an option takes one value per use (`--set a=1 --set b=2`):
   // a repeatable option that took every following word swallowed the scene (`--set leak.omega=2/3 SCENE`
   // said "scene is required"). Commands without positionals keep lists (`covering --omega 2/3 1e-4`).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -270,6 +271,11 @@ void put_fits(json& s, const RunSummary& r) {
       {"resolved_until", alpha.resolved_until},
       {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
       {"note", alpha.note}};
+  s["alpha"]["from_amplitude"] = r.alpha_c.value ? json{{"value", *r.alpha_c.value},
+                                                        {"error", r.alpha_c.std_error},
+                                                        {"crossing_time", r.alpha_c.crossing_time},
+                                                        {"note", r.alpha_c.note}}
+                                                 : json(nullptr);
   s["tail_exponent"] = {{"value", nullable(tail.z)},      {"error", tail.z ? json(tail.std_error) : json(nullptr)},
                         {"window", {tail.from, tail.to}}, {"points", tail.points},
                         {"method", tail.method},          {"note", tail.note}};
@@ -304,6 +310,71 @@ void put_fits(json& s, const RunSummary& r) {
   s["predicted"] = {{"tau1", nullable(r.leak_times.tau1)},
                     {"tau2", nullable(r.leak_times.tau2)},
                     {"omega_sweep", r.leak_times.omega_sweep}};
+  s["predicted"]["tail"] = r.prediction ? prediction_json(*r.prediction) : json(nullptr);
+}
+
+json prediction_json(const TailPrediction& p) {
+  json cands = json::array();
+  for (const LatticeTail& l : p.candidates)
+    cands.push_back({{"rational", l.rational},
+                     {"Q", l.Q},
+                     {"eps", l.eps},
+                     {"amplitude", l.amplitude},
+                     {"free_fraction", l.free_fraction},
+                     {"crossing", std::isfinite(l.crossing) ? json(l.crossing) : json(nullptr)},
+                     {"end", nullable(l.end)},
+                     {"forms", l.forms}});
+  return {{"forms", p.forms},
+          {"amplitude", p.amplitude},
+          {"amplitude_error", p.amplitude * kModelAmplitudeError},
+          {"end", nullable(p.end)},
+          {"half", nullable(p.half)},
+          {"rational", p.rational.empty() ? json(nullptr) : json(p.rational)},
+          {"Q", p.Q},
+          {"eps", p.eps},
+          {"crossing", std::isfinite(p.crossing) ? json(p.crossing) : json(nullptr)},
+          {"kappa0", p.kappa0},
+          {"free_fraction", p.free_fraction},
+          {"regime", p.regime},
+          {"note", p.note},
+          {"candidates", cands}};
+}
+
+json prediction_document(const Scene& scene, const TailPrediction& p) {
+  json doc = prediction_json(p);
+  doc["scene"] = {{"d", scene.d_text},         {"r", scene.r_text},         {"width", scene.width_text},
+                  {"start", scene.start_text}, {"omega", scene.omega_text}, {"t_max", scene.t_max}};
+  return doc;
+}
+
+std::string prediction_text(const TailPrediction& p) {
+  std::string out;
+  appendf(out, "tail     : %s (regime %s)\n", p.forms ? "forms" : "none", p.regime.c_str());
+  if (!p.rational.empty()) {
+    appendf(out, "C        = %.4g +- %.2g (model)   (P ~ C / t from the lattice of 2 r omega = %s, Q = %lld)\n",
+            p.amplitude, p.amplitude * kModelAmplitudeError, p.rational.c_str(), p.Q);
+    if (p.end) appendf(out, "end      : t ~ %.4g (t P at a tenth of C; half by t ~ %.4g)\n", *p.end, *p.half);
+    if (std::isfinite(p.crossing))
+      appendf(out, "crossing : t ~ %.4g (C / t = exp(-kappa0 t), kappa0 = %.4g)\n", p.crossing, p.kappa0);
+  }
+  appendf(out, "note     : %s\n", p.note.c_str());
+  return out;
+}
+
+std::string prediction_check(const TailPrediction& p, const TailAmplitude& m) {
+  if (!p.forms && !m.value) return "no tail, as predicted";
+  std::string out;
+  if (!m.value) {
+    if (p.forms) appendf(out, "predicted a tail (C = %.4g), none measured", p.amplitude);
+    return out;
+  }
+  if (!p.forms) return "a tail measured where the model predicts none";
+  const double model = p.amplitude * kModelAmplitudeError;
+  const double err = std::sqrt(m.std_error * m.std_error + m.drift * m.drift + model * model);
+  const double z = (*m.value - p.amplitude) / err;
+  appendf(out, "predicted C = %.4g (2 r omega = %s), measured %.4g: %+.1f errors (model's %.0f%% included)",
+          p.amplitude, p.rational.c_str(), *m.value, z, 100 * kModelAmplitudeError);
+  return (std::abs(z) <= 2 ? "tail as predicted: " : "tail NOT as predicted: ") + out;
 }
 
 json execution_json(json fields) {
@@ -394,6 +465,9 @@ std::string summary_text(const RunSummary& r) {
             "warning: alpha is unreliable below %.3g, the reach of the mupo scheme's uniform share at this particle "
             "count; set run.splitting = true\n",
             *alpha.uniform_reach);
+  if (r.alpha_c.value)
+    appendf(out, "alpha_C = %.3g +- %.2g   (from A exp(-kappa t) + C / t: %g x the fit at t = %.6g)\n",
+            *r.alpha_c.value, r.alpha_c.std_error, alpha.factor, r.alpha_c.crossing_time);
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);
@@ -412,6 +486,10 @@ std::string summary_text(const RunSummary& r) {
     appendf(out, "; predicted: leading edge on the lower edge from tau1 = %.6g to tau2 = %.6g", *r.leak_times.tau1,
             *r.leak_times.tau2);
   out += "\n";
+  if (r.prediction) {
+    const std::string check = prediction_check(*r.prediction, r.amplitude);
+    if (!check.empty()) out += "model : " + check + "\n";
+  }
   if (r.tail_class.resolve_particles)
     appendf(out, "        %s: about %.2g particles would %s (%s)\n",
             r.tail_class.tail == "none" ? "undecided, no tail seen above the bound only"

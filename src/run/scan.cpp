@@ -200,7 +200,7 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
   out +=
       "kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tail_amplitude,tail_amplitude_err,"
-      "tail_amplitude_syst,tau1,tau2,omega_sweep,cf_2r_omega,"
+      "tail_amplitude_syst,predicted_tail,predicted_amplitude,predicted_tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
       "best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
@@ -221,6 +221,14 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
       const json& am = tail.at("amplitude");
       out +=
           csv_number(am.at("value")) + "," + csv_number(am.at("error")) + "," + csv_number(am.at("systematic")) + ",";
+    } else {
+      out += ",,,";
+    }
+    // the covering model's tail (absent from summaries written before it existed: empty)
+    if (pred.contains("tail") && pred.at("tail").is_object()) {
+      const json& pt = pred.at("tail");
+      out += std::string(pt.at("forms").get<bool>() ? "forms" : "none") + "," + csv_number(pt.at("amplitude")) + "," +
+             csv_number(pt.at("end")) + ",";
     } else {
       out += ",,,";
     }

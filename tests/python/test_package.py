@@ -4,6 +4,7 @@ progress callback, the GIL released while it runs, Ctrl-C, omega and covering.
 
 Run by CTest as: PYTHONPATH=BUILD/python /usr/bin/python3 -m unittest tests/python/test_package.py
 with ROTLEAK_BINARY and ROTLEAK_SOURCE set."""
+import csv
 import json
 import os
 import shutil
@@ -247,7 +248,7 @@ class Package(unittest.TestCase):
         scan = rotleak.read_scan(self.scan_dir)
         t = scan.table
         self.assertEqual(t["leak.omega"].tolist(), ["0", "1", "2/3"])
-        self.assertEqual(t.shape, (3, 23))  # the swept key, then the 22 columns docs/output.md lists
+        self.assertEqual(t.shape, (3, 26))  # the swept key, then the 25 columns docs/output.md lists
         self.assertTrue(pd.api.types.is_float_dtype(t["kappa"]))
         self.assertEqual(t["particles"].tolist(), [4000] * 3)
         self.assertEqual(sorted(scan.points), sorted(scan.point_names))
@@ -341,6 +342,27 @@ class Package(unittest.TestCase):
         self.assertEqual(p.returncode, 3, out)
         self.assertIn("interrupted: rotleak.simulate interrupted", out)
         self.assertLess(out.count("p\n"), 1000, "the run went on after Ctrl-C")
+
+    def test_predict_matches_the_command_the_summary_and_the_scan_table(self):
+        p = rotleak.predict(QUICK, leak_omega="2/3")
+        cl = json.loads(subprocess.run([BIN, "predict", QUICK, "--set", "leak.omega=2/3", "--json"], check=True,
+                                       capture_output=True, text=True).stdout)
+        self.assertEqual(p, cl)
+        self.assertEqual((p["forms"], p["rational"], p["Q"], p["regime"]), (True, "4/3", 3, "high"))
+        # the run's summary.json carries the same prediction (less the scene), the scan table its columns
+        with open(os.path.join(self.run_dir, "summary.json")) as f:
+            tail = json.load(f)["predicted"]["tail"]
+        self.assertEqual(tail, {k: v for k, v in p.items() if k != "scene"})
+        table = rotleak.read_scan(self.scan_dir).table
+        with open(os.path.join(self.scan_dir, "table.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        for (_, row), raw in zip(table.iterrows(), rows):
+            want = rotleak.predict(QUICK, leak_omega=row["leak.omega"])
+            self.assertEqual(row["predicted_tail"], "forms" if want["forms"] else "none")
+            self.assertAlmostEqual(row["predicted_amplitude"], want["amplitude"], delta=1e-12 * want["amplitude"])
+            self.assertEqual(raw["predicted_tail_end"], "" if want["end"] is None else raw["predicted_tail_end"])
+        with self.assertRaisesRegex(ValueError, "leak.width"):
+            rotleak.predict(QUICK, leak_width="0.7")
 
     def test_omega_and_covering_match_the_command(self):
         o = rotleak.omega("70/71")
