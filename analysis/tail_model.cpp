@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -192,8 +191,7 @@ TailPrediction predict_tail(const Scene& scene) {
   if (!(g.lambda > 0) || g.lambda >= 0.5)
     throw InputError("leak.width", scene.width_text, "the tail model needs 0 < width < 1/2");
   TailPrediction out;
-  const Stadium<double> st(scene.d, scene.r);
-  out.kappa0 = g.lambda * g.L / (std::numbers::pi * st.area());
+  out.kappa0 = small_hole_rate(scene);
   const int sign = scene.omega.sign();
   const double start = mirrored_start(scene);
   const auto evaluate = [&](const mpq_class& rational, double eps) {

@@ -13,10 +13,11 @@ std::string to_string(SamplingKind k) { return k == SamplingKind::uniform ? "uni
 
 std::size_t Scene::survival_bins() const { return static_cast<std::size_t>(std::ceil(t_max / survival_dt)); }
 
-double default_split_every(const Scene& scene) {
+double small_hole_rate(const Scene& scene) {
   const Stadium<double> st(scene.d, scene.r);
-  const double rate = scene.width.to_double() * st.perimeter() / (std::numbers::pi * st.area());
-  return std::numbers::ln2 / rate;
+  return scene.width.to_double() * st.perimeter() / (std::numbers::pi * st.area());
 }
+
+double default_split_every(const Scene& scene) { return std::numbers::ln2 / small_hole_rate(scene); }
 
 }  // namespace rotleak

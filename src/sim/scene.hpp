@@ -94,6 +94,10 @@ struct Scene {
   std::size_t survival_bins() const;
 };
 
+/// The small-hole escape rate of the chaotic sea, lambda L / (pi Area): the share lambda of collisions that land in
+/// the leak, one collision per mean free path pi Area / L (0.004583 for d = 2, r = 1, lambda = 0.01).
+double small_hole_rate(const Scene& scene);
+
 /// ln 2 over the small-hole escape rate lambda L / (pi Area) (lambda L the leak's length): the time in
 /// which a chaotic population halves, so that splitting in two at that pace keeps it about constant
 /// (151.2 for d = 2, r = 1, lambda = 0.01).
