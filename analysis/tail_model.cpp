@@ -252,6 +252,13 @@ TailPrediction predict_tail(const Scene& scene) {
   out.eps = pick->eps;
   out.crossing = pick->crossing;
   out.free_fraction = pick->free_fraction;
+  if (pick->end && std::isfinite(pick->crossing) && 1.5 * *pick->end > pick->crossing) {
+    std::vector<double> times;
+    const double a = std::log(pick->crossing), b = std::log(1.5 * *pick->end);
+    for (int i = 0; i < 24; ++i) times.push_back(std::exp(a + (b - a) * i / 23));
+    const std::vector<double> tP = predicted_tP(scene, *pick, times);
+    for (std::size_t i = 0; i < times.size(); ++i) out.curve.emplace_back(times[i], tP[i]);
+  }
   const bool slow = pick->rational == "0";
   if (sign == 0)
     out.regime = "stationary";

@@ -15,6 +15,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/scene.hpp"
@@ -56,6 +57,9 @@ struct TailPrediction {
   std::string regime;  ///< stationary, low (slow leak, tail swept), near-rational (transient), high, mid
   std::string note;
   std::vector<LatticeTail> candidates;  ///< every rational considered (best approximations of 2 r omega)
+  /// Off the rational: the model's t P(t) at 24 log-spaced times from the crossing to 1.5 x end (empty on it,
+  /// where t P = C throughout)
+  std::vector<std::pair<double, double>> curve;
 };
 
 /// The model's prediction for a scene (its stadium, leak width, start and omega; t_max decides "forms").

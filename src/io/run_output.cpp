@@ -337,7 +337,8 @@ json prediction_json(const TailPrediction& p) {
           {"free_fraction", p.free_fraction},
           {"regime", p.regime},
           {"note", p.note},
-          {"candidates", cands}};
+          {"candidates", cands},
+          {"curve", p.curve.empty() ? json(nullptr) : json(p.curve)}};
 }
 
 json prediction_document(const Scene& scene, const TailPrediction& p) {
@@ -361,19 +362,33 @@ std::string prediction_text(const TailPrediction& p) {
   return out;
 }
 
-std::string prediction_check(const TailPrediction& p, const TailAmplitude& m) {
-  if (!p.forms && !m.value) return "no tail, as predicted";
+std::string prediction_check(const TailPrediction& p, const TailAmplitude& m, const TailClass& k) {
+  // a tail is seen when the class is not none (unresolved: seen, its weight not resolved)
+  const bool seen = k.tail != "none";
   std::string out;
-  if (!m.value) {
-    if (p.forms) appendf(out, "predicted a tail (C = %.4g), none measured", p.amplitude);
+  if (!p.forms)
+    return seen ? "a tail measured where the model predicts none (" + p.note + ")" : "no tail, as predicted";
+  if (!seen) {
+    appendf(out, "predicted a tail (C = %.4g, 2 r omega = %s), none measured", p.amplitude, p.rational.c_str());
     return out;
   }
-  if (!p.forms) return "a tail measured where the model predicts none";
+  const std::string ends =
+      p.end && k.tail_end ? [&] {
+        std::string e;
+        appendf(e, "; end: measured %.4g, predicted %.4g (t P at a tenth of C)", *k.tail_end, *p.end);
+        return e;
+      }()
+                          : std::string();
+  if (!m.value) {
+    appendf(out, "a %s tail, as predicted (no flat t P to compare C with: t P = %.3g at t = %g, model C = %.4g)%s",
+            k.tail.c_str(), m.height, m.from, p.amplitude, ends.c_str());
+    return out;
+  }
   const double model = p.amplitude * kModelAmplitudeError;
   const double err = std::sqrt(m.std_error * m.std_error + m.drift * m.drift + model * model);
   const double z = (*m.value - p.amplitude) / err;
-  appendf(out, "predicted C = %.4g (2 r omega = %s), measured %.4g: %+.1f errors (model's %.0f%% included)",
-          p.amplitude, p.rational.c_str(), *m.value, z, 100 * kModelAmplitudeError);
+  appendf(out, "predicted C = %.4g (2 r omega = %s), measured %.4g: %+.1f errors (model's %.0f%% included)%s",
+          p.amplitude, p.rational.c_str(), *m.value, z, 100 * kModelAmplitudeError, ends.c_str());
   return (std::abs(z) <= 2 ? "tail as predicted: " : "tail NOT as predicted: ") + out;
 }
 
@@ -487,7 +502,7 @@ std::string summary_text(const RunSummary& r) {
             *r.leak_times.tau2);
   out += "\n";
   if (r.prediction) {
-    const std::string check = prediction_check(*r.prediction, r.amplitude);
+    const std::string check = prediction_check(*r.prediction, r.amplitude, r.tail_class);
     if (!check.empty()) out += "model : " + check + "\n";
   }
   if (r.tail_class.resolve_particles)

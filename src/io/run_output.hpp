@@ -48,8 +48,9 @@ json prediction_json(const TailPrediction& p);
 json prediction_document(const Scene& scene, const TailPrediction& p);
 /// It in words, a few lines (`rotleak predict`).
 std::string prediction_text(const TailPrediction& p);
-/// Measured against predicted C: "tail as predicted (...)" or how far off, in errors (the summary's line).
-std::string prediction_check(const TailPrediction& p, const TailAmplitude& measured);
+/// Measured against predicted: whether a tail was seen as predicted, C against C in errors ("tail as predicted"
+/// or "tail NOT as predicted"), the ends where both have one (the summary's "model" line).
+std::string prediction_check(const TailPrediction& p, const TailAmplitude& measured, const TailClass& k);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);
 

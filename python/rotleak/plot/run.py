@@ -62,6 +62,19 @@ def survival(run, summary):
         ax3.fill_between([amp["from"], amp["to"]], [c - e] * 2, [c + e] * 2, color="C3", alpha=0.2, lw=0)
     else:
         ax3.set_title("t P(t): no amplitude\n" + textwrap.fill(amp.get("note", "not measured"), 70), fontsize=7)
+    # the covering model's C (docs/model.md "Predicting the tail from omega") from where it crosses the chaotic
+    # part, with its stated error, and its end off a rational
+    model = (summary.get("predicted") or {}).get("tail")
+    if model and model.get("forms") and model.get("crossing"):
+        c, e = model["amplitude"], model["amplitude_error"]
+        curve = model.get("curve") or [[model["crossing"], c], [t[-1], c]]  # off a rational: its sweep
+        ct, cy = [x for x, _ in curve if x <= t[-1]], [y for x, y in curve if x <= t[-1]]
+        ax3.plot(ct, cy, color="C2", lw=1.2, ls="--",
+                 label="model: C = %.3g +- %.2g (2 r omega = %s)" % (c, e, model["rational"]))
+        ax3.fill_between(ct, [y * (1 - e / c) for y in cy], [y * (1 + e / c) for y in cy], color="C2", alpha=0.12,
+                         lw=0)
+        if model.get("end") is not None and model["end"] < t[-1]:
+            ax3.axvline(model["end"], color="C2", lw=0.8, ls=":", label="model: tail gone by t ~ %.3g" % model["end"])
     ax3.set_xscale("log")
     ax3.set_yscale("log")
     tp = [x * p for x, p in zip(t, P) if x >= 10 and p > 0]
