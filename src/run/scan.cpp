@@ -253,7 +253,7 @@ std::string scan_table_text(const json& document) {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> head;
   for (const json& a : document.at("axes")) head.push_back(a.at("key").get<std::string>());
-  for (const char* h : {"kappa", "alpha", "C", "tail", "regime", "particles"}) head.emplace_back(h);
+  for (const char* h : {"kappa", "alpha", "C", "C model", "tail", "regime", "particles"}) head.emplace_back(h);
   rows.push_back(head);
   for (const json& p : document.at("points")) {
     std::vector<std::string> r;
@@ -270,6 +270,10 @@ std::string scan_table_text(const json& document) {
     r.push_back(am.contains("value") && am.at("value").is_number()
                     ? g3(am.at("value")) + " +- " + g3(am.at("error")) + " +- " + g3(am.at("systematic"))
                     : "-");
+    // the covering model's C where it predicts a tail ("none" where it does not; "-" before it existed)
+    const json& pred = p.at("predicted");
+    const json model = pred.contains("tail") ? pred.at("tail") : json(nullptr);
+    r.push_back(model.is_object() ? (model.at("forms").get<bool>() ? g3(model.at("amplitude")) : "none") : "-");
     r.push_back(p.at("tail").at("class").get<std::string>());
     r.push_back(p.at("tail").at("regime").get<std::string>());
     r.push_back(csv_number(p.at("particles")));
