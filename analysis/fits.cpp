@@ -456,10 +456,6 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   return f;
 }
 
-namespace {
-
-/// The crossing of C / t with (factor - 1) e^{ln A - kappa t} beyond 1 / kappa (there ln C - ln t - ln((factor - 1)
-/// A) + kappa t rises); nullopt when C / t already lies above at 1 / kappa.
 std::optional<double> two_part_crossing(double C, double log_A, double kappa, double factor) {
   const auto g = [&](double t) { return std::log(C) - std::log(t) - std::log(factor - 1) - log_A + kappa * t; };
   double lo = 1 / kappa, hi = 2 / kappa;
@@ -471,8 +467,6 @@ std::optional<double> two_part_crossing(double C, double log_A, double kappa, do
   }
   return 0.5 * (lo + hi);
 }
-
-}  // namespace
 
 AlphaFromAmplitude alpha_from_amplitude(const KappaFit& k, const TailAmplitude& amp, double factor) {
   AlphaFromAmplitude out;

@@ -116,6 +116,10 @@ struct AlphaFromAmplitude {
   std::string note;
 };
 AlphaFromAmplitude alpha_from_amplitude(const KappaFit& k, const TailAmplitude& amp, double factor = 10);
+/// The crossing of C / t with (factor - 1) e^{ln A - kappa t} beyond 1 / kappa (there ln C - ln t - ln((factor - 1)
+/// A) + kappa t rises), by bisection; nullopt when C / t already lies above at 1 / kappa. alpha_from_amplitude and
+/// the tail model's crossing with the chaotic part (factor 2, A = 1) both solve it.
+std::optional<double> two_part_crossing(double C, double log_A, double kappa, double factor);
 
 KappaFit fit_kappa(const SurvivalCurve& c, double from, double to);
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor = 10, double sigma = 3,

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "analysis/continued_fraction.hpp"
+#include "analysis/fits.hpp"
 #include "geometry/stadium.hpp"
 #include "numeric/input.hpp"
 
@@ -89,9 +90,7 @@ std::pair<double, double> amplitude_of(const Geometry& g, const Lattice& lat) {
   for (int i = 0; i < n; ++i) {
     const double uT = lat.averaged ? (i + 0.5) / n * per : lat.start;
     free_gaps(g, lat, uT, lat.c - uT, gaps, iv);
-    if (iv.empty() ||
-        std::all_of(iv.begin(), iv.end(), [&](const auto& v) { return v.second <= -g.d / 2 || v.first >= g.d / 2; }))
-      ++free;
+    if (gaps.size() == 1 && gaps[0].a == -g.d / 2 && gaps[0].b == g.d / 2) ++free;  // no leak on the edges
     for (const Gap& gp : gaps) sum += gp.weight * (gp.b - gp.a) * (gp.b - gp.a);
   }
   return {sum / n / g.L, static_cast<double>(free) / n};
@@ -135,18 +134,20 @@ double sweep_time(const std::vector<std::pair<double, double>>& samples, double 
   return samples.empty() ? 0 : samples.back().first;
 }
 
-/// Where C / t meets exp(-kappa0 t), beyond 1 / kappa0 (ln C - ln t + kappa0 t rises there).
+/// Where C / t meets exp(-kappa0 t), beyond 1 / kappa0 (at 1 / kappa0 itself when C / t already lies above there).
 double crossing_of(double C, double kappa0) {
   if (!(C > 0)) return std::numeric_limits<double>::infinity();
-  const auto f = [&](double t) { return std::log(C) - std::log(t) + kappa0 * t; };
-  double lo = 1 / kappa0, hi = 2 / kappa0;
-  if (f(lo) >= 0) return lo;
-  while (f(hi) < 0) hi *= 2;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (f(mid) < 0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  return two_part_crossing(C, 0, kappa0, 2).value_or(1 / kappa0);
+}
+
+/// The weight of the sweep not yet removed at t (samples sorted by removal time).
+double remaining(const std::vector<std::pair<double, double>>& samples, double t) {
+  double left = 0;
+  for (auto it =
+           std::upper_bound(samples.begin(), samples.end(), std::make_pair(t, std::numeric_limits<double>::infinity()));
+       it != samples.end(); ++it)
+    left += it->second;
+  return left;
 }
 
 Lattice lattice_of(const mpq_class& rational, double eps, double start) {
@@ -171,21 +172,6 @@ std::string fmt(const char* f, double v) {
 
 }  // namespace
 
-std::vector<double> predicted_tP(const Scene& scene, const LatticeTail& lt, const std::vector<double>& t) {
-  const Lattice lat = lattice_of(mpq_class(lt.rational), lt.eps, mirrored_start(scene));
-  const Geometry g = geometry_of(scene);
-  std::vector<double> out(t.size(), lt.amplitude);
-  if (lt.eps == 0) return out;
-  const auto samples = sweep_samples(g, lat);
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    double left = 0;
-    for (const auto& [tau, w] : samples)
-      if (tau > t[i]) left += w;
-    out[i] = left;
-  }
-  return out;
-}
-
 TailPrediction predict_tail(const Scene& scene) {
   const Geometry g = geometry_of(scene);
   if (!(g.lambda > 0) || g.lambda >= 0.5)
@@ -194,28 +180,33 @@ TailPrediction predict_tail(const Scene& scene) {
   out.kappa0 = small_hole_rate(scene);
   const int sign = scene.omega.sign();
   const double start = mirrored_start(scene);
+  std::vector<std::vector<std::pair<double, double>>> sweeps;  // each candidate's sweep (empty on its rational)
   const auto evaluate = [&](const mpq_class& rational, double eps) {
     LatticeTail lt;
     const mpz_class P = rational.get_num(), Q = rational.get_den();
     lt.rational = Q == 1 ? P.get_str() : rational.get_str();
     lt.Q = Q.get_si();
-    lt.lattice = Q % 2 == 0 ? lt.Q / 2 : lt.Q;
     lt.eps = eps;
     const Lattice lat = lattice_of(rational, eps, start);
+    lt.lattice = lat.q;
     const auto [C, free] = amplitude_of(g, lat);
     lt.amplitude = C;
     lt.free_fraction = free;
     lt.crossing = crossing_of(C, out.kappa0);
+    std::vector<std::pair<double, double>> samples;
     if (eps != 0 && C > 0) {
-      const auto samples = sweep_samples(g, lat);
+      samples = sweep_samples(g, lat);
       lt.half = sweep_time(samples, 0.5);
       lt.end = sweep_time(samples, 0.1);
     }
     lt.forms = C > 0 && lt.crossing < scene.t_max && (!lt.end || lt.crossing < *lt.end);
-    return lt;
+    if (C > 0) {
+      out.candidates.push_back(std::move(lt));
+      sweeps.push_back(std::move(samples));
+    }
   };
   if (sign == 0) {
-    out.candidates.push_back(evaluate(mpq_class(0), 0));
+    evaluate(mpq_class(0), 0);
   } else {
     // every best approximation of |2 r omega| with a denominator small enough to leave gaps (2 q' lambda < 1)
     const ExactReal x =
@@ -224,8 +215,7 @@ TailPrediction predict_tail(const Scene& scene) {
     const BestApproximations best = best_approximations(x, qmax);
     for (const Fraction& f : best.list) {
       const double eps = (x - ExactReal::rational(f.value())).to_double() / (2 * scene.r.to_double());
-      LatticeTail lt = evaluate(f.value(), eps);
-      if (lt.amplitude > 0) out.candidates.push_back(std::move(lt));
+      evaluate(f.value(), eps);
     }
   }
   // the tail that lives longest among those that form; else the one nearest to forming
@@ -256,8 +246,8 @@ TailPrediction predict_tail(const Scene& scene) {
     std::vector<double> times;
     const double a = std::log(pick->crossing), b = std::log(1.5 * *pick->end);
     for (int i = 0; i < 24; ++i) times.push_back(std::exp(a + (b - a) * i / 23));
-    const std::vector<double> tP = predicted_tP(scene, *pick, times);
-    for (std::size_t i = 0; i < times.size(); ++i) out.curve.emplace_back(times[i], tP[i]);
+    const auto& samples = sweeps[static_cast<std::size_t>(pick - out.candidates.data())];
+    for (const double t : times) out.curve.emplace_back(t, remaining(samples, t));
   }
   const bool slow = pick->rational == "0";
   if (sign == 0)

@@ -66,7 +66,4 @@ struct TailPrediction {
 /// Throws InputError (naming leak.width) for a leak of width 1/2 or more, outside the model.
 TailPrediction predict_tail(const Scene& scene);
 
-/// The model's t P(t) at times t for one lattice of the prediction (the sweep of its free gaps).
-std::vector<double> predicted_tP(const Scene& scene, const LatticeTail& lattice, const std::vector<double>& t);
-
 }  // namespace rotleak

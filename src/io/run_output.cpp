@@ -372,13 +372,9 @@ std::string prediction_check(const TailPrediction& p, const TailAmplitude& m, co
     appendf(out, "predicted a tail (C = %.4g, 2 r omega = %s), none measured", p.amplitude, p.rational.c_str());
     return out;
   }
-  const std::string ends =
-      p.end && k.tail_end ? [&] {
-        std::string e;
-        appendf(e, "; end: measured %.4g, predicted %.4g (t P at a tenth of C)", *k.tail_end, *p.end);
-        return e;
-      }()
-                          : std::string();
+  std::string ends;
+  if (p.end && k.tail_end)
+    appendf(ends, "; end: measured %.4g, predicted %.4g (t P at a tenth of C)", *k.tail_end, *p.end);
   if (!m.value) {
     appendf(out, "a %s tail, as predicted (no flat t P to compare C with: t P = %.3g at t = %g, model C = %.4g)%s",
             k.tail.c_str(), m.height, m.from, p.amplitude, ends.c_str());
