@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Turn and schedule invariance of population splitting, as README tables: omega = 100/101 (no tail, P
+"""Turn and schedule invariance of population splitting, as the tables of docs/guide/tails.md: omega = 100/101 (no tail, P
 falls to ~1e-16 by t = 8000), mupo + splitting, each setting an independent seed; P +- P_err at
 t = 1000, 1500 and 2000 (P ~ 1e-2, 1e-3, 1e-4: where 2*10^5 lines resolve P; later the allowance for
 unsplit lines not drawn is most of P's error, docs/model.md) and its deviation from the default setting

@@ -4,7 +4,9 @@
 - no file of the repository cites the issue tracker ("issue 21") or the shared specification ("SPEC
   section 4", SPEC.md): the repository cites its own docs (docs/model.md ...);
 - docs/scenes.md names every scene key the loader accepts (src/io/scene_file.cpp's kSchema), each
-  as `key = ...` in its section of the example.
+  as `key = ...` in its section of the example;
+- every relative link and image of every Markdown file points at a file that exists, and a link's
+  #fragment at a heading of that file (GitHub's anchors).
 
 Prints every violation and exits 1 if there is one.   Usage: python3 scripts/check_docs.py [ROOT]"""
 import os
@@ -24,6 +26,43 @@ def tracked(root):
     except (OSError, subprocess.CalledProcessError):  # not a checkout: walk it
         return [os.path.relpath(os.path.join(d, f), root) for d, dirs, files in os.walk(root)
                 for f in files if "/build" not in d and "/." not in d]
+
+
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def anchors(path):
+    """GitHub's heading anchors of a Markdown file: lower case, punctuation dropped, blanks to hyphens"""
+    found, fenced = set(), False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("```"):
+                fenced = not fenced
+            m = None if fenced else re.match(r"#{1,6}\s+(.*?)\s*$", line)
+            if m:
+                slug = re.sub(r"[^\w\- ]", "", m.group(1).lower()).replace(" ", "-")
+                found.add(slug)
+    return found
+
+
+def broken_links(root, files):
+    bad = []
+    for f in files:
+        if not f.endswith(".md"):
+            continue
+        with open(os.path.join(root, f), encoding="utf-8") as fh:
+            text = re.sub(r"```.*?```", "", fh.read(), flags=re.S)
+        for m in LINK.finditer(text):
+            target = m.group(1)
+            if re.match(r"[a-z]+:", target):
+                continue
+            path, _, fragment = target.partition("#")
+            full = os.path.normpath(os.path.join(root, os.path.dirname(f), path)) if path else os.path.join(root, f)
+            if not os.path.exists(full):
+                bad.append("%s: link to %s: no such file" % (f, target))
+            elif fragment and full.endswith(".md") and fragment not in anchors(full):
+                bad.append("%s: link to %s: no heading with that anchor" % (f, target))
+    return bad
 
 
 def main():
@@ -56,11 +95,13 @@ def main():
             keys += 1
             if not re.search(r"^%s\s*=" % re.escape(name), example[start:end], re.M):
                 bad.append("docs/scenes.md: the loader accepts %s.%s, the example does not show it" % (section, name))
+    bad += broken_links(root, tracked(root))
     for b in bad:
         print(b)
     if bad:
         return 1
-    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys" % keys)
+    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys; every link resolves"
+          % keys)
     return 0
 
 

@@ -140,8 +140,8 @@ def main():
         ours = p["alpha"]["value"]
         diff = "%+.1f%%" % (100 * (ours / float(row["value"]) - 1)) if ours and row["kind"] == "value" else "-"
         out.append("| alpha, omega = %s | %s | %s | %s |" % (row["omega"], pub, alpha_text(p["alpha"]), diff))
-    out += ["", "Regime boundaries for lambda = 0.01 (published ~4e-4 and ~1e-2): `rotleak regimes`, see the main "
-            "README. Tails below what the lines resolve are bounds, not values: an upper bound holds over the times "
+    out += ["", "Regime boundaries for lambda = 0.01 (published ~4e-4 and ~1e-2): `rotleak regimes`, see "
+            "docs/guide/scans.md. Tails below what the lines resolve are bounds, not values: an upper bound holds over the times "
             "where at least 100 effective lines remain.", "",
             "Reading the regimes: the class is measured, never inferred from omega. An omega just off a simple "
             "rational, 1 - 1e-4 or 4/7 + 1/70000, moves the leak, seen from a bouncing-ball orbit sampling it every "

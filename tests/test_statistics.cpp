@@ -42,7 +42,7 @@ void check_row(const Row& row, Engine engine, bool fast_forward = false) {
   EXPECT_NEAR(k.value, row.kappa, 0.02 * row.kappa + 3 * k.std_error) << "s_L = " << row.s_L;
   ASSERT_TRUE(a.value.has_value()) << "s_L = " << row.s_L << ": alpha unresolved, bound " << a.upper_bound.value_or(-1);
   EXPECT_NEAR(*a.value, row.alpha, 0.15 * row.alpha + 3 * a.std_error) << "s_L = " << row.s_L;
-  // Tighter: our own systematic against the table, measured at 10^7 particles per row (README, "The
+  // Tighter: our own systematic against the table, measured at 10^7 particles per row (docs/guide/tails.md, "The
   // published table, reproduced"), is -0.12..-0.37% in kappa and -1.3..+7.5% in alpha; allowances of
   // 0.5% and 10% plus 3 standard errors hold those, and fail a leak 2% too wide (kappa moves ~2%).
   EXPECT_NEAR(k.value, row.kappa, 0.005 * row.kappa + 3 * k.std_error) << "s_L = " << row.s_L << " (0.5% band)";

@@ -376,8 +376,15 @@ std::string prediction_check(const TailPrediction& p, const TailAmplitude& m, co
   if (p.end && k.tail_end)
     appendf(ends, "; end: measured %.4g, predicted %.4g (t P at a tenth of C)", *k.tail_end, *p.end);
   if (!m.value) {
-    appendf(out, "a %s tail, as predicted (no flat t P to compare C with: t P = %.3g at t = %g, model C = %.4g)%s",
-            k.tail.c_str(), m.height, m.from, p.amplitude, ends.c_str());
+    // from = 0: P never stood 100 x above the fit where resolved, so there is no height to quote either
+    std::string height;
+    if (m.from > 0)
+      appendf(height, "t P = %.3g at t = %g", m.height, m.from);
+    else
+      height = "P never exceeds 100 x the fit where resolved";
+    appendf(out, "%s %s tail, as predicted (no flat t P to compare C with: %s, model C = %.4g)%s",
+            std::string("aeiou").find(k.tail[0]) == std::string::npos ? "a" : "an", k.tail.c_str(), height.c_str(),
+            p.amplitude, ends.c_str());
     return out;
   }
   const double model = p.amplitude * kModelAmplitudeError;
