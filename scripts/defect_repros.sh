@@ -219,9 +219,10 @@ left
 fresh  # 25
 cat >bad.py <<PY
 import sys, rotleak
-cases = [dict(leak_omega=2 / 3), dict(particles=True), dict(threads=2.7), dict(threads="two"), dict(progress=5),
-         dict(set=[1, 2]), dict(run_splitting=True, ensemble_sampling="mupo", run_t_max=100), dict(run_splitting=True),
-         dict(stadium_r=1.0), dict(nonsense=1)]
+cases = [dict(overrides={"leak.omega": 2 / 3}), dict(particles=True), dict(threads=2.7), dict(threads="two"),
+         dict(progress=5), dict(overrides=["run.t_max=5"]),
+         dict(overrides={"run.splitting": True, "ensemble.sampling": "mupo", "run.t_max": 100}),
+         dict(overrides={"run.splitting": True}), dict(overrides={"stadium.r": 1.0}), dict(overrides={"nonsense": 1})]
 for kw in cases:
     try:
         rotleak.simulate("$S", **kw)

@@ -8,7 +8,7 @@ packages=(
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
   libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
   python3 python3-dev python3-matplotlib python3-numpy python3-pandas python3-yaml pybind11-dev
-  jupyter-nbconvert python3-nbformat python3-ipykernel
+  jupyter-nbconvert python3-nbformat python3-ipykernel python3-mypy python3-sphinx python3-venv python3-pip
   libopenmpi-dev openmpi-bin
 )
 missing=()

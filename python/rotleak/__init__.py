@@ -2,47 +2,64 @@
 
 Read what the command line wrote::
 
-    run = rotleak.read_run("runs/quick")          # .summary, .scene, .survival, .fc, .escapes
+    run = rotleak.read_run("runs/quick")          # .summary, .scene, .survival, .fc, .escapes, .kappa, .alpha
     scan = rotleak.read_scan("runs/scan")         # .table (DataFrame), .points (each a Run)
 
 Or run in process, the same library as ``rotleak simulate`` without the disk::
 
-    run = rotleak.simulate("quickstart.toml", particles=10**6, threads=2, leak_omega="2/3")
-    run.summary["kappa"], run.survival                # the same object read_run gives
+    run = rotleak.simulate("quickstart.toml", particles=10**6, overrides={"leak.omega": "2/3"})
+    run.kappa.value, run.survival                     # the same object read_run gives
 
 The covering model's tail for a scene, without a run (docs/model.md, "Predicting the tail from omega")::
 
-    rotleak.predict("quickstart.toml", leak_omega="1/3")["amplitude"]   # C = 0.405 in P ~ C / t
+    rotleak.predict("quickstart.toml", overrides={"leak.omega": "1/3"})["amplitude"]   # C = 0.405
 
 Exact number theory of the leak's speed and its MUPO covering::
 
     rotleak.omega("70/71")["convergents"]            # exact, as strings; .fractions() as Fractions
     rotleak.covering("2/3", delta="1e-7")             # f_L(s) of a bouncing-ball crossing
 
-Pictures: ``rotleak.plot.draw(dir)`` (``python3 -m rotleak.plot DIR``). The schemas of every file are
-in docs/output.md; ``rotleak.__version__`` is the version rotleak --version and summary.json report.
+Pictures: ``rotleak.plot.draw(run_or_dir)`` (``python3 -m rotleak.plot DIR``). The schemas of every file
+are in docs/output.md; ``rotleak.__version__`` is the version rotleak --version and summary.json report.
 """
+from __future__ import annotations
+
 import io
 import json
 import os
+from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
+from typing import TYPE_CHECKING, Any, Union
 
 try:
-    from ._version import __version__  # written by the build (cmake/version.cmake)
+    from ._version import __version__  # type: ignore[import]  # written by the build (cmake/version.cmake)
 except ImportError:  # the source tree's python/, not a build or an install
     __version__ = "unknown"
-from .readers import SCHEMA, Calibration, RotleakError, Run, Scan, read_calibration, read_run, read_scan
+from .readers import (SCHEMA, Alpha, Amplitude, Calibration, Kappa, PathLike, RotleakError, Run, Scan,
+                      read_calibration, read_run, read_scan)
 
-__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "read_run", "read_scan",
-           "read_calibration", "simulate", "calibrate", "predict", "omega", "covering", "Omega", "Covering"]
+if TYPE_CHECKING:
+    import pandas
 
-# scene sections, for keyword overrides: leak_omega="2/3" is --set leak.omega=2/3
+__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "Kappa", "Alpha", "Amplitude",
+           "read_run", "read_scan", "read_calibration", "simulate", "calibrate", "predict", "omega", "covering",
+           "Omega", "Covering", "Value", "Progress", "PathLike"]
+
+#: A scene value as Python gives it: exact keys take str, int or Fraction (never float); a list or a dict
+#: becomes a TOML array or inline table ({"bins": 10} -> { bins = 10 }).
+Value = Union[str, int, float, bool, Fraction, Sequence[Any], Mapping[str, Any]]
+#: progress(done, total, collisions, final): called after blocks of particles.
+Progress = Callable[[int, int, int, bool], None]
+
+# the scene's sections (docs/scenes.md): an override's key is "section.key"
 _SECTIONS = ("stadium", "leak", "ensemble", "run", "observe", "fit")
+# the keys read exactly (docs/scenes.md): a float would pass its rounding off as the value meant
+_EXACT_KEYS = ("stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega")
 
 
-def _module():
+def _module() -> Any:
     try:
-        from . import _rotleak
+        from . import _rotleak  # type: ignore[attr-defined]  # the compiled module, beside the package
     except ImportError as e:
         raise ImportError("rotleak's in-process module (_rotleak) is not built or not installed beside this package "
                           "(build with pybind11: Debian pybind11-dev python3-dev); the readers and plots work without "
@@ -50,13 +67,13 @@ def _module():
     return _rotleak
 
 
-def _text(value):
+def _text(value: Value) -> str:
     """A Python value as a scene's text: exact for int, str and Fraction; floats by their shortest repr."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, Fraction):
         return "%d/%d" % (value.numerator, value.denominator) if value.denominator != 1 else str(value.numerator)
-    if isinstance(value, dict):  # a TOML inline table: {"bins": 10} -> { bins = 10 }
+    if isinstance(value, Mapping):  # a TOML inline table: {"bins": 10} -> { bins = 10 }
         return "{ " + ", ".join("%s = %s" % (k, _text(v) if not isinstance(v, str) else json.dumps(v))
                                 for k, v in value.items()) + " }"
     if isinstance(value, (list, tuple)):
@@ -64,86 +81,136 @@ def _text(value):
     return str(value) if not isinstance(value, float) else repr(value)
 
 
-# the keys read exactly (docs/scenes.md): a float would pass its rounding off as the value meant
-_EXACT_KEYS = ("stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega")
-
-
-def _override(key, value):
-    given = key
-    if "." not in key:
-        section, _, name = key.partition("_")
-        if section not in _SECTIONS or not name:
-            raise ValueError("%s = %r: a scene override is section_key=value (sections: %s) or set=['section.key=value']"
-                             % (key, value, ", ".join(_SECTIONS)))
-        key = section + "." + name
+def _override(key: object, value: Value) -> str:
+    """One override as the command line's ``section.key=value`` text, its key and exactness checked."""
+    section, dot, name = key.partition(".") if isinstance(key, str) else ("", "", "")
+    if not dot or section not in _SECTIONS or not name:
+        raise ValueError("overrides[%r]: a scene key is \"section.key\" (sections: %s), e.g. {\"leak.omega\": \"2/3\"}"
+                         % (key, ", ".join(_SECTIONS)))
     if key in _EXACT_KEYS and (isinstance(value, (float, bool)) or not isinstance(value, (int, str, Fraction))):
-        raise ValueError("%s = %r: %s is exact; give a string (\"2/3\", \"ln(19)\"), an int or a Fraction, not a %s "
-                         "(its value is a nearby binary fraction)" % (given, value, key, type(value).__name__))
+        raise ValueError("overrides[%r] = %r: %s is exact; give a string (\"2/3\", \"ln(19)\"), an int or a Fraction, "
+                         "not a %s (its value is a nearby binary fraction)" % (key, value, key, type(value).__name__))
     return "%s=%s" % (key, _text(value))
 
 
-def simulate(scene, particles=None, threads=0, progress=None, set=(), **overrides):
-    """Runs a scene in process and returns its :class:`Run`: the files ``rotleak simulate`` writes,
-    byte for byte, without touching the disk.
+def simulate(scene: PathLike, particles: int | str | None = None, *, overrides: Mapping[str, Value] | None = None,
+             threads: int = 0, progress: Progress | None = None) -> Run:
+    """Run a scene in process: the files ``rotleak simulate`` writes, byte for byte, without the disk.
 
-    scene: a scene file (TOML). particles: ensemble.particles (an int, or a text such as "1e6").
-    threads: OpenMP threads (0: all cores). progress: called as progress(done, total, collisions,
-    final) after blocks of particles. set: "section.key=value" texts; keyword overrides section_key=value
-    (leak_omega="2/3", run_t_max=5000, ensemble_sampling="mupo"). The GIL is released while it runs;
-    Ctrl-C stops it between blocks (KeyboardInterrupt). Bad input raises ValueError naming the key."""
+    Parameters
+    ----------
+    scene : str or path
+        A scene file (TOML; docs/scenes.md).
+    particles : int or str, optional
+        ``ensemble.particles``: an int, or a text such as ``"1e6"`` that is an exact integer >= 1.
+    overrides : mapping of str to value, optional
+        Scene keys to change, by their dotted names: ``{"leak.omega": "2/3", "run.t_max": 5000,
+        "ensemble.sampling": "mupo"}`` (the command line's ``--set``). Exact keys take str, int or Fraction.
+    threads : int, default 0
+        OpenMP threads; 0 uses every core.
+    progress : callable, optional
+        Called as ``progress(done, total, collisions, final)`` after blocks of particles.
+
+    Returns
+    -------
+    Run
+        The run, as :func:`read_run` would read its directory; :meth:`Run.write` writes it.
+
+    Raises
+    ------
+    ValueError
+        Bad input, with one line naming the key, the value and what is allowed.
+    KeyboardInterrupt
+        Ctrl-C: the run stops between blocks (the GIL is released while it works).
+    """
     if progress is not None and not callable(progress):
         raise ValueError("progress = %r: must be None or a function progress(done, total, collisions, final)"
                          % (progress,))
-    texts = _scene_arguments(scene, particles, threads, set, overrides)
+    texts = _scene_arguments(scene, particles, threads, overrides)
     files = _module().simulate(os.fspath(scene), texts, int(threads), progress)
     return Run(dict(files))
 
 
-def calibrate(scene, seeds, out, particles=None, first_seed=1, threads=0, force=False, set=(), **overrides):
-    """Runs ``rotleak calibrate`` in process: ``seeds`` runs of the scene (ensemble.seed = first_seed ..
-    first_seed + seeds - 1) into the directory ``out`` (seeds already complete there are skipped), then
-    calibration.csv and calibration.json; returns the :class:`Calibration` read back. The other arguments
-    are those of :func:`simulate` (``set`` texts, keyword overrides section_key=value). "Are my error bars
-    honest here?": see ``.P["honest"]`` and ``.statistics``."""
-    texts = _scene_arguments(scene, particles, threads, set, overrides)
+def calibrate(scene: PathLike, seeds: int, out: PathLike, particles: int | str | None = None, *,
+              first_seed: int = 1, overrides: Mapping[str, Value] | None = None, threads: int = 0,
+              force: bool = False) -> Calibration:
+    """Run ``rotleak calibrate`` in process: the scene under ``seeds`` seeds, then the calibration.
+
+    Parameters
+    ----------
+    scene : str or path
+        A scene file (TOML).
+    seeds : int
+        Number of seeds (>= 2): ``ensemble.seed = first_seed .. first_seed + seeds - 1``.
+    out : str or path
+        The calibration's directory; seeds already complete there are skipped.
+    particles, overrides, threads
+        As for :func:`simulate`.
+    first_seed : int, default 1
+        The first seed.
+    force : bool, default False
+        Redo every seed, replacing ``out``.
+
+    Returns
+    -------
+    Calibration
+        calibration.csv and calibration.json read back; "are my error bars honest here?" is
+        ``.P["honest"]`` and ``.statistics``.
+    """
+    texts = _scene_arguments(scene, particles, threads, overrides)
     _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
                         os.fspath(out), int(threads), bool(force))
     return read_calibration(out)
 
 
-def predict(scene, set=(), **overrides):
-    """The covering model's tail for a scene, without running it (milliseconds): ``rotleak predict --json``'s
-    document as a dict -- ``forms``, ``amplitude`` (C in P ~ C / t) with ``amplitude_error``, ``end``,
-    ``rational``, ``Q``, ``eps``, ``regime``, ``note``, ``candidates`` (docs/output.md). ``set`` and keyword
-    overrides as for :func:`simulate` (leak_omega="2/5+1e-5")."""
-    texts = _scene_arguments(scene, None, 0, set, overrides)
-    return json.loads(_module().predict(os.fspath(scene), texts))
+def predict(scene: PathLike, *, overrides: Mapping[str, Value] | None = None) -> dict[str, Any]:
+    """The covering model's tail for a scene, without running it (milliseconds).
+
+    Parameters
+    ----------
+    scene : str or path
+        A scene file (TOML).
+    overrides : mapping of str to value, optional
+        As for :func:`simulate`: ``{"leak.omega": "2/5+1e-5"}``.
+
+    Returns
+    -------
+    dict
+        ``rotleak predict --json``'s document: ``forms``, ``amplitude`` (C in P ~ C / t) with
+        ``amplitude_error``, ``end``, ``rational``, ``Q``, ``eps``, ``regime``, ``note``, ``candidates``
+        (docs/output.md).
+    """
+    texts = _scene_arguments(scene, None, 0, overrides)
+    doc: dict[str, Any] = json.loads(_module().predict(os.fspath(scene), texts))
+    return doc
 
 
-def _scene_arguments(scene, particles, threads, set, overrides):
+def _scene_arguments(scene: PathLike, particles: int | str | None, threads: int,
+                     overrides: Mapping[str, Value] | None) -> list[str]:
     """The scene's override texts from simulate's and calibrate's arguments, each checked by name."""
-    if isinstance(set, str):
-        set = [set]
-    if not isinstance(set, (list, tuple)) or not all(isinstance(x, str) for x in set):
-        raise ValueError("set = %r: must be a list of texts 'section.key=value'" % (set,))
+    if overrides is None:
+        overrides = {}
+    if not isinstance(overrides, Mapping):
+        raise ValueError("overrides = %r: must be a dict of scene keys, e.g. {\"leak.omega\": \"2/3\"}" % (overrides,))
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError("threads = %r: must be an integer >= 0 (0: all cores)" % (threads,))
-    texts = list(set) + [_override(k, v) for k, v in overrides.items()]
+    texts = [_override(k, v) for k, v in overrides.items()]
     if particles is not None:
         texts.append("ensemble.particles=%d" % _particle_count(particles))
     if not os.path.exists(scene):
-        raise ValueError("scene = %s: no such file" % scene)
+        raise ValueError("scene = %s: no such file" % os.fspath(scene))
     return texts
 
 
-def _count(name, value, least):
+def _count(name: str, value: object, least: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < least:
         raise ValueError("%s = %r: must be an integer >= %d" % (name, value, least))
     return value
 
 
-def _particle_count(value):
+def _particle_count(value: object) -> int:
     """An int, or a text "1e6" / "1000000" that is an exact integer >= 1."""
+    n: Fraction | None
     try:
         if isinstance(value, bool):  # True is the int 1: not a count anyone means
             raise ValueError(value)
@@ -156,12 +223,22 @@ def _particle_count(value):
     return int(n)
 
 
-class Omega(dict):
-    """rotleak omega's document (a dict: ``omega["omega"]["cf"]`` the certified partial quotients,
-    ``["convergents"]`` as [p, q] strings, ...); ``fractions("convergents")`` (or
-    "best_approximations", "best_approximations_second_kind") gives them as Python Fractions."""
+class Omega(dict[str, Any]):
+    """``rotleak omega --json``'s document as a dict.
 
-    def fractions(self, key="convergents"):
+    ``omega["omega"]["cf"]`` holds the certified partial quotients, ``["convergents"]`` the convergents as
+    ``[p, q]`` strings, and so on (docs/output.md).
+    """
+
+    def fractions(self, key: str = "convergents") -> list[Fraction]:
+        """The approximations under ``key`` as Fractions.
+
+        Parameters
+        ----------
+        key : str, default "convergents"
+            ``"convergents"``, ``"semiconvergents"``, ``"best_approximations"`` or
+            ``"best_approximations_second_kind"``.
+        """
         items = self["omega"][key]
         if isinstance(items, dict):  # best_approximations: {max_den, list}
             items = items["list"]
@@ -176,45 +253,88 @@ class Omega(dict):
         return out
 
 
-def omega(value, terms=20, max_den=1000, eps=None, digits=30, convergents=12):
-    """The continued fraction, convergents and best approximations of an exact omega ("70/71", "1e-4",
-    "ln(19)", "liouville(10)", a Fraction or an int): ``rotleak omega --json``'s document."""
+def omega(value: str | int | Fraction, terms: int = 20, max_den: int = 1000, eps: str | None = None,
+          digits: int = 30, convergents: int = 12) -> Omega:
+    """The continued fraction, convergents and best approximations of an exact omega.
+
+    Parameters
+    ----------
+    value : str, int or Fraction
+        An exact value: ``"70/71"``, ``"1e-4"``, ``"ln(19)"``, ``"liouville(10)"``.
+    terms : int, default 20
+        Certified partial quotients to compute.
+    max_den : int, default 1000
+        Largest denominator of the best approximations.
+    eps : str, optional
+        Also find the smallest q with ``|omega - p/q| < eps``.
+    digits : int, default 30
+        Digits of the value's enclosure.
+    convergents : int, default 12
+        Convergents to list.
+
+    Returns
+    -------
+    Omega
+        ``rotleak omega --json``'s document.
+    """
     doc = _module().omega(_text(value), int(terms), str(max_den), "" if eps is None else _text(eps), int(digits),
                           int(convergents))
     return Omega(json.loads(doc))
 
 
 class Covering:
-    """A MUPO covering: ``summary`` (rotleak covering's summary.json), ``f_L`` (a DataFrame: s, then
-    f_L of each covering averaged over each bin) and ``segments(k)`` (the exact breakpoints of the
-    k-th covering: from, to, f_L)."""
+    """A MUPO covering, as ``rotleak covering`` computes it.
 
-    def __init__(self, summary, profile, segments):
-        self.summary, self._profile, self._segments = summary, profile, segments
+    Attributes
+    ----------
+    summary : dict
+        rotleak covering's summary.json.
+    """
+
+    def __init__(self, summary: dict[str, Any], profile: str, segments: Sequence[str]) -> None:
+        self.summary, self._profile, self._segments = summary, profile, list(segments)
 
     @property
-    def f_L(self):
+    def f_L(self) -> pandas.DataFrame:
+        """s, then f_L of each covering averaged over each bin (f_L.csv)."""
         from .readers import _pandas
 
         return _pandas().read_csv(io.StringIO(self._profile))
 
-    def segments(self, k=0):
+    def segments(self, k: int = 0) -> pandas.DataFrame:
+        """The exact breakpoints of the k-th covering: from, to, f_L."""
         from .readers import _pandas
 
         return _pandas().read_csv(io.StringIO(self._segments[k]))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         cov = self.summary["covering"]
         cov = cov if isinstance(cov, list) else [cov]
         return "<rotleak.Covering %s>" % ", ".join("%s: zero measure %.3g" % (c["omega"], c["zero_measure"])
                                                     for c in cov)
 
 
-def covering(omega, delta="1e-7", lam="0.01", d="2", r="1", resolution=1000):
-    """The MUPO covering f_L(s) of the leak during a bouncing-ball crossing, for one omega or a list
-    of them, at one delta or a list (every omega at every delta), exactly as ``rotleak covering``."""
-    omegas = [omega] if not isinstance(omega, (list, tuple)) else list(omega)
-    deltas = [delta] if not isinstance(delta, (list, tuple)) else list(delta)
+def covering(omega: Value | Sequence[Value], delta: Value | Sequence[Value] = "1e-7", lam: Value = "0.01",
+             d: Value = "2", r: Value = "1", resolution: int = 1000) -> Covering:
+    """The MUPO covering f_L(s) of the leak during a bouncing-ball crossing.
+
+    Parameters
+    ----------
+    omega : exact value or list of them
+        The leak's speed(s).
+    delta : exact value or list of them, default "1e-7"
+        The orbit's ``1 + delta = 1 / sqrt(1 - p^2)``; every omega is covered at every delta.
+    lam, d, r : exact values
+        Leak width, straight-edge length and radius.
+    resolution : int, default 1000
+        Bins of the ``f_L`` table.
+
+    Returns
+    -------
+    Covering
+    """
+    omegas = list(omega) if isinstance(omega, (list, tuple)) else [omega]
+    deltas = list(delta) if isinstance(delta, (list, tuple)) else [delta]
     doc, profile, segments = _module().covering([_text(o) for o in omegas], [_text(x) for x in deltas], _text(lam),
                                                 _text(d), _text(r), int(resolution))
     return Covering(json.loads(doc), profile, segments)

@@ -10,22 +10,132 @@ DataFrame, the swept keys and the text columns kept as strings), ``document`` (s
 (the seeds' runs as a Scan). ``rotleak.simulate`` returns the same Run without the disk.
 
 Both refuse, with one line that says why, a directory that is not a complete run or scan of this
-schema. pandas is imported only when a table is asked for."""
+schema. pandas is imported only when a table is asked for. A run's fits are small dataclasses
+(:class:`Kappa`, :class:`Alpha`, :class:`Amplitude`); ``summary`` keeps every field as written."""
+from __future__ import annotations
+
 import io
 import json
 import math
 import os
 import re
 import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional, Union
+
+if TYPE_CHECKING:
+    import pandas
 
 SCHEMA = 1  # summary.json's and scan.json's "schema" this reader understands
+#: A file or directory: a str or an os.PathLike.
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+@dataclass(frozen=True)
+class Kappa:
+    """The exponential escape rate: a least-squares fit of ln P(t) over ``window`` (docs/model.md).
+
+    Attributes
+    ----------
+    value : float or None
+        kappa; None when the window holds too few resolved points.
+    error : float or None
+        Its statistical error (one standard deviation).
+    systematic : float or None
+        The window systematic: half the spread over six windows around the chosen one.
+    window : tuple of float
+        The fit window ``(from, to)``.
+    """
+
+    value: Optional[float]
+    error: Optional[float]
+    systematic: Optional[float]
+    window: tuple[float, float]
+
+    @property
+    def total_error(self) -> Optional[float]:
+        """The statistical error and the systematic in quadrature (None without an error)."""
+        return None if self.error is None else math.hypot(self.error, self.systematic or 0.0)
+
+    @classmethod
+    def from_summary(cls, doc: dict[str, Any]) -> Kappa:
+        """From summary.json's ``kappa`` object."""
+        window = doc.get("window") or [math.nan, math.nan]
+        return cls(doc.get("value"), doc.get("error"), doc.get("window_systematic"),
+                   (float(window[0]), float(window[1])))
+
+
+@dataclass(frozen=True)
+class Alpha:
+    """The algebraic tail's weight: P where it first exceeds ``factor`` times the exponential fit.
+
+    Attributes
+    ----------
+    value : float or None
+        alpha; None where no tail is resolved (then see ``upper_bound``).
+    error : float or None
+        Its statistical error.
+    systematic : float or None
+        The window systematic.
+    upper_bound : float or None
+        Where ``value`` is None: the bound alpha lies below (None when there is none either).
+    crossing_time : float or None
+        The time of the crossing.
+    note : str
+        How it was read, or why not.
+    """
+
+    value: Optional[float]
+    error: Optional[float]
+    systematic: Optional[float]
+    upper_bound: Optional[float]
+    crossing_time: Optional[float]
+    note: str
+
+    @classmethod
+    def from_summary(cls, doc: dict[str, Any]) -> Alpha:
+        """From summary.json's ``alpha`` object."""
+        return cls(doc.get("value"), doc.get("error"), doc.get("systematic"), doc.get("upper_bound"),
+                   doc.get("crossing_time"), doc.get("note") or "")
+
+
+@dataclass(frozen=True)
+class Amplitude:
+    """The tail amplitude C in P ~ C / t: the mean of t P(t) over the stretch where it is flat.
+
+    Attributes
+    ----------
+    value : float or None
+        C; None (with the reason in ``note``) where the tail is not ~1/t or not resolved.
+    error : float or None
+        Its statistical error (None without a value).
+    systematic : float or None
+        The drift of t P over the stretch (None without a value).
+    stretch : tuple of float, or None
+        ``(from, to)`` of the stretch; None where there is none.
+    note : str
+        Why there is no value, or how it was measured.
+    """
+
+    value: Optional[float]
+    error: Optional[float]
+    systematic: Optional[float]
+    stretch: Optional[tuple[float, float]]
+    note: str
+
+    @classmethod
+    def from_summary(cls, doc: dict[str, Any]) -> Amplitude:
+        """From summary.json's ``tail.amplitude`` object."""
+        stretch = (float(doc["from"]), float(doc["to"])) if doc.get("from") is not None else None
+        return cls(doc.get("value"), doc.get("error"), doc.get("systematic"), stretch, doc.get("note") or "")
 
 
 class RotleakError(ValueError):
     """A directory or document that is not a complete rotleak output of the schema this reader reads."""
 
 
-def _pandas():
+def _pandas() -> Any:
     try:
         import pandas
     except ImportError as e:  # pragma: no cover - depends on the interpreter
@@ -34,7 +144,7 @@ def _pandas():
     return pandas
 
 
-def _check_schema(doc, what, where):
+def _check_schema(doc: dict[str, Any], what: str, where: str) -> None:
     schema = doc.get("schema")
     if schema is None:
         raise RotleakError("%s: %s has no \"schema\" key: written by a rotleak older than this reader "
@@ -43,7 +153,7 @@ def _check_schema(doc, what, where):
         raise RotleakError("%s: %s has schema %r; this rotleak package reads schema %d" % (where, what, schema, SCHEMA))
 
 
-def json_document(text, name, where):
+def json_document(text: str, name: str, where: str) -> Any:
     """The JSON document `name` of the directory `where`, or a RotleakError with the reason rotleak fit gives
     (src/io/run_output.cpp, parse_document)."""
     try:
@@ -56,7 +166,7 @@ _FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?|-?inf|nan")
 _COUNT = re.compile(r"[0-9]+")
 
 
-def check_survival_csv(text, t_max=None, survival_dt=None):
+def check_survival_csv(text: str, t_max: Optional[float] = None, survival_dt: Optional[float] = None) -> None:
     """Raises RotleakError with the reason ``rotleak fit`` gives (src/io/run_output.cpp, read_survival_csv,
     word for word) when survival.csv is damaged: its header, a row that ends the file (truncated), a row
     that is not t,survivors,P,P_err (decimals as rotleak writes them), or fewer or more rows than the
@@ -82,11 +192,11 @@ def check_survival_csv(text, t_max=None, survival_dt=None):
 class Run:
     """One run: its summary, its scene and its tables (DataFrames built on first use)."""
 
-    def __init__(self, files, path=None):
+    def __init__(self, files: Mapping[str, Union[str, bytes]], path: Optional[PathLike] = None) -> None:
         """files: {name: bytes or str} as a run directory holds them (summary.json required)."""
         self._files = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in files.items()}
-        self.path = path
-        where = path or "rotleak.simulate"
+        self.path: Optional[str] = os.fspath(path) if path is not None else None
+        where = self.path or "rotleak.simulate"
         if "summary.json" not in self._files:
             raise RotleakError("%s: not a complete run directory (no summary.json: a run directory appears only "
                                "when complete; an interrupted one leaves DIR.checkpoint for --resume)" % where)
@@ -109,10 +219,11 @@ class Run:
         if missing:
             raise RotleakError("%s: incomplete run: summary.json lists %s, which %s missing"
                                % (where, ", ".join(missing), "is" if len(missing) == 1 else "are"))
-        self._tables = {}
+        self._tables: dict[str, pandas.DataFrame] = {}
 
     @classmethod
-    def from_directory(cls, path):
+    def from_directory(cls, path: PathLike) -> Run:
+        """The run directory ``path`` (what :func:`read_run` does)."""
         if not os.path.isdir(path):
             raise RotleakError("%s: no such directory" % path)
         files = {}
@@ -123,7 +234,7 @@ class Run:
                     files[name] = f.read()
         return cls(files, path)
 
-    def _table(self, name, **kw):
+    def _table(self, name: str, **kw: Any) -> Optional[pandas.DataFrame]:
         if name not in self._files:
             return None
         if name not in self._tables:
@@ -136,50 +247,52 @@ class Run:
         return self._tables[name]
 
     @property
-    def survival(self):
+    def survival(self) -> pandas.DataFrame:
         """t, survivors, P, P_err: P(t) on the grid t = k survival_dt with one standard error."""
         return self._table("survival.csv")
 
     @property
-    def fc(self):
+    def fc(self) -> Optional[pandas.DataFrame]:
         """s (bin centre), then per time window fc[from,to] (normalised density) and count[from,to]."""
         return self._table("fc.csv")
 
     @property
-    def escapes(self):
+    def escapes(self) -> Optional[pandas.DataFrame]:
         """id, fate (escaped, survived, stuck), t, s, collisions: one row per particle."""
         return self._table("escapes.csv", dtype={"fate": str})
 
     @property
-    def scene(self):
+    def scene(self) -> dict[str, Any]:
         """The effective scene (scene.toml) as a dict; exact values stay the texts given."""
         text = self._files.get("scene.toml")
         return tomllib.loads(text) if text is not None else self.summary.get("scene")
 
     @property
-    def kappa(self):
-        return self.summary["kappa"]
+    def kappa(self) -> Kappa:
+        """The exponential escape rate with its errors (summary.json's ``kappa``)."""
+        return Kappa.from_summary(self.summary["kappa"])
 
     @property
-    def alpha(self):
-        return self.summary["alpha"]
+    def alpha(self) -> Alpha:
+        """The tail's weight, or its bound (summary.json's ``alpha``)."""
+        return Alpha.from_summary(self.summary["alpha"])
 
     @property
-    def tail(self):
-        return self.summary["tail"]
+    def tail(self) -> dict[str, Any]:
+        """summary.json's ``tail``: ``class`` (none, transient, persistent, unresolved), ``regime``, ..."""
+        tail: dict[str, Any] = self.summary["tail"]
+        return tail
 
     @property
-    def tail_amplitude(self):
-        """C in P ~ C / t: ``value``, ``error`` (stat.), ``systematic`` (drift), ``from``, ``to``, ``note``
-        (summary.json's ``tail.amplitude``; ``value`` None, with the reason in ``note``, where the tail is
-        not ~1/t or not resolved)."""
-        return self.summary["tail"]["amplitude"]
+    def tail_amplitude(self) -> Amplitude:
+        """C in P ~ C / t with its errors (summary.json's ``tail.amplitude``)."""
+        return Amplitude.from_summary(self.summary["tail"]["amplitude"])
 
-    def text(self, name):
+    def text(self, name: str) -> str:
         """A file of the run exactly as written (or as rotleak simulate would write it)."""
         return self._files[name]
 
-    def write(self, directory):
+    def write(self, directory: PathLike) -> PathLike:
         """Writes the run's files into a new directory (each whole: a temporary name, then renamed)."""
         os.makedirs(directory, exist_ok=False)
         for name, text in self._files.items():
@@ -189,18 +302,33 @@ class Run:
             os.replace(tmp, os.path.join(directory, name))
         return directory
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         k = self.summary["kappa"]
         return "<rotleak.Run %s: %d particles, kappa = %s, tail = %s>" % (
             self.path or "in process", self.summary["particles"], k["value"], self.summary["tail"]["class"])
 
 
-def read_run(path):
-    """The run directory ``path`` (rotleak simulate --out) as a :class:`Run`."""
+def read_run(path: PathLike) -> Run:
+    """Read a run directory.
+
+    Parameters
+    ----------
+    path : str or path
+        A directory ``rotleak simulate --out`` wrote.
+
+    Returns
+    -------
+    Run
+
+    Raises
+    ------
+    RotleakError
+        Not a complete run of this schema (the reason in one line).
+    """
     return Run.from_directory(path)
 
 
-def _is_scan_document(doc):
+def _is_scan_document(doc: Any) -> bool:
     """The rules rotleak fit reads scan.json by (src/io/run_output.cpp, read_scan_document): a scan's
     object whose axes hold a key and text values and whose points name a directory with the swept values."""
     if not isinstance(doc, dict) or doc.get("command") != "scan":
@@ -223,9 +351,10 @@ def _is_scan_document(doc):
     return "fit_overrides" not in doc or isinstance(doc["fit_overrides"], list)
 
 
-def _command_document(path, name, command, kind):
+def _command_document(directory: PathLike, name: str, command: str, kind: str) -> Any:
     """The JSON document `name` of the directory `path` that the rotleak command `command` writes (a `kind`
     directory), or a RotleakError: no directory, no document (incomplete), not JSON, another command's."""
+    path = os.fspath(directory)
     if not os.path.isdir(path):
         raise RotleakError("%s: no such directory" % path)
     doc_path = os.path.join(path, name)
@@ -241,7 +370,8 @@ def _command_document(path, name, command, kind):
 class Scan:
     """A scan: its table, its scan.json and each point's run."""
 
-    def __init__(self, path):
+    def __init__(self, directory: PathLike) -> None:
+        path = os.fspath(directory)
         self.document = _command_document(path, "scan.json", "scan", "scan")
         if not _is_scan_document(self.document):
             raise RotleakError("%s: scan.json: not a scan's document" % path)
@@ -249,16 +379,16 @@ class Scan:
         if not os.path.exists(os.path.join(path, "table.csv")):
             raise RotleakError("%s: incomplete scan: no table.csv" % path)
         self.path = path
-        self._table = None
-        self._points = {}
+        self._table: Optional[pandas.DataFrame] = None
+        self._points: dict[str, Run] = {}
 
     @property
-    def keys(self):
+    def keys(self) -> list[str]:
         """The swept keys, in the order of the table's first columns."""
         return [a["key"] for a in self.document["axes"]]
 
     @property
-    def table(self):
+    def table(self) -> pandas.DataFrame:
         """table.csv: the swept keys (exact texts, as strings), the fits, the regime, the number theory."""
         if self._table is None:
             text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation", "predicted_tail"]
@@ -280,26 +410,37 @@ class Scan:
         return self._table
 
     @property
-    def point_names(self):
+    def point_names(self) -> list[str]:
+        """The points' directory names, in the table's order."""
         return [p["point"] for p in self.document["points"]]
 
-    def point(self, name):
+    def point(self, name: str) -> Run:
         """The run of one point (its directory name, as in scan.json's points)."""
         if name not in self._points:
             self._points[name] = read_run(os.path.join(self.path, "points", name))
         return self._points[name]
 
     @property
-    def points(self):
+    def points(self) -> dict[str, Run]:
         """{point name: Run}, every point read."""
         return {name: self.point(name) for name in self.point_names}
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<rotleak.Scan %s: %d points over %s>" % (self.path, len(self.point_names), ", ".join(self.keys))
 
 
-def read_scan(path):
-    """The scan directory ``path`` (rotleak scan --out) as a :class:`Scan`."""
+def read_scan(path: PathLike) -> Scan:
+    """Read a scan directory.
+
+    Parameters
+    ----------
+    path : str or path
+        A directory ``rotleak scan --out`` wrote.
+
+    Returns
+    -------
+    Scan
+    """
     return Scan(path)
 
 
@@ -312,7 +453,8 @@ class Calibration:
     report (``table``), the same per statistic (``statistics``: kappa, alpha, ..., stat. and ``_total``), P's
     summary over its resolved times (``P``), and the seeds' runs (``scan``)."""
 
-    def __init__(self, path):
+    def __init__(self, directory: PathLike) -> None:
+        path = os.fspath(directory)
         self.document = _command_document(path, "calibration.json", "calibrate", "calibration")
         if not isinstance(self.document, dict):
             raise RotleakError("%s: calibration.json is not a calibration's" % path)
@@ -325,10 +467,10 @@ class Calibration:
         if not os.path.exists(os.path.join(path, "calibration.csv")):
             raise RotleakError("%s: incomplete calibration: no calibration.csv" % path)
         self.path = path
-        self._table = None
+        self._table: Optional[pandas.DataFrame] = None
 
     @property
-    def table(self):
+    def table(self) -> pandas.DataFrame:
         """calibration.csv as a DataFrame, one row per grid time."""
         if self._table is None:
             pandas = _pandas()
@@ -343,25 +485,37 @@ class Calibration:
         return self._table
 
     @property
-    def statistics(self):
+    def statistics(self) -> dict[str, Any]:
+        """Per statistic (kappa, alpha, ..., and their ``_total`` rows): the seeds' spread against the errors."""
         return self.document["statistics"]
 
     @property
-    def P(self):
+    def P(self) -> dict[str, Any]:
+        """P(t)'s summary over its resolved grid times (``honest``, ranges of sd/err and coverage)."""
         return self.document["P"]
 
     @property
-    def scan(self):
+    def scan(self) -> Scan:
         """The seeds' runs, a :class:`Scan` over ensemble.seed."""
         return Scan(self.path)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         honest = self.document["P"].get("honest")
         return "<rotleak.Calibration %s: %d seeds, P %s>" % (
             self.path, len(self.document["seeds"]), "honest" if honest else "not honest" if honest is False else
             "not resolved anywhere")
 
 
-def read_calibration(path):
-    """The calibration directory ``path`` (rotleak calibrate --out) as a :class:`Calibration`."""
+def read_calibration(path: PathLike) -> Calibration:
+    """Read a calibration directory.
+
+    Parameters
+    ----------
+    path : str or path
+        A directory ``rotleak calibrate --out`` wrote.
+
+    Returns
+    -------
+    Calibration
+    """
     return Calibration(path)

@@ -87,14 +87,28 @@ class Package(unittest.TestCase):
         # the same table pandas reads from the file itself
         pd.testing.assert_frame_equal(run.survival, pd.read_csv(os.path.join(self.run_dir, "survival.csv")))
         # the tail amplitude: summary.json's tail.amplitude, a value with its errors or null with the reason
-        amp = run.tail_amplitude
-        self.assertEqual(amp, run.summary["tail"]["amplitude"])
-        self.assertEqual(set(amp), {"value", "error", "systematic", "from", "to", "points", "height", "height_error",
+        doc = run.summary["tail"]["amplitude"]
+        self.assertEqual(set(doc), {"value", "error", "systematic", "from", "to", "points", "height", "height_error",
                                     "slope", "slope_error", "note"})
-        self.assertTrue(amp["value"] is not None or amp["note"])
+        amp = run.tail_amplitude
+        self.assertIsInstance(amp, rotleak.Amplitude)
+        self.assertEqual((amp.value, amp.error, amp.systematic, amp.stretch, amp.note),
+                         (doc["value"], doc["error"], doc["systematic"],
+                          None if doc["from"] is None else (doc["from"], doc["to"]), doc["note"]))
+        self.assertTrue(amp.value is not None or amp.note)
+        # kappa and alpha as small dataclasses, each field summary.json's
+        k, a = run.kappa, run.alpha
+        self.assertEqual((k.value, k.error, k.systematic, list(k.window)),
+                         (run.summary["kappa"]["value"], run.summary["kappa"]["error"],
+                          run.summary["kappa"]["window_systematic"], run.summary["kappa"]["window"]))
+        self.assertAlmostEqual(k.total_error, (k.error ** 2 + k.systematic ** 2) ** 0.5)
+        self.assertEqual((a.value, a.upper_bound, a.crossing_time),
+                         (run.summary["alpha"]["value"], run.summary["alpha"]["upper_bound"],
+                          run.summary["alpha"]["crossing_time"]))
 
     def test_simulate_in_process_writes_the_bytes_the_command_writes(self):
-        r = rotleak.simulate(QUICK, particles=20000, threads=2, leak_omega=Fraction(2, 3), observe_escapes=True)
+        r = rotleak.simulate(QUICK, particles=20000, threads=2,
+                             overrides={"leak.omega": Fraction(2, 3), "observe.escapes": True})
         d = rotleak.read_run(self.run_dir)
         for name in ("survival.csv", "fc.csv", "escapes.csv", "scene.toml"):
             self.assertEqual(r.text(name), d.text(name), name)
@@ -109,18 +123,22 @@ class Package(unittest.TestCase):
         self.assertEqual(rotleak.read_run(out).text("survival.csv"), d.text("survival.csv"))
 
     def test_overrides_and_bad_input_name_the_key(self):
-        r = rotleak.simulate(QUICK, particles="1e4", set=["run.t_max=3000"], observe_escapes=False,
-                             observe_collision_density={"bins": 10, "windows": [[0, 3000]]})
+        r = rotleak.simulate(QUICK, particles="1e4", overrides={
+            "run.t_max": 3000, "observe.escapes": False, "observe.collision_density": {"bins": 10, "windows": [[0, 3000]]}})
         self.assertEqual(r.summary["particles"], 10000)
         self.assertEqual(r.scene["run"]["t_max"], 3000.0)
         self.assertIsNone(r.escapes)
         self.assertEqual(len(r.fc), 10)
         with self.assertRaisesRegex(ValueError, r"^leak\.omega = \"x\""):
-            rotleak.simulate(QUICK, leak_omega="x")
+            rotleak.simulate(QUICK, overrides={"leak.omega": "x"})
         with self.assertRaisesRegex(ValueError, "particles = 0.5"):
             rotleak.simulate(QUICK, particles=0.5)
-        with self.assertRaisesRegex(ValueError, "omegas = 1: a scene override is section_key=value"):
-            rotleak.simulate(QUICK, omegas=1)
+        with self.assertRaisesRegex(ValueError, r"overrides\['omegas'\]: a scene key is \"section.key\""):
+            rotleak.simulate(QUICK, overrides={"omegas": 1})
+        with self.assertRaisesRegex(ValueError, r"overrides\['leak_omega'\]: a scene key is \"section.key\""):
+            rotleak.simulate(QUICK, overrides={"leak_omega": "2/3"})  # the old keyword form names the dotted one
+        with self.assertRaises(TypeError):  # keyword overrides are gone: nothing is split on underscores
+            rotleak.simulate(QUICK, leak_omega="2/3")  # type: ignore[call-arg]
         with self.assertRaisesRegex(ValueError, "no such file"):
             rotleak.simulate(os.path.join(self.tmp, "missing.toml"))
 
@@ -225,13 +243,13 @@ class Package(unittest.TestCase):
     def test_python_arguments_of_the_wrong_type_are_refused_by_name(self):
         # each once ran something other than what was written, or dumped a pybind11 signature
         cases = [
-            (dict(leak_omega=2 / 3), r"^leak_omega = 0\.6666666666666666: leak\.omega is exact"),
-            (dict(stadium_r=1.0), r"^stadium_r = 1\.0: stadium\.r is exact"),
+            (dict(overrides={"leak.omega": 2 / 3}), r"^overrides\['leak.omega'\] = 0\.6666666666666666: leak\.omega is exact"),
+            (dict(overrides={"stadium.r": 1.0}), r"^overrides\['stadium.r'\] = 1\.0: stadium\.r is exact"),
             (dict(particles=True), r"^particles = True: must be an integer >= 1"),
             (dict(threads=2.7), r"^threads = 2\.7: must be an integer >= 0"),
             (dict(threads="two"), r"^threads = 'two': must be an integer >= 0"),
             (dict(progress=5), r"^progress = 5: must be None or a function"),
-            (dict(set=[1, 2]), r"^set = \[1, 2\]: must be a list of texts"),
+            (dict(overrides=["run.t_max=5"]), r"^overrides = \['run.t_max=5'\]: must be a dict of scene keys"),
         ]
         for kw, message in cases:
             with self.subTest(kw=repr(kw)):
@@ -239,10 +257,30 @@ class Package(unittest.TestCase):
                     rotleak.simulate(QUICK, **kw)
         # the serious one: a split run with a default split_every above t_max killed the interpreter
         with self.assertRaisesRegex(ValueError, r"^run\.split_every = 151\.2\d* \(the default\)"):
-            rotleak.simulate(QUICK, run_splitting=True, ensemble_sampling="mupo", run_t_max=100,
-                             fit_kappa_window=[0, 50])
+            rotleak.simulate(QUICK, overrides={"run.splitting": True, "ensemble.sampling": "mupo", "run.t_max": 100,
+                                               "fit.kappa_window": [0, 50]})
         with self.assertRaisesRegex(ValueError, r"ensemble\.sampling = \"mupo\""):
-            rotleak.simulate(QUICK, run_splitting=True)
+            rotleak.simulate(QUICK, overrides={"run.splitting": True})
+
+    def test_plots_take_the_readers_objects_or_directories(self):
+        from rotleak import plot
+
+        run_copy, scan_copy = os.path.join(self.tmp, "plot-run"), os.path.join(self.tmp, "plot-scan")
+        shutil.copytree(self.run_dir, run_copy)
+        shutil.copytree(self.scan_dir, scan_copy)
+        drew = plot.draw(rotleak.read_run(run_copy))
+        self.assertEqual(drew, [os.path.join(run_copy, "survival.png"), os.path.join(run_copy, "fc.png")])
+        self.assertTrue(all(os.path.getsize(p) > 0 for p in drew))
+        drew = plot.draw(rotleak.read_scan(scan_copy))
+        self.assertIn(os.path.join(scan_copy, "scan_survival.png"), drew)
+        # an in-process run has no directory: its pictures go where it is told
+        r = rotleak.simulate(QUICK, particles=5000, overrides={"run.t_max": 2000,
+                                                               "observe.collision_density": {"bins": 20}})
+        with self.assertRaisesRegex(ValueError, "give out=DIR"):
+            plot.run.draw(r)
+        out = os.path.join(self.tmp, "plot-in-process")
+        os.makedirs(out)
+        self.assertEqual(plot.run.draw(r, out=out), [os.path.join(out, "survival.png"), os.path.join(out, "fc.png")])
 
     def test_read_scan_keeps_exact_values_as_text(self):
         scan = rotleak.read_scan(self.scan_dir)
@@ -284,7 +322,8 @@ class Package(unittest.TestCase):
         self.assertEqual(cal.statistics, doc["statistics"])
         self.assertEqual(len(cal.table), 401)
         self.assertEqual(len(cal.scan.point_names), 4)
-        again = rotleak.calibrate(scene, 4, os.path.join(self.tmp, "calibration2"), particles=3000, run_t_max=400)
+        again = rotleak.calibrate(scene, 4, os.path.join(self.tmp, "calibration2"), particles=3000,
+                                  overrides={"run.t_max": 400})
         with open(os.path.join(out, "calibration.csv")) as a, \
                 open(os.path.join(again.path, "calibration.csv")) as b:
             self.assertEqual(a.read(), b.read())
@@ -344,7 +383,7 @@ class Package(unittest.TestCase):
         self.assertLess(out.count("p\n"), 1000, "the run went on after Ctrl-C")
 
     def test_predict_matches_the_command_the_summary_and_the_scan_table(self):
-        p = rotleak.predict(QUICK, leak_omega="2/3")
+        p = rotleak.predict(QUICK, overrides={"leak.omega": "2/3"})
         cl = json.loads(subprocess.run([BIN, "predict", QUICK, "--set", "leak.omega=2/3", "--json"], check=True,
                                        capture_output=True, text=True).stdout)
         self.assertEqual(p, cl)
@@ -357,12 +396,12 @@ class Package(unittest.TestCase):
         with open(os.path.join(self.scan_dir, "table.csv"), newline="") as f:
             rows = list(csv.DictReader(f))
         for (_, row), raw in zip(table.iterrows(), rows):
-            want = rotleak.predict(QUICK, leak_omega=row["leak.omega"])
+            want = rotleak.predict(QUICK, overrides={"leak.omega": row["leak.omega"]})
             self.assertEqual(row["predicted_tail"], "forms" if want["forms"] else "none")
             self.assertAlmostEqual(row["predicted_amplitude"], want["amplitude"], delta=1e-12 * want["amplitude"])
             self.assertEqual(raw["predicted_tail_end"], "" if want["end"] is None else raw["predicted_tail_end"])
         with self.assertRaisesRegex(ValueError, "leak.width"):
-            rotleak.predict(QUICK, leak_width="0.7")
+            rotleak.predict(QUICK, overrides={"leak.width": "0.7"})
 
     def test_omega_and_covering_match_the_command(self):
         o = rotleak.omega("70/71")

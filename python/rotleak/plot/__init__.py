@@ -7,12 +7,18 @@ rotleak directory holds, beside its files:
   strip), scan_alpha_covering.png;
 - a shadow: shadow.png; a covering: f_L.png; a regimes search: its coarse scan and regimes.png.
 
-Each drawing is also a function (``rotleak.plot.run.draw(dir)``, ``rotleak.plot.scan.draw(dir)``, ...)
-for scripts and notebooks. Needs matplotlib (Debian: python3-matplotlib)."""
+Each drawing is also a function for scripts and notebooks: ``draw(x)`` takes a directory or the object
+the package's readers give (a :class:`~rotleak.Run`, :class:`~rotleak.Scan` or
+:class:`~rotleak.Calibration`), and ``rotleak.plot.run.draw(run, out=DIR)`` draws an in-process run. The
+tables are read by the package's readers, by column name. Needs matplotlib (Debian: python3-matplotlib)."""
+from __future__ import annotations
+
 import csv
 import os
 import sys
+from collections.abc import Callable, Sequence
 from fractions import Fraction
+from typing import Any, Optional, Union
 
 import matplotlib
 
@@ -21,8 +27,13 @@ if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
     matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from ..readers import Calibration, PathLike, RotleakError, Run, Scan, json_document  # noqa: E402
 
-def save(fig, path):
+Drawable = Union[Run, Scan, Calibration, PathLike]
+Point = tuple[float, float]
+
+
+def save(fig: Any, path: str) -> None:
     """Writes a figure whole or not at all (a temporary name, then renamed)."""
     tmp = path + ".tmp.png"
     try:
@@ -36,14 +47,8 @@ def save(fig, path):
         plt.close(fig)
 
 
-def read_csv(path):
-    """(header, rows) of a CSV file, every field a string."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return rows[0], rows[1:]
-
-
-def annotate_clear(ax, placed, label, xy, near, offset=(4, 2), step=9, **kw):
+def annotate_clear(ax: Any, placed: list[Point], label: str, xy: Point, near: Callable[[Point, Point], bool],
+                   offset: tuple[float, float] = (4, 2), step: float = 9, **kw: Any) -> None:
     """Annotates `xy` with `label`, stepped down `step` points for each earlier label in `placed` that
     `near(earlier_xy, xy)` calls close, so that neighbours' labels do not overlap; records `xy` in `placed`."""
     crowd = sum(1 for q in placed if near(q, xy))
@@ -51,7 +56,7 @@ def annotate_clear(ax, placed, label, xy, near, offset=(4, 2), step=9, **kw):
     ax.annotate(label, xy, textcoords="offset points", xytext=(offset[0], offset[1] - step * crowd), **kw)
 
 
-def exact_text(text):
+def exact_text(text: str) -> Optional[float]:
     """A scene's exact value as a float for drawing only ("1/3", "0.1022"); None for irrationals."""
     try:
         return float(Fraction(text))
@@ -59,7 +64,7 @@ def exact_text(text):
         return None
 
 
-def bench_main(name, draw_rows):
+def bench_main(name: str, draw_rows: Callable[[Sequence[dict[str, str]]], Any]) -> None:
     """``python3 -m rotleak.plot.NAME CSV OUT.png`` for a benchmark's CSV: draw_rows(rows) makes the
     figure from the CSV's rows (csv.DictReader), which is written whole to OUT.png."""
     if len(sys.argv) != 3:
@@ -72,7 +77,7 @@ def bench_main(name, draw_rows):
     print("drew " + sys.argv[2])
 
 
-def kind_of(directory):
+def kind_of(directory: PathLike) -> Optional[str]:
     """Which rotleak command wrote a directory: run, scan, calibration, shadow, covering, regimes; None
     otherwise."""
     if os.path.exists(os.path.join(directory, "calibration.json")):
@@ -84,10 +89,8 @@ def kind_of(directory):
     path = os.path.join(directory, "summary.json")
     if not os.path.exists(path):
         return None
-    from ..readers import RotleakError, json_document
-
     with open(path) as f:
-        doc = json_document(f.read(), "summary.json", directory)
+        doc = json_document(f.read(), "summary.json", os.fspath(directory))
     if not isinstance(doc, dict):
         raise RotleakError("%s: summary.json: not a simulate run's summary" % directory)
     if doc.get("command") == "simulate":
@@ -99,28 +102,45 @@ def kind_of(directory):
     return None
 
 
-def draw(directory):
-    """Draws a directory rotleak wrote; returns the paths of the pictures."""
+def draw(what: Drawable) -> list[str]:
+    """Draw what rotleak wrote, beside its files.
+
+    Parameters
+    ----------
+    what : Run, Scan, Calibration, or a directory
+        A run, scan or calibration object (a run made in process needs ``rotleak.plot.run.draw(run,
+        out=DIR)``), or any directory a rotleak command wrote: a run, scan, calibration, shadow, covering
+        or regimes search.
+
+    Returns
+    -------
+    list of str
+        The paths of the pictures drawn.
+    """
     from . import calibration, covering, regimes, run, scan, shadow
 
+    if isinstance(what, Run):
+        return run.draw(what)
+    if isinstance(what, Scan):
+        return scan.draw(what)
+    if isinstance(what, Calibration):
+        return calibration.draw(what)
+    directory = what
     kind = kind_of(directory)
-    drawers = {"run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
-               "regimes": regimes.draw, "calibration": calibration.draw}
+    drawers: dict[str, Callable[[PathLike], list[str]]] = {
+        "run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
+        "regimes": regimes.draw, "calibration": calibration.draw}
     if kind is None:
-        from ..readers import RotleakError
-
         raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
-                         "no scan.json, no regimes.json, no calibration.json)" % directory)
+                           "no scan.json, no regimes.json, no calibration.json)" % os.fspath(directory))
     return drawers[kind](directory)
 
 
-def main(argv=None):
+def main(argv: Optional[list[str]] = None) -> None:
     """``python3 -m rotleak.plot DIR``: a failure is one line on stderr and exit 1, not a traceback."""
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 1:
         sys.exit("usage: python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
-    from ..readers import RotleakError
-
     try:
         drew = draw(argv[0])
     except RotleakError as e:  # a damaged directory is bad input: its reason, exit 2 (as rotleak fit)

@@ -1,28 +1,32 @@
 """A covering directory (``rotleak covering --out DIR``): f_L.png, one panel per covering (an omega at a
 delta), f_L(s) against s, each panel with its own N, zero measure and cv."""
-import json
+from __future__ import annotations
+
 import os
 
 import matplotlib.pyplot as plt
 
-from . import read_csv, save
+from ..readers import PathLike, _pandas, json_document
+from . import save
 
 
-def draw(run):
-    """Draws f_L.png; returns its path."""
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
-    header, rows = read_csv(os.path.join(run, "f_L.csv"))
-    s = [float(r[0]) for r in rows]
+def draw(directory: PathLike) -> list[str]:
+    """Draw a covering directory's f_L.png (``rotleak covering --out DIR``); returns its path."""
+    run = os.fspath(directory)
+    with open(os.path.join(run, "summary.json")) as fh:
+        summary = json_document(fh.read(), "summary.json", run)
+    table = _pandas().read_csv(os.path.join(run, "f_L.csv"))
+    s = table["s"].astype(float).tolist()
     cov = summary["covering"]
     cov = cov if isinstance(cov, list) else [cov]
-    n = len(header) - 1
+    columns = [c for c in table.columns if c != "s"]  # one f_L column per covering, in the summary's order
+    n = len(columns)
     fig, axes = plt.subplots(n, 1, figsize=(9, 1.9 * n + 0.8), sharex=True, squeeze=False)
     inp = summary["input"]
     for k in range(n):
         ax = axes[k][0]
         c = cov[k]
-        f = [float(r[k + 1]) for r in rows]
+        f: list[float] = table[columns[k]].astype(float).tolist()
         ax.fill_between(s, f, step="mid", lw=0.6, color="C%d" % (k % 10))
         ax.set_ylabel("f_L")
         # each covering names its own delta and N (with several deltas they differ panel by panel), above its

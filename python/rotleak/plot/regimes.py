@@ -1,9 +1,14 @@
 """A regimes directory (``rotleak regimes --out DIR``): its coarse scan drawn as any scan, and
 regimes.png: every probe (coarse and bisection) as alpha, or its upper bound, against omega, coloured
 by regime, with the boundaries found and the predicted omega_sweep."""
+from __future__ import annotations
+
 import json
 import math
 import os
+from typing import Any
+
+from ..readers import PathLike
 
 import matplotlib.pyplot as plt
 
@@ -11,7 +16,7 @@ from . import save, scan
 from .scan import REGIME_COLOURS, value_of
 
 
-def probes(directory):
+def probes(directory: str) -> list[tuple[float, dict[str, Any], str]]:
     """(omega, point of scan.json, where) for every probe: the coarse scan's points and the bisections'."""
     out = []
     for sub in ("coarse", "low_mid", "mid_high"):
@@ -31,14 +36,21 @@ def probes(directory):
     return out
 
 
-def draw(directory):
-    """Draws the coarse scan's pictures and regimes.png; returns their paths."""
+def draw(where: PathLike) -> list[str]:
+    """Draw a regimes search (``rotleak regimes --out DIR``): its coarse scan's pictures and regimes.png.
+
+    Returns
+    -------
+    list of str
+        The paths drawn.
+    """
+    directory = os.fspath(where)
     with open(os.path.join(directory, "regimes.json")) as f:
         doc = json.load(f)
     drew = scan.draw(os.path.join(directory, "coarse")) if os.path.exists(
         os.path.join(directory, "coarse", "scan.json")) else []
     fig, ax = plt.subplots(figsize=(9, 4.8))
-    ys = []
+    ys: list[float] = []
     for x, p, sub in probes(directory):
         a = p["alpha"]
         y, marker = (a["value"], "o") if a["value"] is not None else (a["upper_bound"], "v")

@@ -1,20 +1,25 @@
 """A run directory (``rotleak simulate``): survival.png (P(t) log-log and semi-log with the error
 band, the kappa fit and the alpha crossing, and t P(t) with the tail amplitude C) and, when fc.csv exists, fc.png (collision density per
 time window)."""
+from __future__ import annotations
+
 import math
 import os
 import textwrap
+from typing import Any, Optional, Union
 
 import matplotlib.pyplot as plt
 
-from . import exact_text, read_csv, save
+from ..readers import PathLike, Run, read_run
+from . import exact_text, save
 
 
-def survival(run, summary):
-    _, rows = read_csv(os.path.join(run, "survival.csv"))
-    t = [float(r[0]) for r in rows if int(r[1]) > 0]
-    P = [float(r[2]) for r in rows if int(r[1]) > 0]
-    err = [float(r[3]) for r in rows if int(r[1]) > 0] if rows and len(rows[0]) > 3 else None
+def survival(run: Run, out: str) -> str:
+    """Draws OUT/survival.png from the run's survival curve and fits; returns its path."""
+    summary = run.summary
+    alive = run.survival[run.survival["survivors"] > 0]
+    t, P = alive["t"].astype(float).tolist(), alive["P"].astype(float).tolist()
+    err: Optional[list[float]] = alive["P_err"].astype(float).tolist() if "P_err" in alive else None
     kappa, alpha = summary["kappa"], summary["alpha"]
     scheme = summary.get("sampling", {}).get("scheme", "uniform")
     fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(17, 4.5))
@@ -53,7 +58,7 @@ def survival(run, summary):
     if err is not None:
         ax3.fill_between(t, [x * max(p - e, p * 1e-3) for x, p, e in zip(t, P, err)],
                          [x * (p + e) for x, p, e in zip(t, P, err)], alpha=0.25, lw=0, color="C0")
-    amp = summary["tail"].get("amplitude") or {}
+    amp: dict[str, Any] = summary["tail"].get("amplitude") or {}
     if amp.get("value") is not None:
         c, e = amp["value"], math.hypot(amp["error"], amp["systematic"])
         ax3.plot([amp["from"], amp["to"]], [c, c], color="C3", lw=1.5,
@@ -92,18 +97,21 @@ def survival(run, summary):
     fig.suptitle("survival: s_L = %s, width = %s, omega = %s (%s tier)" %
                  (leak["start"], leak["width"], leak["omega"], summary["tier"]))
     fig.tight_layout()
-    save(fig, os.path.join(run, "survival.png"))
+    path = os.path.join(out, "survival.png")
+    save(fig, path)
+    return path
 
 
-def density(run, summary):
-    path = os.path.join(run, "fc.csv")
-    if not os.path.exists(path):
-        return False
-    header, rows = read_csv(path)
-    s = [float(r[0]) for r in rows]
+def density(run: Run, out: str) -> Optional[str]:
+    """Draws OUT/fc.png from the run's fc.csv (one curve per time window); None when the run has no f_c."""
+    fc = run.fc
+    if fc is None:
+        return None
+    summary = run.summary
+    s = fc["s"].astype(float).tolist()
     fig, ax = plt.subplots(figsize=(10, 4))
-    for col in range(1, len(header), 2):
-        ax.plot(s, [float(r[col]) for r in rows], lw=1, label=header[col].replace("fc", "t in "))
+    for column in (c for c in fc.columns if c.startswith("fc")):  # fc[from,to]; count[from,to] beside each
+        ax.plot(s, fc[column].astype(float).tolist(), lw=1, label=column.replace("fc", "t in "))
     leak = summary["scene"]["leak"]
     start, width = exact_text(leak["start"]), exact_text(leak["width"])
     if leak["omega"] == "0" and start is not None and width is not None:
@@ -119,16 +127,32 @@ def density(run, summary):
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    save(fig, os.path.join(run, "fc.png"))
-    return True
+    path = os.path.join(out, "fc.png")
+    save(fig, path)
+    return path
 
 
-def draw(run):
-    """Draws survival.png (and fc.png); returns their paths. A damaged run is refused first, with the
-    reason rotleak fit gives (readers.RotleakError)."""
-    from ..readers import read_run
+def draw(run: Union[Run, PathLike], out: Optional[PathLike] = None) -> list[str]:
+    """Draw a run's survival.png and, where it has f_c, fc.png.
 
-    summary = read_run(run).summary
-    survival(run, summary)
-    drew = ["survival.png"] + (["fc.png"] if density(run, summary) else [])
-    return [os.path.join(run, d) for d in drew]
+    Parameters
+    ----------
+    run : Run or a run directory
+        A directory is read first (a damaged one is refused with the reason ``rotleak fit`` gives,
+        RotleakError).
+    out : directory, optional
+        Where the pictures go; by default the run's own directory (required for a run made in process).
+
+    Returns
+    -------
+    list of str
+        The paths drawn.
+    """
+    if not isinstance(run, Run):
+        run = read_run(run)
+    where = out if out is not None else run.path
+    if where is None:
+        raise ValueError("out = None: a run made in process has no directory; give out=DIR for its pictures")
+    target = os.fspath(where)
+    drew = [survival(run, target), density(run, target)]
+    return [d for d in drew if d is not None]

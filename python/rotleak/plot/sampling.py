@@ -3,12 +3,17 @@ error bands (one standard error), log-log, each down to the smallest P it resolv
 one survivor; mupo: at least 10 effective survivors).
 
 Usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
 import matplotlib.pyplot as plt
 
 from . import bench_main
 
 
-def draw(rows):
+def draw(rows: Sequence[dict[str, str]]) -> Any:
     """The figure of the benchmark's rows."""
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     for scheme, ok, color in (

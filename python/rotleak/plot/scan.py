@@ -3,19 +3,23 @@ run has them), and per swept key scan_<key>.png (kappa and alpha against the key
 downward arrows, log axes where the key spans decades) with the regime of each point as a coloured
 strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
 scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L."""
+from __future__ import annotations
+
 import math
 import os
+from typing import Any, Optional, Union
 
 import matplotlib.pyplot as plt
 from matplotlib import ticker
 
-from . import annotate_clear, exact_text, read_csv, save
+from ..readers import PathLike, Scan, read_scan
+from . import Point, annotate_clear, exact_text, save
 
 REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4",
                   "near-rational": "C1"}
 
 
-def value_of(text):
+def value_of(text: str) -> Optional[float]:
     """A swept value as a float for drawing ("2/3", "1e-4"); irrationals by name are None."""
     v = exact_text(text)
     if v is None:
@@ -26,18 +30,19 @@ def value_of(text):
     return v
 
 
-def curves(scan_dir, doc):
+def curves(scan: Scan) -> str:
+    """scan_survival.png: every point's P(t) with its error band; returns its path."""
+    doc = scan.document
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5))
     for k, point in enumerate(doc["points"]):
-        _, rows = read_csv(os.path.join(scan_dir, "points", point["point"], "survival.csv"))
-        rows = [r for r in rows if int(r[1]) > 0 and float(r[0]) > 0]
-        t = [float(r[0]) for r in rows]
-        P = [float(r[2]) for r in rows]
+        curve = scan.point(point["point"]).survival
+        curve = curve[(curve["survivors"] > 0) & (curve["t"] > 0)]
+        t, P = curve["t"].astype(float).tolist(), curve["P"].astype(float).tolist()
         label = ", ".join("%s = %s" % (key.split(".")[-1], v) for key, v in point["values"].items())
         for ax in (ax1, ax2):
             ax.plot(t, P, lw=1, color="C%d" % (k % 10), label=label)
-            if rows and len(rows[0]) > 3:
-                e = [float(r[3]) for r in rows]
+            if "P_err" in curve:
+                e = curve["P_err"].astype(float).tolist()
                 ax.fill_between(t, [max(p - s, p * 1e-3) for p, s in zip(P, e)], [p + s for p, s in zip(P, e)],
                                 color="C%d" % (k % 10), alpha=0.2, lw=0)
     for ax, title in ((ax1, "log-log"), (ax2, "semi-log")):
@@ -51,11 +56,15 @@ def curves(scan_dir, doc):
     keys = ", ".join(a["key"] for a in doc["axes"])
     fig.suptitle("P(t) of every point of the scan over %s (%d points)" % (keys, len(doc["points"])))
     fig.tight_layout()
-    save(fig, os.path.join(scan_dir, "scan_survival.png"))
+    path = os.path.join(scan.path, "scan_survival.png")
+    save(fig, path)
+    return path
 
 
-def against_key(scan_dir, doc, key):
-    pts = []
+def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
+    """scan_<key>.png: kappa, alpha (or its bound) and the regime against one swept key; None where the key
+    has no value to draw."""
+    pts: list[tuple[float, dict[str, Any]]] = []
     for point in doc["points"]:
         x = value_of(point["values"][key])
         if x is not None:
@@ -118,13 +127,13 @@ def against_key(scan_dir, doc, key):
     return name
 
 
-def against_covering(scan_dir, doc):
+def against_covering(scan_dir: str, doc: dict[str, Any]) -> Optional[str]:
     """alpha (values and bounds) against the MUPO covering's zero measure of each point's omega."""
     pts = [p for p in doc["points"] if p.get("number_theory")]
     if len({p["number_theory"]["covering_zero_measure"] for p in pts}) < 2:
         return None
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    placed = []  # points labelled so far: a neighbour's label steps aside (annotate_clear)
+    placed: list[Point] = []  # points labelled so far: a neighbour's label steps aside (annotate_clear)
     for p in sorted(pts, key=lambda q: q["number_theory"]["covering_zero_measure"]):
         x = p["number_theory"]["covering_zero_measure"]
         label = ", ".join(p["values"].values())
@@ -149,15 +158,24 @@ def against_covering(scan_dir, doc):
     return "scan_alpha_covering.png"
 
 
-def draw(scan_dir):
-    """Draws the scan's pictures; returns their paths (a damaged scan is refused first: RotleakError)."""
-    from ..readers import read_scan
+def draw(scan: Union[Scan, PathLike]) -> list[str]:
+    """Draw a scan's pictures beside its files.
 
-    scan = read_scan(scan_dir)
+    Parameters
+    ----------
+    scan : Scan or a scan directory
+        A directory is read first (a damaged scan is refused: RotleakError).
+
+    Returns
+    -------
+    list of str
+        The paths drawn: scan_survival.png, scan_<key>.png per swept key, scan_alpha_covering.png.
+    """
+    if not isinstance(scan, Scan):
+        scan = read_scan(scan)
     scan.table  # noqa: B018 -- read and checked against scan.json before anything is drawn
-    doc = scan.document
-    curves(scan_dir, doc)
-    drew = ["scan_survival.png"]
+    doc, scan_dir = scan.document, scan.path
+    drew = [os.path.basename(curves(scan))]
     for axis in doc["axes"]:
         name = against_key(scan_dir, doc, axis["key"])
         if name:

@@ -1,27 +1,29 @@
 """A shadow directory (``rotleak shadow --out DIR``): shadow.png, the divergence from the MPFR truth per
 collision for every tier (log scale), MUPO phases shaded, the tolerance and the truth's escape marked."""
-import json
+from __future__ import annotations
+
 import os
 
 import matplotlib.pyplot as plt
 
-from . import read_csv, save
+from ..readers import PathLike, _pandas, json_document
+from . import save
 
 
-def draw(run):
-    """Draws shadow.png; returns its path."""
+def draw(directory: PathLike) -> list[str]:
+    """Draw a shadow directory's shadow.png (``rotleak shadow --out DIR``); returns its path."""
+    run = os.fspath(directory)
     with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
-    header, rows = read_csv(os.path.join(run, "shadow.csv"))
-    col = {name: i for i, name in enumerate(header)}
-    k = [int(r[0]) for r in rows]
+        summary = json_document(f.read(), "summary.json", run)
+    table = _pandas().read_csv(os.path.join(run, "shadow.csv"))
+    k = table["k"].astype(int).tolist()
     fig, ax = plt.subplots(figsize=(10, 5))
-    for i, r in enumerate(rows):
-        if r[col["mupo"]] == "1":
+    for i, mupo in enumerate(table["mupo"].tolist()):
+        if mupo == 1:
             ax.axvspan(k[i] - 0.5, k[i] + 0.5, color="0.85", lw=0)
     for t in summary["tiers"]:
-        c = col["div_" + t["name"]]
-        pts = [(k[i], float(r[c])) for i, r in enumerate(rows) if r[c] not in ("", "0")]
+        div = table["div_" + t["name"]].tolist()
+        pts = [(k[i], float(d)) for i, d in enumerate(div) if d == d and d != 0]  # d != d: an empty field (NaN)
         if pts:
             ax.semilogy([p[0] for p in pts], [p[1] for p in pts], lw=1,
                         label="%s (horizon %s)" % (t["name"], t["horizon_collision"] or "-"))

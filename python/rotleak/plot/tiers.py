@@ -2,17 +2,21 @@
 the median trust horizon in collisions, one point per tier.
 
 Usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 
-from . import annotate_clear, bench_main
+from . import Point, annotate_clear, bench_main
 
 
-def draw(rows):
+def draw(rows: Sequence[dict[str, str]]) -> Any:
     """The figure of the benchmark's rows."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    placed = []  # a label near an earlier one steps down (mpfr:128 and float128 once overlapped)
+    placed: list[Point] = []  # a label near an earlier one steps down (mpfr:128 and float128 once overlapped)
     for r in sorted(rows, key=lambda q: -float(q["ratio_to_double"])):
         x, y = float(r["median_horizon_collisions"]), float(r["ratio_to_double"])
         ax.loglog([x], [y], "o", color="C0")
