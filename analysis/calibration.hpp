@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/survival.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "analysis/fits.hpp"
-#include "sim/scene.hpp"
-#include "sim/survival.hpp"
+#include "sim/model/scene.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 

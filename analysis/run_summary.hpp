@@ -9,9 +9,9 @@
 #include "analysis/fits.hpp"
 #include "analysis/regimes.hpp"
 #include "analysis/tail_model.hpp"
-#include "sim/engine.hpp"
-#include "sim/scene.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/scene.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 

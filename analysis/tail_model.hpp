@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

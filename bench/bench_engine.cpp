@@ -3,7 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "numeric/mpfr_fixed.hpp"
-#include "sim/particle.hpp"
+#include "sim/model/particle.hpp"
 
 using namespace rotleak;
 

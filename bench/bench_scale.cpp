@@ -18,11 +18,11 @@
 #include "bench/plain.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
-#include "sim/engine.hpp"
-#include "sim/initial.hpp"
-#include "sim/kernel_adapter.hpp"
-#include "sim/particle.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/engine/kernel_adapter.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/particle.hpp"
 
 using namespace rotleak;
 

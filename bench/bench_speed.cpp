@@ -13,9 +13,9 @@
 
 #include "bench/plain.hpp"
 #include "io/scene_file.hpp"
-#include "sim/engine.hpp"
-#include "sim/particle.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/model/particle.hpp"
 
 using namespace rotleak;
 

@@ -14,7 +14,7 @@ install(TARGETS rotleak_core rotleak_analysis rotleak_io rotleak_verify rotleak_
 set_target_properties(rotleak_options PROPERTIES EXPORT_NAME options)
 set_target_properties(rotleak_warnings PROPERTIES EXPORT_NAME warnings)
 
-# headers keep the paths the sources include them by ("sim/engine.hpp", "analysis/fits.hpp")
+# headers keep the paths the sources include them by ("sim/engine/engine.hpp", "analysis/fits.hpp")
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rotleak
         FILES_MATCHING PATTERN "*.hpp" PATTERN "*.ipp" PATTERN "cli" EXCLUDE)
 foreach(layer analysis verify)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The vectorised kernel's objects must not define a weak (inline, template) symbol.
 
-The kernel translation units (src/sim/simd_engine.cpp for AVX2, src/sim/simd_avx512.cpp for AVX-512) are
+The kernel translation units (src/sim/kernel/simd_engine.cpp for AVX2, src/sim/kernel/simd_avx512.cpp for AVX-512) are
 compiled for those instruction sets alone, and they instantiate the shared physics formulas
 (src/geometry/formulas.hpp, src/leak/leak_formulas.hpp) on their own pack types. Were one of them to emit
 a weak copy of an inline function that scalar code also uses (a formula instantiated on double, say),

@@ -66,14 +66,14 @@ MUTATIONS = [
     {
         "name": "fast-forward-one-edge",
         "what": "the fast-forward looks for the stationary leak on one of the two straight edges only",
-        "file": "src/sim/particle.hpp",
+        "file": "src/sim/model/particle.hpp",
         "edits": [("        for (int parity = 1; parity <= 2; ++parity) {", "        for (int parity = 1; parity <= 1; ++parity) {")],
     },
     {
         "name": "kernel-window-edge",
         "what": "the vectorised kernel's top-edge leak window reaches 1e-4 further than the core's "
                 "(a bit-identity failure: it must be reported in a line, in seconds, in bounded memory)",
-        "file": "src/sim/simd_kernel.ipp",
+        "file": "src/sim/kernel/simd_kernel.ipp",
         "edits": [("formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w]))",
                    "formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w] + 1e-4))")],
     },

@@ -11,7 +11,7 @@
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
 #include "scratch.hpp"
-#include "sim/tally.hpp"
+#include "sim/tally/tally.hpp"
 
 using namespace rotleak;
 

@@ -17,7 +17,7 @@
 #include "run/pipeline.hpp"
 #include "same_text.hpp"
 #include "scratch.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 
 namespace rotleak {
 namespace {

@@ -10,8 +10,8 @@
 #include "io/scene_file.hpp"
 #include "names.hpp"
 #include "same_text.hpp"
-#include "sim/engine.hpp"
-#include "sim/particle.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/particle.hpp"
 
 using namespace rotleak;
 

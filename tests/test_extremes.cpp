@@ -5,7 +5,7 @@
 
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
 #include "verify/audit.hpp"
 #include "verify/certify.hpp"
 #include "verify/shadow.hpp"

@@ -1,4 +1,4 @@
-// Importance sampling of the initial conditions (sim/sampling.hpp): the weights integrate to 1, are
+// Importance sampling of the initial conditions (sim/model/sampling.hpp): the weights integrate to 1, are
 // functions of (seed, id), the exact weighted sums do not depend on thread count or order, and the
 // "mupo" scheme estimates the same survival curve as "uniform" (unbiasedness), scene by scene.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include "analysis/fits.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/fixed_sum.hpp"
-#include "sim/engine.hpp"
-#include "sim/sampling.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/sampling.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 namespace {
@@ -93,14 +93,14 @@ TEST(FixedSum, StagedTermsReadAsAddedAlsoWhenTheWordWraps) {
   twice.merge(ref);
   EXPECT_TRUE(both == twice);
   EXPECT_TRUE(both.minus(staged) == ref);
-  EXPECT_TRUE(staged.minus(ref).is_zero());
+  EXPECT_TRUE(staged.minus(ref) == FixedSum());
   FixedSum stored = FixedSum::from_limbs(staged.base(), staged.limbs());
   EXPECT_TRUE(stored == ref);
   FixedSum zero;
   zero.add(0.0);
-  EXPECT_TRUE(zero.is_zero());
+  EXPECT_TRUE(zero == FixedSum());
   zero.add_times(0.25, 2);
-  EXPECT_FALSE(zero.is_zero());  // staged only, not yet in the limbs
+  EXPECT_FALSE(zero == FixedSum());  // staged only, not yet in the limbs
   EXPECT_EQ(zero.value(), 0.5);
 }
 

@@ -17,9 +17,9 @@
 #include "names.hpp"
 #include "numeric/input.hpp"
 #include "same_text.hpp"
-#include "sim/engine.hpp"
-#include "sim/kernel_adapter.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/engine/kernel_adapter.hpp"
+#include "sim/kernel/simd_engine.hpp"
 
 using namespace rotleak;
 

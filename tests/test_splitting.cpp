@@ -1,4 +1,4 @@
-// Population splitting (sim/population.hpp): the machinery changes nothing when no member splits,
+// Population splitting (sim/engine/population.hpp): the machinery changes nothing when no member splits,
 // the split estimate agrees with plain uniform runs wherever both resolve P, and neither the copy's
 // turn nor the split schedule moves P beyond its errors; every engine, lane width and thread count
 // gives the same bits. Statistical tests compare independent runs (different seeds), each at 4
@@ -14,10 +14,10 @@
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "same_text.hpp"
-#include "sim/engine.hpp"
-#include "sim/population.hpp"
-#include "sim/simd_engine.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/engine/population.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 namespace {

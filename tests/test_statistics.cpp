@@ -10,8 +10,8 @@
 #include "analysis/fits.hpp"
 #include "analysis/regimes.hpp"
 #include "io/scene_file.hpp"
-#include "sim/engine.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/tally/survival.hpp"
 
 using namespace rotleak;
 

@@ -11,7 +11,7 @@
 #include "analysis/run_summary.hpp"
 #include "analysis/tail_model.hpp"
 #include "io/scene_file.hpp"
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
 
 using namespace rotleak;
 

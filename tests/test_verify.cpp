@@ -7,7 +7,7 @@
 
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
-#include "sim/initial.hpp"
+#include "sim/model/initial.hpp"
 #include "verify/audit.hpp"
 #include "verify/auto_tier.hpp"
 #include "verify/exact_replay.hpp"

@@ -12,9 +12,9 @@
 #include "analysis/fits.hpp"
 #include "io/progress.hpp"
 #include "numeric/input.hpp"
-#include "sim/engine.hpp"
-#include "sim/simd_engine.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/tally/survival.hpp"
 
 namespace rotleak {
 

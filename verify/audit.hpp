@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/engine.hpp"
-#include "sim/scene.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/scene.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"
 

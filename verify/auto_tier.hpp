@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
-#include "sim/initial.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

@@ -24,7 +24,7 @@
 #include "io/text.hpp"
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 #include "verify/trace.hpp"
 
 namespace rotleak {

@@ -28,9 +28,9 @@
 
 #include "geometry/stadium.hpp"
 #include "io/json.hpp"
-#include "sim/engine.hpp"
-#include "sim/initial.hpp"
-#include "sim/scene.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

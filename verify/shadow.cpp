@@ -12,7 +12,7 @@
 
 #include "io/bytes.hpp"
 #include "numeric/tier_dispatch.hpp"
-#include "sim/sampling.hpp"
+#include "sim/model/sampling.hpp"
 #include "verify/line_fit.hpp"
 #include "verify/trace.hpp"
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "numeric/tier.hpp"
-#include "sim/initial.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

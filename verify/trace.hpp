@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-#include "sim/particle.hpp"
+#include "sim/model/particle.hpp"
 
 namespace rotleak {
 

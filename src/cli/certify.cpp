@@ -4,7 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "io/scene_file.hpp"
-#include "sim/sampling.hpp"
+#include "sim/model/sampling.hpp"
 #include "verify/reports.hpp"
 
 namespace rotleak::cli {

@@ -8,7 +8,7 @@
 #include "cli/commands.hpp"
 #include "numeric/input.hpp"
 #include "run/team.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 #include "version.hpp"
 
 int main(int argc, char** argv) {

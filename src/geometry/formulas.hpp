@@ -1,6 +1,6 @@
 // The stadium's physics, written once: every expression of a flight, a collision and a boundary
 // coordinate, over a number type T that is one number of any tier (Stadium<R>, the generic core) or a
-// pack of lanes (the vectorised kernel, sim/simd_kernel.ipp). Branches go through the selection hook
+// pack of lanes (the vectorised kernel, sim/kernel/simd_kernel.ipp). Branches go through the selection hook
 // (numeric/select.hpp): a plain branch for one number, so an interval tier still refuses an undecided
 // one; a lane select for a pack. Each expression is evaluated in one order with one rounding per
 // operation, which is what makes the kernel's bits the core's (with -ffp-contract=off, no FMA is

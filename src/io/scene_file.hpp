@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "io/json.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

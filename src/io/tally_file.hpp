@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/blocks.hpp"
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/tally/blocks.hpp"
 
 namespace rotleak {
 

@@ -70,9 +70,6 @@ class Leak {
   const R& piece_mid(int k) const { return piece_mid_[static_cast<std::size_t>(k)]; }
   const R& reach(int k) const { return reach_[static_cast<std::size_t>(k)]; }
 
-  /// Is boundary coordinate s inside the leak at time t?
-  bool contains(const R& s, const R& t) const { return formula::in_leak(s, schedule_.phase(t), half_width_); }
-
   /// Escape test at a collision at point q of piece p at time t.
   bool hit(Piece p, const Vec2<R>& q, const R& t) const {
     if (!schedule_.rotating()) return in_windows(p, q);

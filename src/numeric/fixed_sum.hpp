@@ -129,8 +129,6 @@ class FixedSum {
     return {m, e + 64 * top};
   }
 
-  bool is_zero() const { return staged_ == 0 && top_limb() == kNone; }
-
   bool operator==(const FixedSum& other) const {
     FixedSum ta, tb;
     const FixedSum &a = settled(ta), &o = other.settled(tb);

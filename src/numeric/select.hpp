@@ -1,6 +1,6 @@
 // The selection hook of the shared physics formulas (geometry/formulas.hpp, leak/leak_formulas.hpp), for one
 // number of any tier. The formulas are written once over a number type T and its comparison result (a
-// bool here); the vectorised kernel (sim/simd_kernel.ipp) defines the same three names for its packs of
+// bool here); the vectorised kernel (sim/kernel/simd_kernel.ipp) defines the same three names for its packs of
 // lanes and lane masks, and argument-dependent lookup picks them there.
 // - select(c, a, b): a where c holds, else b; both already computed (cheap, comparison-free operands).
 // - choose(c, a, b): a() where c holds, else b(); for one number only the branch taken is evaluated, so

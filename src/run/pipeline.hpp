@@ -15,7 +15,7 @@
 #include "analysis/run_summary.hpp"
 #include "io/json.hpp"
 #include "run/team.hpp"
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
 
 namespace rotleak {
 

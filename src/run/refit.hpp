@@ -10,7 +10,7 @@
 
 #include "io/json.hpp"
 #include "run/pipeline.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

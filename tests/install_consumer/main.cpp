@@ -4,8 +4,8 @@
 
 #include "analysis/fits.hpp"
 #include "io/scene_file.hpp"
-#include "sim/engine.hpp"
-#include "sim/survival.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/tally/survival.hpp"
 #include "version.hpp"
 
 int main() {

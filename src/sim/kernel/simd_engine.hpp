@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "sim/fate.hpp"
+#include "sim/model/fate.hpp"
 
 namespace rotleak::simd {
 

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/engine.hpp"
-#include "sim/particle.hpp"
-#include "sim/sampling.hpp"
+#include "sim/model/particle.hpp"
+#include "sim/model/sampling.hpp"
+#include "sim/tally/tally.hpp"
 
 namespace rotleak {
 

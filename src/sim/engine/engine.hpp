@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "sim/blocks.hpp"
-#include "sim/initial.hpp"
-#include "sim/scene.hpp"
-#include "sim/tally.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/scene.hpp"
+#include "sim/tally/blocks.hpp"
+#include "sim/tally/tally.hpp"
 
 namespace rotleak {
 
@@ -71,10 +71,6 @@ struct RunResult {
   bool complete = true;            ///< false when stopped before every block ran
 };
 
-/// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
-/// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
-void density_cells(int windows, const double* from, const double* to, unsigned* cells);
-
 /// The kernel width a run takes when RunOptions::simd_lanes leaves it open: the environment's
 /// ROTLEAK_SIMD_LANES (4 or 8: forces the AVX2 or the AVX-512 kernel, so that both are tested and timed on
 /// one machine), else the widest this CPU runs. A value other than 4 or 8, or a kernel this CPU cannot
@@ -89,8 +85,6 @@ std::string to_string(Engine e);
 Engine parse_engine(const std::string& key, const std::string& name);
 /// An InputError naming `key` unless engine `e` runs this scene on this CPU.
 void check_engine(const std::string& key, Engine e, const Scene& scene);
-/// Engine by name, checked against the scene and this CPU (parse_engine, then check_engine).
-Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene);
 
 /// Threads allowed per core (`--threads` above kThreadsPerCore x the cores is refused).
 inline constexpr int kThreadsPerCore = 8;

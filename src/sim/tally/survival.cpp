@@ -1,4 +1,4 @@
-#include "sim/survival.hpp"
+#include "sim/tally/survival.hpp"
 
 #include <algorithm>
 #include <cmath>

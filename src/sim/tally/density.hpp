@@ -1,21 +1,17 @@
-// The vectorised kernel's adapter: the scene in the kernel's plain structs, the context a block of
-// particles (or a split run's members) runs in, and the callbacks through which the kernel asks the
-// core (s of an arc hit), hands over f_c counts, takes the next particle and reports an ended
-// one. Also the f_c observer the scalar engine and the kernel's fast-forward hand-off share.
+// The f_c observer: the collision density f_c(s) counted in time windows, by the scalar engine at each
+// collision, by the fast-forward a bouncing-ball phase at a time (DensityObserver::phase), and by the
+// vectorised engine once per time cell (DensityCells), all to the same integers and exact sums.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <functional>
-#include <utility>
 #include <vector>
 
 #include "numeric/fixed_sum.hpp"
-#include "sim/particle.hpp"
-#include "sim/sampling.hpp"
-#include "sim/scene.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/model/particle.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 
@@ -277,45 +273,8 @@ struct DensityObserver {
   }
 };
 
-/// The initial data of particle i of a run: the scene's draw of id first_id + i (by its sampling
-/// scheme), or a given list (weight 1); and its weight.
-struct DrawSource {
-  const Sampler* sampler;
-  std::uint64_t first_id;
-  const std::vector<InitialDraw>* draws;
-  InitialDraw operator()(std::uint64_t i) const { return draws ? (*draws)[i] : sampler->draw(first_id + i); }
-  double weight(const InitialDraw& d) const { return draws ? 1.0 : sampler->weight(d); }
-};
-
-/// The vectorised kernel's view of a double model.
-simd::Scene simd_scene(const Model<double>& m);
-
-/// The f_c observer's windows and bins for the kernel.
-void simd_density(simd::Scene& s, const Scene& scene);
-
-struct SimdContext {
-  const Model<double>* model;
-  DrawSource draw;
-  std::uint64_t next, hi;
-  std::function<void(std::uint64_t, const ParticleEnd&)> record;
-  std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
-  bool weights = false;                                       ///< lanes carry their weight (weighted f_c)
-  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts, by time cell
-  FixedSum* density_w = nullptr;                              ///< and weighted sums
-  DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
-  const DensityCells* cells = nullptr;                        ///< the kernel's time cells
-  /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
-  const std::vector<simd::Start>* members = nullptr;
-};
-
-/// The kernel's questions to the core and its f_c sink (the callbacks below, for a SimdContext).
-extern const simd::Exact kSimdExact;
-
-/// simd::NextParticle for a SimdContext: the fast-forward's returns first, then its members (split runs)
-/// or the draws of its ids.
-bool simd_next(void* c, simd::Start* start, std::uint64_t* id);
-/// simd::Finish for a SimdContext: a handed-back lane is fast-forwarded and queued again, an ended one
-/// recorded.
-void simd_finish(void* c, std::uint64_t id, const simd::End& e);
+/// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
+/// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
+void density_cells(int windows, const double* from, const double* to, unsigned* cells);
 
 }  // namespace rotleak

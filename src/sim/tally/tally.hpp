@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "numeric/fixed_sum.hpp"
-#include "sim/blocks.hpp"
-#include "sim/fate.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/fate.hpp"
+#include "sim/model/scene.hpp"
+#include "sim/tally/blocks.hpp"
 
 namespace rotleak {
 
@@ -61,7 +61,7 @@ struct Tally {
   std::vector<FixedSum> escaped_w, escaped_w2;
   FixedSum total_w, total_w2;
   std::vector<FixedSum> collision_density_w;
-  // Split runs only (run.splitting; empty otherwise; sim/population.hpp). By grid index j = 0 .. bins
+  // Split runs only (run.splitting; empty otherwise; sim/engine/population.hpp). By grid index j = 0 .. bins
   // (time t_j = j dt): each stretch of a line's constant living weight Y adds Y (and Y^2, exactly) at
   // the index where it begins (line_in) and again at the index where it ends (line_out), so the
   // cumulative sums give sum_i Y_i(t_j) and sum_i Y_i(t_j)^2 as exact differences: never a

@@ -1,4 +1,4 @@
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-// The AVX-512 kernel: 8 lanes a register, the same kernel as the AVX2 one (sim/simd_kernel.ipp);
+// The AVX-512 kernel: 8 lanes a register, the same kernel as the AVX2 one (sim/kernel/simd_kernel.ipp);
 // this file alone is compiled with -mavx512f -mavx512dq -mfma and runs only where the CPU has them.
 #include <sleef.h>
 
@@ -7,7 +7,7 @@
 
 #include "geometry/formulas.hpp"
 #include "leak/leak_formulas.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD512_GROUPS
 #define ROTLEAK_SIMD512_GROUPS 4
@@ -33,6 +33,6 @@ bool available() {
   return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("fma");
 }
 
-#include "sim/simd_kernel.ipp"
+#include "sim/kernel/simd_kernel.ipp"
 
 }  // namespace rotleak::simd::avx512_kernel

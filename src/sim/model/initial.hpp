@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "geometry/stadium.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

@@ -1,5 +1,5 @@
 // The contract the two engines share: how a particle ends, and when a zero-length flight means
-// stuck. The vectorised kernel (sim/simd_engine.cpp) reports the same codes, plus one of its own.
+// stuck. The vectorised kernel (sim/kernel/simd_engine.cpp) reports the same codes, plus one of its own.
 #pragma once
 
 #include <cstdint>

@@ -9,8 +9,8 @@
 #include "geometry/formulas.hpp"
 #include "geometry/stadium.hpp"
 #include "leak/leak.hpp"
-#include "sim/fate.hpp"
-#include "sim/initial.hpp"
+#include "sim/model/fate.hpp"
+#include "sim/model/initial.hpp"
 
 namespace rotleak {
 

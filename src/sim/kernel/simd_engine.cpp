@@ -1,6 +1,6 @@
 // The AVX2 kernel (4 lanes a register; this file alone is compiled with -mavx2 -mfma) and the entry
 // points that choose the kernel for the width the Scene asks for. The kernel itself is
-// sim/simd_kernel.ipp, shared with the AVX-512 one (sim/simd_avx512.cpp).
+// sim/kernel/simd_kernel.ipp, shared with the AVX-512 one (sim/kernel/simd_avx512.cpp).
 #include <sleef.h>
 
 #include <utility>
@@ -8,7 +8,7 @@
 
 #include "geometry/formulas.hpp"
 #include "leak/leak_formulas.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD_GROUPS
 #define ROTLEAK_SIMD_GROUPS 4
@@ -16,7 +16,7 @@
 
 namespace rotleak::simd {
 
-namespace avx512_kernel {  // sim/simd_avx512.cpp
+namespace avx512_kernel {  // sim/kernel/simd_avx512.cpp
 bool available();
 void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n);
@@ -39,7 +39,7 @@ inline B sleef_atan2(const B& y, const B& x) {
   return B(Sleef_atan2d4_u35avx2(static_cast<__m256d>(y), static_cast<__m256d>(x)));
 }
 }  // namespace
-#include "sim/simd_kernel.ipp"
+#include "sim/kernel/simd_kernel.ipp"
 }  // namespace avx2_kernel
 
 bool available() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }

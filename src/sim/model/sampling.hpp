@@ -15,8 +15,8 @@
 #include <string>
 
 #include "geometry/stadium.hpp"
-#include "sim/initial.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/initial.hpp"
+#include "sim/model/scene.hpp"
 
 namespace rotleak {
 

@@ -6,8 +6,8 @@
 #include <optional>
 #include <vector>
 
-#include "sim/engine.hpp"
-#include "sim/scene.hpp"
+#include "sim/model/scene.hpp"
+#include "sim/tally/tally.hpp"
 
 namespace rotleak {
 

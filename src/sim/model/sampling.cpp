@@ -1,4 +1,4 @@
-#include "sim/sampling.hpp"
+#include "sim/model/sampling.hpp"
 
 #include <numbers>
 

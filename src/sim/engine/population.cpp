@@ -1,4 +1,4 @@
-#include "sim/population.hpp"
+#include "sim/engine/population.hpp"
 
 #include <Random123/philox.h>
 

@@ -1,4 +1,4 @@
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
 
 #include <omp.h>
 #include <sys/resource.h>
@@ -16,11 +16,11 @@
 
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
-#include "sim/kernel_adapter.hpp"
-#include "sim/particle.hpp"
-#include "sim/population.hpp"
-#include "sim/sampling.hpp"
-#include "sim/simd_engine.hpp"
+#include "sim/engine/kernel_adapter.hpp"
+#include "sim/engine/population.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "sim/model/particle.hpp"
+#include "sim/model/sampling.hpp"
 
 namespace rotleak {
 
@@ -350,12 +350,6 @@ void check_engine(const std::string& key, Engine e, const Scene& scene) {
   } catch (const std::runtime_error& err) {
     throw InputError(key, to_string(e), err.what());
   }
-}
-
-Engine engine_from_name(const std::string& key, const std::string& name, const Scene& scene) {
-  const Engine e = parse_engine(key, name);
-  check_engine(key, e, scene);
-  return e;
 }
 
 void check_resources(const Scene& scene, int threads) {

@@ -21,7 +21,7 @@ struct TimeWindow {
   double from = 0, to = 0;
 };
 
-/// How initial conditions are drawn (sim/sampling.hpp): the invariant measure, or the defensive
+/// How initial conditions are drawn (sim/model/sampling.hpp): the invariant measure, or the defensive
 /// mixture eps u + (1 - eps) g with g concentrated near the bouncing-ball family (|p| log-uniform in
 /// [p_min, p_max] on the straight edges; for flow starts, directions that close to the edges' normal).
 enum class SamplingKind { uniform, mupo };
@@ -39,7 +39,7 @@ struct SamplingSpec {
 
 std::string to_string(SamplingKind k);
 
-/// Population splitting in time (sim/population.hpp): every `every` time units each member that the
+/// Population splitting in time (sim/engine/population.hpp): every `every` time units each member that the
 /// split rule picks is replaced by two of half its weight, the copy's direction turned by an angle
 /// drawn from [-delta, delta]; a line (a starting particle and its descendants) holding more than
 /// `cap` members at a split time is thinned by roulette (each kept with probability 1/2 at twice its
@@ -70,7 +70,7 @@ struct Scene {
 
   double t_max = 20000;
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
-  bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/particle.hpp fast_forward)
+  bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/model/particle.hpp fast_forward)
   SplitSpec splitting;
   double checkpoint_seconds =
       300;  ///< a checkpoint of the merged tallies this often (0: none); not an input of the numbers
