@@ -6,7 +6,10 @@
 - docs/scenes.md names every scene key the loader accepts (src/io/scene_file.cpp's kSchema), each
   as `key = ...` in its section of the example;
 - every relative link and image of every Markdown file points at a file that exists, and a link's
-  #fragment at a heading of that file (GitHub's anchors).
+  #fragment at a heading of that file (GitHub's anchors);
+- every path of the repository a Markdown file names (`src/sim/engine/engine.hpp`, scripts/run_docs.py:
+  a path under one of the tracked top-level folders) exists, so that docs/design.md's map and the
+  guide cannot point at a room that moved (the generated study reports excepted: they name their runs).
 
 Prints every violation and exits 1 if there is one.   Usage: python3 scripts/check_docs.py [ROOT]"""
 import os
@@ -65,6 +68,26 @@ def broken_links(root, files):
     return bad
 
 
+NAMED_PATH = re.compile(r"(?<![\w/.-])((?:src|analysis|verify|scripts|bench|tests|data|python|docs|cmake|packaging)/"
+                        r"[\w./-]*\w)")
+
+
+def missing_paths(root, files):
+    bad = []
+    for f in files:
+        if not f.endswith(".md") or f.startswith(("docs/study/", "docs/bench/")):
+            continue
+        with open(os.path.join(root, f), encoding="utf-8") as fh:
+            for no, line in enumerate(fh, 1):
+                for m in NAMED_PATH.finditer(line):
+                    path = m.group(1)
+                    if any(c in line[m.end():m.end() + 1] for c in "*<{$") or "XXXX" in path:
+                        continue  # a pattern (points/*, DIR.checkpoint-rank<r>), not a path
+                    if not os.path.exists(os.path.join(root, path)):
+                        bad.append("%s:%d: names %s, which does not exist" % (f, no, path))
+    return bad
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     bad = []
@@ -96,11 +119,12 @@ def main():
             if not re.search(r"^%s\s*=" % re.escape(name), example[start:end], re.M):
                 bad.append("docs/scenes.md: the loader accepts %s.%s, the example does not show it" % (section, name))
     bad += broken_links(root, tracked(root))
+    bad += missing_paths(root, tracked(root))
     for b in bad:
         print(b)
     if bad:
         return 1
-    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys; every link resolves"
+    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys; every link resolves, every path named exists"
           % keys)
     return 0
 
