@@ -1,0 +1,272 @@
+// Checking a build against the reference: every tier within its error model through its horizon, every
+// engine ending each case as the reference does.
+#include "verify/reference.hpp"
+
+#include <gmpxx.h>
+#include <mpfr.h>
+#include <omp.h>
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/files.hpp"
+#include "io/json.hpp"
+#include "io/scene_file.hpp"
+#include "io/text.hpp"
+#include "numeric/input.hpp"
+#include "numeric/tier_dispatch.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "verify/trace.hpp"
+#include "verify/reference_detail.hpp"
+
+namespace rotleak {
+
+using namespace reference_detail;
+
+TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits) {
+  TierCheck out;
+  out.tier = tier;
+  out.case_name = c.name;
+  out.collisions = c.steps.size();
+  const double L = perimeter(c.scene), omega = omega_of(c.scene);
+  const std::vector<ParsedStep> ref = parse_steps(c, L);
+  const auto parsed = Tier::parse(tier);
+  if (!parsed || parsed->automatic()) throw std::invalid_argument(tier);
+
+  if (parsed->interval()) {
+    // An enclosure must contain the reference wherever it answers, and answer through the collisions
+    // its width allows: those where the reference's own enclosure, scaled to these bits, is below the
+    // horizon tolerance and every leak margin is wider than it.
+    const double scale = std::ldexp(1.0, static_cast<int>(c.bits - parsed->bits));
+    for (std::size_t i = 0; i < c.steps.size(); ++i) {
+      const RefStep& st = c.steps[i];
+      const double w = kSafety * st.radius * scale;
+      if (w > kHorizonTolerance || std::abs(st.margin) * L <= w || ref[i].junction <= w) break;
+      out.must_reach = st.k;
+    }
+    bool contained = true;
+    with_tier(*parsed, [&](auto) {
+      const Model<Mpfi> model = model_of<Mpfi>(c.scene);
+      try {
+        trace(model, c.draw, c.steps.size(), [&](const TraceStep<Mpfi>& st) {
+          const std::size_t i = st.k - 1;
+          const Mpfi s = model.stadium.s_of(st.piece, st.q);
+          const Mpfi p = model.stadium.birkhoff_p(st.piece, st.q, st.v);
+          const double slack = c.steps[i].radius + ref[i].resolution;
+          auto inside = [&](const Mpfi& x, const Big& r, double stretch) {
+            Big lo, hi;
+            mpfr_set(lo.v, &x.data()->left, MPFR_RNDD);
+            mpfr_set(hi.v, &x.data()->right, MPFR_RNDU);
+            return mpfr_cmp(lo.v, r.v) <= 0 ? (mpfr_cmp(r.v, hi.v) <= 0 || distance(r, hi) * stretch <= slack)
+                                            : distance(lo, r) * stretch <= slack;
+          };
+          const bool ok = st.piece == c.steps[i].piece && st.in_leak == c.steps[i].in_leak &&
+                          inside(st.t, ref[i].t, 1) && inside(s, ref[i].s, L) && inside(p, ref[i].p, 1);
+          if (!ok) {
+            contained = false;
+            return false;
+          }
+          out.matched_through = st.k;
+          return true;
+        });
+      } catch (const UncertainDecision&) {
+        out.stopped = "undecided branch at collision " + std::to_string(out.matched_through + 1);
+      }
+      return 0;
+    });
+    out.bits = "not stored";
+    out.pass = contained && out.matched_through >= out.must_reach;
+    if (!contained) out.first_wrong_decision = out.matched_through + 1;
+    return out;
+  }
+
+  const double u = unit_roundoff(tier);
+  out.must_reach = horizon(c, ref, u);
+  const auto fp = c.fingerprints.find(tier);
+  const bool have_fp = check_bits && fp != c.fingerprints.end();
+  std::size_t fp_next = 0;
+  std::optional<std::size_t> bits_differ;
+  std::size_t last_fp_match = 0;
+  bool matching = true;
+  with_tier(*parsed, [&](auto type) {
+    using R = typename decltype(type)::type;
+    follow<R>(c.scene, c.draw, c.steps.size(), [&](std::size_t k, const Seen& seen, const auto&, const auto&) {
+      const std::size_t i = k - 1;
+      const RefStep& st = c.steps[i];
+      const double e = u * st.gain;
+      const double d = seen.piece == st.piece ? divergence(seen, ref[i].t, ref[i].s, ref[i].p, L)
+                                              : std::numeric_limits<double>::infinity();
+      const bool required = k <= out.must_reach && decision_required(st, u, L, omega);
+      if (required) {
+        ++out.decisions_required;
+        if (seen.in_leak == st.in_leak)
+          ++out.decisions_reproduced;
+        else if (!out.first_wrong_decision)
+          out.first_wrong_decision = k;
+      }
+      // the error over the model, the reference's own uncertainty included: at 300 or 1024 bits the tier
+      // is finer than the reference's radius, and d / (u W_k) alone read 6.9e10 and 6.1e228 beside "pass"
+      const double allowed = kSafety * e + st.radius + ref[i].resolution;
+      if (k <= out.must_reach && allowed > 0) out.worst_ratio = std::max(out.worst_ratio, kSafety * d / allowed);
+      const bool within = d <= allowed && (!required || seen.in_leak == st.in_leak);
+      if (matching && within)
+        out.matched_through = k;
+      else
+        matching = false;
+      if (have_fp && fp_next < fp->second.size() && fp->second[fp_next].first == k) {
+        if (fp->second[fp_next].second == seen.hash) {
+          if (!bits_differ) last_fp_match = k;
+        } else if (!bits_differ) {
+          bits_differ = k;
+        }
+        ++fp_next;
+      }
+      return true;
+    });
+    return 0;
+  });
+  out.bits_compared = have_fp;
+  if (!check_bits) {
+    out.bits = "not checked";
+  } else if (!have_fp) {
+    out.bits = "not stored";
+  } else if (bits_differ) {
+    out.bits = "differ by collision " + std::to_string(*bits_differ) + " (identical through " +
+               std::to_string(last_fp_match) + ")";
+    out.bits_ok = false;
+  } else if (fp_next < fp->second.size()) {
+    out.bits = "trajectory shorter than the reference";
+    out.bits_ok = false;
+  } else {
+    out.bits = "identical";
+  }
+  out.pass = out.matched_through >= out.must_reach && !out.first_wrong_decision && out.bits_ok;
+  return out;
+}
+
+EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
+  EngineCheck out;
+  out.engine = to_string(engine) + (fast_forward ? "+ff" : "");
+  out.case_name = c.name;
+  const double u = unit_roundoff("double"), L = perimeter(c.scene), omega = omega_of(c.scene);
+  const std::vector<ParsedStep> ref = parse_steps(c, L);
+  std::size_t h = std::min(horizon(c, ref, u), c.steps.size() > 0 ? c.steps.size() - 1 : 0);
+  if (engine == Engine::simd && !simd::available()) {
+    out.expected = "not run: this CPU has no AVX2 and FMA";
+    return out;
+  }
+  // the expected end: the first escape within the horizon, provided every decision before it is one double resolves
+  std::optional<std::size_t> escape;
+  for (std::size_t k = 1; k <= h; ++k) {
+    const RefStep& st = c.steps[k - 1];
+    if (!decision_required(st, u, L, omega)) {
+      out.expected = "not decidable in double: collision " + std::to_string(k) + " lies " +
+                     std::to_string(std::abs(st.margin)) + " (in s) from the leak's edge";
+      return out;
+    }
+    if (st.in_leak) {
+      escape = k;
+      break;
+    }
+  }
+  // t_max goes between collisions h and h + 1: they must be further apart than double's error there
+  while (h > 0 && escape != h) {
+    Big a, b;
+    parse_big(a, c.steps[h - 1].t);
+    parse_big(b, c.steps[h].t);
+    if (distance(a, b) / 2 > kSafety * u * c.steps[h].gain) break;
+    --h;
+  }
+  if (h == 0) {
+    out.expected = "not decidable in double: no collision within its horizon";
+    return out;
+  }
+  out.checked = true;
+  out.horizon = h;
+  Scene sc = c.scene;
+  sc.particles = 1;
+  sc.tier = Tier::double_;
+  sc.collision_density.reset();
+  sc.escape_records = true;
+  sc.fast_forward = fast_forward;
+  const double t_h = mpfr_get_d(ref[h - 1].t.v, MPFR_RNDN), t_next = mpfr_get_d(ref[h].t.v, MPFR_RNDN);
+  sc.t_max = escape ? t_next + 1 : (t_h + t_next) / 2;
+  std::vector<InitialDraw> draws{c.draw};
+  RunOptions opt;
+  opt.threads = 1;
+  opt.engine = engine;
+  opt.draws = &draws;
+  const RunResult run = run_ensemble(sc, opt);
+  const EscapeRecord& rec = run.records.at(0);
+  char buf[200];
+  if (escape) {
+    const RefStep& st = c.steps[*escape - 1];
+    const double tol = kSafety * u * st.gain + st.radius + ref[*escape - 1].resolution;
+    Big t;
+    mpfr_set_d(t.v, rec.t, MPFR_RNDN);
+    const double dt = distance(t, ref[*escape - 1].t);
+    std::snprintf(buf, sizeof buf, "escape at collision %zu, t within %.3g of %.17g", *escape, tol,
+                  mpfr_get_d(ref[*escape - 1].t.v, MPFR_RNDN));
+    out.expected = buf;
+    std::snprintf(buf, sizeof buf, "%s at collision %llu, t = %.17g",
+                  rec.fate == Fate::escaped ? "escape" : "no escape", static_cast<unsigned long long>(rec.collisions),
+                  rec.t);
+    out.got = buf;
+    out.pass = rec.fate == Fate::escaped && rec.collisions == *escape && dt <= tol;
+  } else {
+    std::snprintf(buf, sizeof buf, "alive after %zu collisions at t_max = %.17g", h, sc.t_max);
+    out.expected = buf;
+    std::snprintf(buf, sizeof buf, "%s after %llu collisions",
+                  rec.fate == Fate::survived  ? "alive"
+                  : rec.fate == Fate::escaped ? "escaped"
+                                              : "stuck",
+                  static_cast<unsigned long long>(rec.collisions));
+    out.got = buf;
+    out.pass = rec.fate == Fate::survived && rec.collisions == h;
+  }
+  return out;
+}
+
+VerifyReport verify_reference(const ReferenceSet& set, const VerifyOptions& opt) {
+  VerifyReport rep;
+  rep.provenance_json = set.provenance_json;
+  rep.cases = set.cases.size();
+  const std::size_t n = set.cases.size();
+  rep.tiers.resize(opt.tiers.size() * n);
+  rep.engines.resize(opt.engines.size() * n);
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const std::size_t jobs = rep.tiers.size() + rep.engines.size();
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t j = 0; j < jobs; ++j) {
+    try {
+      if (j < rep.tiers.size()) {
+        rep.tiers[j] = check_tier(set.cases[j % n], opt.tiers[j / n], opt.check_bits);
+      } else {
+        const std::size_t e = j - rep.tiers.size();
+        rep.engines[e] = check_engine(set.cases[e % n], opt.engines[e / n].first, opt.engines[e / n].second);
+      }
+    } catch (...) {
+#pragma omp critical(rotleak_verify_error)
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  for (const TierCheck& t : rep.tiers) rep.pass = rep.pass && t.pass;
+  for (const EngineCheck& e : rep.engines) rep.pass = rep.pass && e.pass;
+  return rep;
+}
+
+
+}  // namespace rotleak

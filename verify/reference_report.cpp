@@ -1,0 +1,144 @@
+// The verify report: JSON and the table rotleak verify prints.
+#include "verify/reference.hpp"
+
+#include <gmpxx.h>
+#include <mpfr.h>
+#include <omp.h>
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/files.hpp"
+#include "io/json.hpp"
+#include "io/scene_file.hpp"
+#include "io/text.hpp"
+#include "numeric/input.hpp"
+#include "numeric/tier_dispatch.hpp"
+#include "sim/kernel/simd_engine.hpp"
+#include "verify/trace.hpp"
+#include "verify/reference_detail.hpp"
+
+namespace rotleak {
+
+using namespace reference_detail;
+
+json verify_json(const VerifyReport& rep) {
+  json doc;
+  doc["reference"] = rep.reference_dir;
+  doc["provenance"] = json::parse(rep.provenance_json);
+  doc["error_model"] = error_model_json();
+  doc["pass"] = rep.pass;
+  json tiers = json::array();
+  for (const TierCheck& t : rep.tiers)
+    tiers.push_back({{"tier", t.tier},
+                     {"case", t.case_name},
+                     {"collisions", t.collisions},
+                     {"must_reach", t.must_reach},
+                     {"matched_through", t.matched_through},
+                     {"worst_error_over_model", t.worst_ratio},
+                     {"decisions_required", t.decisions_required},
+                     {"decisions_reproduced", t.decisions_reproduced},
+                     {"first_wrong_decision", nullable(t.first_wrong_decision)},
+                     {"bits", t.bits},
+                     {"stopped", t.stopped},
+                     {"pass", t.pass}});
+  doc["tiers"] = tiers;
+  json engines = json::array();
+  for (const EngineCheck& e : rep.engines)
+    engines.push_back({{"engine", e.engine},
+                       {"case", e.case_name},
+                       {"checked", e.checked},
+                       {"horizon", e.horizon},
+                       {"expected", e.expected},
+                       {"got", e.got},
+                       {"pass", e.pass}});
+  doc["engines"] = engines;
+  return doc;
+}
+
+std::string verify_text(const VerifyReport& rep) {
+  std::string out;
+  const json prov = json::parse(rep.provenance_json);
+  appendf(out, "reference: %s (%zu cases; made by %s, %s)\n", rep.reference_dir.c_str(), rep.cases,
+          prov.value("version", std::string("?")).c_str(), prov.value("date", std::string("?")).c_str());
+  appendf(out,
+          "error model: |tier - reference| <= %g u W_k + the reference's radius through the tier's horizon (u W_k <= "
+          "%g); worst: the largest error in units of that bound / %g\n\n",
+          kSafety, kHorizonTolerance, kSafety);
+  appendf(out, "%-12s %6s %9s %9s %9s %10s %7s  %s\n", "tier", "cases", "horizon", "reached", "worst", "decisions",
+          "bits", "verdict");
+  std::vector<std::string> failures;
+  for (std::size_t i = 0; i < rep.tiers.size();) {
+    const std::string& name = rep.tiers[i].tier;
+    std::size_t cases = 0, reached = 0, req = 0, rep_ok = 0, bits_ok = 0, bits_compared = 0, pass = 0, must = 0;
+    double worst = 0;
+    for (; i < rep.tiers.size() && rep.tiers[i].tier == name; ++i) {
+      const TierCheck& t = rep.tiers[i];
+      ++cases;
+      must += t.must_reach;
+      reached += t.matched_through >= t.must_reach;
+      req += t.decisions_required;
+      rep_ok += t.decisions_reproduced;
+      bits_compared += t.bits_compared;
+      bits_ok += t.bits_compared && t.bits_ok;
+      pass += t.pass;
+      worst = std::max(worst, t.worst_ratio);
+      if (!t.pass) {
+        std::string why;
+        appendf(why, "%s %s: matched through collision %zu of %zu required", t.tier.c_str(), t.case_name.c_str(),
+                t.matched_through, t.must_reach);
+        if (t.first_wrong_decision) appendf(why, "; escape decision wrong at collision %zu", *t.first_wrong_decision);
+        if (!t.bits_ok) why += "; bits " + t.bits;
+        if (!t.stopped.empty()) why += "; " + t.stopped;
+        failures.push_back(why);
+      }
+    }
+    // an interval tier is checked by containment: no error ratio, its decisions are its own proofs
+    const bool interval = Tier::parse(name) && Tier::parse(name)->interval();
+    char dec[32], bits[32], ratio[32];
+    std::snprintf(dec, sizeof dec, "%zu/%zu", rep_ok, req);
+    if (bits_compared)
+      std::snprintf(bits, sizeof bits, "%zu/%zu", bits_ok, bits_compared);
+    else
+      std::snprintf(bits, sizeof bits, "none");  // no fingerprints of this tier: nothing was compared
+    std::snprintf(ratio, sizeof ratio, "%.3g", worst);
+    appendf(out, "%-12s %6zu %9.1f %4zu/%-4zu %9s %10s %7s  %s\n", name.c_str(), cases,
+            static_cast<double>(must) / static_cast<double>(cases), reached, cases, interval ? "contained" : ratio,
+            interval ? "-" : dec, interval ? "-" : bits, pass == cases ? "pass" : "FAIL");
+  }
+  if (!rep.engines.empty()) {
+    appendf(out, "\n%-12s %6s %8s %7s  %s\n", "engine", "cases", "checked", "agree", "verdict");
+    for (std::size_t i = 0; i < rep.engines.size();) {
+      const std::string& name = rep.engines[i].engine;
+      std::size_t cases = 0, checked = 0, agree = 0;
+      bool ok = true;
+      for (; i < rep.engines.size() && rep.engines[i].engine == name; ++i) {
+        const EngineCheck& e = rep.engines[i];
+        ++cases;
+        checked += e.checked;
+        agree += e.checked && e.pass;
+        ok = ok && e.pass;
+        if (!e.pass) failures.push_back(e.engine + " " + e.case_name + ": expected " + e.expected + ", got " + e.got);
+      }
+      appendf(out, "%-12s %6zu %8zu %7zu  %s\n", name.c_str(), cases, checked, agree, ok ? "pass" : "FAIL");
+    }
+  }
+  out += "\n";
+  for (const std::string& f : failures) out += "FAIL " + f + "\n";
+  out += rep.pass ? "verify: pass\n" : "verify: FAIL (" + std::to_string(failures.size()) + " checks)\n";
+  return out;
+}
+
+
+}  // namespace rotleak
