@@ -3,7 +3,7 @@
 # apt-get is only called for packages that dpkg does not already report as installed.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config clang-format git
+  build-essential cmake pkg-config clang-format git universal-ctags
   clang libclang-rt-14-dev
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
   libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev
