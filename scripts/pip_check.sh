@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `pip install .` into a fresh virtual environment (with the system's site packages, for numpy, pandas and
 # matplotlib): the in-tree build backend (python/build_backend) packs the package CMake builds into a wheel,
-# here reusing the build directory BUILD (--config-settings build-dir=BUILD), and from outside the source
+# here packing the build directory BUILD as it is (--config-settings build-dir=BUILD build=no), and from outside the source
 # tree `import rotleak` gives the installed package, which runs a scene in process and reads it back.
 # Everything is written to a temporary directory, removed at the end.   Usage: scripts/pip_check.sh BUILD
 set -euo pipefail
@@ -11,7 +11,9 @@ python=${PYTHON:-/usr/bin/python3}
 work=$(mktemp -d /tmp/rotleak-pip-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 "$python" -m venv --system-site-packages "$work/venv"
-PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 "$work/venv/bin/pip" install --quiet --config-settings "build-dir=$build" "$src"
+# build=no: pack the suite's build as it is (a test does not rebuild what the other tests run)
+PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 "$work/venv/bin/pip" install --quiet --config-settings "build-dir=$build" \
+  --config-settings build=no "$src"
 cd "$work"
 "$work/venv/bin/python" - "$src/data/scenes/quickstart.toml" "$work/venv" <<'PY'
 import os, sys

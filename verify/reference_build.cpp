@@ -27,8 +27,8 @@
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel/simd_engine.hpp"
-#include "verify/trace.hpp"
 #include "verify/reference_detail.hpp"
+#include "verify/trace.hpp"
 
 namespace rotleak {
 
@@ -241,7 +241,6 @@ std::vector<std::pair<std::size_t, std::uint64_t>> fingerprint(const Scene& scen
   return out;
 }
 
-
 }  // namespace
 
 std::vector<CaseSpec> read_case_specs(const std::string& path) {
@@ -315,7 +314,6 @@ RefCase build_case(const CaseSpec& spec) {
   return c;
 }
 
-
 ReferenceSet build_reference(const std::vector<CaseSpec>& specs, const std::string& provenance_json, int threads,
                              const std::function<void(std::size_t, std::size_t)>& progress) {
   ReferenceSet set;
@@ -337,6 +335,5 @@ ReferenceSet build_reference(const std::vector<CaseSpec>& specs, const std::stri
   if (error) std::rethrow_exception(error);
   return set;
 }
-
 
 }  // namespace rotleak

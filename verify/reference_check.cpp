@@ -27,8 +27,8 @@
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel/simd_engine.hpp"
-#include "verify/trace.hpp"
 #include "verify/reference_detail.hpp"
+#include "verify/trace.hpp"
 
 namespace rotleak {
 
@@ -267,6 +267,5 @@ VerifyReport verify_reference(const ReferenceSet& set, const VerifyOptions& opt)
   for (const EngineCheck& e : rep.engines) rep.pass = rep.pass && e.pass;
   return rep;
 }
-
 
 }  // namespace rotleak

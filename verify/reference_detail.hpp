@@ -29,8 +29,8 @@
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel/simd_engine.hpp"
-#include "verify/trace.hpp"
 #include "verify/reference.hpp"
+#include "verify/trace.hpp"
 
 namespace rotleak::reference_detail {
 

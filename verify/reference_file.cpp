@@ -27,8 +27,8 @@
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel/simd_engine.hpp"
-#include "verify/trace.hpp"
 #include "verify/reference_detail.hpp"
+#include "verify/trace.hpp"
 
 namespace rotleak {
 
@@ -94,7 +94,6 @@ std::vector<RefStep> read_steps(const std::filesystem::path& path) {
   }
   return out;
 }
-
 
 }  // namespace
 
@@ -192,7 +191,6 @@ ReferenceSet read_reference(const std::string& dir) {
   return set;
 }
 
-
 std::vector<std::string> compare_references(const ReferenceSet& before, const ReferenceSet& after) {
   std::vector<std::string> lines;
   std::map<std::string, const RefCase*> old;
@@ -249,6 +247,5 @@ std::vector<std::string> compare_references(const ReferenceSet& before, const Re
   for (const auto& [name, c] : old) lines.push_back(name + ": removed");
   return lines;
 }
-
 
 }  // namespace rotleak

@@ -26,8 +26,8 @@
 #include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/kernel/simd_engine.hpp"
-#include "verify/trace.hpp"
 #include "verify/reference_detail.hpp"
+#include "verify/trace.hpp"
 
 namespace rotleak {
 
@@ -139,6 +139,5 @@ std::string verify_text(const VerifyReport& rep) {
   out += rep.pass ? "verify: pass\n" : "verify: FAIL (" + std::to_string(failures.size()) + " checks)\n";
   return out;
 }
-
 
 }  // namespace rotleak
