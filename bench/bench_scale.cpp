@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
   if (const int w = lanes > 0 ? lanes : simd::widest_lanes(); w > 0 && simd::lanes_available(w)) {
     const Scene s = parse_scene("[ensemble]\nparticles = 1000\n");
     const Model<double> model = Model<double>::from(s);
-    simd::Scene ks = simd_scene(model);
+    simd::KernelScene ks = simd_scene(model);
     ks.lanes = w;
     const InitialConditions ic = initial_conditions(s);
     const int per_pack = simd::pack_lanes(w);

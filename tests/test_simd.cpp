@@ -204,7 +204,7 @@ TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
         std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
         continue;
       }
-      simd::Scene ks{};  // the kernel's own cell of each time
+      simd::KernelScene ks{};  // the kernel's own cell of each time
       ks.lanes = lanes;
       ks.density_windows = n;
       for (int w = 0; w < n; ++w)
@@ -238,7 +238,7 @@ TEST(Simd, FlightsOnlyFollowTheCore) {
       std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
       continue;
     }
-    simd::Scene ks = simd_scene(model);
+    simd::KernelScene ks = simd_scene(model);
     ks.lanes = lanes;
     std::vector<simd::Start> starts;
     double want = 0;

@@ -8,10 +8,10 @@
 // running maximum over collisions and runs of divergence / 2^-bits, each run while its divergence is
 // below kGainSaturation), and at least 1 + |t_k| + sum over collisions j <= k of 1 / cos(theta_j)
 // (a near-tangent flight turns the rounding of its start into a long slide). A tier with unit roundoff u
-//  - must follow the reference within kSafety u W_k + (the reference's own radius and digits) through
+//  - must follow the reference within kErrorModelSafety u W_k + (the reference's own radius and digits) through
 //    its horizon: the last collision with u W_k <= kHorizonTolerance;
 //  - must reproduce every escape decision of its horizon that its error cannot blur (the leak margin,
-//    in length, above kSafety u W_k (1 + |omega| L));
+//    in length, above kErrorModelSafety u W_k (1 + |omega| L));
 //  - and, for the tiers with stored fingerprints, must produce the same bits as the build that made
 //    the reference (the core uses only correctly rounded operations, and no contraction, on its path).
 // An interval tier must contain the reference wherever it answers, through the collisions its own
@@ -34,7 +34,7 @@
 
 namespace rotleak {
 
-inline constexpr double kSafety = 64;              ///< error-model safety factor (measured margin: see README)
+inline constexpr double kErrorModelSafety = 64;    ///< error-model safety factor (measured margin: see README)
 inline constexpr double kHorizonTolerance = 1e-6;  ///< a tier's horizon: predicted error below this
 /// precisions of the runs that measure the gains (none is a tier's own), and the divergence at
 /// which a gain run stops counting (saturation is near 1)

@@ -34,79 +34,101 @@ namespace rotleak {
 
 using namespace reference_detail;
 
-TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits) {
-  TierCheck out;
-  out.tier = tier;
-  out.case_name = c.name;
-  out.collisions = c.steps.size();
-  const double L = perimeter(c.scene), omega = omega_of(c.scene);
-  const std::vector<ParsedStep> ref = parse_steps(c, L);
-  const auto parsed = Tier::parse(tier);
-  if (!parsed || parsed->automatic()) throw std::invalid_argument(tier);
+namespace {
 
-  if (parsed->interval()) {
-    // An enclosure must contain the reference wherever it answers, and answer through the collisions
-    // its width allows: those where the reference's own enclosure, scaled to these bits, is below the
-    // horizon tolerance and every leak margin is wider than it.
-    const double scale = std::ldexp(1.0, static_cast<int>(c.bits - parsed->bits));
-    for (std::size_t i = 0; i < c.steps.size(); ++i) {
-      const RefStep& st = c.steps[i];
-      const double w = kSafety * st.radius * scale;
-      if (w > kHorizonTolerance || std::abs(st.margin) * L <= w || ref[i].junction <= w) break;
-      out.must_reach = st.k;
-    }
-    bool contained = true;
-    with_tier(*parsed, [&](auto) {
-      const Model<Mpfi> model = model_of<Mpfi>(c.scene);
-      try {
-        trace(model, c.draw, c.steps.size(), [&](const TraceStep<Mpfi>& st) {
-          const std::size_t i = st.k - 1;
-          const Mpfi s = model.stadium.s_of(st.piece, st.q);
-          const Mpfi p = model.stadium.birkhoff_p(st.piece, st.q, st.v);
-          const double slack = c.steps[i].radius + ref[i].resolution;
-          auto inside = [&](const Mpfi& x, const Big& r, double stretch) {
-            Big lo, hi;
-            mpfr_set(lo.v, &x.data()->left, MPFR_RNDD);
-            mpfr_set(hi.v, &x.data()->right, MPFR_RNDU);
-            return mpfr_cmp(lo.v, r.v) <= 0 ? (mpfr_cmp(r.v, hi.v) <= 0 || distance(r, hi) * stretch <= slack)
-                                            : distance(lo, r) * stretch <= slack;
-          };
-          const bool ok = st.piece == c.steps[i].piece && st.in_leak == c.steps[i].in_leak &&
-                          inside(st.t, ref[i].t, 1) && inside(s, ref[i].s, L) && inside(p, ref[i].p, 1);
-          if (!ok) {
-            contained = false;
-            return false;
-          }
-          out.matched_through = st.k;
-          return true;
-        });
-      } catch (const UncertainDecision&) {
-        out.stopped = "undecided branch at collision " + std::to_string(out.matched_through + 1);
-      }
-      return 0;
-    });
-    out.bits = "not stored";
-    out.pass = contained && out.matched_through >= out.must_reach;
-    if (!contained) out.first_wrong_decision = out.matched_through + 1;
-    return out;
+/// An interval tier: its enclosures must contain the reference wherever they answer, and answer through
+/// the collisions its width allows (where the reference's own enclosure, scaled to these bits, is below
+/// the horizon tolerance and every leak margin is wider than it).
+void check_interval_tier(const RefCase& c, const Tier& tier, const std::vector<ParsedStep>& ref, double L,
+                         TierCheck& out) {
+  const double scale = std::ldexp(1.0, static_cast<int>(c.bits - tier.bits));
+  for (std::size_t i = 0; i < c.steps.size(); ++i) {
+    const RefStep& st = c.steps[i];
+    const double w = kErrorModelSafety * st.radius * scale;
+    if (w > kHorizonTolerance || std::abs(st.margin) * L <= w || ref[i].junction <= w) break;
+    out.must_reach = st.k;
   }
+  bool contained = true;
+  with_tier(tier, [&](auto) {
+    const Model<Mpfi> model = model_of<Mpfi>(c.scene);
+    try {
+      trace(model, c.draw, c.steps.size(), [&](const TraceStep<Mpfi>& st) {
+        const std::size_t i = st.k - 1;
+        const double slack = c.steps[i].radius + ref[i].resolution;
+        auto inside = [&](const Mpfi& x, const Big& r, double stretch) {
+          Big lo, hi;
+          mpfr_set(lo.v, &x.data()->left, MPFR_RNDD);
+          mpfr_set(hi.v, &x.data()->right, MPFR_RNDU);
+          return mpfr_cmp(lo.v, r.v) <= 0 ? (mpfr_cmp(r.v, hi.v) <= 0 || distance(r, hi) * stretch <= slack)
+                                          : distance(lo, r) * stretch <= slack;
+        };
+        contained = st.piece == c.steps[i].piece && st.in_leak == c.steps[i].in_leak && inside(st.t, ref[i].t, 1) &&
+                    inside(model.stadium.s_of(st.piece, st.q), ref[i].s, L) &&
+                    inside(model.stadium.birkhoff_p(st.piece, st.q, st.v), ref[i].p, 1);
+        if (contained) out.matched_through = st.k;
+        return contained;
+      });
+    } catch (const UncertainDecision&) {
+      out.stopped = "undecided branch at collision " + std::to_string(out.matched_through + 1);
+    }
+    return 0;
+  });
+  out.bits = "not stored";
+  out.pass = contained && out.matched_through >= out.must_reach;
+  if (!contained) out.first_wrong_decision = out.matched_through + 1;
+}
 
-  const double u = unit_roundoff(tier);
+/// A tier's trajectory hashes against the fingerprints the reference stores for it, collision by collision.
+struct BitsCompare {
+  const std::vector<std::pair<std::size_t, std::uint64_t>>* stored = nullptr;  ///< null: none compared
+  std::size_t next = 0, last_match = 0;
+  std::optional<std::size_t> differ;
+
+  void see(std::size_t k, std::uint64_t hash) {
+    if (!stored || next >= stored->size() || (*stored)[next].first != k) return;
+    if ((*stored)[next].second == hash) {
+      if (!differ) last_match = k;
+    } else if (!differ) {
+      differ = k;
+    }
+    ++next;
+  }
+  void verdict(bool check_bits, TierCheck& out) const {
+    out.bits_compared = stored != nullptr;
+    if (!check_bits) {
+      out.bits = "not checked";
+    } else if (!stored) {
+      out.bits = "not stored";
+    } else if (differ) {
+      out.bits =
+          "differ by collision " + std::to_string(*differ) + " (identical through " + std::to_string(last_match) + ")";
+      out.bits_ok = false;
+    } else if (next < stored->size()) {
+      out.bits = "trajectory shorter than the reference";
+      out.bits_ok = false;
+    } else {
+      out.bits = "identical";
+    }
+  }
+};
+
+/// A point tier (IEEE, double-double, __float128, MPFR): within its error model through its horizon,
+/// every required escape decision reproduced, and (check_bits) the bits of the build that made the set.
+void check_point_tier(const RefCase& c, const Tier& tier, const std::vector<ParsedStep>& ref, double L, double omega,
+                      bool check_bits, TierCheck& out) {
+  const double u = unit_roundoff(out.tier);
   out.must_reach = horizon(c, ref, u);
-  const auto fp = c.fingerprints.find(tier);
-  const bool have_fp = check_bits && fp != c.fingerprints.end();
-  std::size_t fp_next = 0;
-  std::optional<std::size_t> bits_differ;
-  std::size_t last_fp_match = 0;
+  const auto fp = c.fingerprints.find(out.tier);
+  BitsCompare bits;
+  if (check_bits && fp != c.fingerprints.end()) bits.stored = &fp->second;
   bool matching = true;
-  with_tier(*parsed, [&](auto type) {
+  with_tier(tier, [&](auto type) {
     using R = typename decltype(type)::type;
     follow<R>(c.scene, c.draw, c.steps.size(), [&](std::size_t k, const Seen& seen, const auto&, const auto&) {
-      const std::size_t i = k - 1;
-      const RefStep& st = c.steps[i];
-      const double e = u * st.gain;
-      const double d = seen.piece == st.piece ? divergence(seen, ref[i].t, ref[i].s, ref[i].p, L)
-                                              : std::numeric_limits<double>::infinity();
+      const RefStep& st = c.steps[k - 1];
+      const ParsedStep& r = ref[k - 1];
+      const double d =
+          seen.piece == st.piece ? divergence(seen, r.t, r.s, r.p, L) : std::numeric_limits<double>::infinity();
       const bool required = k <= out.must_reach && decision_required(st, u, L, omega);
       if (required) {
         ++out.decisions_required;
@@ -117,41 +139,35 @@ TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits)
       }
       // the error over the model, the reference's own uncertainty included: at 300 or 1024 bits the tier
       // is finer than the reference's radius, and d / (u W_k) alone read 6.9e10 and 6.1e228 beside "pass"
-      const double allowed = kSafety * e + st.radius + ref[i].resolution;
-      if (k <= out.must_reach && allowed > 0) out.worst_ratio = std::max(out.worst_ratio, kSafety * d / allowed);
-      const bool within = d <= allowed && (!required || seen.in_leak == st.in_leak);
-      if (matching && within)
-        out.matched_through = k;
-      else
-        matching = false;
-      if (have_fp && fp_next < fp->second.size() && fp->second[fp_next].first == k) {
-        if (fp->second[fp_next].second == seen.hash) {
-          if (!bits_differ) last_fp_match = k;
-        } else if (!bits_differ) {
-          bits_differ = k;
-        }
-        ++fp_next;
-      }
+      const double allowed = kErrorModelSafety * u * st.gain + st.radius + r.resolution;
+      if (k <= out.must_reach && allowed > 0)
+        out.worst_ratio = std::max(out.worst_ratio, kErrorModelSafety * d / allowed);
+      matching = matching && d <= allowed && (!required || seen.in_leak == st.in_leak);
+      if (matching) out.matched_through = k;
+      bits.see(k, seen.hash);
       return true;
     });
     return 0;
   });
-  out.bits_compared = have_fp;
-  if (!check_bits) {
-    out.bits = "not checked";
-  } else if (!have_fp) {
-    out.bits = "not stored";
-  } else if (bits_differ) {
-    out.bits = "differ by collision " + std::to_string(*bits_differ) + " (identical through " +
-               std::to_string(last_fp_match) + ")";
-    out.bits_ok = false;
-  } else if (fp_next < fp->second.size()) {
-    out.bits = "trajectory shorter than the reference";
-    out.bits_ok = false;
-  } else {
-    out.bits = "identical";
-  }
+  bits.verdict(check_bits, out);
   out.pass = out.matched_through >= out.must_reach && !out.first_wrong_decision && out.bits_ok;
+}
+
+}  // namespace
+
+TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits) {
+  TierCheck out;
+  out.tier = tier;
+  out.case_name = c.name;
+  out.collisions = c.steps.size();
+  const double L = perimeter(c.scene), omega = omega_of(c.scene);
+  const std::vector<ParsedStep> ref = parse_steps(c, L);
+  const auto parsed = Tier::parse(tier);
+  if (!parsed || parsed->automatic()) throw std::invalid_argument(tier);
+  if (parsed->interval())
+    check_interval_tier(c, *parsed, ref, L, out);
+  else
+    check_point_tier(c, *parsed, ref, L, omega, check_bits, out);
   return out;
 }
 
@@ -185,7 +201,7 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
     Big a, b;
     parse_big(a, c.steps[h - 1].t);
     parse_big(b, c.steps[h].t);
-    if (distance(a, b) / 2 > kSafety * u * c.steps[h].gain) break;
+    if (distance(a, b) / 2 > kErrorModelSafety * u * c.steps[h].gain) break;
     --h;
   }
   if (h == 0) {
@@ -212,7 +228,7 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
   char buf[200];
   if (escape) {
     const RefStep& st = c.steps[*escape - 1];
-    const double tol = kSafety * u * st.gain + st.radius + ref[*escape - 1].resolution;
+    const double tol = kErrorModelSafety * u * st.gain + st.radius + ref[*escape - 1].resolution;
     Big t;
     mpfr_set_d(t.v, rec.t, MPFR_RNDN);
     const double dt = distance(t, ref[*escape - 1].t);

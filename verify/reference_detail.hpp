@@ -220,7 +220,7 @@ inline std::vector<ParsedStep> parse_steps(const RefCase& c, double L) {
 
 /// The leak margin of a collision, in length, that a run at roundoff u resolves.
 inline bool decision_required(const RefStep& st, double u, double L, double omega) {
-  return std::abs(st.margin) * L > kSafety * u * st.gain * (1 + std::abs(omega) * L);
+  return std::abs(st.margin) * L > kErrorModelSafety * u * st.gain * (1 + std::abs(omega) * L);
 }
 
 /// The last collision a run at roundoff u can follow: its predicted error below kHorizonTolerance,
@@ -229,7 +229,7 @@ inline std::size_t horizon(const RefCase& c, const std::vector<ParsedStep>& ref,
   std::size_t h = 0;
   for (std::size_t i = 0; i < c.steps.size(); ++i) {
     const double e = u * c.steps[i].gain;
-    if (e > kHorizonTolerance || ref[i].junction <= kSafety * e) break;
+    if (e > kHorizonTolerance || ref[i].junction <= kErrorModelSafety * e) break;
     h = c.steps[i].k;
   }
   return h;
@@ -239,7 +239,7 @@ inline double unit_roundoff(const std::string& tier) { return std::ldexp(1.0, -s
 
 inline json error_model_json() {
   return {{"metric", "max(|dt|, L |ds|, |dp|)"},
-          {"safety", kSafety},
+          {"safety", kErrorModelSafety},
           {"horizon_tolerance", kHorizonTolerance},
           {"gain_bits", std::vector<long>(std::begin(kGainBits), std::end(kGainBits))},
           {"gain_saturation", kGainSaturation}};

@@ -75,7 +75,7 @@ std::string verify_text(const VerifyReport& rep) {
   appendf(out,
           "error model: |tier - reference| <= %g u W_k + the reference's radius through the tier's horizon (u W_k <= "
           "%g); worst: the largest error in units of that bound / %g\n\n",
-          kSafety, kHorizonTolerance, kSafety);
+          kErrorModelSafety, kHorizonTolerance, kErrorModelSafety);
   appendf(out, "%-12s %6s %9s %9s %9s %10s %7s  %s\n", "tier", "cases", "horizon", "reached", "worst", "decisions",
           "bits", "verdict");
   std::vector<std::string> failures;

@@ -45,8 +45,8 @@ struct RunSetup {
   std::unique_ptr<SplitRule> scene_rule;
   const SplitRule* split_rule = nullptr;
   Engine engine;
-  simd::Scene kernel{};  ///< the vectorised kernel's scene (engine simd)
-  DensityCells cells;    ///< and its f_c time cells
+  simd::KernelScene kernel{};  ///< the vectorised kernel's scene (engine simd)
+  DensityCells cells;          ///< and its f_c time cells
 
   RunSetup(const Scene& s, const RunOptions& o)
       : scene(s),
@@ -201,7 +201,7 @@ class Worker {
       Model<double> epoch = s_.model;
       epoch.t_max = stop;
       if (s_.engine == Engine::simd) {
-        simd::Scene ks = s_.kernel;
+        simd::KernelScene ks = s_.kernel;
         ks.t_max = stop;
         ks.keep_last = true;
         starts_.resize(members.size());

@@ -5,8 +5,8 @@
 namespace rotleak {
 
 /// The vectorised kernel's view of a double model.
-simd::Scene simd_scene(const Model<double>& m) {
-  simd::Scene s{};
+simd::KernelScene simd_scene(const Model<double>& m) {
+  simd::KernelScene s{};
   const Stadium<double>& st = m.stadium;
   s.r = st.r();
   s.half_d = st.half_d();
@@ -46,7 +46,7 @@ simd::Scene simd_scene(const Model<double>& m) {
 }
 
 /// The f_c observer's windows and bins for the kernel.
-void simd_density(simd::Scene& s, const Scene& scene) {
+void simd_density(simd::KernelScene& s, const Scene& scene) {
   if (!scene.collision_density) return;
   s.density_windows = static_cast<int>(scene.collision_density->windows.size());
   s.bins = scene.collision_density->bins;

@@ -31,10 +31,10 @@ struct DrawSource {
 };
 
 /// The vectorised kernel's view of a double model.
-simd::Scene simd_scene(const Model<double>& m);
+simd::KernelScene simd_scene(const Model<double>& m);
 
 /// The f_c observer's windows and bins for the kernel.
-void simd_density(simd::Scene& s, const Scene& scene);
+void simd_density(simd::KernelScene& s, const Scene& scene);
 
 struct SimdContext {
   const Model<double>* model;

@@ -1,5 +1,5 @@
 // The AVX2 kernel (4 lanes a register; this file alone is compiled with -mavx2 -mfma) and the entry
-// points that choose the kernel for the width the Scene asks for. The kernel itself is
+// points that choose the kernel for the width the KernelScene asks for. The kernel itself is
 // sim/kernel/simd_kernel.ipp, shared with the AVX-512 one (sim/kernel/simd_avx512.cpp).
 #include <sleef.h>
 
@@ -18,10 +18,10 @@ namespace rotleak::simd {
 
 namespace avx512_kernel {  // sim/kernel/simd_avx512.cpp
 bool available();
-void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n);
-void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n);
-double flights_kernel(const Scene& S, const Start* starts, std::uint64_t steps);
+void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n);
+double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps);
 int pack_size();
 }  // namespace avx512_kernel
 
@@ -48,14 +48,14 @@ int widest_lanes() { return avx512_kernel::available() ? 8 : available() ? 4 : 0
 
 bool lanes_available(int lanes) { return lanes == 4 ? available() : lanes == 8 ? avx512_kernel::available() : false; }
 
-void run(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
+void run(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
   if (S.lanes == 8)
     avx512_kernel::run_kernel(S, ctx, next, finish, exact);
   else
     avx2_kernel::run_kernel(S, ctx, next, finish, exact);
 }
 
-void time_cells(const Scene& S, const double* t, double* out, std::size_t n) {
+void time_cells(const KernelScene& S, const double* t, double* out, std::size_t n) {
   if (S.lanes == 8)
     avx512_kernel::cell_kernel(S, t, out, n);
   else
@@ -69,7 +69,7 @@ void rough_angles(int lanes, const double* ay, const double* ax, double* out, st
     avx2_kernel::rough_kernel(ay, ax, out, n);
 }
 
-double flights_only(const Scene& S, const Start* starts, std::uint64_t steps) {
+double flights_only(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   return S.lanes == 8 ? avx512_kernel::flights_kernel(S, starts, steps) : avx2_kernel::flights_kernel(S, starts, steps);
 }
 

@@ -17,7 +17,7 @@ inline constexpr int kMaxWindows = 3;
 inline constexpr int kMaxDensityWindows = 8;
 
 /// Everything the kernel needs, in doubles, from a Model<double>.
-struct Scene {
+struct KernelScene {
   double r, half_d, t_max;
   double L, inv_L, r_over_L, pi;
   double junction[4];
@@ -78,7 +78,7 @@ struct Exact {
 
 struct End {
   LaneEnd fate;  ///< a Fate, or handed back mid-flight (the state below)
-  /// the lane's state: where it ended (escaped, stuck, handed back); survived with Scene::keep_last,
+  /// the lane's state: where it ended (escaped, stuck, handed back); survived with KernelScene::keep_last,
   /// at its last collision before t_max, from which the flight that passes t_max starts
   double t, qx, qy, vx, vy;
   double weight;  ///< Start::weight, travelling with the lane
@@ -105,17 +105,17 @@ void rough_angles(int lanes, const double* ay, const double* ax, double* out, st
 
 /// The kernel's f_c time cell (DensityHit) of each t[i], for its test: out[i], by the kernel of
 /// S.lanes lanes over S's density windows; requires lanes_available(S.lanes).
-void time_cells(const Scene& S, const double* t, double* out, std::size_t n);
+void time_cells(const KernelScene& S, const double* t, double* out, std::size_t n);
 
 /// Runs particles until next() has none left, by the kernel of scene.lanes; requires
 /// lanes_available(scene.lanes).
-void run(const Scene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+void run(const KernelScene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 
 /// The ceiling of the kernel's physics, for bench_scale: one pack of S.lanes-wide registers flying
-/// `steps` collisions from `starts` (a pack's worth, Scene::lanes times the kernel's registers per
+/// `steps` collisions from `starts` (a pack's worth, KernelScene::lanes times the kernel's registers per
 /// pack, see pack_lanes) through the same next hit and reflection as run(), with no clock, leak, fate
 /// or refill. Returns the sum of the flight times (so that nothing is left out).
-double flights_only(const Scene& S, const Start* starts, std::uint64_t steps);
+double flights_only(const KernelScene& S, const Start* starts, std::uint64_t steps);
 /// Lanes of one pack of the kernel of `lanes` lanes a register.
 int pack_lanes(int lanes);
 

@@ -43,10 +43,10 @@ constexpr unsigned kAllLanes = N == 32 ? ~0u : (1u << N) - 1;
 constexpr int kDensityBuffer = 1024;
 /// How far the kernel trusts its angles, in one place (arc_s_for): rough_atan2's error bound in rad
 /// (1.15e-5 measured; Simd.RoughAngleWithinItsBound checks the bound), i.e. kRoughAngleError r / L in s
-/// (< 3.2e-6: r / L < 0.16); a rough s decides only beyond kSafety times that bound from an edge
-/// (twofold; 3.5-fold on the measured error). SLEEF's s decides beyond Scene::margin of one.
+/// (< 3.2e-6: r / L < 0.16); a rough s decides only beyond kRoughAngleSafety times that bound from an edge
+/// (twofold; 3.5-fold on the measured error). SLEEF's s decides beyond KernelScene::margin of one.
 constexpr double kRoughAngleError = 2e-5;
-constexpr double kSafety = 2;
+constexpr double kRoughAngleSafety = 2;
 
 namespace {
 
@@ -209,7 +209,7 @@ struct Pack {
   bool zeros = false;       ///< some lane's count of zero-length flights in a row (Lanes::zero) is not 0
 };
 
-void park(const Scene& S, Lanes& L, int k) {
+void park(const KernelScene& S, Lanes& L, int k) {
   // an idle lane: parked far past t_max, never reported (its bit of live_mask is clear)
   L.qx[k] = 0, L.qy[k] = 0, L.vx[k] = 0, L.vy[k] = -1, L.t[k] = 2 * S.t_max + 1;
   L.w[k] = 0;
@@ -220,7 +220,7 @@ void reload(Pack& g) {
 }
 
 /// Lane k takes the next particle, or is parked when there is none (its bit of live_mask follows).
-void take(const Scene& S, Pack& g, int k, void* ctx, NextParticle next) {
+void take(const KernelScene& S, Pack& g, int k, void* ctx, NextParticle next) {
   Lanes& L = g.L;
   Start st;
   L.zero[k] = 0;
@@ -235,7 +235,7 @@ void take(const Scene& S, Pack& g, int k, void* ctx, NextParticle next) {
   L.w[k] = st.weight;
 }
 
-void fill(const Scene& S, Pack& g, void* ctx, NextParticle next) {
+void fill(const KernelScene& S, Pack& g, void* ctx, NextParticle next) {
   for (int k = 0; k < N; ++k) take(S, g, k, ctx, next);
   reload(g);
 }
@@ -245,7 +245,7 @@ using HitLanes = formula::Exit<V>;
 
 /// formula::next_exit's pieces in its order, every lane computing both the straight and the arc hit;
 /// the arc's rare far root (b > 0) divides only in the registers that have such a lane.
-inline HitLanes next_hit(const Scene& S, const V& qx, const V& qy, const V& vx, const V& vy) {
+inline HitLanes next_hit(const KernelScene& S, const V& qx, const V& qy, const V& vx, const V& vy) {
   const V R(S.r), HD(S.half_d), ZERO(0.0);
   HitLanes h;
   const MV flat = vy == ZERO;
@@ -273,7 +273,7 @@ inline HitLanes next_hit(const Scene& S, const V& qx, const V& qy, const V& vx, 
 
 /// Stationary leak: the precomputed windows of Leak::in_windows, an x range on a straight edge and
 /// two half-plane tests from the arc's centre on an arc (no transcendental function per hit).
-inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
+inline MV in_stationary_leak(const KernelScene& S, const HitLanes& h) {
   MV in(false);
   for (int w = 0; w < S.n_windows[0]; ++w)
     in = in | (h.straight & h.up & formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w])));
@@ -293,18 +293,18 @@ inline MV in_stationary_leak(const Scene& S, const HitLanes& h) {
 }
 
 /// The boundary coordinate s of the straight hits (formula::straight_s; arc lanes: junk).
-inline V straight_s(const Scene& S, const HitLanes& h) {
+inline V straight_s(const KernelScene& S, const HitLanes& h) {
   return formula::straight_s(h.up, h.x, V(S.half_d), V(S.inv_L), V(S.junction[1]));
 }
 
 /// s of an arc hit from its angle (formula::arc_s, from the arc's start in s).
-[[gnu::always_inline]] inline V arc_s_from(const Scene& S, const HitLanes& h, const V& angle) {
+[[gnu::always_inline]] inline V arc_s_from(const KernelScene& S, const HitLanes& h, const V& angle) {
   return formula::arc_s(angle, select(h.right, V(S.junction[0]), V(S.junction[2])), V(S.r_over_L), V(S.pi));
 }
 
 /// s of the arc hits in `arcs` from SLEEF's atan2 (evaluated only for the registers with a lane in
 /// `arcs`); the other lanes keep `s`.
-inline V sleef_arc_s(const Scene& S, const HitLanes& h, const MV& arcs, const V& s) {
+inline V sleef_arc_s(const KernelScene& S, const HitLanes& h, const MV& arcs, const V& s) {
   const V ay = formula::arc_angle_y(h.right, h.x, V(S.half_d)), ax = formula::arc_angle_x(h.right, h.y);
   V angle(0.0);
   each([&](int i) {
@@ -335,21 +335,21 @@ inline V rough_atan2(const V& ay, const V& ax) {
 
 /// s of the arc hits from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L < 0.16), of the core's.
 /// Inlined by force: as a call it returns its pack through memory (omega = 2/3 measured 4% slower).
-[[gnu::always_inline]] inline V rough_arc_s(const Scene& S, const HitLanes& h) {
+[[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
   return arc_s_from(S, h, rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
 }
 
 /// The cascade "cheap angle, then a precise one, then ask the core" (a filtered predicate, as CGAL's):
 /// s of the arc lanes in `arcs` (the other lanes keep `s`), exact enough that every decision that
 /// near(s, tol) guards comes out as the core's; near(s, tol) gives the lanes whose s lies within tol
-/// (in s) of one of that decision's edges. A lane keeps the rough s beyond kSafety times its bound
-/// from every edge, else takes SLEEF's s, which it keeps beyond Scene::margin, else the core's own s.
+/// (in s) of one of that decision's edges. A lane keeps the rough s beyond kRoughAngleSafety times its bound
+/// from every edge, else takes SLEEF's s, which it keeps beyond KernelScene::margin, else the core's own s.
 template <class Near>
-inline V arc_s_for(const Scene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
+inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
                    const Exact& exact) {
   if (!bits(arcs)) return s;
   s = select(arcs, rough_arc_s(S, h), s);
-  const MV fine = arcs & near(s, kSafety * kRoughAngleError * S.r_over_L);
+  const MV fine = arcs & near(s, kRoughAngleSafety * kRoughAngleError * S.r_over_L);
   if (!bits(fine)) return s;
   s = sleef_arc_s(S, h, fine, s);
   if (const unsigned ask = bits(fine & near(s, S.margin))) {
@@ -365,7 +365,7 @@ inline V arc_s_for(const Scene& S, const HitLanes& h, const MV& arcs, V s, const
 /// Moving leak: the phase (formula::leak_phase), then Leak::hit: on an arc nothing unless the leak
 /// can touch it now (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes'
 /// s from the cascade with the leak's two ends as its edges.
-inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
+inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
                          const Exact& exact) {
   const V ph = formula::leak_phase(V(S.omega_hi), V(S.omega_lo), V(S.start), t, [](const V& a, const V& b, const V& p) {
     V err;  // the exact error of a b: a true fused multiply-subtract
@@ -386,14 +386,14 @@ inline MV in_moving_leak(const Scene& S, const HitLanes& h, const V& t, const MV
 
 /// The time cell of t (formula::time_cell): one count per collision serves every window (the caller
 /// folds the cells into them).
-inline V time_cell(const Scene& S, const V& t) {
+inline V time_cell(const KernelScene& S, const V& t) {
   return formula::time_cell(t, S.win_from, S.win_to, S.density_windows);
 }
 
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
 /// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window); the arc
 /// lanes' s from the cascade with the bin edges as its edges.
-inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
+inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
                             const Exact& exact, DensityHit* buf, int& used) {
   const V bins(static_cast<double>(S.bins)), ZERO(0.0);
   const auto near_edge = [&](const V& s, double tol) {
@@ -425,7 +425,7 @@ inline void observe_density(const Scene& S, const Pack& g, const HitLanes& h, co
 }
 
 /// Reports the lanes in `done` to finish() and refills them from next() (or parks them).
-void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV& esc, const MV& stuck,
+void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, const MV& esc, const MV& stuck,
             const MV& over, const MV& handoff, void* ctx, NextParticle next, Finish finish) {
   Lanes& L = g.L;
   store(g.qx, L.qx), store(g.qy, L.qy), store(g.vx, L.vx), store(g.vy, L.vy);
@@ -455,11 +455,11 @@ void retire(const Scene& S, Pack& g, const HitLanes& h, const MV& done, const MV
 
 /// One collision for the lanes of g, in the scalar core's order (particle.hpp advance): next hit,
 /// time check, escape test, reflection, zero-flight count; lanes that end are reported and refilled.
-/// KeepLast (Scene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
+/// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
 /// collision before it. A separate instantiation, so that ordinary runs keep their code as it was
 /// (the branch measured 4-8% slower in bench_scale even where no lane took it).
 template <bool KeepLast>
-inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
+inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
                  DensityHit* buf, int& used) {
   const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
@@ -513,7 +513,7 @@ inline void step(const Scene& S, Pack& g, void* ctx, NextParticle next, Finish f
 
 }  // namespace
 
-void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
+void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
   Pack g;
   DensityHit buf[kDensityBuffer];
   int used = 0;
@@ -525,7 +525,7 @@ void run_kernel(const Scene& S, void* ctx, NextParticle next, Finish finish, con
   if (used) exact.density(ctx, buf, used);
 }
 
-double flights_kernel(const Scene& S, const Start* starts, std::uint64_t steps) {
+double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   Lanes L{};
   for (int k = 0; k < N; ++k)
     L.qx[k] = starts[k].qx, L.qy[k] = starts[k].qy, L.vx[k] = starts[k].vx, L.vy[k] = starts[k].vy;
@@ -549,7 +549,7 @@ double flights_kernel(const Scene& S, const Start* starts, std::uint64_t steps) 
 
 int pack_size() { return N; }
 
-void cell_kernel(const Scene& S, const double* t, double* out, std::size_t n) {
+void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n) {
   alignas(sizeof(B)) double a[N], o[N];
   for (std::size_t i = 0; i < n; i += N) {
     const std::size_t m = n - i < N ? n - i : N;
