@@ -12,6 +12,7 @@
 #include "analysis/tail_model.hpp"
 #include "io/files.hpp"
 #include "io/json.hpp"
+#include "io/prediction_output.hpp"
 
 namespace rotleak {
 
@@ -42,15 +43,6 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve);
 /// summary.json's "splitting" of a split run: its parameters, levels, population, lines alive (docs/output.md).
 json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve& curve);
 json summary_json(const RunSummary& s, const std::vector<std::string>& files);
-/// The covering model's prediction (summary.json predicted.tail, `rotleak predict --json`; docs/output.md).
-json prediction_json(const TailPrediction& p);
-/// `rotleak predict --json`'s document: prediction_json and the scene's inputs the model reads.
-json prediction_document(const Scene& scene, const TailPrediction& p);
-/// It in words, a few lines (`rotleak predict`).
-std::string prediction_text(const TailPrediction& p);
-/// Measured against predicted: whether a tail was seen as predicted, C against C in errors ("tail as predicted"
-/// or "tail NOT as predicted"), the ends where both have one (the summary's "model" line).
-std::string prediction_check(const TailPrediction& p, const TailAmplitude& measured, const TailClass& k);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);
 
