@@ -19,7 +19,8 @@ struct LinearFit {
 
 // Greenwood variance of sum_i u_i ln P(t_i) for increasing grid indices idx:
 // Var = sum_k (g_k - g_{k-1}) (sum_{i>=k} u_i)^2 with g = (1 - P) / (N P).
-inline double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
+inline double greenwood_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx,
+                                 const std::vector<double>& u) {
   const std::size_t n = idx.size();
   if (c.weighted && !c.lines) {  // no independent increments: the full double sum over the covariance
     double var = 0;
@@ -76,7 +77,8 @@ inline double split_tail_cov(const SurvivalCurve& c, std::size_t a, std::size_t 
 
 // Var(sum_i u_i ln P(t_i)) over grid points in the tail: split runs that hold unsplit lines by the full
 // double sum over split_tail_cov, every other curve by greenwood_variance.
-inline double tail_log_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& u) {
+inline double tail_log_variance(const SurvivalCurve& c, const std::vector<std::size_t>& idx,
+                                const std::vector<double>& u) {
   if (!(c.lines && !c.unsplit.empty())) return greenwood_variance(c, idx, u);
   double var = 0;
   for (std::size_t i = 0; i < idx.size(); ++i) {
@@ -102,7 +104,7 @@ void log_spaced_points(const SurvivalCurve& c, std::size_t from, std::size_t to,
 
 // The grid points of [from, to] with survivors: their indices and times (kappa's fit window).
 inline void window_points(const SurvivalCurve& c, double from, double to, std::vector<std::size_t>& idx,
-                   std::vector<double>& x) {
+                          std::vector<double>& x) {
   for (std::size_t i = 0; i < c.t.size(); ++i)
     if (c.t[i] >= from && c.t[i] <= to && c.survivors[i] > 0) {
       idx.push_back(i);
@@ -112,7 +114,8 @@ inline void window_points(const SurvivalCurve& c, double from, double to, std::v
 
 // Least-squares weights over the abscissae x: slope = sum w_i y_i, intercept = sum v_i y_i for any y;
 // xm and sxx their mean and spread. False when the x do not spread.
-inline bool ls_weights(const std::vector<double>& x, std::vector<double>& w, std::vector<double>& v, double& xm, double& sxx) {
+inline bool ls_weights(const std::vector<double>& x, std::vector<double>& w, std::vector<double>& v, double& xm,
+                       double& sxx) {
   const std::size_t n = x.size();
   xm = 0;
   for (double xi : x) xm += xi;

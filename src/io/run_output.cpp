@@ -243,66 +243,84 @@ json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& cur
   return j;
 }
 
-void put_fits(json& s, const RunSummary& r) {
-  const KappaFit& kappa = r.kappa;
-  const AlphaResult& alpha = r.alpha;
-  const TailFit& tail = r.tail;
-  s["kappa"] = {{"value", kappa.ok ? json(kappa.value) : json(nullptr)},
-                {"error", kappa.std_error},
-                {"window", {kappa.from, kappa.to}},
-                {"points", kappa.points},
-                {"log_amplitude", kappa.log_amplitude},
-                {"method", kappa.method}};
+namespace {
+
+json kappa_json(const KappaFit& kappa) {
+  json k = {{"value", kappa.ok ? json(kappa.value) : json(nullptr)},
+            {"error", kappa.std_error},
+            {"window", {kappa.from, kappa.to}},
+            {"points", kappa.points},
+            {"log_amplitude", kappa.log_amplitude},
+            {"method", kappa.method}};
   json family = json::array();
   for (const auto& m : kappa.window_family) family.push_back({{"window", {m.from, m.to}}, {"value", m.value}});
-  s["kappa"]["window_systematic"] = nullable(kappa.window_systematic);
-  s["kappa"]["window_family"] = family;
-  s["alpha"] = {
-      {"value", nullable(alpha.value)},
-      {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
-      {"systematic", nullable(alpha.systematic)},
-      {"shift_factor", alpha.value ? json(alpha.shift_factor) : json(nullptr)},
-      {"uniform_reach", nullable(alpha.uniform_reach)},
-      {"upper_bound", nullable(alpha.upper_bound)},
-      {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
-      {"factor", alpha.factor},
-      {"sigma", alpha.sigma},
-      {"min_survivors", alpha.min_survivors},
-      {"resolved_until", alpha.resolved_until},
-      {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
-      {"note", alpha.note}};
-  s["alpha"]["from_amplitude"] = r.alpha_c.value ? json{{"value", *r.alpha_c.value},
-                                                        {"error", r.alpha_c.std_error},
-                                                        {"crossing_time", r.alpha_c.crossing_time},
-                                                        {"note", r.alpha_c.note}}
-                                                 : json(nullptr);
+  k["window_systematic"] = nullable(kappa.window_systematic);
+  k["window_family"] = family;
+  return k;
+}
+
+json alpha_json(const AlphaResult& alpha, const AlphaFromAmplitude& from_amplitude) {
+  json a = {{"value", nullable(alpha.value)},
+            {"error", alpha.value ? json(alpha.std_error) : json(nullptr)},
+            {"systematic", nullable(alpha.systematic)},
+            {"shift_factor", alpha.value ? json(alpha.shift_factor) : json(nullptr)},
+            {"uniform_reach", nullable(alpha.uniform_reach)},
+            {"upper_bound", nullable(alpha.upper_bound)},
+            {"crossing_time", alpha.value ? json(alpha.crossing_time) : json(nullptr)},
+            {"factor", alpha.factor},
+            {"sigma", alpha.sigma},
+            {"min_survivors", alpha.min_survivors},
+            {"resolved_until", alpha.resolved_until},
+            {"bound_until", alpha.value || alpha.crossing_not_significant ? json(nullptr) : json(alpha.bound_until)},
+            {"note", alpha.note}};
+  a["from_amplitude"] = from_amplitude.value ? json{{"value", *from_amplitude.value},
+                                                    {"error", from_amplitude.std_error},
+                                                    {"crossing_time", from_amplitude.crossing_time},
+                                                    {"note", from_amplitude.note}}
+                                             : json(nullptr);
+  return a;
+}
+
+json amplitude_json(const TailAmplitude& am) {
+  return {{"value", nullable(am.value)},
+          {"error", am.value ? json(am.std_error) : json(nullptr)},
+          {"systematic", am.value ? json(am.drift) : json(nullptr)},
+          {"from", am.from > 0 ? json(am.from) : json(nullptr)},
+          {"to", am.from > 0 ? json(am.to) : json(nullptr)},
+          {"points", am.points},
+          {"height", am.from > 0 ? json(am.height) : json(nullptr)},
+          {"height_error", am.from > 0 ? json(am.height_error) : json(nullptr)},
+          {"slope", am.value || am.slope_error > 0 ? json(am.slope) : json(nullptr)},
+          {"slope_error", am.value || am.slope_error > 0 ? json(am.slope_error) : json(nullptr)},
+          {"note", am.note}};
+}
+
+json tail_json(const TailClass& tc, const TailAmplitude& amplitude) {
+  json t = {{"class", tc.tail},
+            {"regime", tc.regime},
+            {"tail_end", nullable(tc.tail_end)},
+            {"tail_end_range",
+             tc.tail_end_range ? json::array({tc.tail_end_range->first, tc.tail_end_range->second}) : json(nullptr)},
+            {"end_exponent", tc.end_exponent},
+            {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
+            {"rule", tc.note}};
+  t["near_rational"] =
+      tc.near ? json{{"rational", tc.near->rational}, {"eps", tc.near->eps}, {"omega_near", tc.near->omega_rational}}
+              : json(nullptr);
+  t["amplitude"] = amplitude_json(amplitude);
+  return t;
+}
+
+}  // namespace
+
+void put_fits(json& s, const RunSummary& r) {
+  const TailFit& tail = r.tail;
+  s["kappa"] = kappa_json(r.kappa);
+  s["alpha"] = alpha_json(r.alpha, r.alpha_c);
   s["tail_exponent"] = {{"value", nullable(tail.z)},      {"error", tail.z ? json(tail.std_error) : json(nullptr)},
                         {"window", {tail.from, tail.to}}, {"points", tail.points},
                         {"method", tail.method},          {"note", tail.note}};
-  const TailClass& tc = r.tail_class;
-  s["tail"] = {{"class", tc.tail},
-               {"regime", tc.regime},
-               {"tail_end", nullable(tc.tail_end)},
-               {"tail_end_range",
-                tc.tail_end_range ? json::array({tc.tail_end_range->first, tc.tail_end_range->second}) : json(nullptr)},
-               {"end_exponent", tc.end_exponent},
-               {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
-               {"rule", tc.note}};
-  s["tail"]["near_rational"] =
-      tc.near ? json{{"rational", tc.near->rational}, {"eps", tc.near->eps}, {"omega_near", tc.near->omega_rational}}
-              : json(nullptr);
-  const TailAmplitude& am = r.amplitude;
-  s["tail"]["amplitude"] = {{"value", nullable(am.value)},
-                            {"error", am.value ? json(am.std_error) : json(nullptr)},
-                            {"systematic", am.value ? json(am.drift) : json(nullptr)},
-                            {"from", am.from > 0 ? json(am.from) : json(nullptr)},
-                            {"to", am.from > 0 ? json(am.to) : json(nullptr)},
-                            {"points", am.points},
-                            {"height", am.from > 0 ? json(am.height) : json(nullptr)},
-                            {"height_error", am.from > 0 ? json(am.height_error) : json(nullptr)},
-                            {"slope", am.value || am.slope_error > 0 ? json(am.slope) : json(nullptr)},
-                            {"slope_error", am.value || am.slope_error > 0 ? json(am.slope_error) : json(nullptr)},
-                            {"note", am.note}};
+  s["tail"] = tail_json(r.tail_class, r.amplitude);
   json jumps = json::array();
   for (const RateJump& j : r.rate_jumps)
     jumps.push_back({{"t", j.t}, {"rate_before", j.rate_before}, {"rate_after", j.rate_after}});
@@ -352,13 +370,10 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   return s;
 }
 
-std::string summary_text(const RunSummary& r) {
-  std::string out;
-  appendf(out, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n", r.scene.source.c_str(),
-          static_cast<unsigned long long>(r.scene.particles), to_string(r.scene.tier).c_str(), r.result.threads,
-          r.result.wall_seconds, r.collisions_per_second());
-  const KappaFit& kappa = r.kappa;
-  const AlphaResult& alpha = r.alpha;
+namespace {
+
+/// The population line of a split or weighted run (nothing for a uniform one).
+void population_lines(std::string& out, const RunSummary& r) {
   if (r.curve.lines) {
     const std::size_t last = r.curve.t.size() - 1;
     appendf(out,
@@ -375,6 +390,10 @@ std::string summary_text(const RunSummary& r) {
         "sampling: mupo, eps = %g, |p| log-uniform in [%g, %g]; %.3g effective survivors at t_max (%llu particles)\n",
         r.scene.sampling.eps, r.scene.sampling.p_min, r.scene.sampling.p_max, r.curve.effective(r.curve.t.size() - 1),
         static_cast<unsigned long long>(r.curve.survivors.back()));
+}
+
+/// kappa's line and alpha's (its value, or its bound and why), with the mupo reach's warning.
+void kappa_alpha_lines(std::string& out, const KappaFit& kappa, const AlphaResult& alpha) {
   if (kappa.ok)
     appendf(out, "kappa = %.5g +- %.2g (stat.) +- %.2g (window)   (least squares of ln P on [%g, %g])\n", kappa.value,
             kappa.std_error, kappa.window_systematic.value_or(0), kappa.from, kappa.to);
@@ -401,9 +420,13 @@ std::string summary_text(const RunSummary& r) {
             "warning: alpha is unreliable below %.3g, the reach of the mupo scheme's uniform share at this particle "
             "count; set run.splitting = true\n",
             *alpha.uniform_reach);
+}
+
+/// alpha from C, z and C's lines.
+void tail_fit_lines(std::string& out, const RunSummary& r) {
   if (r.alpha_c.value)
     appendf(out, "alpha_C = %.3g +- %.2g   (from A exp(-kappa t) + C / t: %g x the fit at t = %.6g)\n",
-            *r.alpha_c.value, r.alpha_c.std_error, alpha.factor, r.alpha_c.crossing_time);
+            *r.alpha_c.value, r.alpha_c.std_error, r.alpha.factor, r.alpha_c.crossing_time);
   if (r.tail.z)
     appendf(out, "z     = %.3g +- %.2g   (P ~ t^-z on [%g, %g])\n", *r.tail.z, r.tail.std_error, r.tail.from,
             r.tail.to);
@@ -416,6 +439,10 @@ std::string summary_text(const RunSummary& r) {
             "= %g\n",
             r.amplitude.slope, r.amplitude.slope_error, r.amplitude.from, r.amplitude.to, r.amplitude.height,
             r.amplitude.height_error, r.amplitude.from);
+}
+
+/// The tail's class and regime with the geometry's times, the model's verdict, and what would decide it.
+void tail_class_lines(std::string& out, const RunSummary& r) {
   appendf(out, "tail  = %s, regime %s", r.tail_class.tail.c_str(), r.tail_class.regime.c_str());
   if (r.tail_class.tail_end) appendf(out, " (gone by t = %g)", *r.tail_class.tail_end);
   if (r.leak_times.tau1)
@@ -433,6 +460,19 @@ std::string summary_text(const RunSummary& r) {
             static_cast<double>(*r.tail_class.resolve_particles),
             r.tail_class.tail == "none" ? "decide it" : "resolve it",
             (to_string(r.scene.sampling.kind) + " sampling").c_str());
+}
+
+}  // namespace
+
+std::string summary_text(const RunSummary& r) {
+  std::string out;
+  appendf(out, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n", r.scene.source.c_str(),
+          static_cast<unsigned long long>(r.scene.particles), to_string(r.scene.tier).c_str(), r.result.threads,
+          r.result.wall_seconds, r.collisions_per_second());
+  population_lines(out, r);
+  kappa_alpha_lines(out, r.kappa, r.alpha);
+  tail_fit_lines(out, r);
+  tail_class_lines(out, r);
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
             static_cast<unsigned long long>(r.result.tally.stuck));
