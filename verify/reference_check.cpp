@@ -171,33 +171,35 @@ TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits)
   return out;
 }
 
-EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
-  EngineCheck out;
-  out.engine = to_string(engine) + (fast_forward ? "+ff" : "");
-  out.case_name = c.name;
-  const double u = unit_roundoff("double"), L = perimeter(c.scene), omega = omega_of(c.scene);
-  const std::vector<ParsedStep> ref = parse_steps(c, L);
-  std::size_t h = std::min(horizon(c, ref, u), c.steps.size() > 0 ? c.steps.size() - 1 : 0);
-  if (engine == Engine::simd && !simd::available()) {
-    out.expected = "not run: this CPU has no AVX2 and FMA";
-    return out;
-  }
-  // the expected end: the first escape within the horizon, provided every decision before it is one double resolves
+namespace {
+
+/// Where an engine's double run of case c must end: the first escape within double's horizon (provided
+/// every decision before it is one double resolves), or the collision h after which t_max is put (with
+/// collisions h and h + 1 further apart than double's error there). Says in out.expected why not when the
+/// case cannot be decided in double.
+struct EngineTarget {
+  std::size_t horizon = 0;
   std::optional<std::size_t> escape;
+};
+
+std::optional<EngineTarget> engine_target(const RefCase& c, const std::vector<ParsedStep>& ref, double u, double L,
+                                          double omega, EngineCheck& out) {
+  EngineTarget target;
+  std::size_t h = std::min(horizon(c, ref, u), c.steps.size() > 0 ? c.steps.size() - 1 : 0);
   for (std::size_t k = 1; k <= h; ++k) {
     const RefStep& st = c.steps[k - 1];
     if (!decision_required(st, u, L, omega)) {
       out.expected = "not decidable in double: collision " + std::to_string(k) + " lies " +
                      std::to_string(std::abs(st.margin)) + " (in s) from the leak's edge";
-      return out;
+      return std::nullopt;
     }
     if (st.in_leak) {
-      escape = k;
+      target.escape = k;
       break;
     }
   }
   // t_max goes between collisions h and h + 1: they must be further apart than double's error there
-  while (h > 0 && escape != h) {
+  while (h > 0 && target.escape != h) {
     Big a, b;
     parse_big(a, c.steps[h - 1].t);
     parse_big(b, c.steps[h].t);
@@ -206,27 +208,52 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
   }
   if (h == 0) {
     out.expected = "not decidable in double: no collision within its horizon";
-    return out;
+    return std::nullopt;
   }
-  out.checked = true;
-  out.horizon = h;
+  target.horizon = h;
+  return target;
+}
+
+/// The case's particle alone, through the engine, to just past the target.
+EscapeRecord run_case(const RefCase& c, const std::vector<ParsedStep>& ref, const EngineTarget& target, Engine engine,
+                      bool fast_forward, double& t_max) {
   Scene sc = c.scene;
   sc.particles = 1;
   sc.tier = Tier::double_;
   sc.collision_density.reset();
   sc.escape_records = true;
   sc.fast_forward = fast_forward;
+  const std::size_t h = target.horizon;
   const double t_h = mpfr_get_d(ref[h - 1].t.v, MPFR_RNDN), t_next = mpfr_get_d(ref[h].t.v, MPFR_RNDN);
-  sc.t_max = escape ? t_next + 1 : (t_h + t_next) / 2;
+  sc.t_max = t_max = target.escape ? t_next + 1 : (t_h + t_next) / 2;
   std::vector<InitialDraw> draws{c.draw};
   RunOptions opt;
   opt.threads = 1;
   opt.engine = engine;
   opt.draws = &draws;
-  const RunResult run = run_ensemble(sc, opt);
-  const EscapeRecord& rec = run.records.at(0);
+  return run_ensemble(sc, opt).records.at(0);
+}
+
+}  // namespace
+
+EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
+  EngineCheck out;
+  out.engine = to_string(engine) + (fast_forward ? "+ff" : "");
+  out.case_name = c.name;
+  const double u = unit_roundoff("double"), L = perimeter(c.scene), omega = omega_of(c.scene);
+  const std::vector<ParsedStep> ref = parse_steps(c, L);
+  if (engine == Engine::simd && !simd::available()) {
+    out.expected = "not run: this CPU has no AVX2 and FMA";
+    return out;
+  }
+  const std::optional<EngineTarget> target = engine_target(c, ref, u, L, omega, out);
+  if (!target) return out;
+  out.checked = true;
+  out.horizon = target->horizon;
+  double t_max = 0;
+  const EscapeRecord rec = run_case(c, ref, *target, engine, fast_forward, t_max);
   char buf[200];
-  if (escape) {
+  if (const auto escape = target->escape) {
     const RefStep& st = c.steps[*escape - 1];
     const double tol = kErrorModelSafety * u * st.gain + st.radius + ref[*escape - 1].resolution;
     Big t;
@@ -241,7 +268,7 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
     out.got = buf;
     out.pass = rec.fate == Fate::escaped && rec.collisions == *escape && dt <= tol;
   } else {
-    std::snprintf(buf, sizeof buf, "alive after %zu collisions at t_max = %.17g", h, sc.t_max);
+    std::snprintf(buf, sizeof buf, "alive after %zu collisions at t_max = %.17g", target->horizon, t_max);
     out.expected = buf;
     std::snprintf(buf, sizeof buf, "%s after %llu collisions",
                   rec.fate == Fate::survived  ? "alive"
@@ -249,7 +276,7 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
                                               : "stuck",
                   static_cast<unsigned long long>(rec.collisions));
     out.got = buf;
-    out.pass = rec.fate == Fate::survived && rec.collisions == h;
+    out.pass = rec.fate == Fate::survived && rec.collisions == target->horizon;
   }
   return out;
 }
