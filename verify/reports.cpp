@@ -102,31 +102,23 @@ std::string shadow_text(const ShadowResult& r) {
   return out;
 }
 
-json audit_json(const AuditReport& r, const std::string& source) {
+namespace {
+
+json audit_execution_json(const AuditReport& r) {
   json by_tier = json::object();
   for (const auto& [tier, seconds] : r.ensemble_seconds_by_tier) by_tier[tier] = seconds;
-  json doc;
-  doc["scene"] = source;
-  doc["sample"] = r.sample;
-  doc["execution"] = execution_json({{"seconds", r.seconds},
-                                     {"timing",
-                                      {{"stratify_seconds", r.stratify_seconds},
-                                       {"shadow_seconds", r.shadow_seconds},
-                                       {"ensemble_seconds", r.ensemble_seconds},
-                                       {"ensemble_seconds_by_tier", by_tier},
-                                       {"analysis_seconds", r.analysis_seconds}}},
-                                     {"threads", r.threads},
-                                     {"ranks", r.ranks}});
-  doc["max_truth_bits"] = r.max_truth_bits;
-  doc["lyapunov"] = {
-      {"per_time", r.lyapunov_tangent.per_time},
-      {"per_collision", r.lyapunov_tangent.per_collision},
-      {"tangent", {{"per_time", r.lyapunov_tangent.per_time}, {"error", r.lyapunov_tangent.per_time_error}}},
-      {"divergence",
-       {{"per_time", r.lyapunov_divergence.per_time},
-        {"error", r.lyapunov_divergence.per_time_error},
-        {"per_collision", r.lyapunov_divergence.per_collision},
-        {"particles", r.lyapunov_divergence.samples}}}};
+  return execution_json({{"seconds", r.seconds},
+                         {"timing",
+                          {{"stratify_seconds", r.stratify_seconds},
+                           {"shadow_seconds", r.shadow_seconds},
+                           {"ensemble_seconds", r.ensemble_seconds},
+                           {"ensemble_seconds_by_tier", by_tier},
+                           {"analysis_seconds", r.analysis_seconds}}},
+                         {"threads", r.threads},
+                         {"ranks", r.ranks}});
+}
+
+json audit_tiers_json(const AuditReport& r) {
   json tiers = json::array();
   for (const auto& t : r.tiers)
     tiers.push_back({{"name", t.name},
@@ -141,7 +133,10 @@ json audit_json(const AuditReport& r, const std::string& source) {
                      {"horizon_collisions_chaotic", q_json(t.horizon_collisions_chaotic)},
                      {"growth_per_collision_mupo", t.growth.mupo_per_collision},
                      {"growth_per_collision_chaotic", t.growth.chaotic_per_collision}});
-  doc["tiers"] = tiers;
+  return tiers;
+}
+
+json audit_statistics_json(const AuditReport& r) {
   json stats = json::array();
   for (const auto& s : r.statistics) {
     json w = json::array();
@@ -167,7 +162,10 @@ json audit_json(const AuditReport& r, const std::string& source) {
                      {"consistent", s.consistent},
                      {"identical_to_scalar_double", s.identical_to_scalar_double}});
   }
-  doc["statistics"] = stats;
+  return stats;
+}
+
+json audit_scalars_json(const AuditReport& r) {
   json scal = json::array();
   for (const auto& s : r.scalars)
     scal.push_back({{"tier", s.tier},
@@ -178,7 +176,29 @@ json audit_json(const AuditReport& r, const std::string& source) {
                     {"omega_is_rounded", s.omega_is_rounded},
                     {"phase_resolved", s.phase_resolved},
                     {"note", s.note}});
-  doc["scalars"] = scal;
+  return scal;
+}
+
+}  // namespace
+
+json audit_json(const AuditReport& r, const std::string& source) {
+  json doc;
+  doc["scene"] = source;
+  doc["sample"] = r.sample;
+  doc["execution"] = audit_execution_json(r);
+  doc["max_truth_bits"] = r.max_truth_bits;
+  doc["lyapunov"] = {
+      {"per_time", r.lyapunov_tangent.per_time},
+      {"per_collision", r.lyapunov_tangent.per_collision},
+      {"tangent", {{"per_time", r.lyapunov_tangent.per_time}, {"error", r.lyapunov_tangent.per_time_error}}},
+      {"divergence",
+       {{"per_time", r.lyapunov_divergence.per_time},
+        {"error", r.lyapunov_divergence.per_time_error},
+        {"per_collision", r.lyapunov_divergence.per_collision},
+        {"particles", r.lyapunov_divergence.samples}}}};
+  doc["tiers"] = audit_tiers_json(r);
+  doc["statistics"] = audit_statistics_json(r);
+  doc["scalars"] = audit_scalars_json(r);
   json verdicts = json::array();
   for (const auto& v : r.verdicts)
     verdicts.push_back({{"tier", v.tier}, {"statistic", v.statistic}, {"verdict", v.verdict}, {"reason", v.reason}});
