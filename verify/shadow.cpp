@@ -152,14 +152,11 @@ ShadowResult shadow(const Scene& scene, std::uint64_t id, const ShadowOptions& o
   return res;
 }
 
-ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
-  for (const auto& n : opt.tiers)
-    if (tier_bits(n) == 0) throw std::invalid_argument(n);
-  ShadowResult res;
-  res.draw = draw;
-  const Stadium<double> st(scene.d, scene.r);
+namespace {
 
-  // The truth: double the bits until the trace no longer changes beyond truth_tolerance.
+/// The truth: MPFR runs at doubling bits until the trace no longer changes beyond truth_tolerance; the
+/// run at the bits that agreed, its bits and the agreement in res.truth.
+TruthRun find_truth(const Scene& scene, const ShadowOptions& opt, const Stadium<double>& st, ShadowResult& res) {
   const bool until_escape = opt.collisions == 0;
   const std::size_t K0 = until_escape ? opt.max_collisions : std::min(opt.collisions, opt.max_collisions);
   long bits = opt.start_bits;
@@ -185,9 +182,15 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
   }
   res.truth.bits = 2 * bits;
   res.truth.bits_tried.push_back(2 * bits);
-  res.horizon_collisions = upper.states.size();
-  for (std::size_t i = 0; i < upper.reported.size(); ++i) {
-    const Reported& r = upper.reported[i];
+  return upper;
+}
+
+/// The truth's reported collisions into res.truth, and which lie in MUPO phases (this and a neighbouring
+/// collision on the straight edges with |p| below mupo_p).
+void record_truth(const TruthRun& truth, double mupo_p, ShadowResult& res) {
+  res.horizon_collisions = truth.states.size();
+  for (std::size_t i = 0; i < truth.reported.size(); ++i) {
+    const Reported& r = truth.reported[i];
     res.truth.t.push_back(r.t);
     res.truth.s.push_back(r.s);
     res.truth.p.push_back(r.p);
@@ -195,12 +198,23 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
     res.truth.straight.push_back(r.straight);
     if (!res.truth.escape && r.in_leak) res.truth.escape = i + 1;
   }
-  // MUPO phase: this and a neighbouring collision on the straight edges with |p| small
   const std::size_t n = res.truth.t.size();
   res.truth.mupo.assign(n, 0);
-  auto small = [&](std::size_t i) { return res.truth.straight[i] && std::abs(res.truth.p[i]) < opt.mupo_p; };
+  auto small = [&](std::size_t i) { return res.truth.straight[i] && std::abs(res.truth.p[i]) < mupo_p; };
   for (std::size_t i = 0; i < n; ++i)
     res.truth.mupo[i] = small(i) && ((i > 0 && small(i - 1)) || (i + 1 < n && small(i + 1)));
+}
+
+}  // namespace
+
+ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
+  for (const auto& n : opt.tiers)
+    if (tier_bits(n) == 0) throw std::invalid_argument(n);
+  ShadowResult res;
+  res.draw = draw;
+  const Stadium<double> st(scene.d, scene.r);
+  const TruthRun upper = find_truth(scene, opt, st, res);
+  record_truth(upper, opt.mupo_p, res);
 
   const long truth_bits = res.truth.bits;
   for (const std::string& name : opt.tiers) {
