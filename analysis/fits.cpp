@@ -211,6 +211,37 @@ void add_uniform_reach(AlphaResult& a, const SurvivalCurve& c) {
   }
 }
 
+namespace {
+
+/// The end of the tail's stable stretch from grid index start, at most end: local exponents over
+/// successive factor-1.5 segments [t_k, 1.5 t_k] must agree (within 30% or within 3 standard errors); the
+/// first disagreement ends it (a kink, a cut-off). end itself when no segment is judged.
+std::size_t stable_stretch_end(const SurvivalCurve& c, std::size_t start, std::size_t end) {
+  std::size_t seg = start, stable_end = start;
+  double z_prev = 0, se_prev = 0;
+  bool first = true;
+  while (true) {
+    std::size_t b = seg;
+    while (b < end && c.t[b] < 1.5 * c.t[seg]) ++b;
+    if (b == seg || c.t[b] < 1.5 * c.t[seg] * 0.999) break;  // the last partial segment is not judged
+    const double dl = std::log(c.t[b]) - std::log(c.t[seg]);
+    const double z = (std::log(c.P(seg)) - std::log(c.P(b))) / dl;
+    const double var = std::max(0.0, c.log_cov(seg, seg) + c.log_cov(b, b) - 2 * c.log_cov(seg, b)) / (dl * dl);
+    if (!first) {
+      const double diff = std::abs(z - z_prev);
+      if (diff > 0.3 * std::max(std::abs(z), std::abs(z_prev)) && diff > 3 * std::sqrt(var + se_prev * se_prev)) break;
+    }
+    first = false;
+    z_prev = z;
+    se_prev = std::sqrt(var);
+    stable_end = b;
+    seg = b;
+  }
+  return stable_end > start ? stable_end : end;
+}
+
+}  // namespace
+
 TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
   TailFit f;
   if (!a.value) return f;
@@ -224,37 +255,12 @@ TailFit fit_tail(const SurvivalCurve& c, const AlphaResult& a) {
     f.note = "the tail is resolved over less than a factor 2 in time";
     return f;
   }
-  // The stable stretch: local exponents over successive factor-1.5 segments [t_k, 1.5 t_k] must agree
-  // (within 30% or within 3 standard errors); the first disagreement ends it (a kink, a cut-off).
-  {
-    std::size_t seg = start, stable_end = start;
-    double z_prev = 0, se_prev = 0;
-    bool first = true;
-    while (true) {
-      std::size_t b = seg;
-      while (b < end && c.t[b] < 1.5 * c.t[seg]) ++b;
-      if (b == seg || c.t[b] < 1.5 * c.t[seg] * 0.999) break;  // the last partial segment is not judged
-      const double dl = std::log(c.t[b]) - std::log(c.t[seg]);
-      const double z = (std::log(c.P(seg)) - std::log(c.P(b))) / dl;
-      const double var = std::max(0.0, c.log_cov(seg, seg) + c.log_cov(b, b) - 2 * c.log_cov(seg, b)) / (dl * dl);
-      if (!first) {
-        const double diff = std::abs(z - z_prev);
-        if (diff > 0.3 * std::max(std::abs(z), std::abs(z_prev)) && diff > 3 * std::sqrt(var + se_prev * se_prev))
-          break;
-      }
-      first = false;
-      z_prev = z;
-      se_prev = std::sqrt(var);
-      stable_end = b;
-      seg = b;
-    }
-    if (stable_end > start) end = stable_end;
-    if (c.t[end] < 2 * c.t[start]) {
-      f.note = "the local exponent is stable over less than a factor 2 in time after the crossing";
-      f.from = c.t[start];
-      f.to = c.t[end];
-      return f;
-    }
+  end = stable_stretch_end(c, start, end);
+  if (c.t[end] < 2 * c.t[start]) {
+    f.note = "the local exponent is stable over less than a factor 2 in time after the crossing";
+    f.from = c.t[start];
+    f.to = c.t[end];
+    return f;
   }
   std::vector<std::size_t> idx;
   std::vector<double> x;
