@@ -99,26 +99,53 @@ std::string near_text(const NearRational& n) {
 /// The fate of a tail seen from tc on: "transient" (removed: no survivor where an algebraic continuation
 /// would keep 6 effective, or a local exponent above 6 at the end of the resolved range) or "persistent"
 /// (with regime "undecided" where the leak had not swept the lower edge by the last survivor).
-void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, double steep, TailClass& k) {
-  const bool rotating = scene.omega.sign() != 0;
-  const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
-  // last resolved time after the crossing, and the first time P is 0 after it
-  std::size_t e = 0, zero = c.t.size();
+/// The tail's end as the curve shows it: e, the last resolved grid time after the crossing tc (with at least
+/// min_eff effective survivors), a, the start of the last stretch [max(tc, t_e / 1.5), t_e], the local
+/// exponent z over it and its error, and the first grid time with no survivor after tc (size() if none).
+struct TailEnd {
+  std::size_t e = 0, a = 0, zero = 0;
+  double z = 0, z_se = 0;
+};
+
+TailEnd tail_end_of(const SurvivalCurve& c, double tc, double min_eff) {
+  TailEnd end;
+  std::size_t& e = end.e;
+  end.zero = c.t.size();
   for (std::size_t i = 0; i < c.t.size(); ++i) {
     if (c.t[i] < tc) continue;
     if (c.P(i) > 0 && c.effective(i) >= min_eff) e = i;
-    if (!(c.P(i) > 0) && zero == c.t.size()) zero = i;
+    if (!(c.P(i) > 0) && end.zero == c.t.size()) end.zero = i;
   }
   if (e == 0 || c.t[e] < tc) e = static_cast<std::size_t>(std::lower_bound(c.t.begin(), c.t.end(), tc) - c.t.begin());
-  // local exponent over the last resolved stretch [max(t_c, t_e / 1.5), t_e]
-  std::size_t a = e;
-  while (a > 0 && c.t[a - 1] >= std::max(tc, c.t[e] / 1.5)) --a;
-  double z = 0, z_se = 0;
-  if (a < e && c.t[a] > 0) {
-    const double dl = std::log(c.t[e]) - std::log(c.t[a]);
-    z = (std::log(c.P(a)) - std::log(c.P(e))) / dl;
-    z_se = std::sqrt(log_var(c, {a, e}, {1 / dl, -1 / dl}));
+  end.a = e;
+  while (end.a > 0 && c.t[end.a - 1] >= std::max(tc, c.t[e] / 1.5)) --end.a;
+  if (end.a < e && c.t[end.a] > 0) {
+    const double dl = std::log(c.t[e]) - std::log(c.t[end.a]);
+    end.z = (std::log(c.P(end.a)) - std::log(c.P(e))) / dl;
+    end.z_se = std::sqrt(log_var(c, {end.a, e}, {1 / dl, -1 / dl}));
   }
+  return end;
+}
+
+/// A persistent tail whose removal the leak could not yet show: the leading edge leaves the lower edge
+/// (tau2) only after the last survivor, so whether it removes the tail (low) or not (high) was not observed.
+void undecided_if_unswept(const Scene& scene, const SurvivalCurve& c, std::size_t e, TailClass& k) {
+  const LeakTimes lt = leak_times(scene);
+  std::size_t last = e;  // last time with a survivor
+  for (std::size_t i = e; i < c.t.size(); ++i)
+    if (c.P(i) > 0) last = i;
+  if (k.tail == "persistent" && lt.tau2 && *lt.tau2 > c.t[last]) {
+    k.regime = "undecided";
+    k.note += "; the leak's leading edge leaves the lower edge only at tau2 = " + std::to_string(*lt.tau2) +
+              ", after the last survivor: run longer (t_max > tau2) to see whether the tail is removed";
+  }
+}
+
+void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, double steep, TailClass& k) {
+  const bool rotating = scene.omega.sign() != 0;
+  const TailEnd end = tail_end_of(c, tc, min_eff);
+  const std::size_t e = end.e, a = end.a, zero = end.zero;
+  const double z = end.z;
   k.end_exponent = z;
   if (zero < c.t.size() && c.t[zero] < scene.t_max) {
     const double expected = c.effective(e) * std::pow(c.t[e] / c.t[zero], 3.0);
@@ -128,40 +155,28 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
       k.tail_end_range = std::make_pair(c.t[e], c.t[zero]);
       k.note = "tail removed: no survivor at t = " + std::to_string(c.t[zero]) +
                " where an algebraic continuation (exponent <= 3) would keep >= 6 effective survivors";
-      k.regime = regime(k.tail);
+      k.regime = regime_of(rotating, k.tail);
       return;
     }
   }
-  if (z - steep > 3 * z_se && a < e) {
+  char note[160];
+  if (z - steep > 3 * end.z_se && a < e) {
     k.tail = "transient";
     k.tail_end = c.t[a];
     k.tail_end_range = std::make_pair(c.t[a], c.t[e]);
-    char note[160];
     std::snprintf(note, sizeof note,
                   "tail removed: the local exponent at the end of the resolved range, %.3g, exceeds %g by 3 standard "
                   "errors",
                   z, steep);
-    k.note = note;
   } else {
     k.tail = "persistent";
-    char note[160];
     std::snprintf(note, sizeof note,
                   "tail present at the end of the resolved range (local exponent %.3g, not significantly above %g)", z,
                   steep);
-    k.note = note;
   }
-  k.regime = regime(k.tail);
-  const LeakTimes lt = leak_times(scene);
-  std::size_t last = e;  // last time with a survivor
-  for (std::size_t i = e; i < c.t.size(); ++i)
-    if (c.P(i) > 0) last = i;
-  if (k.tail == "persistent" && lt.tau2 && *lt.tau2 > c.t[last]) {
-    // the leak has not swept the lower edge by the end of the resolved range: whether it removes the
-    // tail (low) or not (high) was not observed
-    k.regime = "undecided";
-    k.note += "; the leak's leading edge leaves the lower edge only at tau2 = " + std::to_string(*lt.tau2) +
-              ", after the last survivor: run longer (t_max > tau2) to see whether the tail is removed";
-  }
+  k.note = note;
+  k.regime = regime_of(rotating, k.tail);
+  undecided_if_unswept(scene, c, e, k);
 }
 
 /// classify_tail without the near-rational regime label (the tail class, `near` set where it applies).
