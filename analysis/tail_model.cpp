@@ -172,15 +172,19 @@ std::string fmt(const char* f, double v) {
 
 }  // namespace
 
-TailPrediction predict_tail(const Scene& scene) {
-  const Geometry g = geometry_of(scene);
-  if (!(g.lambda > 0) || g.lambda >= 0.5)
-    throw InputError("leak.width", scene.width_text, "the tail model needs 0 < width < 1/2");
-  TailPrediction out;
-  out.kappa0 = small_hole_rate(scene);
+namespace {
+
+/// The candidates of a scene: the tail on each best approximation of 2 r omega that leaves gaps (2 q' lambda
+/// < 1), or on 0 for a stationary leak, with the sweep of each (empty on its rational).
+struct Candidates {
+  std::vector<LatticeTail> tails;
+  std::vector<std::vector<std::pair<double, double>>> sweeps;
+};
+
+Candidates candidates_of(const Scene& scene, const Geometry& g, double kappa0) {
+  Candidates out;
   const int sign = scene.omega.sign();
   const double start = mirrored_start(scene);
-  std::vector<std::vector<std::pair<double, double>>> sweeps;  // each candidate's sweep (empty on its rational)
   const auto evaluate = [&](const mpq_class& rational, double eps) {
     LatticeTail lt;
     const mpz_class P = rational.get_num(), Q = rational.get_den();
@@ -192,7 +196,7 @@ TailPrediction predict_tail(const Scene& scene) {
     const auto [C, free] = amplitude_of(g, lat);
     lt.amplitude = C;
     lt.free_fraction = free;
-    lt.crossing = crossing_of(C, out.kappa0);
+    lt.crossing = crossing_of(C, kappa0);
     std::vector<std::pair<double, double>> samples;
     if (eps != 0 && C > 0) {
       samples = sweep_samples(g, lat);
@@ -201,33 +205,75 @@ TailPrediction predict_tail(const Scene& scene) {
     }
     lt.forms = C > 0 && lt.crossing < scene.t_max && (!lt.end || lt.crossing < *lt.end);
     if (C > 0) {
-      out.candidates.push_back(std::move(lt));
-      sweeps.push_back(std::move(samples));
+      out.tails.push_back(std::move(lt));
+      out.sweeps.push_back(std::move(samples));
     }
   };
   if (sign == 0) {
     evaluate(mpq_class(0), 0);
-  } else {
-    // every best approximation of |2 r omega| with a denominator small enough to leave gaps (2 q' lambda < 1)
-    const ExactReal x =
-        sign < 0 ? -(ExactReal::parse("2") * scene.r * scene.omega) : ExactReal::parse("2") * scene.r * scene.omega;
-    const mpz_class qmax(static_cast<long>(std::ceil(2 / g.lambda)));
-    const BestApproximations best = best_approximations(x, qmax);
-    for (const Fraction& f : best.list) {
-      const double eps = (x - ExactReal::rational(f.value())).to_double() / (2 * scene.r.to_double());
-      evaluate(f.value(), eps);
-    }
+    return out;
   }
-  // the tail that lives longest among those that form; else the one nearest to forming
+  const ExactReal x =
+      sign < 0 ? -(ExactReal::parse("2") * scene.r * scene.omega) : ExactReal::parse("2") * scene.r * scene.omega;
+  const mpz_class qmax(static_cast<long>(std::ceil(2 / g.lambda)));
+  for (const Fraction& f : best_approximations(x, qmax).list) {
+    const double eps = (x - ExactReal::rational(f.value())).to_double() / (2 * scene.r.to_double());
+    evaluate(f.value(), eps);
+  }
+  return out;
+}
+
+/// The tail that lives longest among those that form; else the one nearest to forming; null if none.
+const LatticeTail* pick_candidate(const std::vector<LatticeTail>& tails, double t_max) {
   const LatticeTail* pick = nullptr;
   const auto life = [&](const LatticeTail& l) { return l.end ? *l.end : std::numeric_limits<double>::infinity(); };
-  for (const LatticeTail& l : out.candidates)
+  for (const LatticeTail& l : tails)
     if (l.forms && (!pick || life(l) > life(*pick) || (life(l) == life(*pick) && l.amplitude > pick->amplitude)))
       pick = &l;
   if (!pick)
-    for (const LatticeTail& l : out.candidates)
-      if (!pick || std::min(life(l), scene.t_max) / l.crossing > std::min(life(*pick), scene.t_max) / pick->crossing)
-        pick = &l;
+    for (const LatticeTail& l : tails)
+      if (!pick || std::min(life(l), t_max) / l.crossing > std::min(life(*pick), t_max) / pick->crossing) pick = &l;
+  return pick;
+}
+
+/// The regime the picked tail implies.
+std::string predicted_regime(int sign, const TailPrediction& out, const LatticeTail& pick, double t_max) {
+  if (sign == 0) return "stationary";
+  if (!out.forms) return "mid";
+  if (pick.rational == "0") return "low";
+  if (out.end && *out.end < t_max) return "near-rational";
+  return "high";
+}
+
+/// The prediction in one sentence.
+std::string prediction_note(const Scene& scene, const TailPrediction& out, const LatticeTail& pick) {
+  const int sign = scene.omega.sign();
+  std::string n = sign == 0 ? "stationary leak" : "2 r omega = " + pick.rational;
+  if (sign != 0 && pick.eps != 0)
+    n += (pick.eps < 0 ? " - " : " + ") + fmt("%.3g", std::abs(2 * scene.r.to_double() * pick.eps));
+  n += fmt(": C = %.3g", pick.amplitude);
+  if (pick.free_fraction > 0)
+    n += fmt(" (%.0f%% of orbit phases see no leak on the straight edges)", 100 * pick.free_fraction);
+  n += fmt(", crossing the chaotic part at t ~ %.3g", pick.crossing);
+  if (pick.end) n += fmt("; the lattice slides off it and the tail is gone by t ~ %.3g", *pick.end);
+  n += out.forms                      ? "; a tail forms"
+       : pick.crossing >= scene.t_max ? "; no tail before t_max"
+                                      : "; no tail: swept before it shows";
+  return n;
+}
+
+}  // namespace
+
+TailPrediction predict_tail(const Scene& scene) {
+  const Geometry g = geometry_of(scene);
+  if (!(g.lambda > 0) || g.lambda >= 0.5)
+    throw InputError("leak.width", scene.width_text, "the tail model needs 0 < width < 1/2");
+  TailPrediction out;
+  out.kappa0 = small_hole_rate(scene);
+  const int sign = scene.omega.sign();
+  Candidates cands = candidates_of(scene, g, out.kappa0);
+  out.candidates = std::move(cands.tails);
+  const LatticeTail* pick = pick_candidate(out.candidates, scene.t_max);
   if (!pick) {
     out.regime = sign == 0 ? "stationary" : "mid";
     out.note = "no rational of 2 r omega with q' < 1 / (2 lambda): the leak lattices cover the straight edges";
@@ -243,35 +289,15 @@ TailPrediction predict_tail(const Scene& scene) {
   out.crossing = pick->crossing;
   out.free_fraction = pick->free_fraction;
   if (pick->end && std::isfinite(pick->crossing) && 1.5 * *pick->end > pick->crossing) {
-    std::vector<double> times;
     const double a = std::log(pick->crossing), b = std::log(1.5 * *pick->end);
-    for (int i = 0; i < 24; ++i) times.push_back(std::exp(a + (b - a) * i / 23));
-    const auto& samples = sweeps[static_cast<std::size_t>(pick - out.candidates.data())];
-    for (const double t : times) out.curve.emplace_back(t, remaining(samples, t));
+    const auto& samples = cands.sweeps[static_cast<std::size_t>(pick - out.candidates.data())];
+    for (int i = 0; i < 24; ++i) {
+      const double t = std::exp(a + (b - a) * i / 23);
+      out.curve.emplace_back(t, remaining(samples, t));
+    }
   }
-  const bool slow = pick->rational == "0";
-  if (sign == 0)
-    out.regime = "stationary";
-  else if (!out.forms)
-    out.regime = "mid";
-  else if (slow)
-    out.regime = "low";
-  else if (out.end && *out.end < scene.t_max)
-    out.regime = "near-rational";
-  else
-    out.regime = "high";
-  std::string n = sign == 0 ? "stationary leak" : "2 r omega = " + pick->rational;
-  if (sign != 0 && pick->eps != 0)
-    n += (pick->eps < 0 ? " - " : " + ") + fmt("%.3g", std::abs(2 * scene.r.to_double() * pick->eps));
-  n += fmt(": C = %.3g", pick->amplitude);
-  if (pick->free_fraction > 0)
-    n += fmt(" (%.0f%% of orbit phases see no leak on the straight edges)", 100 * pick->free_fraction);
-  n += fmt(", crossing the chaotic part at t ~ %.3g", pick->crossing);
-  if (pick->end) n += fmt("; the lattice slides off it and the tail is gone by t ~ %.3g", *pick->end);
-  n += out.forms                       ? "; a tail forms"
-       : pick->crossing >= scene.t_max ? "; no tail before t_max"
-                                       : "; no tail: swept before it shows";
-  out.note = n;
+  out.regime = predicted_regime(sign, out, *pick, scene.t_max);
+  out.note = prediction_note(scene, out, *pick);
   return out;
 }
 
