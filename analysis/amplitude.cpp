@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <utility>
 
 #include "analysis/fit_detail.hpp"
 #include "analysis/fits.hpp"
@@ -57,15 +59,12 @@ AlphaFromAmplitude alpha_from_amplitude(const KappaFit& k, const TailAmplitude& 
   return out;
 }
 
-TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint64_t min_survivors) {
-  TailAmplitude a;
-  if (!k.ok) {
-    a.note = "no kappa fit: the exponential head cannot be told from the tail";
-    return a;
-  }
-  const auto resolved = [&](std::size_t i) {
-    return c.P(i) > 0 && c.effective(i) >= static_cast<double>(min_survivors);
-  };
+namespace {
+
+/// The tail's range: from the first resolved time past the kappa window where P stands 100 x above the
+/// extrapolated fit (start; size() if none) to the last resolved time (end).
+std::pair<std::size_t, std::size_t> tail_range(const SurvivalCurve& c, const KappaFit& k,
+                                               const std::function<bool(std::size_t)>& resolved) {
   std::size_t start = c.t.size(), end = 0;
   for (std::size_t i = 0; i < c.t.size(); ++i) {
     if (!resolved(i)) continue;
@@ -74,25 +73,14 @@ TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint
         std::log(c.P(i)) - (k.log_amplitude - k.value * c.t[i]) > std::log(100.0))
       start = i;
   }
-  if (start == c.t.size()) {
-    a.note = "P never exceeds 100 x the extrapolated exponential fit where it is resolved: no tail to measure";
-    return a;
-  }
-  a.from = c.t[start];
-  a.to = c.t[end];
-  a.height = c.t[start] * c.P(start);
-  a.height_error = c.t[start] * c.P_err(start);
-  if (c.t[end] < 2 * c.t[start]) {
-    a.note = "resolved over less than a factor 2 in t past where the exponential head falls under 1% of P";
-    return a;
-  }
-  std::vector<std::size_t> idx;
-  std::vector<double> x;
-  log_spaced_points(c, start, end, resolved, idx, x);
-  if (idx.back() != end) {  // the range's last resolved time belongs to it
-    idx.push_back(end);
-    x.push_back(std::log(c.t[end]));
-  }
+  return {start, end};
+}
+
+/// The longest flat stretch of t P from the start: the first n points (n >= 3, the last at least a factor
+/// 2 past the start) over which d ln(t P) / d ln t is within kFlatSlope of 0 or within 3 errors; 0 if none.
+/// a.slope, a.slope_error: the whole range's slope (for the note) or, when flat, the stretch's.
+std::size_t flat_points(const SurvivalCurve& c, const std::vector<std::size_t>& idx, const std::vector<double>& x,
+                        TailAmplitude& a) {
   // ln(t P) = ln t + ln P: its slope against ln t is 1 + the slope of ln P, with ln P's covariance
   const auto slope_over = [&](std::size_t n, double& b, double& se) {
     const std::vector<std::size_t> i(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(n));
@@ -105,32 +93,24 @@ TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint
     se = std::sqrt(tail_log_variance(c, i, w));
     return true;
   };
-  // the longest flat stretch from the start: the last point at least a factor 2 past it that passes
-  std::size_t n = idx.size();
-  double b = 0, se = 0;
-  bool flat = false;
-  for (; n >= 3 && c.t[idx[n - 1]] >= 2 * c.t[start]; --n) {
+  const double t_start = c.t[idx.front()];
+  for (std::size_t n = idx.size(); n >= 3 && c.t[idx[n - 1]] >= 2 * t_start; --n) {
+    double b = 0, se = 0;
     if (!slope_over(n, b, se)) break;
     if (n == idx.size()) a.slope = b, a.slope_error = se;  // the whole resolved range, for the note
     if (std::abs(b) <= kFlatSlope || std::abs(b) <= 3 * se) {
-      flat = true;
-      break;
+      a.slope = b;
+      a.slope_error = se;
+      return n;
     }
   }
-  if (!flat) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "t P(t) is not flat over any stretch of a factor 2 in t from t = %g: d ln(t P) / d ln t = %.3g +- "
-                  "%.2g over the resolved range, i.e. P ~ t^-%.3g, not C / t",
-                  c.t[start], a.slope, a.slope_error, 1 - a.slope);
-    a.note = buf;
-    return a;
-  }
-  idx.resize(n);
-  a.to = c.t[idx.back()];
-  a.points = n;
-  a.slope = b;
-  a.slope_error = se;
+  return 0;
+}
+
+/// C: the mean of t P over the stretch idx, its error from ln P's covariance, and its drift (half the
+/// difference of the means over the stretch's early and late halves in ln t).
+void mean_of_tP(const SurvivalCurve& c, const std::vector<std::size_t>& idx, TailAmplitude& a) {
+  const std::size_t n = idx.size();
   std::vector<double> u(n);
   double sum = 0, early = 0, late = 0;
   std::size_t n_early = 0;
@@ -150,6 +130,53 @@ TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint
   a.std_error = std::sqrt(tail_log_variance(c, idx, u));
   if (n_early > 0 && n_early < n)
     a.drift = 0.5 * std::abs(late / static_cast<double>(n - n_early) - early / static_cast<double>(n_early));
+}
+
+}  // namespace
+
+TailAmplitude fit_amplitude(const SurvivalCurve& c, const KappaFit& k, std::uint64_t min_survivors) {
+  TailAmplitude a;
+  if (!k.ok) {
+    a.note = "no kappa fit: the exponential head cannot be told from the tail";
+    return a;
+  }
+  const std::function<bool(std::size_t)> resolved = [&](std::size_t i) {
+    return c.P(i) > 0 && c.effective(i) >= static_cast<double>(min_survivors);
+  };
+  const auto [start, end] = tail_range(c, k, resolved);
+  if (start == c.t.size()) {
+    a.note = "P never exceeds 100 x the extrapolated exponential fit where it is resolved: no tail to measure";
+    return a;
+  }
+  a.from = c.t[start];
+  a.to = c.t[end];
+  a.height = c.t[start] * c.P(start);
+  a.height_error = c.t[start] * c.P_err(start);
+  if (c.t[end] < 2 * c.t[start]) {
+    a.note = "resolved over less than a factor 2 in t past where the exponential head falls under 1% of P";
+    return a;
+  }
+  std::vector<std::size_t> idx;
+  std::vector<double> x;
+  log_spaced_points(c, start, end, resolved, idx, x);
+  if (idx.back() != end) {  // the range's last resolved time belongs to it
+    idx.push_back(end);
+    x.push_back(std::log(c.t[end]));
+  }
+  const std::size_t n = flat_points(c, idx, x, a);
+  if (n == 0) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "t P(t) is not flat over any stretch of a factor 2 in t from t = %g: d ln(t P) / d ln t = %.3g +- "
+                  "%.2g over the resolved range, i.e. P ~ t^-%.3g, not C / t",
+                  c.t[start], a.slope, a.slope_error, 1 - a.slope);
+    a.note = buf;
+    return a;
+  }
+  idx.resize(n);
+  a.to = c.t[idx.back()];
+  a.points = n;
+  mean_of_tP(c, idx, a);
   a.note = a.to < c.t[end] ? "mean of t P(t) over the flat stretch; past it t P(t) is no longer flat (the tail ends "
                              "or bends)"
                            : "mean of t P(t) over the resolved range past the exponential head";
