@@ -268,8 +268,8 @@ void enclose_liouville(mpfi_t out, unsigned long base, mpfr_prec_t prec) {
 
 // Returns false when the enclosure cannot be formed at this precision (a divisor or a logarithm's
 // argument not yet separated from zero); the caller then retries with more bits.
-bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
-  mpfi_set_prec(out, prec);
+/// A leaf's enclosure (a rational or a constant); false when n is not a leaf.
+bool enclose_leaf(const Node& n, mpfi_t out, mpfr_prec_t prec) {
   switch (n.kind) {
     case Kind::rational:
       mpfi_set_q(out, n.q.get_mpq_t());
@@ -291,49 +291,58 @@ bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
       enclose_liouville(out, n.base, prec);
       return true;
     default:
-      break;
+      return false;
   }
+}
+
+/// An operation's enclosure from its operands' a and b; false where it cannot be decided at this precision
+/// (a divisor or a logarithm's argument not away from 0, a square root's argument straddling 0).
+bool enclose_operation(Kind kind, mpfi_t out, mpfi_t a, mpfi_t b) {
+  switch (kind) {
+    case Kind::neg:
+      mpfi_neg(out, a);
+      return true;
+    case Kind::add:
+      mpfi_add(out, a, b);
+      return true;
+    case Kind::sub:
+      mpfi_sub(out, a, b);
+      return true;
+    case Kind::mul:
+      mpfi_mul(out, a, b);
+      return true;
+    case Kind::div:
+      if (mpfi_has_zero(b)) return false;
+      mpfi_div(out, a, b);
+      return true;
+    case Kind::ln:
+      if (!mpfi_is_strictly_pos(a)) return false;
+      mpfi_log(out, a);
+      return true;
+    case Kind::sqrt:
+      if (mpfi_is_strictly_neg(a)) throw std::domain_error("sqrt of a negative value");
+      if (!mpfi_is_nonneg(a)) return false;
+      mpfi_sqrt(out, a);
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool enclose_node(const Node& n, mpfi_t out, mpfr_prec_t prec) {
+  mpfi_set_prec(out, prec);
+  if (enclose_leaf(n, out, prec)) return true;
   mpfi_t a, b;
   mpfi_init2(a, prec);
   mpfi_init2(b, prec);
   bool ok = enclose_node(*n.a, a, prec);
   if (ok && n.b) ok = enclose_node(*n.b, b, prec);
-  if (ok) {
-    switch (n.kind) {
-      case Kind::neg:
-        mpfi_neg(out, a);
-        break;
-      case Kind::add:
-        mpfi_add(out, a, b);
-        break;
-      case Kind::sub:
-        mpfi_sub(out, a, b);
-        break;
-      case Kind::mul:
-        mpfi_mul(out, a, b);
-        break;
-      case Kind::div:
-        if (mpfi_has_zero(b))
-          ok = false;
-        else
-          mpfi_div(out, a, b);
-        break;
-      case Kind::ln:
-        if (!mpfi_is_strictly_pos(a))
-          ok = false;
-        else
-          mpfi_log(out, a);
-        break;
-      case Kind::sqrt:
-        if (mpfi_is_strictly_neg(a)) throw std::domain_error("sqrt of a negative value");
-        if (!mpfi_is_nonneg(a))
-          ok = false;
-        else
-          mpfi_sqrt(out, a);
-        break;
-      default:
-        ok = false;
-    }
+  try {
+    if (ok) ok = enclose_operation(n.kind, out, a, b);
+  } catch (...) {
+    mpfi_clear(a);
+    mpfi_clear(b);
+    throw;
   }
   mpfi_clear(a);
   mpfi_clear(b);
