@@ -180,11 +180,92 @@ void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min
 }
 
 /// classify_tail without the near-rational regime label (the tail class, `near` set where it applies).
+/// The first grid index past the kappa window where a tail is seen without alpha: P sigma errors (its own
+/// and the fit's extrapolation) above factor x the fit, with at least kSeeTail effective survivors (alpha
+/// asks for min_survivors; a tail carried by 58-108 unsplit lines at 82/83 was once called "none" at 10^30
+/// times the fit); size() if none.
+std::size_t tail_seen_at(const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit& fit) {
+  const double min_eff = static_cast<double>(alpha.min_survivors);
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] <= fit.to || !(c.P(i) > 0) || c.effective(i) < std::min(min_eff, kSeeTail)) continue;
+    const double line = alpha.factor * std::exp(fit.log_amplitude - fit.value * c.t[i]);
+    const double err = std::hypot(c.P_err(i), line * c.t[i] * fit.std_error);
+    if (c.P(i) - line > alpha.sigma * err) return i;
+  }
+  return c.t.size();
+}
+
+/// A tail seen at grid index `seen` whose alpha is not resolved: "unresolved", with about the particles
+/// that would keep min_survivors through the fewest effective survivors before it.
+TailClass unresolved_tail(const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit& fit, std::size_t seen,
+                          bool rotating) {
+  TailClass k;
+  const double min_eff = static_cast<double>(alpha.min_survivors);
+  double fewest = std::numeric_limits<double>::infinity(), at = 0;
+  for (std::size_t i = 0; i <= seen; ++i)
+    if (c.t[i] >= fit.to && c.effective(i) < fewest) fewest = c.effective(i), at = c.t[i];
+  k.tail = "unresolved";
+  k.regime = rotating ? "undecided" : "stationary";
+  const double scale = std::max(1.0, min_eff / std::max(fewest, 1e-300));
+  k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
+  char note[400];
+  std::snprintf(note, sizeof note,
+                "a tail is seen (P = %.3g at t = %g more than %g errors above %g x the fit, %.0f effective survivors) "
+                "but alpha, P at the first crossing, is not resolved: the effective survivors fall to %.3g at t = %g; "
+                "about %.3g particles would keep %g there",
+                c.P(seen), c.t[seen], alpha.sigma, alpha.factor, c.effective(seen), fewest, at,
+                static_cast<double>(*k.resolve_particles), min_eff);
+  k.note = note;
+  return k;
+}
+
+/// Near a rational: a tail that rose kNearBump times above the fit (and sigma errors) and died, or nothing.
+std::optional<TailClass> near_bump(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
+                                   const KappaFit& fit, double steep) {
+  const double min_eff = static_cast<double>(alpha.min_survivors);
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.t[i] <= fit.to || !(c.P(i) > 0) || c.effective(i) < min_eff) continue;
+    const double line = std::exp(fit.log_amplitude - fit.value * c.t[i]);
+    const double err = std::hypot(c.P_err(i), line * c.t[i] * fit.std_error);
+    if (c.P(i) < kNearBump * line || !(c.P(i) - line > alpha.sigma * err)) continue;
+    TailClass fate;
+    tail_fate(scene, c, c.t[i], min_eff, steep, fate);
+    if (fate.tail != "transient") return std::nullopt;
+    char note[200];
+    std::snprintf(note, sizeof note, "; a tail formed below alpha's factor: P = %.3g times the fit at t = %g",
+                  c.P(i) / line, c.t[i]);
+    fate.note += note;
+    return fate;
+  }
+  return std::nullopt;
+}
+
+/// No tail seen: "none", its regime claimed only when alpha's bound lies below the weakest tail it is meant
+/// to exclude (fit.tail_floor; at 2*10^5 particles omega = 2/3 was called mid with a bound above the tail
+/// 10^6 particles resolve, 1.9e-4), else undecided with about the particles that would decide it (the bound
+/// falls about as 1/N).
+TailClass no_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, bool rotating) {
+  TailClass k;
+  k.note = "no significant crossing of the exponential fit: no tail";
+  k.regime = regime_of(rotating, k.tail);
+  if (rotating && (!alpha.upper_bound || *alpha.upper_bound >= scene.tail_floor)) {
+    k.regime = "undecided";
+    const double scale = alpha.upper_bound ? std::max(1.0, *alpha.upper_bound / scene.tail_floor) : 100.0;
+    k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
+    char note[400];
+    std::snprintf(note, sizeof note,
+                  "no tail seen, but only alpha < %.3g is excluded, not a tail down to fit.tail_floor = %.3g: "
+                  "undecided between mid and high; about %.3g particles would decide it",
+                  alpha.upper_bound ? *alpha.upper_bound : 1.0, scene.tail_floor,
+                  static_cast<double>(*k.resolve_particles));
+    k.note = note;
+  }
+  return k;
+}
+
 TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
                                const KappaFit* fit) {
-  TailClass k;
   const bool rotating = scene.omega.sign() != 0;
-  const auto regime = [&](const std::string& tail) { return regime_of(rotating, tail); };
   // near a rational other than an integer: a tail that forms and dies is looked for more closely
   std::optional<NearRational> near = rotating ? near_rational(scene) : std::nullopt;
   if (near && near->q < 2) near.reset();
@@ -194,85 +275,24 @@ TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const
     return t;
   };
   if (!alpha.value && fit && fit->ok) {
-    // a tail seen later: P sigma errors (its own and the fit's extrapolation) above factor x the fit,
-    // with at least kSeeTail effective survivors there (alpha asks for min_survivors; a tail carried
-    // by 58-108 unsplit lines at 82/83 was once called "none" at 10^30 times the fit)
-    const double min_eff = static_cast<double>(alpha.min_survivors);
-    std::size_t seen = c.t.size();
-    for (std::size_t i = 0; i < c.t.size() && seen == c.t.size(); ++i) {
-      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < std::min(min_eff, kSeeTail)) continue;
-      const double line = alpha.factor * std::exp(fit->log_amplitude - fit->value * c.t[i]);
-      const double err = std::hypot(c.P_err(i), line * c.t[i] * fit->std_error);
-      if (c.P(i) - line > alpha.sigma * err) seen = i;
-    }
+    const std::size_t seen = tail_seen_at(c, alpha, *fit);
     if (seen < c.t.size()) {
       // a tail seen and then removed is transient whether or not alpha is resolved (the removal is
       // measured on the resolved points after it: at omega = 1e-4 with 10^5 mupo particles the crossing
       // falls where the uniform share's survivors are too few, the sweep at t ~ 5900 does not)
       TailClass fate;
-      tail_fate(scene, c, c.t[seen], min_eff, steep, fate);
-      if (fate.tail == "transient") {
-        fate.note += "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " +
-                     std::to_string(c.t[seen]) + ")";
-        return with_near(fate);
-      }
-      double fewest = std::numeric_limits<double>::infinity(), at = 0;
-      for (std::size_t i = 0; i <= seen; ++i)
-        if (c.t[i] >= fit->to && c.effective(i) < fewest) fewest = c.effective(i), at = c.t[i];
-      k.tail = "unresolved";
-      k.regime = rotating ? "undecided" : "stationary";
-      const double scale = std::max(1.0, min_eff / std::max(fewest, 1e-300));
-      k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
-      char note[400];
-      std::snprintf(
-          note, sizeof note,
-          "a tail is seen (P = %.3g at t = %g more than %g errors above %g x the fit, %.0f effective survivors) but "
-          "alpha, P at the first crossing, is not resolved: the effective survivors fall to %.3g at t = %g; "
-          "about %.3g particles would keep %g there",
-          c.P(seen), c.t[seen], alpha.sigma, alpha.factor, c.effective(seen), fewest, at,
-          static_cast<double>(*k.resolve_particles), min_eff);
-      k.note = note;
-      return k;
-    }
-  }
-  if (!alpha.value && near && fit && fit->ok) {
-    // near a rational: a tail that rose kNearBump times above the fit (and sigma errors) and died
-    const double min_eff = static_cast<double>(alpha.min_survivors);
-    for (std::size_t i = 0; i < c.t.size(); ++i) {
-      if (c.t[i] <= fit->to || !(c.P(i) > 0) || c.effective(i) < min_eff) continue;
-      const double line = std::exp(fit->log_amplitude - fit->value * c.t[i]);
-      const double err = std::hypot(c.P_err(i), line * c.t[i] * fit->std_error);
-      if (c.P(i) < kNearBump * line || !(c.P(i) - line > alpha.sigma * err)) continue;
-      TailClass fate;
-      tail_fate(scene, c, c.t[i], min_eff, steep, fate);
-      if (fate.tail != "transient") break;
-      char note[200];
-      std::snprintf(note, sizeof note, "; a tail formed below alpha's factor: P = %.3g times the fit at t = %g",
-                    c.P(i) / line, c.t[i]);
-      fate.note += note;
+      tail_fate(scene, c, c.t[seen], static_cast<double>(alpha.min_survivors), steep, fate);
+      if (fate.tail != "transient") return unresolved_tail(c, alpha, *fit, seen, rotating);
+      fate.note +=
+          "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " + std::to_string(c.t[seen]) +
+          ")";
       return with_near(fate);
     }
   }
-  if (!alpha.value) {
-    k.note = "no significant crossing of the exponential fit: no tail";
-    k.regime = regime(k.tail);
-    // "no tail" holds only above alpha's bound: at 2*10^5 particles omega = 2/3 was called mid with a
-    // bound above the tail 10^6 particles resolve (1.9e-4). The regime is claimed only when the bound
-    // lies below the weakest tail it is meant to exclude (fit.tail_floor); the bound falls about as 1/N.
-    if (rotating && (!alpha.upper_bound || *alpha.upper_bound >= scene.tail_floor)) {
-      k.regime = "undecided";
-      const double scale = alpha.upper_bound ? std::max(1.0, *alpha.upper_bound / scene.tail_floor) : 100.0;
-      k.resolve_particles = static_cast<std::uint64_t>(std::ceil(static_cast<double>(c.particles) * scale));
-      char note[400];
-      std::snprintf(note, sizeof note,
-                    "no tail seen, but only alpha < %.3g is excluded, not a tail down to fit.tail_floor = %.3g: "
-                    "undecided between mid and high; about %.3g particles would decide it",
-                    alpha.upper_bound ? *alpha.upper_bound : 1.0, scene.tail_floor,
-                    static_cast<double>(*k.resolve_particles));
-      k.note = note;
-    }
-    return k;
-  }
+  if (!alpha.value && near && fit && fit->ok)
+    if (const std::optional<TailClass> bump = near_bump(scene, c, alpha, *fit, steep)) return with_near(*bump);
+  if (!alpha.value) return no_tail(scene, c, alpha, rotating);
+  TailClass k;
   tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), steep, k);
   return with_near(k);
 }
