@@ -57,6 +57,83 @@ void add_window_systematic(KappaFit& k, const SurvivalCurve& c, double t_max) {
   k.window_systematic = (hi - lo) / 2;
 }
 
+namespace {
+
+/// alpha at a significant crossing found at grid index i (prev: the last judged point before it, when
+/// adjacent): the crossing interpolated between the two (ln P and the excess linear in t; a grid point is
+/// not the crossing, and on a coarse grid P at the first point above can lie well past it), and its error
+/// through the crossing. At t* ln P = ln factor + ln A - kappa t*: moving ln P by d moves t* by -d / (kappa
+/// + s) (s = d ln P / dt) and ln alpha by d kappa / (kappa + s), P's relative error times the
+/// crossing-shift factor; moving the extrapolated line by e moves ln alpha by s e / (kappa + s). d and e
+/// are correlated (ln P at t* shares the early increments the fit is made of): Var ln alpha = (kappa^2 Var
+/// d + s^2 Var e + 2 kappa s Cov(d, e)) / (kappa + s)^2.
+void set_crossing(const SurvivalCurve& c, const KappaFit& k, std::size_t i, std::size_t prev, double prev_excess,
+                  double excess, double lf, AlphaResult& a) {
+  const double P = c.P(i), fit = std::exp(k.log_amplitude - k.value * c.t[i]);
+  double t_star = c.t[i], ln_alpha = std::log(P);
+  if (prev + 1 == i && prev_excess <= lf && excess > prev_excess) {
+    const double f = (lf - prev_excess) / (excess - prev_excess);
+    t_star = c.t[prev] + f * (c.t[i] - c.t[prev]);
+    const double lp0 = std::log(c.P(prev));
+    ln_alpha = lp0 + f * (std::log(P) - lp0);
+  }
+  a.value = std::exp(ln_alpha);
+  a.crossing_time = t_star;
+  a.resolved_until = c.t[i];
+  const double s = log_slope_at(c, i);
+  const double rel = k.value + s;
+  a.shift_factor = rel > 0 ? k.value / rel : 1.0;
+  const double p_err = alpha_p_err(c, i, fit);
+  const double var_d = std::pow(p_err / P, 2), se_e = k.log_se_at(t_star);
+  double var = var_d * a.shift_factor * a.shift_factor;
+  if (rel > 0) {
+    // the covariance only where P's error is the curve's own (a Poisson floor is not correlated)
+    const double cov = p_err == c.P_err(i) ? cov_with_fit(c, k, i, t_star) : 0.0;
+    var = (k.value * k.value * var_d + s * s * se_e * se_e + 2 * k.value * s * cov) / (rel * rel);
+    var = std::max(var, 0.0);
+  }
+  a.std_error = *a.value * std::sqrt(var);
+  a.note =
+      "P where it first exceeds the extrapolated exponential fit by the factor (interpolated between grid "
+      "points)";
+}
+
+/// No crossing while P is resolved (last: the last resolved grid index). The true P never grows (an
+/// estimate may: a split run's roulette raises it at split times), so a crossing at t* > t gives alpha =
+/// P(t*) <= P(t) <= P's upper limit: every grid time where the data exclude P >= factor x fit (P's upper
+/// limit below it) bounds alpha by that upper limit. Go on past the resolved range (the upper limits only
+/// widen there) until a time is not excluded. The upper limit is P + 3 standard errors (the line's
+/// included), and at least P + 6 max_weight / N: zero survivors among N draws exclude a probability above
+/// 6 / N at 99.75% (Poisson), and a survivor nobody drew could carry weight up to max_weight. Split runs:
+/// the bound stays within the resolved range, where the lines' own spread is P's error (past it, a line
+/// nobody followed could carry any weight the splits left it).
+void set_bound(const SurvivalCurve& c, const KappaFit& k, std::size_t last, bool gap, AlphaResult& a) {
+  a.resolved_until = c.t[last];
+  const double zero_events = c.lines ? 0.0 : 6 * c.max_weight / static_cast<double>(c.particles);
+  // The last resolved time bounds alpha too (no crossing before it): by P's upper limit there, not P
+  // itself (a bound of P alone lay below the pooled alpha in 40 of 110 runs at 82/83).
+  const double fit_last = std::exp(k.log_amplitude - k.value * c.t[last]);
+  double best = c.P(last) + a.sigma * alpha_p_err(c, last, fit_last);
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (c.lines && i > last) break;
+    if (c.t[i] < k.from) continue;
+    const double fit = std::exp(k.log_amplitude - k.value * c.t[i]);
+    const double se = std::hypot(alpha_p_err(c, i, fit), a.factor * fit * k.log_se_at(c.t[i]));
+    const double ub = c.P(i) + std::max(a.sigma * se, zero_events);
+    if (!(ub < a.factor * fit)) break;
+    best = std::min(best, ub);
+    a.bound_until = c.t[i];
+  }
+  a.upper_bound = best;
+  a.note =
+      gap ? "P crosses factor x the fit after resolved_until, where P is not resolved (too few effective survivors): "
+            "alpha is bounded from above by P's upper limit until then, not measured"
+          : "no significant crossing: until bound_until, P's upper limit (P + 3 errors, at least 6 max_weight / N) "
+            "stays below factor x the fit, and the smallest of them bounds alpha from above";
+}
+
+}  // namespace
+
 AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor, double sigma,
                        std::uint64_t min_survivors) {
   AlphaResult a;
@@ -105,77 +182,13 @@ AlphaResult find_alpha(const SurvivalCurve& c, const KappaFit& k, double factor,
             "errors bounds alpha from above";
         return a;
       }
-      // The crossing between the grid points: ln P and the excess linear in t between the last point
-      // below the factor and this one (a grid point is not the crossing; on a coarse grid P at the
-      // first point above can lie well past it).
-      double t_star = c.t[i], ln_alpha = std::log(P);
-      if (prev + 1 == i && prev_excess <= lf && excess > prev_excess) {
-        const double f = (lf - prev_excess) / (excess - prev_excess);
-        t_star = c.t[prev] + f * (c.t[i] - c.t[prev]);
-        const double lp0 = std::log(c.P(prev));
-        ln_alpha = lp0 + f * (std::log(P) - lp0);
-      }
-      a.value = std::exp(ln_alpha);
-      a.crossing_time = t_star;
-      a.resolved_until = c.t[i];
-      // Errors through the crossing: at t* ln P = ln factor + ln A - kappa t*. Moving ln P by d moves t*
-      // by -d / (kappa + s) (s = d ln P / dt) and ln alpha by d kappa / (kappa + s): P's relative error
-      // times the crossing-shift factor. Moving the extrapolated line by e moves ln alpha by s e /
-      // (kappa + s). d and e are correlated (ln P at t* shares the early increments the fit is made
-      // of): Var ln alpha = (kappa^2 Var d + s^2 Var e + 2 kappa s Cov(d, e)) / (kappa + s)^2.
-      const double s = log_slope_at(c, i);
-      const double rel = k.value + s;
-      a.shift_factor = rel > 0 ? k.value / rel : 1.0;
-      const double p_err = alpha_p_err(c, i, fit);
-      const double var_d = std::pow(p_err / P, 2), se_e = k.log_se_at(t_star);
-      double var = var_d * a.shift_factor * a.shift_factor;
-      if (rel > 0) {
-        // the covariance only where P's error is the curve's own (a Poisson floor is not correlated)
-        const double cov = p_err == c.P_err(i) ? cov_with_fit(c, k, i, t_star) : 0.0;
-        var = (k.value * k.value * var_d + s * s * se_e * se_e + 2 * k.value * s * cov) / (rel * rel);
-        var = std::max(var, 0.0);
-      }
-      a.std_error = *a.value * std::sqrt(var);
-      a.note =
-          "P where it first exceeds the extrapolated exponential fit by the factor (interpolated between grid "
-          "points)";
+      set_crossing(c, k, i, prev, prev_excess, excess, lf, a);
       return a;
     }
     prev = i;
     prev_excess = excess;
   }
-  if (gap) last = prev;
-  a.resolved_until = c.t[last];
-  // No crossing while P is resolved. The true P never grows (an estimate may: a split run's roulette
-  // raises it at split times), so a crossing at t* > t gives alpha = P(t*) <= P(t) <= P's upper limit:
-  // every grid time where the data exclude P >= factor x fit (P's upper limit below it) bounds alpha by
-  // that upper limit. Go on past the resolved range (the upper limits only widen there) until a time
-  // is not excluded. The upper limit is P + 3 standard errors (the line's included), and at least
-  // P + 6 max_weight / N: zero survivors among N draws exclude a probability above 6 / N at 99.75%
-  // (Poisson), and a survivor nobody drew could carry weight up to max_weight.
-  // Split runs: the bound stays within the resolved range, where the lines' own spread is P's error
-  // (past it, a line nobody followed could carry any weight the splits left it).
-  const double zero_events = c.lines ? 0.0 : 6 * c.max_weight / static_cast<double>(c.particles);
-  // The last resolved time bounds alpha too (no crossing before it): by P's upper limit there, not P
-  // itself (a bound of P alone lay below the pooled alpha in 40 of 110 runs at 82/83).
-  const double fit_last = std::exp(k.log_amplitude - k.value * c.t[last]);
-  double best = c.P(last) + sigma * alpha_p_err(c, last, fit_last);
-  for (std::size_t i = 0; i < c.t.size(); ++i) {
-    if (c.lines && i > last) break;
-    if (c.t[i] < k.from) continue;
-    const double fit = std::exp(k.log_amplitude - k.value * c.t[i]);
-    const double se = std::hypot(alpha_p_err(c, i, fit), factor * fit * k.log_se_at(c.t[i]));
-    const double ub = c.P(i) + std::max(sigma * se, zero_events);
-    if (!(ub < factor * fit)) break;
-    best = std::min(best, ub);
-    a.bound_until = c.t[i];
-  }
-  a.upper_bound = best;
-  a.note =
-      gap ? "P crosses factor x the fit after resolved_until, where P is not resolved (too few effective survivors): "
-            "alpha is bounded from above by P's upper limit until then, not measured"
-          : "no significant crossing: until bound_until, P's upper limit (P + 3 errors, at least 6 max_weight / N) "
-            "stays below factor x the fit, and the smallest of them bounds alpha from above";
+  set_bound(c, k, gap ? prev : last, gap, a);
   return a;
 }
 
