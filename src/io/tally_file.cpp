@@ -111,6 +111,103 @@ std::string sealed_tally_bytes(std::string body) {
   return body;
 }
 
+namespace {
+
+/// The header's fields into f (sizes checked against the file's bytes before anything is allocated).
+void read_header(const json& h, std::size_t size, std::size_t nl, TallyFile& f) {
+  const std::uint64_t room = (size - nl) / 8;  // words after the header, at most
+  // every number is checked for its type before it is read: a float where a count belongs (5.7e54) was
+  // converted with undefined behaviour (found by fuzz_tally), and a size is held against the bytes that
+  // follow before anything is allocated for it
+  const auto count = [&](const json& v, const char* what) {
+    if (!v.is_number_unsigned()) throw std::runtime_error(std::string(what) + " is not a count: " + v.dump());
+    return v.get<std::uint64_t>();
+  };
+  const auto flag = [&](const char* key) {
+    if (!h.at(key).is_boolean()) throw std::runtime_error(std::string(key) + " is not true or false");
+    return h.at(key).get<bool>();
+  };
+  if (count(h.at("block_size"), "block_size") != kBlockSize)
+    throw std::runtime_error("written with blocks of " + h.at("block_size").dump() + " particles, this build uses " +
+                             std::to_string(kBlockSize));
+  if (!h.at("inputs").is_string()) throw std::runtime_error("inputs is not a text");
+  f.inputs = h.at("inputs").get<std::string>();
+  f.particles = count(h.at("particles"), "particles");
+  f.first_id = count(h.at("first_id"), "first_id");
+  f.of = count(h.at("of"), "of");
+  if (h.contains("wall_seconds") && !h.at("wall_seconds").is_number()) throw std::runtime_error("wall_seconds");
+  f.wall_seconds = h.value("wall_seconds", 0.0);
+  if (!(f.wall_seconds >= 0 && f.wall_seconds < 1e12)) throw std::runtime_error("wall_seconds out of range");
+  if (!h.at("done").is_array()) throw std::runtime_error("done is not a list");
+  for (const json& iv : h.at("done"))
+    if (!iv.is_array() || !f.done.insert(count(iv.at(0), "done"), count(iv.at(1), "done")))
+      throw std::runtime_error("overlapping done blocks");
+  const std::uint64_t survival_bins = count(h.at("survival_bins"), "survival_bins"),
+                      density_bins = count(h.at("density_bins"), "density_bins"),
+                      records = count(h.at("records"), "records");
+  if (survival_bins > room || density_bins > room || records > room / 4)
+    throw std::runtime_error("sizes larger than the file (" + std::to_string(survival_bins) + " bins, " +
+                             std::to_string(density_bins) + " density bins, " + std::to_string(records) +
+                             " records in " + std::to_string(size) + " bytes)");
+  f.tally.escapes_per_bin.assign(survival_bins, 0);
+  f.tally.collision_density.assign(density_bins, 0);
+  f.tally.weighted = flag("weighted");
+  f.tally.split = flag("split");
+  f.records.resize(records);
+}
+
+/// A weighted run's exact sums (escapes by bin for a run that is not split, the totals, the density).
+void read_weighted(ByteReader& r, Tally& t) {
+  if (!t.split) {
+    t.escaped_w.resize(t.escapes_per_bin.size());
+    t.escaped_w2.resize(t.escapes_per_bin.size());
+  }
+  t.collision_density_w.resize(t.collision_density.size());
+  get_sums(r, t.escaped_w);
+  get_sums(r, t.escaped_w2);
+  t.total_w = get_sum(r);
+  t.total_w2 = get_sum(r);
+  get_sums(r, t.collision_density_w);
+}
+
+/// A split run's line sums, counts, conservation sums and unsplit cells (their number held against the bytes
+/// left, their keys increasing and on the grid).
+void read_lines(ByteReader& r, Tally& t, std::size_t size, const std::string& where) {
+  const std::size_t points = t.escapes_per_bin.size() + 1;
+  for (auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) {
+    v->resize(points);
+    get_sums(r, *v);
+  }
+  t.lines_ended.resize(points);
+  t.born_per_bin.resize(t.escapes_per_bin.size());
+  t.culled_per_bin.resize(t.escapes_per_bin.size());
+  r.words(t.lines_ended);
+  r.words(t.born_per_bin);
+  r.words(t.culled_per_bin);
+  for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
+  for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
+  const auto get_cell = [&r](UnsplitCell& c) {
+    c.lines = r.word();
+    c.w = get_sum(r);
+    c.w2 = get_sum(r);
+  };
+  for (UnsplitCell& c : t.unsplit_start) get_cell(c);
+  const std::uint64_t cells = r.word();
+  // a cell takes at least 5 words: a count larger than the bytes left is damage, not an allocation
+  if (cells > (size - r.at) / 40)
+    throw std::runtime_error(where + ": tally file: " + std::to_string(cells) + " unsplit cells");
+  std::uint64_t previous = 0;
+  for (std::uint64_t k = 0; k < cells; ++k) {
+    const std::uint64_t key = r.word();
+    if ((k > 0 && key <= previous) || key / kUnsplitClasses >= points)
+      throw std::runtime_error(where + ": tally file: unsplit cells out of order or off the grid");
+    previous = key;
+    get_cell(t.unsplit_left[key]);
+  }
+}
+
+}  // namespace
+
 TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   const std::size_t magic = std::strlen(kMagic);
   if (in.compare(0, magic, kMagic) != 0) throw std::runtime_error(where + ": not a rotleak tally file");
@@ -128,48 +225,8 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
     throw std::runtime_error(where + ": tally file header length unreadable");
   }
   TallyFile f;
-  json h;
   try {
-    h = json::parse(in.substr(nl + 1, hlen));
-    // every number is checked for its type before it is read: a float where a count belongs (5.7e54) was
-    // converted with undefined behaviour (found by fuzz_tally), and a size is held against the bytes that
-    // follow before anything is allocated for it
-    const auto count = [&](const json& v, const char* what) {
-      if (!v.is_number_unsigned()) throw std::runtime_error(std::string(what) + " is not a count: " + v.dump());
-      return v.get<std::uint64_t>();
-    };
-    const auto flag = [&](const char* key) {
-      if (!h.at(key).is_boolean()) throw std::runtime_error(std::string(key) + " is not true or false");
-      return h.at(key).get<bool>();
-    };
-    if (count(h.at("block_size"), "block_size") != kBlockSize)
-      throw std::runtime_error("written with blocks of " + h.at("block_size").dump() + " particles, this build uses " +
-                               std::to_string(kBlockSize));
-    if (!h.at("inputs").is_string()) throw std::runtime_error("inputs is not a text");
-    f.inputs = h.at("inputs").get<std::string>();
-    f.particles = count(h.at("particles"), "particles");
-    f.first_id = count(h.at("first_id"), "first_id");
-    f.of = count(h.at("of"), "of");
-    if (h.contains("wall_seconds") && !h.at("wall_seconds").is_number()) throw std::runtime_error("wall_seconds");
-    f.wall_seconds = h.value("wall_seconds", 0.0);
-    if (!(f.wall_seconds >= 0 && f.wall_seconds < 1e12)) throw std::runtime_error("wall_seconds out of range");
-    if (!h.at("done").is_array()) throw std::runtime_error("done is not a list");
-    for (const json& iv : h.at("done"))
-      if (!iv.is_array() || !f.done.insert(count(iv.at(0), "done"), count(iv.at(1), "done")))
-        throw std::runtime_error("overlapping done blocks");
-    const std::uint64_t survival_bins = count(h.at("survival_bins"), "survival_bins"),
-                        density_bins = count(h.at("density_bins"), "density_bins"),
-                        records = count(h.at("records"), "records");
-    const std::uint64_t room = (in.size() - nl) / 8;  // words after the header, at most
-    if (survival_bins > room || density_bins > room || records > room / 4)
-      throw std::runtime_error("sizes larger than the file (" + std::to_string(survival_bins) + " bins, " +
-                               std::to_string(density_bins) + " density bins, " + std::to_string(records) +
-                               " records in " + std::to_string(in.size()) + " bytes)");
-    f.tally.escapes_per_bin.assign(survival_bins, 0);
-    f.tally.collision_density.assign(density_bins, 0);
-    f.tally.weighted = flag("weighted");
-    f.tally.split = flag("split");
-    f.records.resize(records);
+    read_header(json::parse(in.substr(nl + 1, hlen)), in.size(), nl, f);
   } catch (const std::exception& e) {
     throw std::runtime_error(where + ": tally file header unreadable: " + e.what());
   }
@@ -181,51 +238,8 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   t.escaped = r.word();
   t.survived = r.word();
   t.stuck = r.word();
-  if (t.weighted) {
-    if (!t.split) {
-      t.escaped_w.resize(t.escapes_per_bin.size());
-      t.escaped_w2.resize(t.escapes_per_bin.size());
-    }
-    t.collision_density_w.resize(t.collision_density.size());
-    get_sums(r, t.escaped_w);
-    get_sums(r, t.escaped_w2);
-    t.total_w = get_sum(r);
-    t.total_w2 = get_sum(r);
-    get_sums(r, t.collision_density_w);
-  }
-  if (t.split) {
-    const std::size_t points = t.escapes_per_bin.size() + 1;
-    for (auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) {
-      v->resize(points);
-      get_sums(r, *v);
-    }
-    t.lines_ended.resize(points);
-    t.born_per_bin.resize(t.escapes_per_bin.size());
-    t.culled_per_bin.resize(t.escapes_per_bin.size());
-    r.words(t.lines_ended);
-    r.words(t.born_per_bin);
-    r.words(t.culled_per_bin);
-    for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
-    for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
-    const auto get_cell = [&r](UnsplitCell& c) {
-      c.lines = r.word();
-      c.w = get_sum(r);
-      c.w2 = get_sum(r);
-    };
-    for (UnsplitCell& c : t.unsplit_start) get_cell(c);
-    const std::uint64_t cells = r.word();
-    // a cell takes at least 5 words: a count larger than the bytes left is damage, not an allocation
-    if (cells > (in.size() - r.at) / 40)
-      throw std::runtime_error(where + ": tally file: " + std::to_string(cells) + " unsplit cells");
-    std::uint64_t previous = 0;
-    for (std::uint64_t k = 0; k < cells; ++k) {
-      const std::uint64_t key = r.word();
-      if ((k > 0 && key <= previous) || key / kUnsplitClasses >= points)
-        throw std::runtime_error(where + ": tally file: unsplit cells out of order or off the grid");
-      previous = key;
-      get_cell(t.unsplit_left[key]);
-    }
-  }
+  if (t.weighted) read_weighted(r, t);
+  if (t.split) read_lines(r, t, in.size(), where);
   for (EscapeRecord& e : f.records) {
     e.t = r.real();
     e.s = r.real();
