@@ -44,55 +44,54 @@ void check_open_unit(const ExactReal& v, const char* name) {
 
 }  // namespace
 
-Covering mupo_covering(const CoveringInput& in) {
-  const auto t0 = std::chrono::steady_clock::now();
-  check_open_unit(in.delta, "delta");
-  check_open_unit(in.lambda, "lambda");
-  if (in.d.sign() <= 0) throw std::invalid_argument("d = " + in.d.text() + ": must be > 0");
-  if (in.r.sign() <= 0) throw std::invalid_argument("r = " + in.r.text() + ": must be > 0");
-  const ExactReal one = ExactReal::parse("1"), two = ExactReal::parse("2");
+namespace {
 
-  Covering c;
-  const mpz_class n_max = floor_exact(in.d / (two * in.r * ExactReal::parse("sqrt(" + in.delta.text() + ")")));
-  if (n_max > kMaxCoveringPoints)
-    throw std::invalid_argument("delta = " + in.delta.text() + ": gives N = " + n_max.get_str() +
-                                " reflections, above the limit " + std::to_string(kMaxCoveringPoints) +
-                                " (use a larger delta)");
-  c.N = n_max.get_ui();
+/// The circle of the leak's centres in integer units: M units a turn, the step A = x M (x = t_c omega mod 1)
+/// and the half width H; exact when x and the half width are rationals whose common denominator fits,
+/// else rounded at kApproxBits with the bound on the points' error in c.error_bound.
+struct UnitCircle {
+  u128 M = 0, A = 0, H = 0;
+};
 
-  // x = t_c omega mod 1, with t_c = 2r(1 + delta)
-  ExactReal x = two * in.r * (one + in.delta) * in.omega;
-  x = x - ExactReal::rational(mpq_class(floor_exact(x)));
-  const ExactReal half_width = in.lambda / two;
-
-  u128 M, A, H;
+UnitCircle unit_circle(const ExactReal& x, const ExactReal& half_width, Covering& c) {
+  UnitCircle u;
   const u128 limit = static_cast<u128>(1) << 125;
-  bool exact = false;
+  c.exact = false;
   if (x.is_rational() && half_width.is_rational()) {
     mpz_class m;
     mpz_lcm(m.get_mpz_t(), x.as_rational().get_den_mpz_t(), half_width.as_rational().get_den_mpz_t());
     if (m < to_mpz(limit)) {
-      exact = true;
-      M = to_u128(m);
-      A = to_u128(x.as_rational().get_num() * (m / x.as_rational().get_den()));
-      H = to_u128(half_width.as_rational().get_num() * (m / half_width.as_rational().get_den()));
+      c.exact = true;
+      u.M = to_u128(m);
+      u.A = to_u128(x.as_rational().get_num() * (m / x.as_rational().get_den()));
+      u.H = to_u128(half_width.as_rational().get_num() * (m / half_width.as_rational().get_den()));
       c.x_text = x.as_rational().get_str();
     }
   }
-  if (!exact) {
-    M = static_cast<u128>(1) << kApproxBits;
-    A = to_u128(scaled_round(x, kApproxBits)) & (M - 1);
-    H = to_u128(scaled_round(half_width, kApproxBits));
+  if (!c.exact) {
+    u.M = static_cast<u128>(1) << kApproxBits;
+    u.A = to_u128(scaled_round(x, kApproxBits)) & (u.M - 1);
+    u.H = to_u128(scaled_round(half_width, kApproxBits));
     // each point n x is off by <= n/2 units, each half width by <= 1/2 unit
     c.error_bound = std::ldexp(static_cast<double>(c.N) / 2 + 1, -kApproxBits);
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", x.to_double());
     c.x_text = buf;
   }
-  c.exact = exact;
+  return u;
+}
 
-  const std::size_t K = static_cast<std::size_t>(c.N) + 1;
-  std::vector<u128> points(K), starts(K), ends(K);
+struct RawSegment {
+  u128 from, to;
+  std::uint64_t value;
+};
+
+/// The K points n A mod M (sorted, into points) and f_L as segments of constant value, by an exact sweep
+/// over the leak intervals' ends [p - H, p + H).
+std::vector<RawSegment> sweep(const UnitCircle& u, std::size_t K, std::vector<u128>& points) {
+  const u128 M = u.M, A = u.A, H = u.H;
+  points.assign(K, 0);
+  std::vector<u128> starts(K), ends(K);
   std::uint64_t covering_zero = 0;
   u128 p = 0;
   for (std::size_t n = 0; n < K; ++n) {
@@ -106,13 +105,7 @@ Covering mupo_covering(const CoveringInput& in) {
   std::sort(points.begin(), points.end());
   std::sort(starts.begin(), starts.end());
   std::sort(ends.begin(), ends.end());
-
-  // sweep: f_L on [pos, next event)
-  struct RawSegment {
-    u128 from, to;
-    std::uint64_t value;
-  };
-  std::vector<RawSegment> raw;
+  std::vector<RawSegment> raw;  // f_L on [pos, next event)
   raw.reserve(2 * K + 1);
   std::uint64_t value = covering_zero;
   u128 pos = 0;
@@ -132,11 +125,15 @@ Covering mupo_covering(const CoveringInput& in) {
     while (j < K && ends[j] == at) --value, ++j;
   }
   emit(M);
+  return raw;
+}
 
-  const double Md = static_cast<double>(M);
+/// f_L's segments and metrics: min, max, mean, cv, the zero measure, the longest zero gap, the clusters.
+void segment_metrics(const std::vector<RawSegment>& raw, const UnitCircle& u, std::size_t K, Covering& c) {
+  const double Md = static_cast<double>(u.M);
   c.min = raw.front().value;
   c.max = raw.front().value;
-  const double mean = static_cast<double>(K) * static_cast<double>(2 * H) / Md;
+  const double mean = static_cast<double>(K) * static_cast<double>(2 * u.H) / Md;
   double zero = 0, var = 0, longest = 0;
   for (const RawSegment& s : raw) {
     const double len = static_cast<double>(s.to - s.from) / Md;
@@ -159,21 +156,29 @@ Covering mupo_covering(const CoveringInput& in) {
   if (c.clusters == 0 && c.min > 0) c.clusters = 1;  // the whole circle
   c.mean = mean;
   c.cv = std::sqrt(var) / mean;
+}
 
-  // star discrepancy of the points
+/// The star discrepancy of the sorted points.
+double star_discrepancy(const std::vector<u128>& points, u128 M) {
+  const std::size_t K = points.size();
   long double disc = 0;
   for (std::size_t k = 0; k < K; ++k) {
     const long double x_k = static_cast<long double>(points[k]) / static_cast<long double>(M);
     disc = std::max({disc, static_cast<long double>(k + 1) / K - x_k, x_k - static_cast<long double>(k) / K});
   }
-  c.discrepancy = static_cast<double>(disc);
+  return static_cast<double>(disc);
+}
 
-  // three-distance structure
+/// The gaps between neighbouring points (merged within the rounding when not exact) and whether they take
+/// at most three lengths, the third the sum of the other two (the three-distance theorem).
+void three_distances(const std::vector<u128>& points, u128 M, Covering& c) {
+  const std::size_t K = points.size();
+  const double Md = static_cast<double>(M);
   std::map<u128, std::uint64_t> gap_count;
   for (std::size_t k = 0; k + 1 < K; ++k) ++gap_count[points[k + 1] - points[k]];
   ++gap_count[M - points[K - 1] + points[0]];
   std::vector<std::pair<u128, std::uint64_t>> merged;
-  const u128 tol = exact ? 0 : static_cast<u128>(2 * (c.N + 2));
+  const u128 tol = c.exact ? 0 : static_cast<u128>(2 * (c.N + 2));
   for (const auto& [len, count] : gap_count) {
     if (!merged.empty() && len - merged.back().first <= tol)
       merged.back().second += count;
@@ -183,7 +188,7 @@ Covering mupo_covering(const CoveringInput& in) {
   std::vector<u128> nonzero;
   for (const auto& [len, count] : merged) {
     GapCount g{static_cast<double>(len) / Md, count, ""};
-    if (exact) {
+    if (c.exact) {
       mpq_class q(to_mpz(len), to_mpz(M));
       q.canonicalize();
       g.exact = q.get_str();
@@ -198,6 +203,33 @@ Covering mupo_covering(const CoveringInput& in) {
     const u128 diff = sum > nonzero[2] ? sum - nonzero[2] : nonzero[2] - sum;
     c.three_distance_holds = diff <= 2 * tol;
   }
+}
+
+}  // namespace
+
+Covering mupo_covering(const CoveringInput& in) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_open_unit(in.delta, "delta");
+  check_open_unit(in.lambda, "lambda");
+  if (in.d.sign() <= 0) throw std::invalid_argument("d = " + in.d.text() + ": must be > 0");
+  if (in.r.sign() <= 0) throw std::invalid_argument("r = " + in.r.text() + ": must be > 0");
+  const ExactReal one = ExactReal::parse("1"), two = ExactReal::parse("2");
+  Covering c;
+  const mpz_class n_max = floor_exact(in.d / (two * in.r * ExactReal::parse("sqrt(" + in.delta.text() + ")")));
+  if (n_max > kMaxCoveringPoints)
+    throw std::invalid_argument("delta = " + in.delta.text() + ": gives N = " + n_max.get_str() +
+                                " reflections, above the limit " + std::to_string(kMaxCoveringPoints) +
+                                " (use a larger delta)");
+  c.N = n_max.get_ui();
+  // x = t_c omega mod 1, with t_c = 2r(1 + delta)
+  ExactReal x = two * in.r * (one + in.delta) * in.omega;
+  x = x - ExactReal::rational(mpq_class(floor_exact(x)));
+  const UnitCircle u = unit_circle(x, in.lambda / two, c);
+  const std::size_t K = static_cast<std::size_t>(c.N) + 1;
+  std::vector<u128> points;
+  segment_metrics(sweep(u, K, points), u, K, c);
+  c.discrepancy = star_discrepancy(points, u.M);
+  three_distances(points, u.M, c);
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
 }
