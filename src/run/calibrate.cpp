@@ -44,51 +44,51 @@ std::optional<double> number_at(const json& obj, const char* key) {
 
 }  // namespace
 
-json calibration_document(const std::vector<fs::path>& point_dirs, std::string& csv) {
-  if (point_dirs.size() < 2) throw InputError("--seeds", std::to_string(point_dirs.size()), "at least 2 runs");
+namespace {
+
+/// The seeds' runs read back: their survival curves, their summaries and the first one's scene.
+struct Seeds {
   std::vector<SurvivalCurve> curves;
   std::vector<json> summaries;
   Scene scene;
+};
+
+Seeds read_seeds(const std::vector<fs::path>& point_dirs) {
+  Seeds out;
   for (const fs::path& d : point_dirs) {
     const Scene s = saved_scene(d, {});
-    summaries.push_back(read_run_summary(d, read_file(d / "summary.json")));
+    out.summaries.push_back(read_run_summary(d, read_file(d / "summary.json")));
     try {
-      curves.push_back(read_survival_csv(read_file(d / "survival.csv"), s));
+      out.curves.push_back(read_survival_csv(read_file(d / "survival.csv"), s));
     } catch (const std::runtime_error& e) {
       throw InputError("DIR", "\"" + d.string() + "\"", e.what());
     }
-    if (curves.size() == 1) scene = s;
+    if (out.curves.size() == 1) out.scene = s;
   }
-  SurvivalCurve pooled;  // the K runs as one run of K N particles
-  try {
-    pooled = pool_curves(curves);
-  } catch (const std::invalid_argument&) {
-    throw InputError("DIR", "\"" + point_dirs.front().parent_path().string() + "\"",
-                     "the runs are not one scene with different seeds (grid, sampling or particles differ)");
-  }
-  const std::size_t K = curves.size(), points = curves.front().t.size();
-  const double min_eff = static_cast<double>(scene.min_survivors);
-  // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn holds a
-  // third of its variance (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
-  double model_from = 0;
-  std::vector<double> seed_model_from;  // each seed's unresolved_from (infinity: none), in seed order
-  {
-    std::vector<double> from;
-    for (const json& s : summaries) {
-      double f = std::numeric_limits<double>::infinity();
-      if (s.contains("splitting") && s.at("splitting").contains("unsplit_allowance")) {
-        const json& a = s.at("splitting").at("unsplit_allowance");
-        if (a.is_object() && a.contains("unresolved_from") && a.at("unresolved_from").is_number())
-          f = a.at("unresolved_from").get<double>();
-      }
-      from.push_back(f);
-    }
-    seed_model_from = from;
-    std::sort(from.begin(), from.end());
-    model_from = from[from.size() / 2];
-  }
+  return out;
+}
 
-  // P(t) at every grid time
+/// Each seed's unresolved_from (split runs: summary.json splitting.unsplit_allowance; infinity where there
+/// is none), in seed order.
+std::vector<double> unresolved_from(const std::vector<json>& summaries) {
+  std::vector<double> from;
+  for (const json& s : summaries) {
+    double f = std::numeric_limits<double>::infinity();
+    if (s.contains("splitting") && s.at("splitting").contains("unsplit_allowance")) {
+      const json& a = s.at("splitting").at("unsplit_allowance");
+      if (a.is_object() && a.contains("unresolved_from") && a.at("unresolved_from").is_number())
+        f = a.at("unresolved_from").get<double>();
+    }
+    from.push_back(f);
+  }
+  return from;
+}
+
+/// P(t) at every grid time: calibration.csv's rows into csv, and P's summary over the times judged (P
+/// resolved in the seeds, before model_from, with an error to judge: P(0) = 1 exactly in a uniform run has none).
+json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from, std::string& csv) {
+  const std::size_t K = seeds.curves.size(), points = seeds.curves.front().t.size();
+  const double min_eff = static_cast<double>(seeds.scene.min_survivors);
   csv = "t,resolved,seeds,P,P_err,P_err_model,sd_over_err,chi2_dof,coverage1,coverage2,max_over_median\n";
   std::size_t resolved = 0, outside = 0, uncovered = 0;
   double lo = std::numeric_limits<double>::infinity(), hi = 0, worst_cov = 1, t_lo = 0, t_hi = 0, t_cov = 0;
@@ -96,18 +96,17 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   std::vector<double> x(K), e(K);
   for (std::size_t i = 0; i < points; ++i) {
     for (std::size_t k = 0; k < K; ++k) {
-      x[k] = curves[k].P(i);
-      e[k] = curves[k].P_err(i);
+      x[k] = seeds.curves[k].P(i);
+      e[k] = seeds.curves[k].P_err(i);
     }
     const SeedSpread s = seed_spread(x, e);
-    // judged where P is resolved and has an error to judge (P(0) = 1 exactly in a uniform run has none)
-    const bool ok = resolved_in_seeds(curves, i, min_eff) && curves.front().t[i] < model_from && s.median_err > 0;
-    appendf(csv, "%s,%d,%zu,%s,%s,%s,%s,%s,%s,%s,%s\n", shortest(curves.front().t[i]).c_str(), ok ? 1 : 0, K,
-            shortest(s.pooled).c_str(), shortest(s.pooled_err).c_str(), shortest(pooled.P_err(i)).c_str(),
-            shortest(s.sd_over_err).c_str(), shortest(s.chi2_dof).c_str(), shortest(s.coverage1).c_str(),
-            shortest(s.coverage2).c_str(), shortest(s.max_over_median).c_str());
+    const double t = seeds.curves.front().t[i];
+    const bool ok = resolved_in_seeds(seeds.curves, i, min_eff) && t < model_from && s.median_err > 0;
+    appendf(csv, "%s,%d,%zu,%s,%s,%s,%s,%s,%s,%s,%s\n", shortest(t).c_str(), ok ? 1 : 0, K, shortest(s.pooled).c_str(),
+            shortest(s.pooled_err).c_str(), shortest(pooled.P_err(i)).c_str(), shortest(s.sd_over_err).c_str(),
+            shortest(s.chi2_dof).c_str(), shortest(s.coverage1).c_str(), shortest(s.coverage2).c_str(),
+            shortest(s.max_over_median).c_str());
     if (!ok) continue;
-    const double t = curves.front().t[i];
     if (resolved++ == 0) first = t;
     last = t;
     if (s.sd_over_err < lo) lo = s.sd_over_err, t_lo = t;
@@ -121,21 +120,24 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
             {"band", {kHonestBand[0], kHonestBand[1]}},
             {"coverage2_floor", kHonestCoverage2},
             {"model_from", std::isinf(model_from) ? json(nullptr) : json(model_from)}};
-  if (resolved > 0) {
-    P["from"] = first;
-    P["to"] = last;
-    P["sd_over_err_min"] = {{"value", lo}, {"t", t_lo}};
-    P["sd_over_err_max"] = {{"value", hi}, {"t", t_hi}};
-    P["coverage2_min"] = {{"value", worst_cov}, {"t", t_cov}};
-    P["times_outside_band"] = outside;
-    P["times_under_coverage"] = uncovered;
-    P["honest"] = outside == 0 && uncovered == 0;
-  } else {
+  if (resolved == 0) {
     P["honest"] = nullptr;
+    return P;
   }
+  P["from"] = first;
+  P["to"] = last;
+  P["sd_over_err_min"] = {{"value", lo}, {"t", t_lo}};
+  P["sd_over_err_max"] = {{"value", hi}, {"t", t_hi}};
+  P["coverage2_min"] = {{"value", worst_cov}, {"t", t_cov}};
+  P["times_outside_band"] = outside;
+  P["times_under_coverage"] = uncovered;
+  P["honest"] = outside == 0 && uncovered == 0;
+  return P;
+}
 
-  // every statistic summary.json reports with an error (an object with a value and an error, at the top level
-  // or one level down: tail.amplitude as tail_amplitude): stat. alone, and with its systematic beside it
+/// Every statistic summary.json reports with an error (an object with a value and an error, at the top level
+/// or one level down: tail.amplitude as tail_amplitude): stat. alone, and with its systematic beside it.
+json judge_statistics(const std::vector<json>& summaries, const std::vector<double>& seed_model_from) {
   json stats = json::object();
   const auto add_statistic = [&](const std::string& name, const std::vector<std::string>& path) {
     std::vector<double> v, stat, total;
@@ -171,49 +173,65 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
         if (has_value(o)) add_statistic(name + "_" + inner, {name, inner});
     }
   }
+  return stats;
+}
 
+/// alpha's upper bounds against the pooled alpha: a bound below it is a bound that failed.
+json judge_bounds(const std::vector<json>& summaries, const std::optional<double>& pooled_alpha) {
+  std::size_t n = 0, below = 0;
+  for (const json& s : summaries)
+    if (const auto b = number_at(s.at("alpha"), "upper_bound")) {
+      ++n;
+      if (pooled_alpha && *b < *pooled_alpha) ++below;
+    }
+  json bounds = {{"seeds", n}};
+  bounds["pooled_alpha"] = pooled_alpha ? json(*pooled_alpha) : json(nullptr);
+  bounds["below_pooled_alpha"] = pooled_alpha ? json(below) : json(nullptr);
+  return bounds;
+}
+
+}  // namespace
+
+json calibration_document(const std::vector<fs::path>& point_dirs, std::string& csv) {
+  if (point_dirs.size() < 2) throw InputError("--seeds", std::to_string(point_dirs.size()), "at least 2 runs");
+  const Seeds seeds = read_seeds(point_dirs);
+  SurvivalCurve pooled;  // the K runs as one run of K N particles
+  try {
+    pooled = pool_curves(seeds.curves);
+  } catch (const std::invalid_argument&) {
+    throw InputError("DIR", "\"" + point_dirs.front().parent_path().string() + "\"",
+                     "the runs are not one scene with different seeds (grid, sampling or particles differ)");
+  }
+  // split runs: P is judged only before the median seed's allowance for unsplit lines not drawn holds a
+  // third of its variance (summary.json splitting.unsplit_allowance.unresolved_from; none: never)
+  const std::vector<double> seed_model_from = unresolved_from(seeds.summaries);
+  std::vector<double> sorted = seed_model_from;
+  std::sort(sorted.begin(), sorted.end());
+  const double model_from = sorted[sorted.size() / 2];
+  const json P = judge_P(seeds, pooled, model_from, csv);
+  const json stats = judge_statistics(seeds.summaries, seed_model_from);
   // the pooled curve: all K runs as one run of K N particles, fitted as any run
   RunSummary all;
-  all.scene = scene;
+  all.scene = seeds.scene;
   all.scene.particles = pooled.particles;
   all.curve = pooled;
   fit_curve(all);
   json fits = json::object();
   put_fits(fits, all);
-  json pooled_doc = {{"particles", pooled.particles},
-                     {"kappa", fits.at("kappa")},
-                     {"alpha", fits.at("alpha")},
-                     {"tail", fits.at("tail")}};
-
-  // alpha's upper bounds: a bound below the pooled alpha is a bound that failed
-  json bounds = {{"seeds", 0}};
-  {
-    std::size_t n = 0, below = 0;
-    const std::optional<double> ref = all.alpha.value;
-    for (const json& s : summaries)
-      if (const auto b = number_at(s.at("alpha"), "upper_bound")) {
-        ++n;
-        if (ref && *b < *ref) ++below;
-      }
-    bounds = {{"seeds", n}};
-    if (ref) {
-      bounds["pooled_alpha"] = *ref;
-      bounds["below_pooled_alpha"] = below;
-    } else {
-      bounds["pooled_alpha"] = nullptr;
-      bounds["below_pooled_alpha"] = nullptr;
-    }
-  }
-  std::vector<std::uint64_t> seeds;
-  for (const json& s : summaries) seeds.push_back(s.at("seed").get<std::uint64_t>());
+  const json pooled_doc = {{"particles", pooled.particles},
+                           {"kappa", fits.at("kappa")},
+                           {"alpha", fits.at("alpha")},
+                           {"tail", fits.at("tail")}};
+  std::vector<std::uint64_t> seed_numbers;
+  for (const json& s : seeds.summaries) seed_numbers.push_back(s.at("seed").get<std::uint64_t>());
   return {{"command", "calibrate"},
           {"schema", kRunSchema},
-          {"scene", summaries.front().at("scene").value("source", std::string())},
-          {"seeds", seeds},
-          {"particles", scene.particles},
+          {"scene", seeds.summaries.front().at("scene").value("source", std::string())},
+          {"seeds", seed_numbers},
+          {"particles", seeds.scene.particles},
           {"P", P},
           {"statistics", stats},
-          {"alpha_bounds", bounds},
+          {"alpha_bounds", judge_bounds(seeds.summaries, all.alpha.value)},
           {"pooled", pooled_doc},
           {"files", {"calibration.csv", "calibration.json"}}};
 }
