@@ -266,15 +266,18 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   return out;
 }
 
-SimulateOutcome merge_shards(const MergeRequest& req) {
-  if (req.shards.empty()) throw InputError("DIR", "(none)", "give the shard directories to merge");
-  struct Shard {
-    fs::path dir;
-    TallyFile f;
-    json summary;
-  };
+namespace {
+
+struct Shard {
+  fs::path dir;
+  TallyFile f;
+  json summary;
+};
+
+/// The shard directories read, each complete and made with the first one's inputs, in the order of their ids.
+std::vector<Shard> read_shards(const std::vector<fs::path>& dirs) {
   std::vector<Shard> shards;
-  for (const fs::path& d : req.shards) {
+  for (const fs::path& d : dirs) {
     if (!fs::exists(d / "tally.bin"))
       throw InputError("DIR", d.string(), "is not a shard: no tally.bin (made by rotleak simulate --ids A:B)");
     Shard s{d, read_tally_file(d / "tally.bin"), json::parse(read_file(d / "summary.json"))};
@@ -288,7 +291,11 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
     shards.push_back(std::move(s));
   }
   std::sort(shards.begin(), shards.end(), [](const Shard& a, const Shard& b) { return a.f.first_id < b.f.first_id; });
-  const std::uint64_t of = shards[0].f.of;
+  return shards;
+}
+
+/// The shards must tile the ids 0:of exactly once (no overlap, no hole, nothing missing at the end).
+void check_tiling(const std::vector<Shard>& shards, std::uint64_t of) {
   std::uint64_t at = 0;
   for (const Shard& s : shards) {
     const std::uint64_t lo = s.f.first_id, hi = lo + s.f.particles;
@@ -304,17 +311,10 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
     throw InputError("DIR", shards.back().dir.string(),
                      "the shards end at id " + std::to_string(at) + " but the run has " + std::to_string(of) +
                          " particles: ids " + std::to_string(at) + ":" + std::to_string(of) + " are missing");
+}
 
-  // the whole run's scene: a shard's (tier as run) with the whole particle count; it must give the
-  // inputs the shards carry
-  Scene scene = load_scene((shards[0].dir / "scene.toml").string(), {"ensemble.particles=" + std::to_string(of)});
-  scene.source = shards[0].summary.at("scene").value("source", scene.source);
-  const Engine engine =
-      shards[0].summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
-  const std::string why = inputs_difference(shards[0].f.inputs, run_inputs(scene, engine));
-  if (!why.empty())
-    throw InputError("DIR", shards[0].dir.string(), "its scene.toml does not match its tally.bin (" + why + ")");
-  RunDirectory dir(req.out, req.force);
+/// The shards' exact tallies merged into the whole run's result (the wall time summed, the most threads).
+RunResult merged_result(const std::vector<Shard>& shards, const Scene& scene, Engine engine, std::uint64_t of) {
   RunResult result;
   result.tally.resize(scene);
   result.engine = engine;
@@ -329,6 +329,27 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   }
   result.done = IntervalSet::range(0, block_count(of));
   check_conservation(result.tally, result.done, of);
+  return result;
+}
+
+}  // namespace
+
+SimulateOutcome merge_shards(const MergeRequest& req) {
+  if (req.shards.empty()) throw InputError("DIR", "(none)", "give the shard directories to merge");
+  const std::vector<Shard> shards = read_shards(req.shards);
+  const std::uint64_t of = shards[0].f.of;
+  check_tiling(shards, of);
+  // the whole run's scene: a shard's (tier as run) with the whole particle count; it must give the
+  // inputs the shards carry
+  Scene scene = load_scene((shards[0].dir / "scene.toml").string(), {"ensemble.particles=" + std::to_string(of)});
+  scene.source = shards[0].summary.at("scene").value("source", scene.source);
+  const Engine engine =
+      shards[0].summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
+  const std::string why = inputs_difference(shards[0].f.inputs, run_inputs(scene, engine));
+  if (!why.empty())
+    throw InputError("DIR", shards[0].dir.string(), "its scene.toml does not match its tally.bin (" + why + ")");
+  RunDirectory dir(req.out, req.force);
+  RunResult result = merged_result(shards, scene, engine, of);
   if (req.note) req.note("[rotleak] merged " + std::to_string(shards.size()) + " shards: ids 0:" + std::to_string(of));
   SimulateOutcome out;
   out.summary = summarise(scene, std::move(result));
