@@ -107,6 +107,45 @@ RunResult run_shared(const Scene& scene, RunOptions options, const Team& team) {
   return result;
 }
 
+namespace {
+
+/// The checkpoint this rank resumes from: none (an empty TallyFile) when there is none or, unless --resume
+/// insists, when it was made with other inputs, ids or another rank share; --resume without a usable one
+/// is an InputError. The run's share of blocks is [share_lo, share_hi) of `blocks`.
+TallyFile read_checkpoint(const fs::path& path, const Durability& durable, const std::string& inputs,
+                          std::uint64_t first, std::uint64_t n, std::uint64_t share_lo, std::uint64_t share_hi,
+                          std::uint64_t blocks, int ranks, const Note& note) {
+  TallyFile saved;
+  const bool have = !path.empty() && fs::exists(path);
+  if (durable.resume == Resume::yes && !have)
+    throw InputError("--resume", path.string(),
+                     ranks > 1 ? "no checkpoint of this rank: was the run made with another number of ranks?"
+                               : "no checkpoint there: nothing to resume");
+  if (durable.resume == Resume::no || !have) return saved;
+  saved = read_tally_file(path);
+  std::string why = inputs_difference(saved.inputs, inputs);
+  if (why.empty() && (saved.particles != n || saved.first_id != first))
+    why = "ids [" + std::to_string(saved.first_id) + ", " + std::to_string(saved.first_id + saved.particles) +
+          ") vs [" + std::to_string(first) + ", " + std::to_string(first + n) + ")";
+  if (why.empty() && !saved.done.empty() &&
+      (saved.done.intervals().front().first < share_lo || saved.done.intervals().back().second > share_hi))
+    why = "blocks of another rank's share (made with another number of ranks)";
+  if (!why.empty() && durable.resume == Resume::yes)
+    throw InputError("--resume", path.string(), "the checkpoint was made with other inputs (" + why + ")");
+  if (!why.empty()) {
+    if (note) note("[rotleak] " + path.string() + " was made with other inputs (" + why + "): starting over");
+    return TallyFile{};
+  }
+  if (note)
+    note("[rotleak] resuming from " + path.string() + ": " + std::to_string(particles_in(saved.done, n)) + " of " +
+         std::to_string(share_hi == blocks && share_lo == 0 ? n
+                                                            : particles_in(IntervalSet::range(share_lo, share_hi), n)) +
+         " particles done");
+  return saved;
+}
+
+}  // namespace
+
 RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Durability* durable) {
   std::optional<std::string> choice;
   if (scene.tier.automatic()) {
@@ -139,32 +178,7 @@ RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Du
   TallyFile saved;
   std::exception_ptr failure;
   try {
-    const bool have = !path.empty() && fs::exists(path);
-    if (durable->resume == Resume::yes && !have)
-      throw InputError("--resume", path.string(),
-                       ranks > 1 ? "no checkpoint of this rank: was the run made with another number of ranks?"
-                                 : "no checkpoint there: nothing to resume");
-    if (durable->resume != Resume::no && have) {
-      saved = read_tally_file(path);
-      std::string why = inputs_difference(saved.inputs, inputs);
-      if (why.empty() && (saved.particles != n || saved.first_id != first))
-        why = "ids [" + std::to_string(saved.first_id) + ", " + std::to_string(saved.first_id + saved.particles) +
-              ") vs [" + std::to_string(first) + ", " + std::to_string(first + n) + ")";
-      if (why.empty() && !saved.done.empty() &&
-          (saved.done.intervals().front().first < share_lo || saved.done.intervals().back().second > share_hi))
-        why = "blocks of another rank's share (made with another number of ranks)";
-      if (!why.empty() && durable->resume == Resume::yes)
-        throw InputError("--resume", path.string(), "the checkpoint was made with other inputs (" + why + ")");
-      if (!why.empty()) {
-        if (note) note("[rotleak] " + path.string() + " was made with other inputs (" + why + "): starting over");
-        saved = TallyFile{};
-      } else if (note) {
-        note("[rotleak] resuming from " + path.string() + ": " + std::to_string(particles_in(saved.done, n)) + " of " +
-             std::to_string(
-                 share_hi == blocks && share_lo == 0 ? n : particles_in(IntervalSet::range(share_lo, share_hi), n)) +
-             " particles done");
-      }
-    }
+    saved = read_checkpoint(path, *durable, inputs, first, n, share_lo, share_hi, blocks, ranks, note);
   } catch (...) {
     failure = std::current_exception();
   }
