@@ -367,6 +367,15 @@ def _command_document(directory: PathLike, name: str, command: str, kind: str) -
     return doc
 
 
+def read_summary_and_table(path: PathLike, table: str) -> tuple[dict[str, Any], pandas.DataFrame]:
+    """The summary.json and one CSV table of a directory a rotleak command wrote (a shadow's shadow.csv, a
+    covering's f_L.csv), each read with the standard readers; RotleakError if summary.json is not JSON."""
+    directory = os.fspath(path)
+    with open(os.path.join(directory, "summary.json"), encoding="utf-8") as f:
+        summary = json_document(f.read(), "summary.json", directory)
+    return summary, _pandas().read_csv(os.path.join(directory, table))
+
+
 class Scan:
     """A scan: its table, its scan.json and each point's run."""
 

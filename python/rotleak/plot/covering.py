@@ -6,16 +6,14 @@ import os
 
 import matplotlib.pyplot as plt
 
-from ..readers import PathLike, _pandas, json_document
+from ..readers import PathLike, read_summary_and_table
 from . import save
 
 
 def draw(directory: PathLike) -> list[str]:
     """Draw a covering directory's f_L.png (``rotleak covering --out DIR``); returns its path."""
     run = os.fspath(directory)
-    with open(os.path.join(run, "summary.json")) as fh:
-        summary = json_document(fh.read(), "summary.json", run)
-    table = _pandas().read_csv(os.path.join(run, "f_L.csv"))
+    summary, table = read_summary_and_table(run, "f_L.csv")
     s = table["s"].astype(float).tolist()
     cov = summary["covering"]
     cov = cov if isinstance(cov, list) else [cov]

@@ -6,16 +6,14 @@ import os
 
 import matplotlib.pyplot as plt
 
-from ..readers import PathLike, _pandas, json_document
+from ..readers import PathLike, read_summary_and_table
 from . import save
 
 
 def draw(directory: PathLike) -> list[str]:
     """Draw a shadow directory's shadow.png (``rotleak shadow --out DIR``); returns its path."""
     run = os.fspath(directory)
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json_document(f.read(), "summary.json", run)
-    table = _pandas().read_csv(os.path.join(run, "shadow.csv"))
+    summary, table = read_summary_and_table(run, "shadow.csv")
     k = table["k"].astype(int).tolist()
     fig, ax = plt.subplots(figsize=(10, 5))
     for i, mupo in enumerate(table["mupo"].tolist()):
