@@ -2,33 +2,18 @@
 // the error model's gains, fingerprinting every tier (rotleak verify --regenerate).
 #include "verify/reference.hpp"
 
-#include <gmpxx.h>
-#include <mpfr.h>
 #include <omp.h>
 
 #include <toml++/toml.h>
-#include <algorithm>
 #include <atomic>
-#include <cctype>
-#include <cmath>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <set>
-#include <sstream>
-#include <stdexcept>
+#include <optional>
 
-#include "io/files.hpp"
-#include "io/json.hpp"
 #include "io/scene_file.hpp"
-#include "io/text.hpp"
 #include "numeric/input.hpp"
-#include "numeric/tier_dispatch.hpp"
-#include "sim/kernel/simd_engine.hpp"
 #include "verify/reference_detail.hpp"
-#include "verify/trace.hpp"
 
 namespace rotleak {
 

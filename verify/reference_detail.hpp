@@ -6,29 +6,18 @@
 
 #include <gmpxx.h>
 #include <mpfr.h>
-#include <omp.h>
 
-#include <toml++/toml.h>
 #include <algorithm>
-#include <atomic>
-#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <exception>
-#include <filesystem>
-#include <fstream>
-#include <limits>
-#include <set>
-#include <sstream>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
-#include "io/files.hpp"
 #include "io/json.hpp"
-#include "io/scene_file.hpp"
-#include "io/text.hpp"
-#include "numeric/input.hpp"
 #include "numeric/tier_dispatch.hpp"
-#include "sim/kernel/simd_engine.hpp"
 #include "verify/reference.hpp"
 #include "verify/trace.hpp"
 
