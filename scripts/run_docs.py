@@ -102,15 +102,24 @@ def markdown_files(root):
     return files
 
 
+def count_of(text):
+    """a count as a block writes it: 1000000, 1e6 or 10**6"""
+    if "**" in text:
+        base, power = text.split("**")
+        return int(base) ** int(power)
+    return int(float(text))
+
+
 def scaled(text, scale):
-    """the block with its particle and seed counts multiplied by scale (see the module's docstring)"""
+    """the block with its particle and seed counts multiplied by scale (see the module's docstring); never
+    above what the block says, at least 1000 particles and 4 seeds"""
     if scale >= 1:
         return text, 1.0
     ratios = []
 
     def particles(m):
-        n = int(float(m.group(2)))
-        k = max(1000, int(round(n * scale)))
+        n = count_of(m.group(2))
+        k = min(n, max(1000, int(round(n * scale))))
         ratios.append(k / n)
         return "%s%d" % (m.group(1), k)
 
@@ -119,16 +128,9 @@ def scaled(text, scale):
         return "%s%d" % (m.group(1), min(n, max(4, int(round(n * scale)))))
 
     text = re.sub(r"(--particles[ =])(\d+(?:e\d+)?)", particles, text)
-    text = re.sub(r"(particles=)(\d+(?:e\d+)?|10\*\*\d+)", lambda m: particles_py(m, scale, ratios), text)
+    text = re.sub(r"(?<!-)(particles=)(10\*\*\d+|\d+(?:e\d+)?)", particles, text)  # not --particles= again; 10**6 before "10"
     text = re.sub(r"(--seeds[ =])(\d+)", seeds, text)
     return text, (min(ratios) if ratios else 1.0)
-
-
-def particles_py(m, scale, ratios):
-    n = eval(m.group(2), {"__builtins__": {}})  # 10**6 or a plain integer literal, nothing else matches
-    k = max(1000, int(round(n * scale)))
-    ratios.append(k / n)
-    return "%s%d" % (m.group(1), k)
 
 
 def tokens(line):
