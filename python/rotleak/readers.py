@@ -144,6 +144,16 @@ def _pandas() -> Any:
     return pandas
 
 
+def _read_table(source: Union[str, io.StringIO], name: str, where: str, **kw: Any) -> pandas.DataFrame:
+    """A CSV table rotleak wrote, read by pandas; a RotleakError naming where and name when pandas cannot."""
+    pd = _pandas()
+    try:
+        table: pandas.DataFrame = pd.read_csv(source, **kw)
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
+        raise RotleakError("%s: %s: not a table rotleak wrote (%s)" % (where, name, str(e).splitlines()[0])) from None
+    return table
+
+
 def _check_schema(doc: dict[str, Any], what: str, where: str) -> None:
     schema = doc.get("schema")
     if schema is None:
@@ -238,12 +248,8 @@ class Run:
         if name not in self._files:
             return None
         if name not in self._tables:
-            pandas = _pandas()
-            try:
-                self._tables[name] = pandas.read_csv(io.StringIO(self._files[name]), **kw)
-            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
-                raise RotleakError("%s: %s: not a table rotleak wrote (%s)"
-                                   % (self.path or "rotleak.simulate", name, str(e).splitlines()[0])) from None
+            self._tables[name] = _read_table(io.StringIO(self._files[name]), name, self.path or "rotleak.simulate",
+                                             **kw)
         return self._tables[name]
 
     @property
@@ -401,19 +407,14 @@ class Scan:
         """table.csv: the swept keys (exact texts, as strings), the fits, the regime, the number theory."""
         if self._table is None:
             text_columns = self.keys + ["tail", "regime", "cf_2r_omega", "best_approximation", "predicted_tail"]
-            pandas = _pandas()
-            try:
-                self._table = pandas.read_csv(os.path.join(self.path, "table.csv"),
-                                              dtype={c: str for c in text_columns}, keep_default_na=False,
-                                              na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
-                                                                           "alpha_syst", "alpha_bound", "tail_end",
-                                                                           "tail_amplitude", "tail_amplitude_err",
-                                                                           "tail_amplitude_syst", "predicted_amplitude",
-                                                                           "predicted_tail_end", "tau1", "tau2",
-                                                                           "best_error"]})
-            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
-                raise RotleakError("%s: table.csv: not a table rotleak wrote (%s)"
-                                   % (self.path, str(e).splitlines()[0])) from None
+            self._table = _read_table(os.path.join(self.path, "table.csv"), "table.csv", self.path,
+                                      dtype={c: str for c in text_columns}, keep_default_na=False,
+                                      na_values={c: [""] for c in ["kappa", "kappa_err", "alpha", "alpha_err",
+                                                                   "alpha_syst", "alpha_bound", "tail_end",
+                                                                   "tail_amplitude", "tail_amplitude_err",
+                                                                   "tail_amplitude_syst", "predicted_amplitude",
+                                                                   "predicted_tail_end", "tau1", "tau2",
+                                                                   "best_error"]})
             if list(self._table.columns[:len(self.keys)]) != self.keys or len(self._table) != len(self.point_names):
                 raise RotleakError("%s: table.csv: not the table of scan.json (other columns or rows)" % self.path)
         return self._table
@@ -482,12 +483,7 @@ class Calibration:
     def table(self) -> pandas.DataFrame:
         """calibration.csv as a DataFrame, one row per grid time."""
         if self._table is None:
-            pandas = _pandas()
-            try:
-                self._table = pandas.read_csv(os.path.join(self.path, "calibration.csv"))
-            except (ValueError, pandas.errors.ParserError, pandas.errors.EmptyDataError) as e:
-                raise RotleakError("%s: calibration.csv: not a table rotleak wrote (%s)"
-                                   % (self.path, str(e).splitlines()[0])) from None
+            self._table = _read_table(os.path.join(self.path, "calibration.csv"), "calibration.csv", self.path)
             if list(self._table.columns) != _CALIBRATION_COLUMNS:
                 raise RotleakError("%s: calibration.csv: columns %s, not %s"
                                    % (self.path, list(self._table.columns), _CALIBRATION_COLUMNS))
