@@ -12,6 +12,7 @@
   guide cannot point at a room that moved (the generated study reports excepted: they name their runs).
 
 Prints every violation and exits 1 if there is one.   Usage: python3 scripts/check_docs.py [ROOT]"""
+import functools
 import os
 import re
 import subprocess
@@ -34,6 +35,7 @@ def tracked(root):
 LINK = re.compile(r"\]\(([^)\s]+)\)")
 
 
+@functools.lru_cache(maxsize=None)
 def anchors(path):
     """GitHub's heading anchors of a Markdown file: lower case, punctuation dropped, blanks to hyphens"""
     found, fenced = set(), False
