@@ -13,6 +13,7 @@ project's scripts made, ``build/``, is reused with its own options); ``build=no`
 holds without building (the test suite's check, which must not rebuild what other tests run)."""
 import base64
 import hashlib
+import io
 import os
 import re
 import subprocess
@@ -124,8 +125,6 @@ def build_sdist(sdist_directory, config_settings=None):
         info = _metadata(version).encode()
         member = tarfile.TarInfo(base + "/PKG-INFO")
         member.size = len(info)
-        import io
-
         t.addfile(member, io.BytesIO(info))
     os.replace(tmp, os.path.join(sdist_directory, sdist))
     return sdist
