@@ -27,8 +27,7 @@ namespace fs = std::filesystem;
 bool same(const Tally& a, const Tally& b) {
   return a.escapes_per_bin == b.escapes_per_bin && a.collision_density == b.collision_density &&
          a.collisions == b.collisions && a.escaped == b.escaped && a.survived == b.survived && a.stuck == b.stuck &&
-         a.weighted == b.weighted && a.escaped_w == b.escaped_w && a.escaped_w2 == b.escaped_w2 &&
-         a.total_w == b.total_w && a.total_w2 == b.total_w2 && a.collision_density_w == b.collision_density_w;
+         a.estimator == b.estimator && a.collision_density_w == b.collision_density_w;
 }
 
 /// omega = 2/3 (a rotating leak), importance-sampling weights, f_c and escape records: every tally.

@@ -92,8 +92,8 @@ TEST(Splitting, NeverSplittingGivesThePlainRunBitForBit) {
     EXPECT_EQ(a.result.tally.collisions, b.result.tally.collisions) << engine;
     EXPECT_EQ(a.result.tally.collision_density, b.result.tally.collision_density) << engine;
     EXPECT_TRUE(a.result.tally.collision_density_w == b.result.tally.collision_density_w) << engine;
-    EXPECT_EQ(b.result.tally.splits, 0u);
-    EXPECT_EQ(b.result.tally.levels, 30u);
+    EXPECT_EQ(b.result.tally.as<LinesEstimator>().splits, 0u);
+    EXPECT_EQ(b.result.tally.as<LinesEstimator>().levels, 30u);
     // each line is one particle: its weight squared is the plain run's w^2 (to rounding: w * w there),
     // until the allowance for unsplit lines not drawn (every line is unsplit here) sets in
     double until = 1500;
@@ -178,8 +178,8 @@ TEST(Splitting, TheScheduleDoesNotMoveP) {
     comparisons += compare(a.curve, c.curve, i, "100 vs 300");
     comparisons += compare(b.curve, c.curve, i, "150 vs 300");
   }
-  EXPECT_GE(comparisons, 9);            // 100 vs 150 at all five times, and the early times of every pair
-  EXPECT_GT(a.result.tally.culls, 0u);  // the cap held the fast schedule
+  EXPECT_GE(comparisons, 9);  // 100 vs 150 at all five times, and the early times of every pair
+  EXPECT_GT(a.result.tally.as<LinesEstimator>().culls, 0u);  // the cap held the fast schedule
 }
 
 // (d) A split run is the same bits on 1 or 2 threads, on the scalar core or the kernel (4 and 8
@@ -194,7 +194,7 @@ TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
   base.threads = 1;
   const Outcome ref = run(scene, base);
   const std::string csv = survival_csv(ref.curve), fc = density_csv(scene, ref.result.tally);
-  EXPECT_GT(ref.result.tally.splits, 1000u);
+  EXPECT_GT(ref.result.tally.as<LinesEstimator>().splits, 1000u);
   std::vector<std::pair<std::string, RunOptions>> others;
   RunOptions two = base;
   two.threads = 2;
@@ -213,8 +213,9 @@ TEST(Splitting, SameBitsForAnyThreadsEngineLanesAndResume) {
     const Outcome r = run(scene, opt);
     EXPECT_TRUE(test::same_text(csv, survival_csv(r.curve))) << what;
     EXPECT_TRUE(test::same_text(fc, density_csv(scene, r.result.tally))) << what;
-    EXPECT_EQ(ref.result.tally.splits, r.result.tally.splits) << what;
-    EXPECT_EQ(ref.result.tally.max_population, r.result.tally.max_population) << what;
+    const auto &x = ref.result.tally.as<LinesEstimator>(), &y = r.result.tally.as<LinesEstimator>();
+    EXPECT_EQ(x.splits, y.splits) << what;
+    EXPECT_EQ(x.max_population, y.max_population) << what;
   }
   // blocks 0 and 2 first, then block 1 with the first part's tallies as the start (what --resume does)
   RunOptions first = two, rest = two;
@@ -286,8 +287,8 @@ TEST(Splitting, ConservationCatchesALostBlockAndALostWeight) {
   const IntervalSet all = IntervalSet::range(0, 1);
   EXPECT_NO_THROW(check_conservation(whole.result.tally, all, split.particles));
   Tally lost = whole.result.tally;
-  lost.w_escaped = FixedSum{};
-  lost.w_escaped.add(1e-300);  // the escaped weight, short by all but a trace
+  lost.as<LinesEstimator>().w_escaped = FixedSum{};
+  lost.as<LinesEstimator>().w_escaped.add(1e-300);  // the escaped weight, short by all but a trace
   EXPECT_THROW(check_conservation(lost, all, split.particles), std::logic_error);
 }
 

@@ -130,7 +130,7 @@ std::string density_csv(const Scene& scene, const Tally& tally) {
     const std::string tag = "[" + shortest(spec.windows[w].from) + ":" + shortest(spec.windows[w].to) + "]";
     out += ",fc" + tag + ",count" + tag;
     for (std::size_t b = 0; b < bins; ++b) totals[w] += tally.collision_density[w * bins + b];
-    if (tally.weighted)
+    if (tally.weighted())
       for (std::size_t b = 0; b < bins; ++b) weight_totals[w].merge(tally.collision_density_w[w * bins + b]);
   }
   out += '\n';
@@ -140,11 +140,11 @@ std::string density_csv(const Scene& scene, const Tally& tally) {
       const std::uint64_t c = tally.collision_density[w * bins + b];
       // weighted runs: f_c from the weights (the count column stays the raw number of collisions)
       const double density =
-          tally.weighted ? (weight_totals[w].value() > 0 ? tally.collision_density_w[w * bins + b].value() *
-                                                               static_cast<double>(bins) / weight_totals[w].value()
-                                                         : 0.0)
-          : totals[w]    ? static_cast<double>(c) * static_cast<double>(bins) / static_cast<double>(totals[w])
-                         : 0.0;
+          tally.weighted() ? (weight_totals[w].value() > 0 ? tally.collision_density_w[w * bins + b].value() *
+                                                                 static_cast<double>(bins) / weight_totals[w].value()
+                                                           : 0.0)
+          : totals[w]      ? static_cast<double>(c) * static_cast<double>(bins) / static_cast<double>(totals[w])
+                           : 0.0;
       out += ',' + shortest(density) + ',' + std::to_string(c);
     }
     out += '\n';
@@ -192,7 +192,8 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   return j;
 }
 
-json splitting_json(const Scene& scene, const Tally& t, const SurvivalCurve& curve) {
+json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve& curve) {
+  const auto& t = tally.as<LinesEstimator>();
   json j = {{"rule", "chaotic"},
             {"split_every", scene.splitting.every},
             {"split_delta", scene.splitting.delta},
@@ -380,7 +381,7 @@ void population_lines(std::string& out, const RunSummary& r) {
             "splitting: every %g, turn %g rad, cap %llu; %llu levels, %llu of %llu lines alive and %.3g effective at "
             "t_max, P(t_max) = %.3g +- %.2g\n",
             r.scene.splitting.every, r.scene.splitting.delta, static_cast<unsigned long long>(r.scene.splitting.cap),
-            static_cast<unsigned long long>(r.result.tally.levels),
+            static_cast<unsigned long long>(r.result.tally.as<LinesEstimator>().levels),
             static_cast<unsigned long long>(r.curve.lines_alive[last]),
             static_cast<unsigned long long>(r.scene.particles), r.curve.effective(last), r.curve.P(last),
             r.curve.P_err(last));

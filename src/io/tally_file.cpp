@@ -45,6 +45,27 @@ void get_sums(ByteReader& r, std::vector<FixedSum>& v) {
   for (auto& f : v) f = get_sum(r);
 }
 
+/// A split run's section: the line sums, counts, conservation sums and unsplit cells.
+void put_lines(ByteWriter& w, const LinesEstimator& e) {
+  for (const auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out}) put_sums(w, *v);
+  w.words(e.lines_ended);
+  w.words(e.born_per_bin);
+  w.words(e.culled_per_bin);
+  for (std::uint64_t x : {e.splits, e.culls, e.levels, e.max_population, e.max_line}) w.word(x);
+  for (const FixedSum* sum : {&e.w_start, &e.w_gained, &e.w_escaped, &e.w_removed, &e.w_alive_end}) put_sum(w, *sum);
+  const auto put_cell = [&w](const UnsplitCell& c) {
+    w.word(c.lines);
+    put_sum(w, c.w);
+    put_sum(w, c.w2);
+  };
+  for (const UnsplitCell& c : e.unsplit_start) put_cell(c);
+  w.word(e.unsplit_left.size());
+  for (const auto& [key, cell] : e.unsplit_left) {
+    w.word(key);
+    put_cell(cell);
+  }
+}
+
 }  // namespace
 
 std::string encode_tally_file(const TallyFile& f) {
@@ -59,8 +80,8 @@ std::string encode_tally_file(const TallyFile& f) {
                        {"done", done},
                        {"survival_bins", t.escapes_per_bin.size()},
                        {"density_bins", t.collision_density.size()},
-                       {"weighted", t.weighted},
-                       {"split", t.split},
+                       {"weighted", t.weighted()},
+                       {"split", t.get_if<LinesEstimator>() != nullptr},
                        {"records", f.records.size()}};
   json with_time = header;
   if (f.wall_seconds > 0) with_time["wall_seconds"] = f.wall_seconds;  // checkpoints only: not an input
@@ -70,32 +91,21 @@ std::string encode_tally_file(const TallyFile& f) {
   w.words(t.escapes_per_bin);
   w.words(t.collision_density);
   for (std::uint64_t x : {t.collisions, t.escaped, t.survived, t.stuck}) w.word(x);
-  if (t.weighted) {
-    put_sums(w, t.escaped_w);
-    put_sums(w, t.escaped_w2);
-    put_sum(w, t.total_w);
-    put_sum(w, t.total_w2);
+  if (t.weighted()) {
+    // format 3's weighted section: a weighted run's escape sums and totals (a split run's places hold no
+    // escape sums and two zero totals), then the weighted density
+    if (const auto* e = t.get_if<WeightedEstimator>()) {
+      put_sums(w, e->escaped_w);
+      put_sums(w, e->escaped_w2);
+      put_sum(w, e->total_w);
+      put_sum(w, e->total_w2);
+    } else {
+      put_sum(w, FixedSum{});
+      put_sum(w, FixedSum{});
+    }
     put_sums(w, t.collision_density_w);
   }
-  if (t.split) {
-    for (const auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) put_sums(w, *v);
-    w.words(t.lines_ended);
-    w.words(t.born_per_bin);
-    w.words(t.culled_per_bin);
-    for (std::uint64_t x : {t.splits, t.culls, t.levels, t.max_population, t.max_line}) w.word(x);
-    for (const FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) put_sum(w, *sum);
-    const auto put_cell = [&w](const UnsplitCell& c) {
-      w.word(c.lines);
-      put_sum(w, c.w);
-      put_sum(w, c.w2);
-    };
-    for (const UnsplitCell& c : t.unsplit_start) put_cell(c);
-    w.word(t.unsplit_left.size());
-    for (const auto& [key, cell] : t.unsplit_left) {
-      w.word(key);
-      put_cell(cell);
-    }
-  }
+  if (const auto* e = t.get_if<LinesEstimator>()) put_lines(w, *e);
   for (const EscapeRecord& r : f.records) {
     w.real(r.t);
     w.real(r.s);
@@ -151,47 +161,47 @@ void read_header(const json& h, std::size_t size, std::size_t nl, TallyFile& f) 
                              " records in " + std::to_string(size) + " bytes)");
   f.tally.escapes_per_bin.assign(survival_bins, 0);
   f.tally.collision_density.assign(density_bins, 0);
-  f.tally.weighted = flag("weighted");
-  f.tally.split = flag("split");
+  const bool weighted = flag("weighted"), split = flag("split");
+  if (split && !weighted) throw std::runtime_error("a split run whose members carry no weights");
+  if (split)
+    f.tally.estimator = LinesEstimator{};
+  else if (weighted)
+    f.tally.estimator = WeightedEstimator{};
   f.records.resize(records);
 }
 
-/// A weighted run's exact sums (escapes by bin for a run that is not split, the totals, the density).
+/// The weighted section (format 3, as put): a weighted run's escape sums by bin and totals (a split
+/// run's: two totals, zero), then the weighted density.
 void read_weighted(ByteReader& r, Tally& t) {
-  if (!t.split) {
-    t.escaped_w.resize(t.escapes_per_bin.size());
-    t.escaped_w2.resize(t.escapes_per_bin.size());
+  if (auto* e = std::get_if<WeightedEstimator>(&t.estimator)) {
+    e->resize(t.escapes_per_bin.size());
+    get_sums(r, e->escaped_w);
+    get_sums(r, e->escaped_w2);
+    e->total_w = get_sum(r);
+    e->total_w2 = get_sum(r);
+  } else if (!(get_sum(r) == FixedSum{}) || !(get_sum(r) == FixedSum{})) {
+    throw std::runtime_error("tally file: a split run with weight totals");
   }
   t.collision_density_w.resize(t.collision_density.size());
-  get_sums(r, t.escaped_w);
-  get_sums(r, t.escaped_w2);
-  t.total_w = get_sum(r);
-  t.total_w2 = get_sum(r);
   get_sums(r, t.collision_density_w);
 }
 
 /// A split run's line sums, counts, conservation sums and unsplit cells (their number held against the bytes
 /// left, their keys increasing and on the grid).
-void read_lines(ByteReader& r, Tally& t, std::size_t size, const std::string& where) {
-  const std::size_t points = t.escapes_per_bin.size() + 1;
-  for (auto* v : {&t.line_in, &t.line_out, &t.line2_in, &t.line2_out}) {
-    v->resize(points);
-    get_sums(r, *v);
-  }
-  t.lines_ended.resize(points);
-  t.born_per_bin.resize(t.escapes_per_bin.size());
-  t.culled_per_bin.resize(t.escapes_per_bin.size());
-  r.words(t.lines_ended);
-  r.words(t.born_per_bin);
-  r.words(t.culled_per_bin);
-  for (std::uint64_t* x : {&t.splits, &t.culls, &t.levels, &t.max_population, &t.max_line}) *x = r.word();
-  for (FixedSum* sum : {&t.w_start, &t.w_gained, &t.w_escaped, &t.w_removed, &t.w_alive_end}) *sum = get_sum(r);
+void read_lines(ByteReader& r, LinesEstimator& e, std::size_t bins, std::size_t size, const std::string& where) {
+  e.resize(bins);
+  for (auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out}) get_sums(r, *v);
+  r.words(e.lines_ended);
+  r.words(e.born_per_bin);
+  r.words(e.culled_per_bin);
+  for (std::uint64_t* x : {&e.splits, &e.culls, &e.levels, &e.max_population, &e.max_line}) *x = r.word();
+  for (FixedSum* sum : {&e.w_start, &e.w_gained, &e.w_escaped, &e.w_removed, &e.w_alive_end}) *sum = get_sum(r);
   const auto get_cell = [&r](UnsplitCell& c) {
     c.lines = r.word();
     c.w = get_sum(r);
     c.w2 = get_sum(r);
   };
-  for (UnsplitCell& c : t.unsplit_start) get_cell(c);
+  for (UnsplitCell& c : e.unsplit_start) get_cell(c);
   const std::uint64_t cells = r.word();
   // a cell takes at least 5 words: a count larger than the bytes left is damage, not an allocation
   if (cells > (size - r.at) / 40)
@@ -199,10 +209,10 @@ void read_lines(ByteReader& r, Tally& t, std::size_t size, const std::string& wh
   std::uint64_t previous = 0;
   for (std::uint64_t k = 0; k < cells; ++k) {
     const std::uint64_t key = r.word();
-    if ((k > 0 && key <= previous) || key / kUnsplitClasses >= points)
+    if ((k > 0 && key <= previous) || key / kUnsplitClasses > bins)
       throw std::runtime_error(where + ": tally file: unsplit cells out of order or off the grid");
     previous = key;
-    get_cell(t.unsplit_left[key]);
+    get_cell(e.unsplit_left[key]);
   }
 }
 
@@ -238,8 +248,9 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   t.escaped = r.word();
   t.survived = r.word();
   t.stuck = r.word();
-  if (t.weighted) read_weighted(r, t);
-  if (t.split) read_lines(r, t, in.size(), where);
+  if (t.weighted()) read_weighted(r, t);
+  if (auto* e = std::get_if<LinesEstimator>(&t.estimator))
+    read_lines(r, *e, t.escapes_per_bin.size(), in.size(), where);
   for (EscapeRecord& e : f.records) {
     e.t = r.real();
     e.s = r.real();

@@ -46,6 +46,25 @@ fs::path checkpoint_path(const fs::path& out, int rank, int ranks) {
 
 std::string run_inputs(const Scene& whole, Engine ran) { return simulation_inputs(whole, to_string(ran)); }
 
+Engine saved_engine(const json& summary) {
+  return summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
+}
+
+bool keeps_tally(const Scene& scene, bool shard) { return shard || scene.splitting.on; }
+
+namespace {
+
+/// The run's exact tallies into DIR/tally.bin (a run of ids from r.first_id out of `of`).
+void write_run_tally(RunDirectory& dir, const RunSummary& s, std::uint64_t of) {
+  Scene whole = s.scene;
+  whole.particles = of;
+  const RunResult& r = s.result;
+  write_tally_file(dir.file("tally.bin"), TallyFile{run_inputs(whole, r.engine), s.scene.particles, r.first_id, of,
+                                                    r.done, r.tally, r.records});
+}
+
+}  // namespace
+
 namespace {
 
 /// Collective: every rank's tally file `part` (same inputs and ids, blocks that tile the run) sent to
@@ -263,12 +282,8 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   out.summary = run_scene(scene, req.run, req.note, &durable);
   if (team.rank() == 0) {
     std::vector<std::string> extra;
-    if (req.ids) {  // the shard's exact tallies, for rotleak merge
-      Scene whole = out.summary.scene;
-      whole.particles = scene.particles;
-      const RunResult& r = out.summary.result;
-      write_tally_file(dir->file("tally.bin"), TallyFile{run_inputs(whole, r.engine), out.summary.scene.particles,
-                                                         r.first_id, scene.particles, r.done, r.tally, r.records});
+    if (keeps_tally(scene, req.ids.has_value())) {
+      write_run_tally(*dir, out.summary, scene.particles);
       extra.push_back("tally.bin");
     }
     out.document = write_run(*dir, out.summary, extra);
@@ -357,8 +372,7 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   // inputs the shards carry
   Scene scene = load_scene((shards[0].dir / "scene.toml").string(), {"ensemble.particles=" + std::to_string(of)});
   scene.source = shards[0].summary.at("scene").value("source", scene.source);
-  const Engine engine =
-      shards[0].summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
+  const Engine engine = saved_engine(shards[0].summary);
   const std::string why = inputs_difference(shards[0].f.inputs, run_inputs(scene, engine));
   if (!why.empty())
     throw InputError("DIR", shards[0].dir.string(), "its scene.toml does not match its tally.bin (" + why + ")");
@@ -367,7 +381,12 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   if (req.note) req.note("[rotleak] merged " + std::to_string(shards.size()) + " shards: ids 0:" + std::to_string(of));
   SimulateOutcome out;
   out.summary = summarise(scene, std::move(result));
-  out.document = write_run(dir, out.summary);
+  std::vector<std::string> extra;
+  if (keeps_tally(scene, false)) {
+    write_run_tally(dir, out.summary, of);
+    extra.push_back("tally.bin");
+  }
+  out.document = write_run(dir, out.summary, extra);
   out.dir = dir.final_path();
   return out;
 }

@@ -52,6 +52,12 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& out, int rank
 /// The inputs text (io simulation_inputs) a run's tally files carry: the whole run's scene (tier
 /// resolved) and the engine that ran.
 std::string run_inputs(const Scene& whole, Engine ran);
+/// The engine a saved run's summary.json says ran it.
+Engine saved_engine(const json& summary);
+/// Whether a run directory keeps its exact tallies in tally.bin: a shard's, for rotleak merge, and a split
+/// run's, from which rotleak fit rebuilds its survival curve exactly (survival.csv does not carry the
+/// unsplit lines' groups that its fits' errors use).
+bool keeps_tally(const Scene& scene, bool shard);
 
 /// The blocks [lo, hi) rank `rank` of `ranks` runs of a run of `blocks`: the rank-th of equal runs.
 std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int rank, int ranks);

@@ -7,7 +7,9 @@
 #include "io/files.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
 #include "numeric/input.hpp"
+#include "run/pipeline.hpp"
 #include "run/scan.hpp"
 
 namespace rotleak {
@@ -28,6 +30,28 @@ InputError not_a_result_directory(const fs::path& dir) {
                     "must be a complete run directory (summary.json, survival.csv) or a scan directory (scan.json)");
 }
 
+/// The run's survival curve: rebuilt exactly from DIR/tally.bin where the run keeps its tallies (split runs,
+/// shards: keeps_tally), else read from survival.csv. A tally that is damaged or made with other
+/// inputs than scene.toml's is bad input (exit 2).
+SurvivalCurve saved_curve(const fs::path& dir, const Scene& scene, const json& summary) {
+  const std::string shown = "\"" + dir.string() + "\"";
+  try {
+    if (!fs::exists(dir / "tally.bin")) return read_survival_csv(read_file(dir / "survival.csv"), scene);
+    const TallyFile f = read_tally_file(dir / "tally.bin");
+    Scene whole = scene;
+    whole.particles = f.of;
+    const std::string why = inputs_difference(f.inputs, run_inputs(whole, saved_engine(summary)));
+    if (!why.empty()) throw InputError("DIR", shown, "its scene.toml does not match its tally.bin (" + why + ")");
+    if (!f.complete() || f.particles != scene.particles)
+      throw InputError("DIR", shown, "tally.bin holds an incomplete run or another particle count");
+    return survival_curve(scene, f.tally);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError("DIR", shown, e.what());  // a damaged file is bad input: exit 2
+  }
+}
+
 }  // namespace
 
 Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides) {
@@ -43,11 +67,7 @@ json refit_run(const fs::path& dir, const Scene& scene) {
   json s = read_run_summary(dir, old_text);
   RunSummary r;
   r.scene = scene;
-  try {
-    r.curve = read_survival_csv(read_file(dir / "survival.csv"), scene);
-  } catch (const std::runtime_error& e) {
-    throw InputError("DIR", "\"" + dir.string() + "\"", e.what());  // a damaged file is bad input: exit 2
-  }
+  r.curve = saved_curve(dir, scene, s);
   fit_curve(r);
   s["scene"] = scene_json(scene);
   put_fits(s, r);

@@ -116,13 +116,13 @@ class Worker {
     const Scene& sc = s.scene;
     density_ = {&s.model.stadium, sc.collision_density ? &sc.collision_density->windows : nullptr,
                 sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
-                local.weighted ? local.collision_density_w.data() : nullptr};
+                local.weighted() ? local.collision_density_w.data() : nullptr};
     if (s.engine == Engine::simd && sc.collision_density) {  // f_c by time cell (DensityCells), folded in flush()
       const auto n = static_cast<std::size_t>(s.cells.cells()) * static_cast<std::size_t>(s.cells.bins);
       cell_counts_.assign(n, 0);
-      if (local.weighted) cell_sums_.assign(n, FixedSum{});
+      if (local.weighted()) cell_sums_.assign(n, FixedSum{});
       density_.counts = cell_counts_.data();
-      density_.weighted_counts = local.weighted ? cell_sums_.data() : nullptr;
+      density_.weighted_counts = local.weighted() ? cell_sums_.data() : nullptr;
       density_.cells = &s.cells;
     }
   }
@@ -131,7 +131,7 @@ class Worker {
   void flush() {
     if (!cell_counts_.empty())
       s_.cells.fold(cell_counts_.data(), cell_sums_.empty() ? nullptr : cell_sums_.data(),
-                    local.collision_density.data(), local.weighted ? local.collision_density_w.data() : nullptr);
+                    local.collision_density.data(), local.weighted() ? local.collision_density_w.data() : nullptr);
   }
 
   /// Particles (ids first_id + [lo, hi)), or the lines they start.
@@ -145,10 +145,10 @@ class Worker {
             local);
     } else if (s_.engine == Engine::simd) {
       if constexpr (std::is_same_v<R, double>) {
-        SimdContext ctx =
-            context(s_.model, lo, hi, local.weighted, [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); });
+        SimdContext ctx = context(s_.model, lo, hi, local.weighted(),
+                                  [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); });
         simd::Exact exact = kSimdExact;
-        if (!cell_counts_.empty() && !local.weighted) exact.counts = cell_counts_.data();
+        if (!cell_counts_.empty() && !local.weighted()) exact.counts = cell_counts_.data();
         simd::run(s_.kernel, &ctx, simd_next, simd_finish, exact);
       }
     } else {
@@ -175,7 +175,7 @@ class Worker {
   /// A particle's end into the thread's tallies (and its escape record).
   void record(std::uint64_t i, const ParticleEnd& end) {
     // the weight is a function of (seed, id): rebuilt here, not carried by lanes
-    const double w = local.weighted ? s_.source.weight(s_.source(i)) : 1.0;
+    const double w = local.weighted() ? s_.source.weight(s_.source(i)) : 1.0;
     local.add_end(end.fate, end.t, end.collisions, w, s_.scene.survival_dt);
     if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate};
   }
@@ -187,7 +187,7 @@ class Worker {
     if (s_.scene.collision_density) {
       ctx.weights = weights;
       ctx.density = cell_counts_.data();
-      ctx.density_w = local.weighted ? cell_sums_.data() : nullptr;
+      ctx.density_w = local.weighted() ? cell_sums_.data() : nullptr;
       if constexpr (std::is_same_v<R, double>) ctx.observer = &density_;
       ctx.cells = &s_.cells;
     }

@@ -67,19 +67,19 @@ class LineBook {
   bool dead() const { return count_.empty(); }
 
   /// The weight changed at grid index g (it applies from t_g on): the stretch before it is booked.
-  void changed(std::size_t g, Tally& t) {
+  void changed(std::size_t g, LinesEstimator& e) {
     const double y = value();
     if (y == y_) return;  // the open stretch goes on
     if (g == since_) {    // two changes in one cell: only the last is seen on the grid
       y_ = y;
       return;
     }
-    book(g, t);
+    e.stretch(since_, g, y_);
     y_ = y;
     since_ = g;
   }
   /// The line is over (no member in flight): its last stretch runs to the end of the grid.
-  void close(Tally& t) { book(points_, t); }
+  void close(LinesEstimator& e) { e.stretch(since_, points_, y_); }
 
  private:
   double value() const {
@@ -87,22 +87,180 @@ class LineBook {
     for (const auto& [level, n] : count_) y += static_cast<double>(n) * std::ldexp(w0_, -level);
     return y;
   }
-  void book(std::size_t end, Tally& t) {
-    if (y_ > 0 && since_ < points_ && end > since_) {
-      t.line_in[since_].add(y_);
-      t.line2_in[since_].add_square(y_);
-      if (end < points_) {
-        t.line_out[end].add(y_);
-        t.line2_out[end].add_square(y_);
-      }
-    }
-  }
 
   double w0_;
   std::size_t points_;
   std::map<int, std::uint64_t> count_;  ///< members alive by level
   double y_;                            ///< the weight of the open stretch
   std::size_t since_ = 0;               ///< its first grid index
+};
+
+/// The lines of ids [lo, hi), level by level: the members advanced to the next split time, then line by
+/// line their ends booked (Tally::add_end, in the run's LinesEstimator), the survivors split and thinned.
+class LinesRun {
+ public:
+  LinesRun(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
+           Tally& t)
+      : scene_(scene),
+        rule_(rule),
+        st_(scene.d, scene.r),
+        lo_(lo),
+        t_(t),
+        e_(t.as<LinesEstimator>()),
+        nbins_(t.escapes_per_bin.size()),
+        w0_(hi - lo),
+        unsplit_(hi - lo, 1) {
+    books_.reserve(hi - lo);
+    pop_.reserve(hi - lo);
+    for (std::uint64_t id = lo; id < hi; ++id) {
+      const InitialDraw d = sampler.draw(id);
+      const double w0 = w0_[id - lo] = sampler.weight(d);
+      e_.start_line(w0);
+      books_.emplace_back(w0, nbins_ + 1);
+      pop_.push_back({initial_state(st_, d), 0, id, 0, 0});
+    }
+  }
+
+  void run(const AdvanceMembers& advance) {
+    for (std::uint64_t k = 0; !pop_.empty(); ++k) {
+      const double stop = std::min(static_cast<double>(k + 1) * scene_.splitting.every, scene_.t_max);
+      const bool last = !(stop < scene_.t_max);
+      weights_.resize(pop_.size());
+      for (std::size_t i = 0; i < pop_.size(); ++i) weights_[i] = std::ldexp(w0(pop_[i].line), -pop_[i].level);
+      ends_.assign(pop_.size(), ParticleEnd{});
+      advance(pop_, weights_, stop, ends_);
+      next_.clear();
+      for (std::size_t a = 0; a < pop_.size();) {  // line by line (members are sorted by line, then index)
+        std::size_t b = a;
+        while (b < pop_.size() && pop_[b].line == pop_[a].line) ++b;
+        book_ends(a, b, last);
+        if (!last)
+          next_level(a, b, k, stop);
+        else
+          books_[pop_[a].line - lo_].close(e_);
+        a = b;
+      }
+      pop_.swap(next_);
+      if (!pop_.empty()) e_.levels = std::max(e_.levels, k + 1);
+      e_.max_population = std::max<std::uint64_t>(e_.max_population, pop_.size());
+    }
+  }
+
+ private:
+  double w0(std::uint64_t line) const { return w0_[line - lo_]; }
+  std::size_t bin_of(double time) const {
+    const auto b = static_cast<std::size_t>(time / scene_.survival_dt);
+    return b < nbins_ ? b : nbins_ - 1;
+  }
+  /// The grid index from which a change at `time` is seen (survivors_on_grid's convention).
+  std::size_t grid_of(double time) const { return bin_of(time) + 1; }
+  /// The line leaves the unsplit stratum from grid index g on (its member escaped or first split).
+  void leave_unsplit(std::uint64_t line, std::size_t g) {
+    if (!unsplit_[line - lo_]) return;
+    unsplit_[line - lo_] = 0;
+    e_.leave_unsplit(g, w0(line));
+  }
+
+  /// The ends of one line's members pop_[a, b): each member that ended is booked, and its escapes, in
+  /// time order (ties: member order), change the line's weight.
+  void book_ends(std::size_t a, std::size_t b, bool last) {
+    const std::uint64_t line = pop_[a].line;
+    LineBook& book = books_[line - lo_];
+    order_.clear();
+    for (std::size_t i = a; i < b; ++i) {
+      const std::uint64_t made = ends_[i].collisions - pop_[i].collisions;
+      if (ends_[i].fate == Fate::survived && !last)
+        t_.collisions += made;  // goes on to the next level
+      else
+        t_.add_end(ends_[i].fate, ends_[i].t, made, weights_[i], scene_.survival_dt);
+      if (ends_[i].fate == Fate::escaped) order_.push_back(i);
+    }
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](std::size_t x, std::size_t y) { return ends_[x].t < ends_[y].t; });
+    for (std::size_t i : order_) {
+      const std::size_t g = grid_of(ends_[i].t);
+      book.add(pop_[i].level, -1);
+      book.changed(g, e_);
+      leave_unsplit(line, g);
+      if (book.dead()) ++e_.lines_ended[g];
+    }
+  }
+
+  /// The members of one line that reached the split time `stop` (level k + 1): split by the rule, then
+  /// thinned to the cap by the roulette; the line's stretch booked, and closed if no member goes on.
+  void next_level(std::size_t a, std::size_t b, std::uint64_t k, double stop) {
+    const std::uint64_t line = pop_[a].line;
+    LineBook& book = books_[line - lo_];
+    const std::size_t first = next_.size();
+    std::uint64_t index = 0;
+    for (std::size_t i = a; i < b; ++i) {
+      if (ends_[i].fate != Fate::survived) continue;
+      Member m{ends_[i].last, ends_[i].collisions, line, 0, pop_[i].level};
+      if (rule_.copies(m) != 2) {
+        m.index = index++;
+        next_.push_back(m);
+        continue;
+      }
+      leave_unsplit(line, grid_of(stop));
+      book.add(m.level, -1);
+      ++m.level;
+      book.add(m.level, 2);
+      Member copy = m;
+      m.index = index++;
+      copy.index = index++;
+      const auto w = split_words(scene_.seed, line, k + 1, copy.index, kPurposeTurn);
+      const double theta = scene_.splitting.delta * (2 * InitialConditions::unit(w[0]) - 1);
+      copy.ps.v = turned(m.ps, theta, st_.r(), st_.half_d());
+      next_.push_back(m);
+      next_.push_back(copy);
+      e_.split(bin_of(stop));
+    }
+    e_.max_line = std::max<std::uint64_t>(e_.max_line, next_.size() - first);
+    const bool alive_before_roulette = !book.dead();
+    roulette(line, first, k, stop);
+    book.changed(grid_of(stop), e_);
+    if (alive_before_roulette && book.dead()) ++e_.lines_ended[grid_of(stop)];
+    // a line with no member in flight (all escaped, stuck, or removed) closes its last stretch
+    if (next_.size() == first) book.close(e_);
+  }
+
+  /// While the line (next_ from `first`) has more than cap members, each is kept with probability 1/2 at
+  /// twice its weight (the line's weight is kept in expectation); then its members are renumbered.
+  void roulette(std::uint64_t line, std::size_t first, std::uint64_t k, double stop) {
+    LineBook& book = books_[line - lo_];
+    for (std::uint64_t round = 0; next_.size() - first > scene_.splitting.cap; ++round) {
+      std::size_t kept = first;
+      for (std::size_t i = first; i < next_.size(); ++i) {
+        Member& m = next_[i];
+        const auto w = split_words(scene_.seed, line, k + 1, m.index, 1 + round);
+        book.add(m.level, -1);
+        const bool keep = w[0] & 1;
+        e_.roulette(keep, std::ldexp(w0(line), -m.level), bin_of(stop));
+        if (keep) {
+          --m.level;
+          book.add(m.level, 1);
+          next_[kept++] = m;
+        }
+      }
+      next_.resize(kept);
+    }
+    for (std::size_t i = first; i < next_.size(); ++i) next_[i].index = i - first;
+  }
+
+  const Scene& scene_;
+  const SplitRule& rule_;
+  const Stadium<double> st_;
+  const std::uint64_t lo_;
+  Tally& t_;
+  LinesEstimator& e_;
+  const std::size_t nbins_;
+  std::vector<double> w0_;     ///< each line's starting weight
+  std::vector<char> unsplit_;  ///< the line's one member has never split
+  std::vector<LineBook> books_;
+  std::vector<Member> pop_, next_;
+  std::vector<double> weights_;
+  std::vector<ParticleEnd> ends_;
+  std::vector<std::size_t> order_;
 };
 
 }  // namespace
@@ -114,141 +272,7 @@ std::unique_ptr<SplitRule> make_split_rule(const Scene& scene) {
 
 void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t) {
-  const Stadium<double> st(scene.d, scene.r);
-  const double dt = scene.survival_dt;
-  const std::size_t nbins = t.escapes_per_bin.size(), points = nbins + 1;
-  const auto bin_of = [&](double time) {
-    const auto b = static_cast<std::size_t>(time / dt);
-    return b < nbins ? b : nbins - 1;
-  };
-  // the grid index from which a change at `time` is seen (survivors_on_grid's convention)
-  const auto grid_of = [&](double time) { return bin_of(time) + 1; };
-
-  std::vector<LineBook> books;
-  std::vector<double> w0(hi - lo);
-  std::vector<char> unsplit(hi - lo, 1);  // the line's one member has never split
-  // a line leaves the unsplit stratum from grid index g on (its member escaped or first split)
-  const auto leave_unsplit = [&](std::uint64_t line, std::size_t g) {
-    if (!unsplit[line - lo]) return;
-    unsplit[line - lo] = 0;
-    const double w = w0[line - lo];
-    t.unsplit_left[g * kUnsplitClasses + static_cast<std::uint64_t>(unsplit_class(w))].add(w);
-  };
-  std::vector<Member> pop;
-  books.reserve(hi - lo);
-  pop.reserve(hi - lo);
-  for (std::uint64_t id = lo; id < hi; ++id) {
-    const InitialDraw d = sampler.draw(id);
-    w0[id - lo] = sampler.weight(d);
-    t.w_start.add(w0[id - lo]);
-    t.unsplit_start[static_cast<std::size_t>(unsplit_class(w0[id - lo]))].add(w0[id - lo]);
-    books.emplace_back(w0[id - lo], points);
-    pop.push_back({initial_state(st, d), 0, id, 0, 0});
-  }
-  std::vector<double> weights;
-  std::vector<ParticleEnd> ends;
-  std::vector<Member> next;
-  std::vector<std::size_t> order;
-  for (std::uint64_t k = 0; !pop.empty(); ++k) {
-    const double stop = std::min(static_cast<double>(k + 1) * scene.splitting.every, scene.t_max);
-    const bool last = !(stop < scene.t_max);
-    weights.resize(pop.size());
-    for (std::size_t i = 0; i < pop.size(); ++i) weights[i] = std::ldexp(w0[pop[i].line - lo], -pop[i].level);
-    ends.assign(pop.size(), ParticleEnd{});
-    advance(pop, weights, stop, ends);
-    next.clear();
-    // line by line (members are sorted by line, then index)
-    for (std::size_t a = 0; a < pop.size();) {
-      std::size_t b = a;
-      while (b < pop.size() && pop[b].line == pop[a].line) ++b;
-      const std::uint64_t line = pop[a].line;
-      LineBook& book = books[line - lo];
-      // escapes in time order (ties: member order), each a change of the line's weight
-      order.clear();
-      for (std::size_t i = a; i < b; ++i) {
-        t.collisions += ends[i].collisions - pop[i].collisions;
-        if (ends[i].fate == Fate::escaped) {
-          order.push_back(i);
-          t.w_escaped.add(weights[i]);
-        }
-        if (ends[i].fate == Fate::stuck) ++t.stuck;
-        if (ends[i].fate == Fate::survived && last) ++t.survived;
-        if (ends[i].fate == Fate::stuck || (ends[i].fate == Fate::survived && last)) t.w_alive_end.add(weights[i]);
-      }
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return ends[x].t < ends[y].t; });
-      for (std::size_t i : order) {
-        ++t.escapes_per_bin[bin_of(ends[i].t)];
-        ++t.escaped;
-        book.add(pop[i].level, -1);
-        book.changed(grid_of(ends[i].t), t);
-        leave_unsplit(line, grid_of(ends[i].t));
-        if (book.dead()) ++t.lines_ended[grid_of(ends[i].t)];
-      }
-      if (!last) {
-        // the members that reached the split time: split by the rule, then thinned to the cap
-        const std::size_t first = next.size();
-        std::uint64_t index = 0;
-        for (std::size_t i = a; i < b; ++i) {
-          if (ends[i].fate != Fate::survived) continue;
-          Member m{ends[i].last, ends[i].collisions, line, 0, pop[i].level};
-          if (rule.copies(m) == 2) {
-            leave_unsplit(line, grid_of(stop));
-            book.add(m.level, -1);
-            ++m.level;
-            book.add(m.level, 2);
-            Member copy = m;
-            m.index = index++;
-            copy.index = index++;
-            const auto w = split_words(scene.seed, line, k + 1, copy.index, kPurposeTurn);
-            const double theta = scene.splitting.delta * (2 * InitialConditions::unit(w[0]) - 1);
-            copy.ps.v = turned(m.ps, theta, st.r(), st.half_d());
-            next.push_back(m);
-            next.push_back(copy);
-            ++t.splits;
-            ++t.born_per_bin[bin_of(stop)];
-          } else {
-            m.index = index++;
-            next.push_back(m);
-          }
-        }
-        t.max_line = std::max<std::uint64_t>(t.max_line, next.size() - first);
-        const bool alive_before_roulette = !book.dead();
-        // roulette: while the line has more than cap members, each is kept with probability 1/2 at
-        // twice its weight (the line's weight is kept in expectation)
-        for (std::uint64_t round = 0; next.size() - first > scene.splitting.cap; ++round) {
-          std::size_t kept = first;
-          for (std::size_t i = first; i < next.size(); ++i) {
-            Member& m = next[i];
-            const auto w = split_words(scene.seed, line, k + 1, m.index, 1 + round);
-            book.add(m.level, -1);
-            const double weight = std::ldexp(w0[line - lo], -m.level);
-            if (w[0] & 1) {
-              t.w_gained.add(weight);
-              --m.level;
-              book.add(m.level, 1);
-              next[kept++] = m;
-            } else {
-              t.w_removed.add(weight);
-              ++t.culls;
-              ++t.culled_per_bin[bin_of(stop)];
-            }
-          }
-          next.resize(kept);
-        }
-        for (std::size_t i = first; i < next.size(); ++i) next[i].index = i - first;
-        book.changed(grid_of(stop), t);
-        if (alive_before_roulette && book.dead()) ++t.lines_ended[grid_of(stop)];
-        // a line with no member in flight (all escaped, stuck, or removed) closes its last stretch
-        if (next.size() == first) book.close(t);
-      } else {
-        book.close(t);
-      }
-      a = b;
-    }
-    pop.swap(next);
-    if (!pop.empty()) t.levels = std::max(t.levels, k + 1);
-    t.max_population = std::max<std::uint64_t>(t.max_population, pop.size());
-  }
+  LinesRun(scene, sampler, rule, lo, hi, t).run(advance);
 }
 
 }  // namespace rotleak

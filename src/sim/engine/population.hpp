@@ -56,8 +56,8 @@ std::unique_ptr<SplitRule> make_split_rule(const Scene& scene);
 using AdvanceMembers = std::function<void(const std::vector<Member>& members, const std::vector<double>& weights,
                                           double stop, std::vector<ParticleEnd>& ends)>;
 
-/// Runs the lines of ids [lo, hi) to t_max and books them in t (Tally::split arrays, escapes_per_bin,
-/// collisions and the split statistics).
+/// Runs the lines of ids [lo, hi) to t_max and books them in t: every member's end through
+/// Tally::add_end, the lines' weights and the split statistics in its LinesEstimator.
 void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t);
 

@@ -20,8 +20,9 @@ std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& ta
   std::vector<std::uint64_t> out(tally.escapes_per_bin.size() + 1);
   std::uint64_t alive = scene.particles;
   out[0] = alive;
+  const auto* lines = tally.get_if<LinesEstimator>();
   for (std::size_t k = 0; k < tally.escapes_per_bin.size(); ++k) {
-    if (tally.split) alive += tally.born_per_bin[k] - tally.culled_per_bin[k];  // members: copies in, roulette out
+    if (lines) alive += lines->born_per_bin[k] - lines->culled_per_bin[k];  // members: copies in, roulette out
     alive -= tally.escapes_per_bin[k];
     out[k + 1] = alive;
   }
@@ -110,22 +111,22 @@ namespace {
 /// class by class (the classes a line starts in; the start cells less the cells that left), grouped: each
 /// class whose decay can be measured after the first split time on its own, the others pooled in class
 /// order; then their allowance (add_unsplit_allowance).
-void unsplit_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
+void unsplit_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
   const std::size_t points = c.t.size();
   const double n = static_cast<double>(scene.particles);
   std::vector<SurvivalCurve::UnsplitGroup> classes;
   std::vector<UnsplitCell> alive;
   std::vector<int> slot(kUnsplitClasses, -1);  // a class's place in `classes`
   for (int k = 0; k < kUnsplitClasses; ++k) {
-    const UnsplitCell& start = tally.unsplit_start[static_cast<std::size_t>(k)];
+    const UnsplitCell& start = e.unsplit_start[static_cast<std::size_t>(k)];
     if (start.lines == 0) continue;
     slot[static_cast<std::size_t>(k)] = static_cast<int>(classes.size());
     classes.emplace_back().classes = {k};
     alive.push_back(start);
   }
-  auto next_cell = tally.unsplit_left.begin();
+  auto next_cell = e.unsplit_left.begin();
   for (std::size_t j = 0; j < points; ++j) {
-    for (; next_cell != tally.unsplit_left.end() && next_cell->first / kUnsplitClasses == j; ++next_cell) {
+    for (; next_cell != e.unsplit_left.end() && next_cell->first / kUnsplitClasses == j; ++next_cell) {
       const int q = slot[next_cell->first % kUnsplitClasses];
       // a line leaves only the class it started in: more leaving than started is a damaged tally
       if (q < 0) throw std::logic_error("unsplit lines left a weight class no line started in");
@@ -169,20 +170,39 @@ void unsplit_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
   add_unsplit_allowance(c);
 }
 
-/// The split run's P, R, G and lines alive from the exact line tallies.
-void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
+/// Each estimator's part of the curve. Counting: the survivors' counts are the whole curve.
+void build_curve(const Scene& /*scene*/, const CountingEstimator& /*e*/, SurvivalCurve& /*c*/) {}
+
+/// Weighted: P_w and Q from the exact cumulative sums, rounded once per grid point.
+void build_curve(const Scene& scene, const WeightedEstimator& e, SurvivalCurve& c) {
+  c.weighted = true;
+  c.max_weight = scene.sampling.max_weight();
+  const double n = static_cast<double>(scene.particles);
+  FixedSum w = e.total_w, w2 = e.total_w2;
+  c.P_w.push_back(w.value() / n);
+  c.Q.push_back(w2.value() / n);
+  for (std::size_t k = 0; k < e.escaped_w.size(); ++k) {
+    w = w.minus(e.escaped_w[k]);
+    w2 = w2.minus(e.escaped_w2[k]);
+    c.P_w.push_back(w.value() / n);
+    c.Q.push_back(w2.value() / n);
+  }
+}
+
+/// Lines: the split run's P, R, G and lines alive from the exact line tallies, then the unsplit lines.
+void build_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
   c.weighted = c.lines = true;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
   FixedSum in, out, in2, out2;
   std::uint64_t ended = 0;
   double g = 0;
-  for (std::size_t j = 0; j < tally.line_in.size(); ++j) {
-    in.merge(tally.line_in[j]);
-    out.merge(tally.line_out[j]);
-    in2.merge(tally.line2_in[j]);
-    out2.merge(tally.line2_out[j]);
-    ended += tally.lines_ended[j];
+  for (std::size_t j = 0; j < e.line_in.size(); ++j) {
+    in.merge(e.line_in[j]);
+    out.merge(e.line_out[j]);
+    in2.merge(e.line2_in[j]);
+    out2.merge(e.line2_out[j]);
+    ended += e.lines_ended[j];
     const FixedSum y = in.minus(out), y2 = in2.minus(out2);  // exact: sum Y_i(t_j), sum Y_i(t_j)^2
     c.P_w.push_back(y.value() / n);
     // R = N sum Y^2 / (sum Y)^2 from the scaled sums (sum Y^2 may lie far below the double range)
@@ -193,7 +213,7 @@ void line_curve(const Scene& scene, const Tally& tally, SurvivalCurve& c) {
     c.G.push_back(g);
     c.lines_alive.push_back(scene.particles - ended);
   }
-  unsplit_curve(scene, tally, c);
+  unsplit_curve(scene, e, c);
 }
 
 }  // namespace
@@ -203,23 +223,7 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   c.t = survival_times(scene);
   c.survivors = survivors_on_grid(scene, tally);
   c.particles = scene.particles;
-  if (tally.split) {
-    line_curve(scene, tally, c);
-  } else if (tally.weighted) {
-    // exact cumulative sums, rounded once per grid point
-    c.weighted = true;
-    c.max_weight = scene.sampling.max_weight();
-    const double n = static_cast<double>(scene.particles);
-    FixedSum w = tally.total_w, w2 = tally.total_w2;
-    c.P_w.push_back(w.value() / n);
-    c.Q.push_back(w2.value() / n);
-    for (std::size_t k = 0; k < tally.escaped_w.size(); ++k) {
-      w = w.minus(tally.escaped_w[k]);
-      w2 = w2.minus(tally.escaped_w2[k]);
-      c.P_w.push_back(w.value() / n);
-      c.Q.push_back(w2.value() / n);
-    }
-  }
+  std::visit([&](const auto& e) { build_curve(scene, e, c); }, tally.estimator);
   return c;
 }
 

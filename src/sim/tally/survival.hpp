@@ -43,7 +43,7 @@ struct SurvivalCurve {
   /// independent increments with the variance the lines show; the running maximum keeps that
   /// variance from falling where the spread of a few lines happens to dip.
   std::vector<double> G;
-  /// Split runs: the unsplit lines (Tally::unsplit_start and unsplit_left) on the grid: in all (their
+  /// Split runs: the unsplit lines (LinesEstimator::unsplit_start and unsplit_left) on the grid: in all (their
   /// count and their weight sum over N, their share of P) and in groups for the allowance for lines not
   /// drawn (add_unsplit_allowance): each weight class whose decay can be measured after the first split
   /// time (at least 2 kUnsplitReliable lines there), and the other classes pooled. A group holds its
