@@ -105,7 +105,7 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
       run_released<rotleak::RunSummary>([&] { return rotleak::run_scene(std::move(scene), opt); });
   if (raised) throw std::move(*raised);
   if (!summary) raise_keyboard_interrupt("rotleak.simulate interrupted: the run was stopped between blocks");
-  const rotleak::RunTexts texts = rotleak::run_texts(*summary);
+  const rotleak::RunTexts texts = rotleak::run_files(*summary, summary->scene.particles, false);
   py::list out;
   for (const auto& [name, text] : texts.files) out.append(py::make_tuple(name, py::bytes(text)));
   return out;

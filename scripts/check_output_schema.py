@@ -270,6 +270,31 @@ def check_json(path, schemas, summary, errors):
     check_keys(path, doc, schemas[kind], errors)
 
 
+def check_tally(path, errors):
+    """tally.bin (src/io/tally_file.hpp): the format line docs/output.md names, the header's length and JSON
+    header with its keys, and the FNV-1a 64 checksum of everything before the last 8 bytes."""
+    with open(path, "rb") as f:
+        data = f.read()
+    with open(DOCS) as f:
+        named = re.search(r"format `(rotleak-tallies \d+)`", f.read())
+    magic = (named.group(1) + "\n").encode() if named else b"?"
+    if not data.startswith(magic):
+        errors.append(f"{path}: does not start with the format line docs/output.md names ({magic!r})")
+        return
+    nl = data.index(b"\n", len(magic))
+    length = int(data[len(magic):nl])
+    header = json.loads(data[nl + 1:nl + 1 + length])
+    keys = {"inputs", "particles", "first_id", "of", "block_size", "done", "survival_bins", "density_bins",
+            "weighted", "split", "records"}
+    if not keys <= set(header) or set(header) - keys - {"wall_seconds"}:
+        errors.append(f"{path}: header keys {sorted(header)}")
+    h = 1469598103934665603
+    for b in data[:-8]:
+        h = ((h ^ b) * 1099511628211) % (1 << 64)
+    if h != int.from_bytes(data[-8:], "little"):
+        errors.append(f"{path}: checksum mismatch")
+
+
 def main(dirs):
     csv_schemas, json_schemas, summary = load_schemas()
     errors, checked = [], 0
@@ -290,6 +315,8 @@ def main(dirs):
                     import tomllib
                     with open(path, "rb") as f:
                         tomllib.load(f)
+                elif fname == "tally.bin":
+                    check_tally(path, errors)
                 elif fname.endswith(".png"):
                     continue
                 else:

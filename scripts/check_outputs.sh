@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Every kind of file rotleak writes, made once and read back against docs/output.md's schemas with
 # Python's csv and json and with pandas (scripts/check_output_schema.py): a run with escapes and f_c, a
-# split run, a 3-point scan, a shadow, a covering of two omegas with segments, and an audit. Then three
-# damaged copies (a row one field short, an undocumented summary.json key, a renamed column) must be
+# split run, a 3-point scan, a shadow, a covering of two omegas with segments, and an audit. Then four
+# damaged copies (a row one field short, an undocumented summary.json key, a renamed column, a flipped bit in a
+# split run's tally.bin) must be
 # refused, so the check is seen to fail where it should.
 # Usage: scripts/check_outputs.sh ROTLEAK_BINARY      Exit 1 on any violation.
 set -euo pipefail
@@ -40,4 +41,8 @@ refused "$work/bad1" "a table.csv row one field short"
 refused "$work/bad2" "an undocumented key in summary.json"
 sed '1s/P_err/P_error/' "$work/out/run/survival.csv" >"$work/bad3/survival.csv"
 refused "$work/bad3" "a renamed survival.csv column"
+mkdir -p "$work/bad4"
+"$py" -c 'import sys; d = bytearray(open(sys.argv[1], "rb").read()); d[-20] ^= 1; open(sys.argv[2], "wb").write(d)' \
+  "$work/out/split/tally.bin" "$work/bad4/tally.bin"
+refused "$work/bad4" "a tally.bin with one bit flipped"
 echo "every file matches docs/output.md; damaged copies refused"

@@ -172,6 +172,9 @@ def json_document(text: str, name: str, where: str) -> Any:
         raise RotleakError("%s: %s: not valid JSON (damaged or truncated)" % (where, name)) from None
 
 
+#: A run directory's binary files, kept as bytes: a split run's or a shard's exact tallies (docs/output.md).
+BINARY = ("tally.bin",)
+
 _FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?|-?inf|nan")
 _COUNT = re.compile(r"[0-9]+")
 
@@ -204,7 +207,8 @@ class Run:
 
     def __init__(self, files: Mapping[str, Union[str, bytes]], path: Optional[PathLike] = None) -> None:
         """files: {name: bytes or str} as a run directory holds them (summary.json required)."""
-        self._files = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in files.items()}
+        self._files = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in files.items() if k not in BINARY}
+        self._binary = {k: v for k, v in files.items() if k in BINARY and isinstance(v, bytes)}
         self.path: Optional[str] = os.fspath(path) if path is not None else None
         where = self.path or "rotleak.simulate"
         if "summary.json" not in self._files:
@@ -225,7 +229,8 @@ class Run:
                 check_survival_csv(self._files["survival.csv"], t_max, dt)
             except RotleakError as e:
                 raise RotleakError("%s: %s" % (where, e)) from None
-        missing = [f for f in self.summary.get("files", []) if f not in self._files and not f.endswith(".png")]
+        missing = [f for f in self.summary.get("files", [])
+                   if f not in self._files and f not in self._binary and not f.endswith(".png")]
         if missing:
             raise RotleakError("%s: incomplete run: summary.json lists %s, which %s missing"
                                % (where, ", ".join(missing), "is" if len(missing) == 1 else "are"))
@@ -236,11 +241,11 @@ class Run:
         """The run directory ``path`` (what :func:`read_run` does)."""
         if not os.path.isdir(path):
             raise RotleakError("%s: no such directory" % path)
-        files = {}
-        for name in ("summary.json", "survival.csv", "fc.csv", "escapes.csv", "scene.toml"):
+        files: dict[str, Union[str, bytes]] = {}
+        for name in ("summary.json", "survival.csv", "fc.csv", "escapes.csv", "scene.toml") + tuple(BINARY):
             p = os.path.join(path, name)
             if os.path.exists(p):
-                with open(p, encoding="utf-8") as f:
+                with open(p, "rb") as f:
                     files[name] = f.read()
         return cls(files, path)
 
@@ -301,10 +306,12 @@ class Run:
     def write(self, directory: PathLike) -> PathLike:
         """Writes the run's files into a new directory (each whole: a temporary name, then renamed)."""
         os.makedirs(directory, exist_ok=False)
-        for name, text in self._files.items():
+        files: list[tuple[str, bytes]] = [(k, v) for k, v in self._binary.items()]
+        files += [(k, v.encode("utf-8")) for k, v in self._files.items()]  # summary.json last, as written
+        for name, data in files:
             tmp = os.path.join(directory, "." + name + ".tmp")
-            with open(tmp, "w", encoding="utf-8") as f:
-                f.write(text)
+            with open(tmp, "wb") as f:
+                f.write(data)
             os.replace(tmp, os.path.join(directory, name))
         return directory
 

@@ -504,8 +504,7 @@ RunTexts run_texts(const RunSummary& r, const std::vector<std::string>& written)
   return out;
 }
 
-json write_run(RunDirectory& dir, const RunSummary& r, const std::vector<std::string>& written) {
-  RunTexts t = run_texts(r, written);
+json write_run(RunDirectory& dir, RunTexts t) {
   for (const auto& [name, text] : t.files)  // summary.json last: its presence marks a complete run
     write_file_atomic(dir.file(name), text);
   dir.commit();

@@ -69,8 +69,8 @@ struct RunTexts {
 };
 RunTexts run_texts(const RunSummary& s, const std::vector<std::string>& written = {});
 
-/// Writes every file of the run into the staged directory and commits it; returns summary.json.
-/// `written`: files the caller has already put there (listed in summary.json too).
-json write_run(RunDirectory& dir, const RunSummary& s, const std::vector<std::string>& written = {});
+/// Writes every file of the run (in their order: summary.json, last, marks a complete run) into the staged
+/// directory and commits it; returns summary.json.
+json write_run(RunDirectory& dir, RunTexts texts);
 
 }  // namespace rotleak

@@ -52,18 +52,17 @@ Engine saved_engine(const json& summary) {
 
 bool keeps_tally(const Scene& scene, bool shard) { return shard || scene.splitting.on; }
 
-namespace {
-
-/// The run's exact tallies into DIR/tally.bin (a run of ids from r.first_id out of `of`).
-void write_run_tally(RunDirectory& dir, const RunSummary& s, std::uint64_t of) {
+RunTexts run_files(const RunSummary& s, std::uint64_t of, bool shard) {
+  if (!keeps_tally(s.scene, shard)) return run_texts(s);
   Scene whole = s.scene;
   whole.particles = of;
   const RunResult& r = s.result;
-  write_tally_file(dir.file("tally.bin"), TallyFile{run_inputs(whole, r.engine), s.scene.particles, r.first_id, of,
-                                                    r.done, r.tally, r.records});
+  RunTexts t = run_texts(s, {"tally.bin"});
+  t.files.insert(t.files.begin(),
+                 {"tally.bin", encode_tally_file(TallyFile{run_inputs(whole, r.engine), s.scene.particles, r.first_id,
+                                                           of, r.done, r.tally, r.records})});
+  return t;
 }
-
-}  // namespace
 
 namespace {
 
@@ -281,12 +280,7 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   SimulateOutcome out;
   out.summary = run_scene(scene, req.run, req.note, &durable);
   if (team.rank() == 0) {
-    std::vector<std::string> extra;
-    if (keeps_tally(scene, req.ids.has_value())) {
-      write_run_tally(*dir, out.summary, scene.particles);
-      extra.push_back("tally.bin");
-    }
-    out.document = write_run(*dir, out.summary, extra);
+    out.document = write_run(*dir, run_files(out.summary, scene.particles, req.ids.has_value()));
     out.dir = dir->final_path();
   }
   // after the commit: a kill in between leaves a complete run and a stale checkpoint
@@ -381,12 +375,7 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   if (req.note) req.note("[rotleak] merged " + std::to_string(shards.size()) + " shards: ids 0:" + std::to_string(of));
   SimulateOutcome out;
   out.summary = summarise(scene, std::move(result));
-  std::vector<std::string> extra;
-  if (keeps_tally(scene, false)) {
-    write_run_tally(dir, out.summary, of);
-    extra.push_back("tally.bin");
-  }
-  out.document = write_run(dir, out.summary, extra);
+  out.document = write_run(dir, run_files(out.summary, of, false));
   out.dir = dir.final_path();
   return out;
 }

@@ -14,6 +14,7 @@
 
 #include "analysis/run_summary.hpp"
 #include "io/json.hpp"
+#include "io/run_output.hpp"
 #include "run/team.hpp"
 #include "sim/engine/engine.hpp"
 
@@ -58,6 +59,10 @@ Engine saved_engine(const json& summary);
 /// run's, from which rotleak fit rebuilds its survival curve exactly (survival.csv does not carry the
 /// unsplit lines' groups that its fits' errors use).
 bool keeps_tally(const Scene& scene, bool shard);
+/// Every file of a run directory (io run_texts), with tally.bin first where the run keeps its tallies: a
+/// run of ids from its first_id out of `of` (a shard's `of` is the whole run's count). What simulate and
+/// merge write and the Python module hands over.
+RunTexts run_files(const RunSummary& s, std::uint64_t of, bool shard);
 
 /// The blocks [lo, hi) rank `rank` of `ranks` runs of a run of `blocks`: the rank-th of equal runs.
 std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int rank, int ranks);

@@ -122,6 +122,24 @@ class Package(unittest.TestCase):
         out = r.write(os.path.join(self.tmp, "written"))
         self.assertEqual(rotleak.read_run(out).text("survival.csv"), d.text("survival.csv"))
 
+    def test_a_split_run_keeps_its_tallies_in_process_and_on_disk(self):
+        """A split run's tally.bin (its exact tallies, from which rotleak fit rebuilds its curve): the same bytes
+        in process and from the command; read_run keeps it, write() writes it back, rotleak fit reads it."""
+        sets = {"ensemble.sampling": "mupo", "run.splitting": True}
+        r = rotleak.simulate(QUICK, particles=3000, threads=2, overrides=sets)
+        self.assertIn("tally.bin", r.summary["files"])
+        out = r.write(os.path.join(self.tmp, "split"))
+        cmd = os.path.join(self.tmp, "split_cmd")
+        subprocess.run([BIN, "simulate", QUICK, "--particles", "3000", "--threads", "2", "--no-progress", "--out", cmd,
+                        "--set", "ensemble.sampling=mupo", "--set", "run.splitting=true"],
+                       check=True, capture_output=True)
+        with open(os.path.join(out, "tally.bin"), "rb") as a, open(os.path.join(cmd, "tally.bin"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        again = rotleak.read_run(cmd)
+        self.assertEqual(without_execution(again.summary), without_execution(r.summary))
+        subprocess.run([BIN, "fit", out], check=True, capture_output=True)
+        self.assertEqual(rotleak.read_run(out).kappa, r.kappa)
+
     def test_overrides_and_bad_input_name_the_key(self):
         r = rotleak.simulate(QUICK, particles="1e4", overrides={
             "run.t_max": 3000, "observe.escapes": False, "observe.collision_density": {"bins": 10, "windows": [[0, 3000]]}})
