@@ -248,11 +248,16 @@ RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Du
   return s;
 }
 
+Scene checked_scene(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run) {
+  Scene scene = load_scene(path, overrides);                                 // InputError names the key and value
+  check_resources(scene, run.threads);                                       // before any directory is made
+  if (!scene.tier.automatic()) check_engine("--engine", run.engine, scene);  // a bad engine fails before any work
+  return scene;
+}
+
 SimulateOutcome simulate(const SimulateRequest& req) {
   const Team& team = req.team ? *req.team : current_team();
-  const Scene scene = load_scene(req.scene_path, req.overrides);
-  check_resources(scene, req.run.threads);                                       // before any directory is made
-  if (!scene.tier.automatic()) check_engine("--engine", req.run.engine, scene);  // a bad engine fails before any work
+  const Scene scene = req.scene ? *req.scene : checked_scene(req.scene_path, req.overrides, req.run);
   if (req.ids && !(req.ids->first < req.ids->second && req.ids->second <= scene.particles))
     throw InputError("--ids", std::to_string(req.ids->first) + ":" + std::to_string(req.ids->second),
                      "must be A:B with 0 <= A < B <= ensemble.particles (" + std::to_string(scene.particles) + ")");

@@ -77,9 +77,17 @@ RunResult run_shared(const Scene& scene, RunOptions options, const Team& team);
 /// RunOptions::stop ended the run early.
 RunSummary run_scene(Scene scene, RunOptions options, const Note& note = {}, const Durability* durable = nullptr);
 
+/// The scene of path and overrides, validated once for a run with `run`'s threads and engine: its keys
+/// (load_scene), the memory it needs (check_resources) and the engine against its tier (a tier of auto is
+/// checked once chosen). Every InputError names the key or option.
+Scene checked_scene(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run);
+
 struct SimulateRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
+  /// The scene already loaded from scene_path and overrides by checked_scene (a scan's point, validated
+  /// once when the scan enumerated its points); empty: simulate loads and checks it.
+  std::optional<Scene> scene;
   std::filesystem::path out;
   bool force = false;          ///< replace an existing run directory
   RunOptions run;              ///< engine (checked against the tier run), threads, progress, stop

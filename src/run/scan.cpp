@@ -291,23 +291,28 @@ std::string scan_table_text(const json& document) {
   return out;
 }
 
-ScanOutcome scan(const ScanRequest& req) {
+namespace {
+
+/// One point of a scan: its overrides (--set, then one value per axis), directory name, swept values,
+/// the scene validated once (checked_scene) and what is recorded about it.
+struct ScanPoint {
+  std::vector<std::string> overrides;
+  std::string slug;
+  std::string inputs;  ///< the simulation's inputs, fit keys left out: a point whose fits differ is refitted
+  json values, number_theory, fit;
+  Scene scene;
+};
+
+/// Every point of the scan (the last axis varies fastest), each validated before any work.
+std::vector<ScanPoint> scan_points(const ScanRequest& req) {
   if (req.axes.empty()) throw InputError("--over", "", "at least one KEY=VALUES");
   for (std::size_t a = 0; a < req.axes.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
       if (req.axes[a].key == req.axes[b].key) throw InputError("--over", req.axes[a].key, "each key swept once");
-
-  // The points (the last axis varies fastest), each validated before any work.
   std::size_t count = 1;
   for (const ScanAxis& a : req.axes) count *= a.values.size();
   if (count > 100000) throw InputError("--over", std::to_string(count) + " points", "at most 100000 points");
-  struct Point {
-    std::vector<std::string> overrides;
-    std::string slug, inputs;
-    json values, number_theory, fit;
-    Scene scene;
-  };
-  std::vector<Point> points(count);
+  std::vector<ScanPoint> points(count);
   std::vector<std::size_t> choice(req.axes.size(), 0);
   for (std::size_t i = 0; i < count; ++i) {
     std::size_t rest = i;
@@ -315,7 +320,7 @@ ScanOutcome scan(const ScanRequest& req) {
       choice[a] = rest % req.axes[a].values.size();
       rest /= req.axes[a].values.size();
     }
-    Point& p = points[i];
+    ScanPoint& p = points[i];
     p.overrides = req.overrides;
     p.values = json::object();
     for (std::size_t a = 0; a < req.axes.size(); ++a) {
@@ -323,140 +328,119 @@ ScanOutcome scan(const ScanRequest& req) {
       p.values[req.axes[a].key] = req.axes[a].values[choice[a]];
     }
     p.slug = point_slug(i, count, req.axes, choice);
-    const Scene scene = load_scene(req.scene_path, p.overrides);  // InputError names the key and value
-    check_resources(scene, req.run.threads);
-    // the inputs of the simulation: the fit keys are left out (a point whose fits differ is refitted,
-    // not simulated again)
-    p.inputs = simulation_inputs(scene, to_string(req.run.engine));
-    p.fit = scene_json(scene).at("fit");
-    p.scene = scene;
-    p.number_theory = omega_number_theory(scene);
+    p.scene = checked_scene(req.scene_path, p.overrides, req.run);
+    p.inputs = simulation_inputs(p.scene, to_string(req.run.engine));
+    p.fit = scene_json(p.scene).at("fit");
+    p.number_theory = omega_number_theory(p.scene);
   }
+  return points;
+}
 
-  const Team& team = req.team ? *req.team : current_team();
-  const bool lead = team.rank() == 0;  // under MPI rank 0 writes and reports; every rank runs every point
-  const Note note = lead ? req.note : Note{};
-  const fs::path dir = RunDirectory::normalise(req.out);
-  const fs::path points_dir = dir / "points", manifest_path = dir / "points.json";
-  // One scan at a time writes a directory: a second one (or a refit, or a simulate into it) is refused
-  // while this one holds the lock; it once returned 0 with its points orphaned from the table.
-  std::unique_ptr<DirectoryLock> lock;
-  if (lead) {
-    const std::string shown = "\"" + req.out.string() + "\"";
-    std::error_code ec;
-    if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path(), ec);
-    if (ec) throw InputError("--out", shown, "cannot create " + dir.parent_path().string() + " (" + ec.message() + ")");
-    lock = std::make_unique<DirectoryLock>(dir, "--out", shown);
-    fs::create_directories(points_dir, ec);
-    if (ec) throw InputError("--out", shown, "cannot create " + points_dir.string() + " (" + ec.message() + ")");
-    for (auto it = req.finish_files.rbegin(); it != req.finish_files.rend(); ++it) fs::remove(dir / *it, ec);
-  }
-  team.all(true);  // the directory is there before any rank looks
-  // points.json: slug -> the inputs its run was made from, updated after each point commits. A point
-  // counts as done only when its directory is complete and its recorded inputs equal this point's.
-  json manifest = json::object();
-  if (fs::exists(manifest_path)) {
+/// The scan directory, made and locked by rank 0 for the whole scan: a second scan (or a refit, or a
+/// simulate into it) is refused while this one holds it; one once returned 0 with its points orphaned
+/// from the table. The files `finish` writes are removed first.
+std::unique_ptr<DirectoryLock> lock_scan_directory(const ScanRequest& req, const fs::path& dir) {
+  const std::string shown = "\"" + req.out.string() + "\"";
+  std::error_code ec;
+  if (!dir.parent_path().empty()) fs::create_directories(dir.parent_path(), ec);
+  if (ec) throw InputError("--out", shown, "cannot create " + dir.parent_path().string() + " (" + ec.message() + ")");
+  auto lock = std::make_unique<DirectoryLock>(dir, "--out", shown);
+  fs::create_directories(dir / "points", ec);
+  if (ec) throw InputError("--out", shown, "cannot create " + (dir / "points").string() + " (" + ec.message() + ")");
+  for (auto it = req.finish_files.rbegin(); it != req.finish_files.rend(); ++it) fs::remove(dir / *it, ec);
+  return lock;
+}
+
+/// points.json: slug -> the inputs its run was made from, updated after each point commits. A point
+/// counts as done only when its directory is complete and its recorded inputs equal this point's.
+class ScanManifest {
+ public:
+  explicit ScanManifest(fs::path path) : path_(std::move(path)) {
+    if (!fs::exists(path_)) return;
     try {
-      manifest = json::parse(read_file(manifest_path));
+      doc_ = json::parse(read_file(path_));
     } catch (const std::exception&) {
-      manifest = json::object();  // unreadable: no point is recorded
+      doc_ = json::object();  // unreadable: no point is recorded
     }
     // not an object ([] once failed the first record with exit 1): no point is recorded either, so a
     // complete point is replaced only under --force
-    if (!manifest.is_object()) manifest = json::object();
+    if (!doc_.is_object()) doc_ = json::object();
+  }
+  std::optional<std::string> recorded(const std::string& slug) const {
+    if (!doc_.contains(slug) || !doc_[slug].is_string()) return std::nullopt;
+    return doc_[slug].get<std::string>();
+  }
+  void record(const ScanPoint& p, bool write) {
+    doc_[p.slug] = p.inputs;
+    if (write) write_file_atomic(path_, doc_.dump(1) + "\n");
   }
 
-  // the inputs points.json records for a point, if any
-  const auto recorded = [&manifest](const std::string& slug) -> std::optional<std::string> {
-    if (!manifest.contains(slug) || !manifest[slug].is_string()) return std::nullopt;
-    return manifest[slug].get<std::string>();
-  };
-  // A point already run from other inputs is replaced only with --force (a 3*10^5-particle point was
-  // once overwritten by a 1000-particle one): refused before anything runs.
-  if (!req.force)
-    for (const Point& p : points) {
-      if (!fs::exists(points_dir / p.slug / "summary.json")) continue;
-      const std::optional<std::string> before = recorded(p.slug);
-      if (before == p.inputs) continue;
-      throw InputError("--out", "\"" + req.out.string() + "\"",
-                       "point " + p.slug + " holds a run of other inputs (" +
-                           (before ? inputs_difference(*before, p.inputs) + ", there vs here"
-                                   : std::string("not recorded in points.json")) +
-                           "); pass --force to replace it, or choose another --out");
-    }
+ private:
+  fs::path path_;
+  json doc_ = json::object();
+};
 
-  ScanOutcome out;
-  out.dir = dir;
-  out.points = count;
-  json timing = json::array();
-  double spent = 0;
-  std::size_t done_now = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const Point& p = points[i];
-    const fs::path pdir = points_dir / p.slug;
-    // every rank must take the same way: a point is skipped only where every rank finds it complete
-    const bool complete = team.all(fs::exists(pdir / "summary.json") && recorded(p.slug) == p.inputs);
-    if (complete && !req.force) {
-      ++out.skipped;
-      if (!lead) continue;
-      const json saved = json::parse(read_file(pdir / "summary.json"));
-      const bool same_fit = saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit;
-      if (!same_fit) refit_run(pdir, p.scene);
-      if (note)
-        note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug +
-             (same_fit ? ": complete, skipped" : ": complete, refitted under the new fit keys"));
-      continue;
-    }
-    if (note) note("[scan] point " + std::to_string(i + 1) + "/" + std::to_string(count) + " " + p.slug + ": running");
-    SimulateRequest sr;
-    sr.scene_path = req.scene_path;
-    sr.overrides = p.overrides;
-    sr.out = pdir;
-    sr.force = true;  // an incomplete or outdated point is replaced
-    // a point killed in the middle continues from its checkpoint (points/SLUG.checkpoint) when its
-    // inputs match; --force starts every point afresh
-    sr.resume = req.force ? Resume::no : Resume::if_any;
-    sr.run = req.run;
-    if (!lead) sr.run.progress = {};
-    sr.note = note;
-    sr.team = &team;
-    const auto t0 = std::chrono::steady_clock::now();
-    simulate(sr);  // every rank: the point's blocks shared among them, rank 0 writes
-    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    manifest[p.slug] = p.inputs;
-    if (lead) write_file_atomic(manifest_path, manifest.dump(1) + "\n");
-    ++out.ran;
-    ++done_now;
-    spent += sec;
-    if (note) {
-      const std::size_t left = count - i - 1;
-      char line[200];
-      std::snprintf(line, sizeof line, "[scan] point %zu/%zu done in %.1f s; %zu of %zu points complete; ETA %.0f s",
-                    i + 1, count, sec, i + 1, count, spent / static_cast<double>(done_now) * static_cast<double>(left));
-      note(line);
-    }
+/// A point already run from other inputs is replaced only with --force (a 3*10^5-particle point was once
+/// overwritten by a 1000-particle one): refused before anything runs.
+void refuse_other_inputs(const ScanRequest& req, const std::vector<ScanPoint>& points, const ScanManifest& manifest,
+                         const fs::path& points_dir) {
+  if (req.force) return;
+  for (const ScanPoint& p : points) {
+    if (!fs::exists(points_dir / p.slug / "summary.json")) continue;
+    const std::optional<std::string> before = manifest.recorded(p.slug);
+    if (before == p.inputs) continue;
+    throw InputError("--out", "\"" + req.out.string() + "\"",
+                     "point " + p.slug + " holds a run of other inputs (" +
+                         (before ? inputs_difference(*before, p.inputs) + ", there vs here"
+                                 : std::string("not recorded in points.json")) +
+                         "); pass --force to replace it, or choose another --out");
   }
-  if (!lead) return out;
+}
 
-  // The table and scan.json from the points on disk, whether run now or before.
-  std::vector<json> summaries;
+/// A complete point's summary as saved, refitted first if its fit keys differ from the point's.
+json saved_point(const ScanPoint& p, const fs::path& pdir, bool& refitted) {
+  json saved = json::parse(read_file(pdir / "summary.json"));
+  refitted = !(saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit);
+  return refitted ? refit_run(pdir, p.scene) : saved;
+}
+
+/// Runs one point into pdir (every rank: its blocks shared among them, rank 0 writes); returns its
+/// summary.json as written. A point killed in the middle continues from its checkpoint
+/// (points/SLUG.checkpoint) when its inputs match; --force starts every point afresh.
+json run_point(const ScanRequest& req, const ScanPoint& p, const fs::path& pdir, const Team& team, const Note& note) {
+  SimulateRequest sr;
+  sr.scene_path = req.scene_path;
+  sr.overrides = p.overrides;
+  sr.scene = p.scene;
+  sr.out = pdir;
+  sr.force = true;  // an incomplete or outdated point is replaced
+  sr.resume = req.force ? Resume::no : Resume::if_any;
+  sr.run = req.run;
+  if (team.rank() != 0) sr.run.progress = {};
+  sr.note = note;
+  sr.team = &team;
+  return simulate(sr).document;
+}
+
+/// The row scan.json keeps of a point, from its summary.
+json scan_row(const ScanPoint& p, const json& s) {
+  json row = {{"point", p.slug}, {"values", p.values}};
+  for (const char* key : {"kappa", "alpha", "tail", "predicted", "rate_jumps"}) row[key] = s.at(key);
+  row["number_theory"] = p.number_theory;
+  row["particles"] = s.at("particles");
+  row["collisions"] = s.at("collisions");
+  row["wall_seconds"] = s.at("execution").at("wall_seconds");
+  return row;
+}
+
+/// table.csv and scan.json from the points' summaries (as run now, or as saved), written by rank 0.
+void write_scan_results(const ScanRequest& req, const std::vector<ScanPoint>& points, std::vector<json> summaries,
+                        const fs::path& dir, ScanOutcome& out) {
   json rows = json::array();
-  for (const Point& p : points) {
-    json s = json::parse(read_file(points_dir / p.slug / "summary.json"));
-    json row = {{"point", p.slug}, {"values", p.values}};
-    row["kappa"] = s.at("kappa");
-    row["alpha"] = s.at("alpha");
-    row["tail"] = s.at("tail");
-    row["predicted"] = s.at("predicted");
-    row["rate_jumps"] = s.at("rate_jumps");
-    row["number_theory"] = p.number_theory;
-    row["particles"] = s.at("particles");
-    row["collisions"] = s.at("collisions");
-    row["wall_seconds"] = s.at("execution").at("wall_seconds");
-    rows.push_back(row);
-    s["scan_values"] = p.values;
-    s["number_theory"] = p.number_theory;
-    summaries.push_back(std::move(s));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    rows.push_back(scan_row(points[i], summaries[i]));
+    summaries[i]["scan_values"] = points[i].values;
+    summaries[i]["number_theory"] = points[i].number_theory;
   }
   out.csv = scan_table_csv(req.axes, summaries);
   json axes = json::array();
@@ -465,6 +449,56 @@ ScanOutcome scan(const ScanRequest& req) {
                   {"axes", axes},      {"points", rows},       {"ran", out.ran},          {"skipped", out.skipped}};
   write_file_atomic(dir / "table.csv", out.csv);
   write_file_atomic(dir / "scan.json", out.document.dump(2) + "\n");
+}
+
+}  // namespace
+
+ScanOutcome scan(const ScanRequest& req) {
+  const std::vector<ScanPoint> points = scan_points(req);
+  const Team& team = req.team ? *req.team : current_team();
+  const bool lead = team.rank() == 0;  // under MPI rank 0 writes and reports; every rank runs every point
+  const Note note = lead ? req.note : Note{};
+  const fs::path dir = RunDirectory::normalise(req.out), points_dir = dir / "points";
+  const std::unique_ptr<DirectoryLock> lock = lead ? lock_scan_directory(req, dir) : nullptr;
+  team.all(true);  // the directory is there before any rank looks
+  ScanManifest manifest(dir / "points.json");
+  refuse_other_inputs(req, points, manifest, points_dir);
+  ScanOutcome out;
+  out.dir = dir;
+  out.points = points.size();
+  std::vector<json> summaries(points.size());
+  double spent = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const ScanPoint& p = points[i];
+    const fs::path pdir = points_dir / p.slug;
+    const std::string which = "[scan] point " + std::to_string(i + 1) + "/" + std::to_string(points.size()) + " ";
+    // every rank must take the same way: a point is skipped only where every rank finds it complete
+    if (team.all(fs::exists(pdir / "summary.json") && manifest.recorded(p.slug) == p.inputs) && !req.force) {
+      ++out.skipped;
+      if (!lead) continue;
+      bool refitted = false;
+      summaries[i] = saved_point(p, pdir, refitted);
+      if (note)
+        note(which + p.slug + (refitted ? ": complete, refitted under the new fit keys" : ": complete, skipped"));
+      continue;
+    }
+    if (note) note(which + p.slug + ": running");
+    const auto t0 = std::chrono::steady_clock::now();
+    summaries[i] = run_point(req, p, pdir, team, note);
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    manifest.record(p, lead);
+    spent += sec;
+    ++out.ran;
+    if (note) {
+      char line[200];
+      std::snprintf(line, sizeof line, "[scan] point %zu/%zu done in %.1f s; %zu of %zu points complete; ETA %.0f s",
+                    i + 1, points.size(), sec, i + 1, points.size(),
+                    spent / static_cast<double>(out.ran) * static_cast<double>(points.size() - i - 1));
+      note(line);
+    }
+  }
+  if (!lead) return out;
+  write_scan_results(req, points, std::move(summaries), dir, out);
   if (req.finish) req.finish(out);
   return out;
 }
