@@ -164,86 +164,128 @@ TallyFile read_checkpoint(const fs::path& path, const Durability& durable, const
 
 }  // namespace
 
-RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Durability* durable) {
-  std::optional<std::string> choice;
-  if (scene.tier.automatic()) {
-    if (note) note("[rotleak] run.tier = auto: auditing float, double, long double on this scene...");
-    TierChoice c = choose_tier(scene, options.threads);
-    scene.tier = c.tier;
-    choice = std::move(c.reason);
+namespace {
+
+/// A tier of auto chosen by auditing float, double and long double on the scene (verify/auto_tier): the
+/// scene gets the tier, the caller its reason. Nothing for a scene with a tier of its own.
+std::optional<std::string> choose_auto_tier(Scene& scene, int threads, const Note& note) {
+  if (!scene.tier.automatic()) return std::nullopt;
+  if (note) note("[rotleak] run.tier = auto: auditing float, double, long double on this scene...");
+  TierChoice c = choose_tier(scene, threads);
+  scene.tier = c.tier;
+  return std::move(c.reason);
+}
+
+/// A run that keeps checkpoints, resumes, runs a shard's ids or shares its blocks among MPI ranks: its
+/// share, the checkpoint it resumes from, the checkpoints it writes, and the ranks' parts merged at the end.
+class DurableRun {
+ public:
+  DurableRun(Scene scene, RunOptions options, const Note& note, const Durability& durable)
+      : scene_(std::move(scene)),
+        options_(std::move(options)),
+        note_(note),
+        durable_(durable),
+        team_(durable.team ? *durable.team : current_team()),
+        whole_(scene_.particles),
+        inputs_(run_inputs(scene_, resolve_engine(options_.engine, scene_))) {
+    if (durable.ids) {
+      scene_.particles = durable.ids->second - durable.ids->first;
+      options_.first_id = durable.ids->first;
+    }
+    share_ = rank_share(block_count(scene_.particles), team_.rank(), team_.size());
+    if (!durable.path.empty()) path_ = rank_checkpoint(durable.path, team_.rank(), team_.size());
   }
+
+  RunSummary run() {
+    resume();
+    if (!path_.empty()) {
+      options_.checkpoint_seconds = scene_.checkpoint_seconds;
+      options_.checkpoint = [this](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
+        write_tally_file(path_, timed(tally_file(done, t, rec)));
+      };
+    }
+    RunResult result = run_ensemble(scene_, options_);
+    result.wall_seconds += saved_.wall_seconds;
+    const std::uint64_t n = scene_.particles;
+    if (!team_.all(result.complete)) {  // stopped (on some rank): every rank keeps what it has done
+      if (result.complete && !path_.empty())
+        write_tally_file(path_, timed(tally_file(result.done, result.tally, result.records)));
+      throw RunInterrupted(path_, particles_in(result.done, n),
+                           particles_in(IntervalSet::range(share_.first, share_.second), n));
+    }
+    if (team_.size() > 1) {
+      if (!merge_at_rank0(team_, result, encode_tally_file(tally_file(result.done, result.tally, result.records)),
+                          scene_)) {  // rank 0 summarises and writes
+        RunSummary s;
+        s.scene = scene_;
+        return s;
+      }
+      result.ranks = team_.size();
+    }
+    if (durable_.ids) result.of = whole_;
+    return summarise(scene_, std::move(result));
+  }
+
+ private:
+  /// The checkpoint read (every rank agreeing on any failure), and the run set to go on from it: the
+  /// blocks of this rank's share not done yet.
+  void resume() {
+    std::exception_ptr failure;
+    try {
+      saved_ = read_checkpoint(path_, durable_, inputs_, options_.first_id, scene_.particles, share_.first,
+                               share_.second, block_count(scene_.particles), team_.size(), note_);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    agree(team_, failure);
+    todo_ = saved_.done.complement_in(share_.first, share_.second);
+    options_.blocks = &todo_;
+    options_.start_done = &saved_.done;
+    if (!saved_.done.empty()) {
+      options_.start = &saved_.tally;
+      options_.start_records = &saved_.records;
+    }
+  }
+  /// This run's tallies as a tally file (checkpoints, the ranks' parts).
+  TallyFile tally_file(const IntervalSet& done, const Tally& t, const std::vector<EscapeRecord>& rec) const {
+    return TallyFile{inputs_, scene_.particles, options_.first_id, whole_, done, t, rec};
+  }
+  /// A checkpoint keeps the time spent so far, so that a resumed run reports the whole run's time beside
+  /// the whole run's collisions (the rate was once ~2x too high after a resume).
+  TallyFile timed(TallyFile f) const {
+    f.wall_seconds =
+        saved_.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    return f;
+  }
+
+  Scene scene_;
+  RunOptions options_;
+  const Note& note_;
+  const Durability& durable_;
+  const Team& team_;
+  const std::uint64_t whole_;
+  const std::string inputs_;
+  std::pair<std::uint64_t, std::uint64_t> share_;
+  fs::path path_;
+  TallyFile saved_;
+  IntervalSet todo_;
+  const std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Durability* durable) {
+  std::optional<std::string> choice = choose_auto_tier(scene, options.threads, note);
   check_engine("--engine", options.engine, scene);
-  if (!durable) {
+  RunSummary s;
+  if (durable) {
+    s = DurableRun(std::move(scene), std::move(options), note, *durable).run();
+  } else {
     RunResult result = run_ensemble(scene, options);
     if (!result.complete)  // stopped: a part of the ensemble is not a run to summarise
       throw RunInterrupted({}, particles_in(result.done, scene.particles), scene.particles);
-    RunSummary s = summarise(scene, std::move(result));
-    s.tier_choice = std::move(choice);
-    return s;
+    s = summarise(scene, std::move(result));
   }
-
-  const Team& team = durable->team ? *durable->team : current_team();
-  const int rank = team.rank(), ranks = team.size();
-  const std::uint64_t whole = scene.particles;
-  const std::string inputs = run_inputs(scene, resolve_engine(options.engine, scene));
-  if (durable->ids) {
-    scene.particles = durable->ids->second - durable->ids->first;
-    options.first_id = durable->ids->first;
-  }
-  const std::uint64_t first = options.first_id, n = scene.particles, blocks = block_count(n);
-  const auto [share_lo, share_hi] = rank_share(blocks, rank, ranks);
-  const fs::path path = durable->path.empty() ? fs::path{} : rank_checkpoint(durable->path, rank, ranks);
-  TallyFile saved;
-  std::exception_ptr failure;
-  try {
-    saved = read_checkpoint(path, *durable, inputs, first, n, share_lo, share_hi, blocks, ranks, note);
-  } catch (...) {
-    failure = std::current_exception();
-  }
-  agree(team, failure);
-  const IntervalSet todo = saved.done.complement_in(share_lo, share_hi);
-  options.blocks = &todo;
-  options.start_done = &saved.done;
-  if (!saved.done.empty()) {
-    options.start = &saved.tally;
-    options.start_records = &saved.records;
-  }
-  // this run's tallies as a tally file (checkpoints, the ranks' parts)
-  const auto tally_file = [&](const IntervalSet& done, const Tally& t, const std::vector<EscapeRecord>& rec) {
-    return TallyFile{inputs, n, first, whole, done, t, rec};
-  };
-  // a checkpoint keeps the time spent so far, so that a resumed run reports the whole run's time beside
-  // the whole run's collisions (the rate was once ~2x too high after a resume)
-  const double spent_before = saved.wall_seconds;
-  const auto started = std::chrono::steady_clock::now();
-  const auto timed = [&](TallyFile f) {
-    f.wall_seconds = spent_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return f;
-  };
-  if (!path.empty()) {
-    options.checkpoint_seconds = scene.checkpoint_seconds;
-    options.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
-      write_tally_file(path, timed(tally_file(done, t, rec)));
-    };
-  }
-  RunResult result = run_ensemble(scene, options);
-  result.wall_seconds += spent_before;
-  if (!team.all(result.complete)) {  // stopped (on some rank): every rank keeps what it has done
-    if (result.complete && !path.empty())
-      write_tally_file(path, timed(tally_file(result.done, result.tally, result.records)));
-    throw RunInterrupted(path, particles_in(result.done, n), particles_in(IntervalSet::range(share_lo, share_hi), n));
-  }
-  if (ranks > 1) {
-    if (!merge_at_rank0(team, result, encode_tally_file(tally_file(result.done, result.tally, result.records)),
-                        scene)) {  // rank 0 summarises and writes
-      RunSummary s;
-      s.scene = scene;
-      return s;
-    }
-    result.ranks = ranks;
-  }
-  if (durable->ids) result.of = whole;
-  RunSummary s = summarise(scene, std::move(result));
   s.tier_choice = std::move(choice);
   return s;
 }
