@@ -19,6 +19,12 @@
 
 namespace rotleak {
 
+std::string toml_float(double x) {
+  std::string text = shortest(x);
+  if (text.find_first_of(".en") == std::string::npos) text += ".0";
+  return text;
+}
+
 namespace {
 
 // The keys a scene may hold. Anything else is an error: a misspelt key must not be silently ignored.
@@ -34,13 +40,6 @@ const std::map<std::string, std::set<std::string>> kSchema = {
 const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
 const std::set<std::string> kCountKeys = {"ensemble.particles", "ensemble.seed", "run.split_cap", "fit.min_survivors"};
-
-/// A float as TOML writes it: the shortest decimal that reads back, with a point (1000.0, not 1000).
-std::string toml_float(double x) {
-  std::string text = shortest(x);
-  if (text.find_first_of(".en") == std::string::npos) text += ".0";
-  return text;
-}
 
 std::string shown(const toml::node& n) {
   std::ostringstream os;
@@ -300,11 +299,8 @@ void read_splitting(const Reader& in, Scene& s) {
     throw InputError("run.split_cap", std::to_string(s.splitting.cap), "must be at most 10^6 members of a line");
 }
 
-Scene build(const toml::table& root, const std::string& source) {
-  check_known_keys(root);
-  Reader in{root};
-  Scene s;
-  s.source = source;
+/// The stadium and the leak: exact values, positive, and normal in double (the tiers run them rounded).
+void read_geometry(const Reader& in, Scene& s) {
   s.d = in.exact("stadium", "d", s.d_text, s.d);
   s.r = in.exact("stadium", "r", s.r_text, s.r);
   s.width = in.exact("leak", "width", s.width_text, s.width);
@@ -322,18 +318,23 @@ Scene build(const toml::table& root, const std::string& source) {
       throw InputError(key, "\"" + *text + "\"",
                        "rounds to " + shortest(value->to_double()) +
                            " in double, which the tiers run: give a value of at least 2.3e-308");
+}
 
+/// The ensemble's size, seed and initial conditions, and the run's length.
+void read_ensemble(const Reader& in, Scene& s) {
   s.particles = in.count("ensemble", "particles", s.particles, 1, "must be an integer >= 1");
   s.seed = in.count("ensemble", "seed", s.seed, 0, "must be an integer >= 0");
   s.init =
       in.word("ensemble", "init", "birkhoff", {"birkhoff", "flow"}) == "flow" ? InitKind::flow : InitKind::birkhoff;
   s.t_max = in.number(
       "run", "t_max", s.t_max, [](double v) { return v > 0 && v <= 1e12; }, "must be a number in (0, 1e12]");
-  const double t_max = s.t_max;
   s.creation_window = in.number(
-      "ensemble", "creation_window", s.creation_window, [&](double v) { return v >= 0 && v <= t_max; },
-      "must be in [0, run.t_max] = [0, " + shortest(t_max) + "] (particles are created within it)");
-  check_physics(s, in.find("run", "t_max") != nullptr);
+      "ensemble", "creation_window", s.creation_window, [&](double v) { return v >= 0 && v <= s.t_max; },
+      "must be in [0, run.t_max] = [0, " + shortest(s.t_max) + "] (particles are created within it)");
+}
+
+/// ensemble.sampling and its parameters (the parameters only with mupo).
+void read_sampling(const Reader& in, Scene& s) {
   s.sampling.kind = in.word("ensemble", "sampling", "uniform", {"uniform", "mupo"}) == "mupo" ? SamplingKind::mupo
                                                                                               : SamplingKind::uniform;
   if (const toml::node* n = in.find("ensemble", "sampling_eps")) {
@@ -355,6 +356,10 @@ Scene build(const toml::table& root, const std::string& source) {
     if (!(s.sampling.p_min >= 1e-300 && s.sampling.p_min < s.sampling.p_max && s.sampling.p_max < 1))
       throw InputError("ensemble.sampling_p", shown(*n), allowed);
   }
+}
+
+/// The run's tier, fast-forward and checkpoint period.
+void read_run_options(const Reader& in, Scene& s) {
   if (const toml::node* n = in.find("run", "tier")) {
     const auto name = n->as_string();
     const auto tier = name ? Tier::parse(name->get()) : std::nullopt;
@@ -372,10 +377,13 @@ Scene build(const toml::table& root, const std::string& source) {
   s.checkpoint_seconds = in.number(
       "run", "checkpoint_seconds", s.checkpoint_seconds, [](double v) { return v >= 0 && v <= 1e7; },
       "must be a number of seconds in [0, 1e7] (0: no periodic checkpoints)");
-  read_splitting(in, s);
+}
+
+/// What is observed: the survival grid, the collision density f_c and its windows, escape records.
+void read_observe(const Reader& in, Scene& s) {
   s.survival_dt = in.number(
-      "observe", "survival_dt", s.survival_dt, [&](double v) { return v > 0 && t_max / v <= 1e8; },
-      "must be > 0 with run.t_max / survival_dt <= 1e8 bins (run.t_max = " + shortest(t_max) + ")");
+      "observe", "survival_dt", s.survival_dt, [&](double v) { return v > 0 && s.t_max / v <= 1e8; },
+      "must be > 0 with run.t_max / survival_dt <= 1e8 bins (run.t_max = " + shortest(s.t_max) + ")");
   if (const toml::node* n = in.find("observe", "collision_density")) {
     auto t = n->as_table();
     if (!t)
@@ -413,6 +421,10 @@ Scene build(const toml::table& root, const std::string& source) {
     if (!b) throw InputError("observe.escapes", shown(*n), "must be true or false");
     s.escape_records = b->get();
   }
+}
+
+/// The fits' keys.
+void read_fit(const Reader& in, Scene& s) {
   if (const toml::node* n = in.find("fit", "kappa_window")) {
     s.kappa_window = Reader::window("fit.kappa_window", *n);
     if (s.kappa_window.to > s.t_max) throw InputError("fit.kappa_window", shown(*n), "must end at or before run.t_max");
@@ -427,6 +439,10 @@ Scene build(const toml::table& root, const std::string& source) {
   s.tail_floor = in.number(
       "fit", "tail_floor", s.tail_floor, [](double v) { return v > 0 && v < 1; },
       "must be in (0, 1): the weakest tail weight a regime claims to exclude");
+}
+
+/// What splitting needs of the rest of the scene: the double tier, mupo draws, no escape records.
+void check_splitting_needs(const Scene& s) {
   if (s.splitting.on && s.tier != Tier::double_)
     throw InputError("run.splitting", "true",
                      "runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
@@ -438,6 +454,22 @@ Scene build(const toml::table& root, const std::string& source) {
   if (s.splitting.on && s.escape_records)
     throw InputError("run.splitting", "true",
                      "keeps no per-particle escape records (a line has many members): set observe.escapes = false");
+}
+
+Scene build(const toml::table& root, const std::string& source) {
+  check_known_keys(root);
+  Reader in{root};
+  Scene s;
+  s.source = source;
+  read_geometry(in, s);
+  read_ensemble(in, s);
+  check_physics(s, in.find("run", "t_max") != nullptr);
+  read_sampling(in, s);
+  read_run_options(in, s);
+  read_splitting(in, s);
+  read_observe(in, s);
+  read_fit(in, s);
+  check_splitting_needs(s);
   return s;
 }
 
@@ -501,97 +533,6 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   std::stringstream ss;
   ss << f.rdbuf();
   return parse_scene(ss.str(), overrides, path);
-}
-
-json scene_json(const Scene& s) {
-  json j;
-  j["source"] = s.source;
-  j["stadium"] = {{"d", s.d_text}, {"r", s.r_text}};
-  j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
-  j["ensemble"] = {{"particles", s.particles},
-                   {"seed", s.seed},
-                   {"init", to_string(s.init)},
-                   {"creation_window", s.creation_window}};
-  if (s.sampling.weighted()) {
-    j["ensemble"]["sampling"] = to_string(s.sampling.kind);
-    j["ensemble"]["sampling_eps"] = s.sampling.eps;
-    j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};
-  }
-  j["run"] = {{"t_max", s.t_max},
-              {"tier", to_string(s.tier)},
-              {"fast_forward", s.fast_forward},
-              {"checkpoint_seconds", s.checkpoint_seconds}};
-  if (s.splitting.on) {  // written only when on: the inputs of every other run stay as they were
-    j["run"]["splitting"] = true;
-    j["run"]["split_every"] = s.splitting.every;
-    j["run"]["split_delta"] = s.splitting.delta;
-    j["run"]["split_cap"] = s.splitting.cap;
-  }
-  json obs = {{"survival_dt", s.survival_dt}, {"escapes", s.escape_records}};
-  if (s.collision_density) {
-    json w = json::array();
-    for (const auto& win : s.collision_density->windows) w.push_back({win.from, win.to});
-    obs["collision_density"] = {{"bins", s.collision_density->bins}, {"windows", w}};
-  }
-  j["observe"] = obs;
-  j["fit"] = {{"kappa_window", {s.kappa_window.from, s.kappa_window.to}},
-              {"alpha_factor", s.alpha_factor},
-              {"alpha_sigma", s.alpha_sigma},
-              {"min_survivors", s.min_survivors},
-              {"tail_floor", s.tail_floor}};
-  return j;
-}
-
-namespace {
-
-/// A JSON value as a TOML value: strings in JSON's escapes (valid TOML basic strings), floats with
-/// a decimal point so they read back as floats, arrays and objects inline.
-std::string toml_value(const json& v) {
-  switch (v.type()) {
-    case json::value_t::number_float:
-      return toml_float(v.get<double>());
-    case json::value_t::array: {
-      std::string out = "[";
-      for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + toml_value(v[i]);
-      return out + "]";
-    }
-    case json::value_t::object: {
-      std::string out = "{ ";
-      bool first = true;
-      for (const auto& [k, x] : v.items()) {
-        out += (first ? "" : ", ") + k + " = " + toml_value(x);
-        first = false;
-      }
-      return out + " }";
-    }
-    default:
-      return v.dump();  // strings, integers, booleans: JSON's text is TOML's
-  }
-}
-
-}  // namespace
-
-std::string scene_to_toml(const Scene& s) { return scene_to_toml(scene_json(s)); }
-
-std::string simulation_inputs(const Scene& scene, const std::string& engine) {
-  Scene physics = scene;
-  physics.kappa_window = {0, 0};
-  physics.alpha_factor = physics.alpha_sigma = 0;
-  physics.min_survivors = 0;
-  json doc = scene_json(physics);
-  doc["run"].erase("checkpoint_seconds");
-  doc["fit"].erase("tail_floor");  // added after the others: the inputs of earlier runs and scans stay as they were
-  return scene_to_toml(doc) + "# engine = " + engine + "\n";
-}
-
-std::string scene_to_toml(const json& doc) {
-  std::string out;
-  for (const auto& [section, keys] : doc.items()) {
-    if (!keys.is_object()) continue;  // "source": where it came from, not part of the scene
-    out += (out.empty() ? "[" : "\n[") + section + "]\n";
-    for (const auto& [k, v] : keys.items()) out += k + " = " + toml_value(v) + "\n";
-  }
-  return out;
 }
 
 }  // namespace rotleak

@@ -19,6 +19,8 @@ Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& 
 
 /// The scene as a JSON object: "source", then one object per TOML section, exact keys as their text.
 json scene_json(const Scene& s);
+/// A float as TOML writes it: the shortest decimal that reads back, with a point (1000.0, not 1000).
+std::string toml_float(double x);
 /// The scene as TOML text that parse_scene reads back to the same scene (scene_json, rendered as TOML).
 std::string scene_to_toml(const Scene& s);
 /// A scene_json document rendered as TOML.
