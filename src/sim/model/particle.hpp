@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "geometry/formulas.hpp"
 #include "geometry/stadium.hpp"
@@ -182,6 +183,92 @@ SumRun<R> next_run(R x, R d, long cap) {
   return {inc, len < 1 ? 1 : len};
 }
 
+namespace fast_forward_steps {
+
+/// The first bounce of the stretch s (1 .. J) that leaves the straight edges (why 1) or passes t_max
+/// (why 2); {J + 1, 0}: none. x_j and t_j are monotone in j (a fixed increment, exact): so "left the
+/// straight edges" and "past t_max" are false up to some j and true after, and bisection finds it.
+template <class R>
+std::pair<long, int> first_edge_or_time(const Model<R>& m, const Stretch<R>& s, long J) {
+  const R half_d = m.stadium.half_d();
+  const long j_arc = first_true(1, J + 1, [&](long j) {
+    const R v = s.x_at(j);
+    return !(v <= half_d && v >= -half_d);
+  });
+  const long j_time = first_true(1, J + 1, [&](long j) { return s.t_at(j) > m.t_max; });
+  std::pair<long, int> stop{J + 1, 0};
+  if (j_arc < stop.first) stop = {j_arc, 1};
+  if (j_time < stop.first) stop = {j_time, 2};
+  return stop;
+}
+
+/// The first bounce of the stretch s (1 .. J) inside a stationary leak's windows; J + 1: none. A
+/// stationary leak is a fixed set of x windows per edge, and consecutive bounces alternate edges:
+/// bounces of one parity meet one edge's windows, at monotone x, so the first bounce inside a window is
+/// again a bisection -- no per-bounce test over millions of bounces.
+template <class R>
+long first_window_bounce(const Model<R>& m, const Stretch<R>& s, long J) {
+  long stop = J + 1;
+  for (int parity = 1; parity <= 2; ++parity) {
+    const auto& pw = m.leak.windows(s.piece(parity));
+    for (int w = 0; w < pw.n; ++w) {
+      // x_j in [lo, hi] is an interval of j (monotone x_j); search it among j = parity, parity + 2, ...
+      const R lo = pw.w[w].lo, hi = pw.w[w].hi;
+      auto before = [&](long j) {  // x_j has not reached the window yet (in the direction of motion)
+        const R v = s.x_at(j);
+        return s.dx > 0 ? v < lo : v > hi;
+      };
+      // smallest j of this parity with !before(j)
+      long a = 0, b = (J - parity) / 2;  // j = parity + 2 i, i in [0, b]
+      if (b < 0 || before(parity + 2 * b)) continue;
+      while (a < b) {
+        const long mid = a + (b - a) / 2;
+        if (before(parity + 2 * mid))
+          a = mid + 1;
+        else
+          b = mid;
+      }
+      const long j = parity + 2 * a;
+      const R v = s.x_at(j);
+      if (v >= lo && v <= hi && j < stop) stop = j;
+    }
+  }
+  return stop;
+}
+
+/// The first bounce of the stretch s (1 .. upto) that a moving leak covers; upto + 1: none. A moving
+/// leak has no fixed windows: the phase at every bounce time is tested (no geometry, a few flops each).
+template <class R>
+long first_moving_leak_bounce(const Model<R>& m, const Stretch<R>& s, long upto) {
+  for (long j = 1; j <= upto; ++j) {
+    const Bounce<R> b = s(j);
+    if (m.leak.hit(b.piece, b.q, b.t)) return j;
+  }
+  return upto + 1;
+}
+
+/// Bounces 1 .. s.n of the stretch shown to the observer: with the rest of the phase (observers that take
+/// a Phase) or one by one.
+template <class R, class Observer, class PhaseHeld>
+void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
+  if constexpr (Observer::active) {
+    if (!observe) return;
+    if constexpr (std::is_same_v<PhaseHeld, Phase<R>>) {
+      if (s.n > 0) {
+        if (phase.full()) observe->phase(phase), phase.clear();
+        phase.push(s);
+      }
+    } else {
+      for (long j = 1; j <= s.n; ++j) {
+        const Bounce<R> b = s(j);
+        (*observe)(b.piece, b.q, b.t);
+      }
+    }
+  }
+}
+
+}  // namespace fast_forward_steps
+
 /// Closed-form bouncing-ball phase, bit-identical to stepping. Called after a reflection on a
 /// straight edge: while the particle crosses to the opposite edge inside |x| <= d/2, stepping would
 /// compute the same flight dt = 2r/|vy| and the same dx = fl(vx dt) at every bounce, and x, t by
@@ -195,12 +282,12 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
   if constexpr (!std::is_floating_point_v<R>) {
     return true;  // exact emulation needs IEEE binary arithmetic
   } else {
+    namespace steps = fast_forward_steps;
     const Stadium<R>& st = m.stadium;
     ParticleState<R>& ps = f.ps;
     if (ps.v.y == 0) return true;
     // the flight and step of the first bounce, exactly as next_hit computes them
-    const R ey = ps.v.y > 0 ? st.r() : R(-st.r());
-    const R dt = formula::line_flight(ey, ps.q.y, ps.v.y);
+    const R dt = formula::line_flight(ps.v.y > 0 ? st.r() : R(-st.r()), ps.q.y, ps.v.y);
     const R dx = formula::displacement(ps.v.x, dt);
     // A short phase is cheaper to step; these estimates only choose, the jump itself is exact.
     constexpr R kMin = R(kMinFastForwardBounces);
@@ -209,110 +296,31 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       return true;
     const bool stationary = !m.leak.schedule().rotating();
     const bool on_top = ps.q.y > 0;  // edge of bounce 0
+    auto edge_top = [&](long j) { return ((j % 2) == 0) == on_top; };
     R x = ps.q.x, t = ps.t;
     long k = 0;
-    constexpr long kCap = 1L << 40;
-    auto edge_top = [&](long j) { return ((j % 2) == 0) == on_top; };
-    auto in_leak = [&](long j, R xj, R tj) {
-      const bool top = edge_top(j);
-      const Vec2<R> q{xj, top ? st.r() : R(-st.r())};
-      return m.leak.hit(top ? Piece::top : Piece::bottom, q, tj);
-    };
     // Stretch by stretch: within one, both sums add a fixed increment each bounce (x and t stay in
     // their binades), so bounce j of the stretch is x + j inc exactly (Stretch::x_at gives it).
     constexpr bool whole = requires(Observer & o, const Phase<R>& p) { o.phase(p); };
     struct NoPhase {};
     std::conditional_t<whole, Phase<R>, NoPhase> phase;
     for (;;) {
+      constexpr long kCap = 1L << 40;
       const SumRun<R> rx = next_run(x, dx, kCap), rt = next_run(t, dt, kCap);
-      long J = rx.len < rt.len ? rx.len : rt.len;
-      // first bounce j in 1..J that leaves the straight edges, passes t_max, or is in the leak
-      long stop = J + 1;
-      int why = 0;  // 1 arc, 2 time, 3 leak
+      const long J = rx.len < rt.len ? rx.len : rt.len;
       Stretch<R> s{J, x, rx.inc, t, rt.inc, st.r(), edge_top(k)};
-      auto xj = [&](long j) { return s.x_at(j); };
-      auto tj = [&](long j) { return s.t_at(j); };
-      {  // x_j and t_j are monotone in j (a fixed increment, exact): so "left the
-         // straight edges" and "past t_max" are false up to some j and true after, and bisection finds it
-        auto first = [&](auto bad) { return first_true(1, J + 1, bad); };
-        const long j_arc = first([&](long j) {
-          const R v = xj(j);
-          return !(v <= st.half_d() && v >= -st.half_d());
-        });
-        const long j_time = first([&](long j) { return tj(j) > m.t_max; });
-        if (j_arc < stop) stop = j_arc, why = 1;
-        if (j_time < stop) stop = j_time, why = 2;
-      }
-      if (stationary) {
-        // A stationary leak is a fixed set of x windows per edge, and consecutive bounces alternate
-        // edges: bounces of one parity meet one edge's windows, at monotone x, so the first bounce
-        // inside a window is again a bisection -- no per-bounce test over millions of bounces.
-        for (int parity = 1; parity <= 2; ++parity) {
-          const bool top = edge_top(k + parity);
-          const auto& pw = m.leak.windows(top ? Piece::top : Piece::bottom);
-          for (int w = 0; w < pw.n; ++w) {
-            // x_j in [lo, hi] is an interval of j (monotone x_j); search it among j = parity, parity + 2, ...
-            const R lo = pw.w[w].lo, hi = pw.w[w].hi;
-            auto before = [&](long j) {  // x_j has not reached the window yet (in the direction of motion)
-              const R v = xj(j);
-              return rx.inc > 0 ? v < lo : v > hi;
-            };
-            // smallest j of this parity with !before(j)
-            long a = 0, b = (J - parity) / 2;  // j = parity + 2 i, i in [0, b]
-            if (b < 0) continue;
-            if (before(parity + 2 * b)) continue;
-            while (a < b) {
-              const long mid = a + (b - a) / 2;
-              if (before(parity + 2 * mid))
-                a = mid + 1;
-              else
-                b = mid;
-            }
-            const long j = parity + 2 * a;
-            const R v = xj(j);
-            if (v >= lo && v <= hi && j < stop) stop = j, why = 3;
-          }
-        }
-      } else {
-        // A moving leak has no fixed windows: test the phase at every bounce time (no geometry,
-        // a few flops each), up to the first stop found above.
-        const long upto = stop <= J ? stop - 1 : J;
-        for (long j = 1; j <= upto; ++j)
-          if (in_leak(k + j, xj(j), tj(j))) {
-            stop = j, why = 3;
-            break;
-          }
-      }
-      // bounces 1..n of this stretch are collisions: shown to the observer, with the rest of the
-      // phase or one by one; then x, t move to bounce n
-      auto show = [&](long n) {
-        s.n = n;
-        if constexpr (Observer::active) {
-          if (observe) {
-            if constexpr (whole) {
-              if (n > 0) {
-                if (phase.full()) observe->phase(phase), phase.clear();
-                phase.push(s);
-              }
-            } else {
-              for (long j = 1; j <= n; ++j) {
-                const Bounce<R> b = s(j);
-                (*observe)(b.piece, b.q, b.t);
-              }
-            }
-          }
-        }
-        x = s.x_at(n), t = s.t_at(n), k += n;
-      };
-      if (why == 0) {  // the whole stretch is free bounces
-        show(J);
-        continue;
-      }
+      // the first bounce j in 1..J that leaves the straight edges, passes t_max, or is in the leak
+      auto [stop, why] = steps::first_edge_or_time(m, s, J);  // why: 1 arc, 2 time, 3 leak
+      const long leak = stationary ? steps::first_window_bounce(m, s, J)
+                                   : steps::first_moving_leak_bounce(m, s, stop <= J ? stop - 1 : J);
+      if (leak < stop) stop = leak, why = 3;
+      // bounces 1..n of this stretch are collisions, shown to the observer; then x, t move to bounce n.
       // Leaving the edges or passing t_max happens on the flight after bounce stop - 1, which the
       // caller's next step computes as stepping would; an escape happens at bounce stop itself.
-      const long last = why == 3 ? stop : stop - 1;
-      show(last);
-      break;
+      s.n = why == 0 ? J : why == 3 ? stop : stop - 1;
+      steps::show(observe, phase, s);
+      x = s.x_at(s.n), t = s.t_at(s.n), k += s.n;
+      if (why != 0) break;
     }
     if constexpr (whole)
       if (observe && phase.count > 0) observe->phase(phase);
@@ -323,7 +331,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
     const R avy = ps.v.y > 0 ? ps.v.y : R(-ps.v.y);
     ps.v.y = top ? R(-avy) : avy;  // outgoing: away from the edge it is on
     f.end.collisions += static_cast<std::uint64_t>(k);
-    if (in_leak(k, x, t)) {
+    if (m.leak.hit(top ? Piece::top : Piece::bottom, ps.q, t)) {
       f.end.fate = Fate::escaped;
       f.end.t = num_traits<R>::to_double(t);
       f.end.s = num_traits<R>::to_double(st.s_of(top ? Piece::top : Piece::bottom, ps.q));
