@@ -267,6 +267,26 @@ void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
   }
 }
 
+/// The particle set on the phase's last bounce k (at x, t, on the top edge or not), moving away from that
+/// edge, its k bounces counted. Returns false when that bounce is in the leak (an escape); otherwise the
+/// next step meets the arc, or t > t_max, as stepping would.
+template <class R>
+bool land(const Model<R>& m, Flight<R>& f, long k, R x, R t, bool top) {
+  const Stadium<R>& st = m.stadium;
+  ParticleState<R>& ps = f.ps;
+  const Piece piece = top ? Piece::top : Piece::bottom;
+  ps.q = {x, top ? st.r() : R(-st.r())};
+  ps.t = t;
+  const R avy = ps.v.y > 0 ? ps.v.y : R(-ps.v.y);
+  ps.v.y = top ? R(-avy) : avy;  // outgoing: away from the edge it is on
+  f.end.collisions += static_cast<std::uint64_t>(k);
+  if (!m.leak.hit(piece, ps.q, t)) return true;
+  f.end.fate = Fate::escaped;
+  f.end.t = num_traits<R>::to_double(t);
+  f.end.s = num_traits<R>::to_double(st.s_of(piece, ps.q));
+  return false;
+}
+
 }  // namespace fast_forward_steps
 
 /// Closed-form bouncing-ball phase, bit-identical to stepping. Called after a reflection on a
@@ -324,20 +344,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
     }
     if constexpr (whole)
       if (observe && phase.count > 0) observe->phase(phase);
-    if (k == 0) return true;
-    const bool top = edge_top(k);
-    ps.q = {x, top ? st.r() : R(-st.r())};
-    ps.t = t;
-    const R avy = ps.v.y > 0 ? ps.v.y : R(-ps.v.y);
-    ps.v.y = top ? R(-avy) : avy;  // outgoing: away from the edge it is on
-    f.end.collisions += static_cast<std::uint64_t>(k);
-    if (m.leak.hit(top ? Piece::top : Piece::bottom, ps.q, t)) {
-      f.end.fate = Fate::escaped;
-      f.end.t = num_traits<R>::to_double(t);
-      f.end.s = num_traits<R>::to_double(st.s_of(top ? Piece::top : Piece::bottom, ps.q));
-      return false;
-    }
-    return true;  // the next step meets the arc, or t > t_max, as stepping would
+    return k == 0 || steps::land(m, f, k, x, t, edge_top(k));
   }
 }
 
