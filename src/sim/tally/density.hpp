@@ -130,18 +130,8 @@ struct DensityObserver {
   void phase(const Phase<R>& st) {
     const long n = st.n;
     const std::size_t nw = windows->size();
-    if (edges[0].bin.empty()) {
-      for (int top = 0; top < 2; ++top) {
-        const Piece p = top ? Piece::top : Piece::bottom;
-        const R y = top ? stadium->r() : R(-stadium->r());
-        edges[top] = EdgeBins<R>::build(R(-stadium->half_d()), stadium->half_d(), [&](const R& x) {
-          return bin(p, Vec2<R>{x, y});
-        });
-      }
-    }
-    // each window's bounces [from, to) among this parity's: from the first with t >= from to the first
-    // with t > to, so bounce i has passed edge positions as its time has passed the window's edges (on
-    // the stack: a fast-forward shows many phases)
+    if (edges[0].bin.empty()) build_edges();
+    // each window's bounces [from, to) among this parity's (on the stack: a fast-forward shows many phases)
     constexpr std::size_t kInline = 8;
     std::pair<long, long> inline_span[kInline];
     std::vector<std::pair<long, long>> heap_span(nw > kInline ? nw : 0);
@@ -149,48 +139,9 @@ struct DensityObserver {
     for (long parity = 1; parity <= 2 && parity <= n; ++parity) {
       const long m = (n - parity) / 2 + 1;  // j = parity + 2 i, i = 0 .. m - 1
       const auto at = [&](long i) { return st(parity + 2 * i); };
-      const auto time = [&](long i) { return num_traits<R>::to_double(at(i).t); };
-      // (a window usually holds the whole phase: then its two end times say so)
-      const double t_first = time(0), t_last = time(m - 1);
-      long lo = m, hi = 0;
-      for (std::size_t w = 0; w < nw; ++w) {
-        const TimeWindow& win = (*windows)[w];
-        long a = 0, e = m;
-        if (t_last < win.from) {
-          a = e = m;
-        } else if (t_first > win.to) {
-          a = e = 0;
-        } else if (!(t_first >= win.from && t_last <= win.to)) {
-          a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
-          e = first_true(a, m, [&](long i) { return time(i) > win.to; });
-        }
-        span[w] = {a, e};
-        if (a < e) lo = std::min(lo, a), hi = std::max(hi, e);
-      }
+      const auto [lo, hi] = window_spans(st, parity, m, span);
       if (lo >= hi) continue;
-      // bounces [a, z) in bin b: added to every window they overlap, or once to each time cell among them
-      const auto run = [&](long a, long z, int b) {
-        if (!cells) {
-          for (std::size_t w = 0; w < nw; ++w) {
-            const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
-            if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
-          }
-          return;
-        }
-        while (a < z) {  // the cell of bounce a, and the next window edge after it
-          std::size_t c = 0;
-          long next = z;
-          for (std::size_t w = 0; w < nw; ++w)
-            for (const long edge : {span[w].first, span[w].second}) {
-              if (a >= edge)
-                ++c;
-              else if (edge < next)
-                next = edge;
-            }
-          if (cells->windows[c]) add(c, b, static_cast<std::uint64_t>(next - a));
-          a = next;
-        }
-      };
+      const auto run = [&](long a, long z, int b) { count_run(span, a, z, b); };
       const Bounce<R> first = at(lo);
       const EdgeBins<R>& e = edges[first.piece == Piece::top ? 1 : 0];
       const R x_last = at(hi - 1).q.x;
@@ -208,6 +159,67 @@ struct DensityObserver {
   }
 
  private:
+  /// Each edge's bin changes (EdgeBins), built at the first phase.
+  void build_edges() {
+    for (int top = 0; top < 2; ++top) {
+      const Piece p = top ? Piece::top : Piece::bottom;
+      const R y = top ? stadium->r() : R(-stadium->r());
+      edges[top] = EdgeBins<R>::build(R(-stadium->half_d()), stadium->half_d(), [&](const R& x) {
+        return bin(p, Vec2<R>{x, y});
+      });
+    }
+  }
+
+  /// Each window's bounces span[w] = [from, to) among the m bounces of this parity (bounce i is j = parity
+  /// + 2 i): from the first with t >= from to the first with t > to, so bounce i has passed edge
+  /// positions as its time has passed the window's edges. Returns the union's hull [lo, hi).
+  std::pair<long, long> window_spans(const Phase<R>& st, long parity, long m, std::pair<long, long>* span) const {
+    const auto time = [&](long i) { return num_traits<R>::to_double(st(parity + 2 * i).t); };
+    // (a window usually holds the whole phase: then its two end times say so)
+    const double t_first = time(0), t_last = time(m - 1);
+    long lo = m, hi = 0;
+    for (std::size_t w = 0; w < windows->size(); ++w) {
+      const TimeWindow& win = (*windows)[w];
+      long a = 0, e = m;
+      if (t_last < win.from) {
+        a = e = m;
+      } else if (t_first > win.to) {
+        a = e = 0;
+      } else if (!(t_first >= win.from && t_last <= win.to)) {
+        a = first_true(0, m, [&](long i) { return time(i) >= win.from; });
+        e = first_true(a, m, [&](long i) { return time(i) > win.to; });
+      }
+      span[w] = {a, e};
+      if (a < e) lo = std::min(lo, a), hi = std::max(hi, e);
+    }
+    return {lo, hi};
+  }
+
+  /// Bounces [a, z) in bin b: added to every window they overlap, or once to each time cell among them.
+  void count_run(const std::pair<long, long>* span, long a, long z, int b) {
+    const std::size_t nw = windows->size();
+    if (!cells) {
+      for (std::size_t w = 0; w < nw; ++w) {
+        const long from = std::max(a, span[w].first), to = std::min(z, span[w].second);
+        if (from < to) add(w, b, static_cast<std::uint64_t>(to - from));
+      }
+      return;
+    }
+    while (a < z) {  // the cell of bounce a, and the next window edge after it
+      std::size_t c = 0;
+      long next = z;
+      for (std::size_t w = 0; w < nw; ++w)
+        for (const long edge : {span[w].first, span[w].second}) {
+          if (a >= edge)
+            ++c;
+          else if (edge < next)
+            next = edge;
+        }
+      if (cells->windows[c]) add(c, b, static_cast<std::uint64_t>(next - a));
+      a = next;
+    }
+  }
+
   /// Runs of equal bins among bounces [lo, hi) of one parity (bounce i is j = parity + 2 i of the
   /// phase), x moving up (or down) from interval k of the edge's table: x leaves interval k where it
   /// passes x[k] (moving up) or falls below x[k - 1] (moving down). Within a stretch bounce j is
