@@ -135,7 +135,7 @@ TEST(ExactSign, DecidedForIrrationals) {
 
 TEST(TwoTerm, SplitCarriesTwiceThePrecision) {
   const ExactReal omega = ExactReal::parse("ln(19)");
-  const auto split = rotleak::split_exact<double>(omega);
+  const auto split = rotleak::two_term_of<double>(omega);
   mpfr_t exact, sum;
   mpfr_inits2(300, exact, sum, static_cast<mpfr_ptr>(nullptr));
   omega.round(exact);

@@ -126,15 +126,15 @@ struct CellDensity {
   void fold() { cells.fold(cell_counts.data(), cell_sums.data(), windows.counts.data(), windows.sums.data()); }
 };
 
-/// Passes on what it is shown, and notes the most stretches one phase() held.
+/// Passes on what it is shown, and notes the most stretches one ball_run() held.
 struct Phases {
   static constexpr bool active = true;
   DensityObserver<double>* to;
   int most = 0;
   void operator()(Piece p, const Vec2<double>& q, const double& t) { (*to)(p, q, t); }
-  void phase(const Phase<double>& ph) {
+  void ball_run(const BallRun<double>& ph) {
     most = std::max(most, ph.count);
-    to->phase(ph);
+    to->ball_run(ph);
   }
 };
 
@@ -148,12 +148,12 @@ auto edge_bin(const Stadium<double>& st, Piece p, int bins) {
 
 }  // namespace
 
-// The f_c observer counts a fast-forward's phase from its stretches (DensityObserver::phase: window
+// The f_c observer counts a fast-forward's phase from its stretches (DensityObserver::ball_run: window
 // ends by bisection, bin changes from the edge's table, EdgeBins): the counts and the weighted sums
 // of whole lives are those of stepping, bit for bit. Orbits from x = -0.9 on the top edge, slow and
 // fast (|dx| ~ 2 p a bounce, about 0.6 bins of 1000 for p = 3e-3), across x = 0 (where the top edge's
 // s wraps from near 1 to 0), with 2, 7 and 1000 bins and windows that end inside the phases; p = 1e-7
-// crosses x = 0 within 10^-6 of it, so its phase spans more binades of x and t than one phase()
+// crosses x = 0 within 10^-6 of it, so its phase spans more binades of x and t than one ball_run()
 // holds (Phase::kMax stretches) and is shown in parts.
 TEST(FastForwardOrbit, PhasesCountWhatSteppingCounts) {
   const Scene s = mupo_scene("0", "0.25");  // the leak on the right arc
@@ -189,7 +189,7 @@ TEST(FastForwardOrbit, PhasesCountWhatSteppingCounts) {
       })) << "fold leaves the cells zero";
       EXPECT_GT(phases.most, 0) << "p " << p;
       if (p == 1e-7) {
-        EXPECT_EQ(phases.most, Phase<double>::kMax) << "shown in parts";
+        EXPECT_EQ(phases.most, BallRun<double>::kMax) << "shown in parts";
         EXPECT_GT(a.collisions, 5000000u);
       }
     }
@@ -235,7 +235,7 @@ TEST(EdgeBins, EachChangeIsWhereTheBinChanges) {
 }
 
 // Bounces that land exactly on a bin change, where the sweep's estimate of the crossing bounce is
-// an integer up to rounding (DensityObserver::phase settles it on exact positions, both ways): a
+// an integer up to rounding (DensityObserver::ball_run settles it on exact positions, both ways): a
 // stretch of 41 bounces with x_j = x + j dx exactly, dx = +-1..7 ulps, bounce 1 + 2 G on the change
 // (G = 3 .. 17), for changes across both edges; the phase counts what its bounces one by one count.
 TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
@@ -259,10 +259,10 @@ TEST(FastForwardOrbit, BouncesOnABinChangeCountOnce) {
           Stretch<double> s{n, x, dx, 1100, 2, st.r(), p == Piece::bottom};  // bounce 1 on p
           ASSERT_EQ(s(land).q.x, edge);
           ASSERT_EQ(s(land).piece, p);
-          Phase<double> ph;
+          BallRun<double> ph;
           ph.push(s);
           Density whole(st, windows, bins), each(st, windows, bins);
-          whole.observer.phase(ph);
+          whole.observer.ball_run(ph);
           for (long j = 1; j <= n; ++j) {
             const Bounce<double> b = ph(j);
             each.observer(b.piece, b.q, b.t);
@@ -303,10 +303,10 @@ TEST(FastForwardOrbit, LongStretchesCountWhatBisectionFinds) {
                   std::abs(x_n) > st.half_d())
                 continue;
               Stretch<double> s{n, x, dx, 1e10, 2, st.r(), p == Piece::bottom};
-              Phase<double> ph;
+              BallRun<double> ph;
               ph.push(s);
               Density whole(st, windows, bins);
-              whole.observer.phase(ph);
+              whole.observer.ball_run(ph);
               std::vector<std::uint64_t> ref(static_cast<std::size_t>(bins), 0);
               for (long parity = 1; parity <= 2; ++parity) {
                 const long m = (n - parity) / 2 + 1;

@@ -18,7 +18,7 @@ template <class R>
 class LeakSchedule {
  public:
   LeakSchedule(const ExactReal& start, const ExactReal& omega)
-      : omega_(split_exact<R>(omega)), rotating_(omega.sign() != 0) {
+      : omega_(two_term_of<R>(omega)), rotating_(omega.sign() != 0) {
     // s0 reduced exactly into [0,1) before rounding (a floor at any fixed precision is wrong for a
     // large s0: 1e30 + 1/2 once came out as 0 and no particle escaped)
     const ExactReal s = start - ExactReal::rational(mpq_class(floor_exact(start)));
@@ -28,7 +28,7 @@ class LeakSchedule {
   }
 
   bool rotating() const { return rotating_; }
-  const two_term<R>& omega_split() const { return omega_; }
+  const two_term<R>& omega_terms() const { return omega_; }
   const R& start() const { return start_; }
 
   R phase(const R& t) const {

@@ -80,7 +80,7 @@ struct two_term {
 };
 
 template <class R>
-two_term<R> split_exact(const ExactReal& x) {
+two_term<R> two_term_of(const ExactReal& x) {
   two_term<R> out;
   mpfr_t hi;
   mpfr_init2(hi, num_traits<R>::bits());

@@ -29,8 +29,8 @@ simd::KernelScene simd_scene(const Model<double>& m) {
       s.to_y[p][w] = pw.w[w].to.y;
     }
   }
-  s.omega_hi = m.leak.schedule().omega_split().hi;
-  s.omega_lo = m.leak.schedule().omega_split().lo;
+  s.omega_hi = m.leak.schedule().omega_terms().hi;
+  s.omega_lo = m.leak.schedule().omega_terms().lo;
   s.start = m.leak.schedule().start();
   s.half_width = m.leak.half_width();
   for (int k = 0; k < 4; ++k) {

@@ -34,7 +34,7 @@ struct Model {
   }
 };
 
-/// One bounce of a fast-forwarded stretch, as an observer with a phase() method is shown it.
+/// One bounce of a fast-forwarded stretch, as an observer with a ball_run() method is shown it.
 template <class R>
 struct Bounce {
   Piece piece;
@@ -69,7 +69,7 @@ struct Stretch {
 /// monotone in j (each stretch adds the same step rounded to its binade's grid), and bounces of one
 /// parity stay on one edge, so an observer can search the phase as it would one stretch.
 template <class R>
-struct Phase {
+struct BallRun {
   static constexpr int kMax = 64;  ///< stretches held; a longer fast-forward is shown in parts
   Stretch<R> part[kMax];
   long end[kMax];  ///< bounces through stretch i
@@ -97,7 +97,7 @@ struct Phase {
 };
 
 /// What the particle loop reports to its observer at each collision; the default does nothing.
-/// An observer may also take a fast-forward's bounces whole: phase(const Phase<R>&) in place of their
+/// An observer may also take a fast-forward's bounces whole: phase(const BallRun<R>&) in place of their
 /// calls one by one (bounces of one parity lie on one straight edge, with x and t monotone in j); it
 /// must count exactly what those calls would.
 template <class R>
@@ -248,14 +248,14 @@ long first_moving_leak_bounce(const Model<R>& m, const Stretch<R>& s, long upto)
 }
 
 /// Bounces 1 .. s.n of the stretch shown to the observer: with the rest of the phase (observers that take
-/// a Phase) or one by one.
+/// a BallRun) or one by one.
 template <class R, class Observer, class PhaseHeld>
 void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
   if constexpr (Observer::active) {
     if (!observe) return;
-    if constexpr (std::is_same_v<PhaseHeld, Phase<R>>) {
+    if constexpr (std::is_same_v<PhaseHeld, BallRun<R>>) {
       if (s.n > 0) {
-        if (phase.full()) observe->phase(phase), phase.clear();
+        if (phase.full()) observe->ball_run(phase), phase.clear();
         phase.push(s);
       }
     } else {
@@ -321,9 +321,9 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
     long k = 0;
     // Stretch by stretch: within one, both sums add a fixed increment each bounce (x and t stay in
     // their binades), so bounce j of the stretch is x + j inc exactly (Stretch::x_at gives it).
-    constexpr bool whole = requires(Observer & o, const Phase<R>& p) { o.phase(p); };
-    struct NoPhase {};
-    std::conditional_t<whole, Phase<R>, NoPhase> phase;
+    constexpr bool whole = requires(Observer & o, const BallRun<R>& p) { o.ball_run(p); };
+    struct NoBallRun {};
+    std::conditional_t<whole, BallRun<R>, NoBallRun> phase;
     for (;;) {
       constexpr long kCap = 1L << 40;
       const SumRun<R> rx = next_run(x, dx, kCap), rt = next_run(t, dt, kCap);
@@ -343,7 +343,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
       if (why != 0) break;
     }
     if constexpr (whole)
-      if (observe && phase.count > 0) observe->phase(phase);
+      if (observe && phase.count > 0) observe->ball_run(phase);
     return k == 0 || steps::land(m, f, k, x, t, edge_top(k));
   }
 }

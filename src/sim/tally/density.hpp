@@ -1,5 +1,5 @@
 // The f_c observer: the collision density f_c(s) counted in time windows, by the scalar engine at each
-// collision, by the fast-forward a bouncing-ball phase at a time (DensityObserver::phase), and by the
+// collision, by the fast-forward a bouncing-ball phase at a time (DensityObserver::ball_run), and by the
 // vectorised engine once per time cell (DensityCells), all to the same integers and exact sums.
 #pragma once
 
@@ -102,7 +102,7 @@ struct DensityObserver {
   std::uint64_t* counts;
   FixedSum* weighted_counts = nullptr;  ///< weighted runs: sums of the particle's weight
   double weight = 1;                    ///< of the particle in flight
-  EdgeBins<R> edges[2] = {};            ///< bottom, top: built at the first phase()
+  EdgeBins<R> edges[2] = {};            ///< bottom, top: built at the first ball_run()
   /// When set (the vectorised engine), a bounce is counted once, in its time cell: counts and
   /// weighted_counts are then by cell (cells x bins; DensityCells::fold gives the windows). Else by
   /// window (windows x bins).
@@ -127,7 +127,7 @@ struct DensityObserver {
   /// window's bounces are an interval of j, found by bisection, and so is each bin's within it: its
   /// ends are where x passes the edge's bin changes (EdgeBins), found from the affine x of a stretch
   /// and checked on exact bounce positions. The work is per stretch and per bin change, not per bounce.
-  void phase(const Phase<R>& st) {
+  void ball_run(const BallRun<R>& st) {
     const long n = st.n;
     const std::size_t nw = windows->size();
     if (edges[0].bin.empty()) build_edges();
@@ -173,7 +173,7 @@ struct DensityObserver {
   /// Each window's bounces span[w] = [from, to) among the m bounces of this parity (bounce i is j = parity
   /// + 2 i): from the first with t >= from to the first with t > to, so bounce i has passed edge
   /// positions as its time has passed the window's edges. Returns the union's hull [lo, hi).
-  std::pair<long, long> window_spans(const Phase<R>& st, long parity, long m, std::pair<long, long>* span) const {
+  std::pair<long, long> window_spans(const BallRun<R>& st, long parity, long m, std::pair<long, long>* span) const {
     const auto time = [&](long i) { return num_traits<R>::to_double(st(parity + 2 * i).t); };
     // (a window usually holds the whole phase: then its two end times say so)
     const double t_first = time(0), t_last = time(m - 1);
@@ -226,7 +226,7 @@ struct DensityObserver {
   /// x + j dx exactly, so the bounce that passes is estimated by one multiplication and settled by
   /// comparing exact bounce positions. run(a, z, b) takes each run, in order.
   template <bool Up, class Run>
-  static void sweep(const Phase<R>& st, long parity, long lo, long hi, const EdgeBins<R>& e, int k, const Run& run) {
+  static void sweep(const BallRun<R>& st, long parity, long lo, long hi, const EdgeBins<R>& e, int k, const Run& run) {
     long a = lo;                        // the open run's first bounce; bounce i lies in interval k
     int g = st.index(parity + 2 * lo);  // the stretch of bounce i
     for (long i = lo; i < hi; ++g) {
