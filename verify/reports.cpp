@@ -155,9 +155,9 @@ json audit_statistics_json(const AuditReport& r) {
                      {"kappa_error", s.kappa_error},
                      {"kappa_diff", s.kappa_diff},
                      {"kappa_diff_error", s.kappa_diff_error},
-                     {"alpha", s.alpha ? json(*s.alpha) : json(nullptr)},
+                     {"alpha", nullable(s.alpha)},
                      {"alpha_error", s.alpha_error},
-                     {"alpha_diff", s.alpha_diff ? json(*s.alpha_diff) : json(nullptr)},
+                     {"alpha_diff", nullable(s.alpha_diff)},
                      {"alpha_diff_error", s.alpha_diff_error},
                      {"consistent", s.consistent},
                      {"identical_to_scalar_double", s.identical_to_scalar_double}});

@@ -231,9 +231,7 @@ json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve&
     }
   j["unsplit_allowance"] =
       groups.empty() ? json(nullptr)
-                     : json{{"unresolved_from",
-                             curve.allowance_unresolved_from ? json(*curve.allowance_unresolved_from) : json(nullptr)},
-                            {"groups", groups}};
+                     : json{{"unresolved_from", nullable(curve.allowance_unresolved_from)}, {"groups", groups}};
   std::size_t deepest = 0;
   for (std::size_t i = 0; i < curve.t.size(); ++i)
     if (curve.P(i) > 0 && curve.P(i) < curve.P(deepest)) deepest = i;
@@ -303,7 +301,7 @@ json tail_json(const TailClass& tc, const TailAmplitude& amplitude) {
             {"tail_end_range",
              tc.tail_end_range ? json::array({tc.tail_end_range->first, tc.tail_end_range->second}) : json(nullptr)},
             {"end_exponent", tc.end_exponent},
-            {"resolve_particles", tc.resolve_particles ? json(*tc.resolve_particles) : json(nullptr)},
+            {"resolve_particles", nullable(tc.resolve_particles)},
             {"rule", tc.note}};
   t["near_rational"] =
       tc.near ? json{{"rational", tc.near->rational}, {"eps", tc.near->eps}, {"omega_near", tc.near->omega_rational}}

@@ -173,7 +173,7 @@ void read_header(const json& h, std::size_t size, std::size_t nl, TallyFile& f) 
 /// The weighted section (format 3, as put): a weighted run's escape sums by bin and totals (a split
 /// run's: two totals, zero), then the weighted density.
 void read_weighted(ByteReader& r, Tally& t) {
-  if (auto* e = std::get_if<WeightedEstimator>(&t.estimator)) {
+  if (auto* e = t.get_if<WeightedEstimator>()) {
     e->resize(t.escapes_per_bin.size());
     get_sums(r, e->escaped_w);
     get_sums(r, e->escaped_w2);
@@ -249,8 +249,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   t.survived = r.word();
   t.stuck = r.word();
   if (t.weighted()) read_weighted(r, t);
-  if (auto* e = std::get_if<LinesEstimator>(&t.estimator))
-    read_lines(r, *e, t.escapes_per_bin.size(), in.size(), where);
+  if (auto* e = t.get_if<LinesEstimator>()) read_lines(r, *e, t.escapes_per_bin.size(), in.size(), where);
   for (EscapeRecord& e : f.records) {
     e.t = r.real();
     e.s = r.real();

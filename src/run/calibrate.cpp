@@ -185,7 +185,7 @@ json judge_bounds(const std::vector<json>& summaries, const std::optional<double
       if (pooled_alpha && *b < *pooled_alpha) ++below;
     }
   json bounds = {{"seeds", n}};
-  bounds["pooled_alpha"] = pooled_alpha ? json(*pooled_alpha) : json(nullptr);
+  bounds["pooled_alpha"] = nullable(pooled_alpha);
   bounds["below_pooled_alpha"] = pooled_alpha ? json(below) : json(nullptr);
   return bounds;
 }

@@ -52,6 +52,12 @@ Engine saved_engine(const json& summary) {
 
 bool keeps_tally(const Scene& scene, bool shard) { return shard || scene.splitting.on; }
 
+void check_tally_inputs(const TallyFile& f, Scene scene, Engine engine, const std::string& dir) {
+  scene.particles = f.of;
+  const std::string why = inputs_difference(f.inputs, run_inputs(scene, engine));
+  if (!why.empty()) throw InputError("DIR", dir, "its scene.toml does not match its tally.bin (" + why + ")");
+}
+
 RunTexts run_files(const RunSummary& s, std::uint64_t of, bool shard) {
   if (!keeps_tally(s.scene, shard)) return run_texts(s);
   Scene whole = s.scene;
@@ -414,9 +420,7 @@ SimulateOutcome merge_shards(const MergeRequest& req) {
   Scene scene = load_scene((shards[0].dir / "scene.toml").string(), {"ensemble.particles=" + std::to_string(of)});
   scene.source = shards[0].summary.at("scene").value("source", scene.source);
   const Engine engine = saved_engine(shards[0].summary);
-  const std::string why = inputs_difference(shards[0].f.inputs, run_inputs(scene, engine));
-  if (!why.empty())
-    throw InputError("DIR", shards[0].dir.string(), "its scene.toml does not match its tally.bin (" + why + ")");
+  check_tally_inputs(shards[0].f, scene, engine, shards[0].dir.string());
   RunDirectory dir(req.out, req.force);
   RunResult result = merged_result(shards, scene, engine, of);
   if (req.note) req.note("[rotleak] merged " + std::to_string(shards.size()) + " shards: ids 0:" + std::to_string(of));

@@ -15,6 +15,7 @@
 #include "analysis/run_summary.hpp"
 #include "io/json.hpp"
 #include "io/run_output.hpp"
+#include "io/tally_file.hpp"
 #include "run/team.hpp"
 #include "sim/engine/engine.hpp"
 
@@ -59,6 +60,9 @@ Engine saved_engine(const json& summary);
 /// run's, from which rotleak fit rebuilds its survival curve exactly (survival.csv does not carry the
 /// unsplit lines' groups that its fits' errors use).
 bool keeps_tally(const Scene& scene, bool shard);
+/// Throws an InputError naming DIR unless the tally file f was made from `scene` (its particle count taken
+/// as the whole run's, f.of) run by `engine`: a tally.bin that its directory's scene.toml does not describe.
+void check_tally_inputs(const TallyFile& f, Scene scene, Engine engine, const std::string& dir);
 /// Every file of a run directory (io run_texts), with tally.bin first where the run keeps its tallies: a
 /// run of ids from its first_id out of `of` (a shard's `of` is the whole run's count). What simulate and
 /// merge write and the Python module hands over.

@@ -38,10 +38,7 @@ SurvivalCurve saved_curve(const fs::path& dir, const Scene& scene, const json& s
   try {
     if (!fs::exists(dir / "tally.bin")) return read_survival_csv(read_file(dir / "survival.csv"), scene);
     const TallyFile f = read_tally_file(dir / "tally.bin");
-    Scene whole = scene;
-    whole.particles = f.of;
-    const std::string why = inputs_difference(f.inputs, run_inputs(whole, saved_engine(summary)));
-    if (!why.empty()) throw InputError("DIR", shown, "its scene.toml does not match its tally.bin (" + why + ")");
+    check_tally_inputs(f, scene, saved_engine(summary), shown);
     if (!f.complete() || f.particles != scene.particles)
       throw InputError("DIR", shown, "tally.bin holds an incomplete run or another particle count");
     return survival_curve(scene, f.tally);

@@ -159,7 +159,7 @@ struct DensityObserver {
   }
 
  private:
-  /// Each edge's bin changes (EdgeBins), built at the first phase.
+  /// Each edge's bin changes (EdgeBins), built at the first ball_run().
   void build_edges() {
     for (int top = 0; top < 2; ++top) {
       const Piece p = top ? Piece::top : Piece::bottom;

@@ -46,6 +46,10 @@ struct Tally {
     return std::get<E>(estimator);
   }
   template <class E>
+  E* get_if() {
+    return std::get_if<E>(&estimator);
+  }
+  template <class E>
   const E* get_if() const {
     return std::get_if<E>(&estimator);
   }
