@@ -101,8 +101,8 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
       stop.store(true);
     }
   };
-  const std::optional<rotleak::RunSummary> summary =
-      run_released<rotleak::RunSummary>([&] { return rotleak::run_scene(std::move(scene), opt); });
+  const std::optional<rotleak::RunSummary> summary = run_released<rotleak::RunSummary>(
+      [&] { return rotleak::run_scene(rotleak::plan_run(std::move(scene), opt), opt); });
   if (raised) throw std::move(*raised);
   if (!summary) raise_keyboard_interrupt("rotleak.simulate interrupted: the run was stopped between blocks");
   const rotleak::RunTexts texts = rotleak::run_files(*summary, summary->scene.particles, false);
@@ -113,8 +113,8 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
 
 /// `rotleak calibrate` into `out`: the seeds' runs (those complete skipped), calibration.csv and
 /// calibration.json; returns calibration.json's text. Ctrl-C stops it between blocks (its points are kept).
-std::string calibrate(const std::string& scene_path, const std::vector<std::string>& overrides,
-                      std::uint64_t seeds, std::uint64_t first_seed, const std::string& out, int threads, bool force) {
+std::string calibrate(const std::string& scene_path, const std::vector<std::string>& overrides, std::uint64_t seeds,
+                      std::uint64_t first_seed, const std::string& out, int threads, bool force) {
   if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
   rotleak::CalibrateRequest req;
   req.scene_path = scene_path;

@@ -244,13 +244,13 @@ TEST(Pipeline, RunSceneRunsTheEngineItsOptionsAskFor) {
     }
     RunOptions o;
     o.engine = e;
-    EXPECT_EQ(run_scene(scene, o).result.engine, e) << to_string(e);
+    EXPECT_EQ(run_scene(plan_run(scene, o), o).result.engine, e) << to_string(e);
   }
   RunOptions bad;
   bad.engine = Engine::simd;
   Scene flt = scene;
   flt.tier = Tier::float_;
-  EXPECT_THROW(run_scene(flt, bad), InputError);  // the kernel runs the double tier only
+  EXPECT_THROW(run_scene(plan_run(flt, bad), bad), InputError);  // the kernel runs the double tier only
 }
 
 TEST(Pipeline, ResumeFromACheckpointWritesTheSameRun) {

@@ -11,6 +11,7 @@
 #include "names.hpp"
 #include "same_text.hpp"
 #include "sim/engine/engine.hpp"
+#include "sim/kernel/simd_engine.hpp"
 #include "sim/model/particle.hpp"
 
 using namespace rotleak;
@@ -163,4 +164,57 @@ TEST(Engine, OtherTiersGiveTheSameStatistics) {
     s.tier = tier;
     EXPECT_NEAR(escaped_by(s, 300), ref, 5 * sigma) << to_string(tier);
   }
+}
+
+// A run is checked in one place, plan_run: a tier of auto leaves the engine open until with_tier settles
+// it (a kernel that cannot run the chosen tier is an InputError naming --engine then, not later in the
+// engine), and a shard's plan keeps what was checked.
+TEST(Plan, AutoTierIsSettledOnceChosen) {
+  Scene scene = small_scene("0");
+  scene.tier = Tier::auto_;
+  RunOptions o;
+  o.engine = Engine::simd;
+  const RunPlan plan = plan_run(scene, o);
+  EXPECT_EQ(plan.engine(), Engine::automatic);
+  EXPECT_THROW(run_ensemble(plan, o), std::logic_error);  // the tier must be chosen first
+  try {
+    (void)plan.with_tier(Tier::float_);
+    FAIL() << "the kernel runs the double tier only";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "--engine");
+  }
+  if (!simd::available()) return;
+  const RunPlan settled = plan.with_tier(Tier::double_);
+  EXPECT_EQ(settled.engine(), Engine::simd);
+  EXPECT_GT(settled.simd_lanes(), 0);
+  EXPECT_EQ(settled.with_tier(Tier::float_).scene().tier, Tier::double_);  // settled once: kept
+}
+
+TEST(Plan, AShardsPlanRunsItsIdsOnTheSameStadium) {
+  const Scene scene = small_scene("2/3");
+  RunOptions o;
+  o.engine = Engine::scalar;
+  const RunPlan plan = plan_run(scene, o);
+  const RunPlan part = plan.with_particles(5000);
+  EXPECT_EQ(part.scene().particles, 5000u);
+  EXPECT_EQ(&part.stadium(), &plan.stadium());  // built once, shared
+  // the shard's ids [5000, 10000) give the whole run's records of those ids
+  RunOptions shard = o;
+  shard.first_id = 5000;
+  const RunResult whole = run_ensemble(plan, o), some = run_ensemble(part, shard);
+  ASSERT_EQ(some.records.size(), 5000u);
+  for (std::size_t i = 0; i < some.records.size(); ++i) {
+    EXPECT_EQ(some.records[i].t, whole.records[5000 + i].t) << i;
+    EXPECT_EQ(some.records[i].collisions, whole.records[5000 + i].collisions) << i;
+  }
+}
+
+TEST(Plan, ASplitRunIsRefusedOutsideTheDoubleTier) {
+  Scene scene = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml",
+                           {"ensemble.sampling=mupo", "run.splitting=true", "ensemble.particles=1000"});
+  scene.tier = Tier::long_double;
+  EXPECT_THROW(plan_run(scene, RunOptions{}), std::invalid_argument);
+  scene.tier = Tier::auto_;
+  const RunPlan plan = plan_run(scene, RunOptions{});
+  EXPECT_THROW((void)plan.with_tier(Tier::float_), std::invalid_argument);
 }

@@ -335,7 +335,7 @@ TEST(Regimes, NearRationalTransientsOfTheStudySceneAreLabelled) {
                                 "run.t_max=10000", "ensemble.particles=100000"});
     RunOptions o;
     o.threads = 2;
-    const RunSummary r = run_scene(s, o);
+    const RunSummary r = run_scene(plan_run(s, o), o);
     EXPECT_EQ(r.tail_class.tail, "transient") << omega << ": " << r.tail_class.note;
     EXPECT_EQ(r.tail_class.regime, "near-rational") << omega << ": " << r.tail_class.note;
     ASSERT_TRUE(r.tail_class.near.has_value()) << omega;

@@ -19,7 +19,9 @@ namespace rotleak {
 /// each hook is a collective.
 struct AuditWork {
   /// An ensemble: every caller gets what run_ensemble(scene, options) gives (tally and records).
-  std::function<RunResult(const Scene&, const RunOptions&)> ensemble = run_ensemble;
+  std::function<RunResult(const Scene&, const RunOptions&)> ensemble = [](const Scene& s, const RunOptions& o) {
+    return run_ensemble(s, o);
+  };
   /// Shadows of `ids` in their order, on the reporting rank (the others may get none); progress(done,
   /// of) counts this process's own shadows.
   std::function<std::vector<ShadowResult>(const Scene&, const std::vector<std::uint64_t>& ids, const ShadowOptions&,

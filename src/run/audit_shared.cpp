@@ -13,7 +13,9 @@ AuditReport audit_shared(const Scene& scene, AuditOptions options, const Team& t
   const int rank = team.rank(), ranks = team.size();
   options.work.reports = rank == 0;
   options.work.all = [&team](bool ok) { return team.all(ok); };
-  options.work.ensemble = [&team](const Scene& s, const RunOptions& ro) { return run_shared(s, ro, team); };
+  options.work.ensemble = [&team](const Scene& s, const RunOptions& ro) {
+    return run_shared(plan_run(s, ro), ro, team);
+  };
   options.work.shadows = [&team, rank, ranks](const Scene& s, const std::vector<std::uint64_t>& ids,
                                               const ShadowOptions& so, int threads,
                                               const std::function<void(std::size_t, std::size_t)>& progress) {

@@ -106,14 +106,15 @@ std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int ran
   return {blocks * r / k, blocks * (r + 1) / k};
 }
 
-RunResult run_shared(const Scene& scene, RunOptions options, const Team& team) {
+RunResult run_shared(const RunPlan& plan, RunOptions options, const Team& team) {
   if (options.blocks) throw std::logic_error("run_shared: the ranks' blocks are its own to choose");
-  if (team.size() == 1) return run_ensemble(scene, options);
+  if (team.size() == 1) return run_ensemble(plan, options);
+  const Scene& scene = plan.scene();
   const std::uint64_t n = scene.particles;
   const auto [lo, hi] = rank_share(block_count(n), team.rank(), team.size());
   const IntervalSet mine = IntervalSet::range(lo, hi);
   options.blocks = &mine;
-  RunResult result = run_ensemble(scene, options);
+  RunResult result = run_ensemble(plan, options);
   const std::string inputs = run_inputs(scene, result.engine);
   const auto file = [&] {
     return encode_tally_file(TallyFile{inputs, n, options.first_id, n, result.done, result.tally, result.records});
@@ -173,12 +174,12 @@ TallyFile read_checkpoint(const fs::path& path, const Durability& durable, const
 namespace {
 
 /// A tier of auto chosen by auditing float, double and long double on the scene (verify/auto_tier): the
-/// scene gets the tier, the caller its reason. Nothing for a scene with a tier of its own.
-std::optional<std::string> choose_auto_tier(Scene& scene, int threads, const Note& note) {
-  if (!scene.tier.automatic()) return std::nullopt;
+/// plan is settled on the tier, the caller gets its reason. Nothing for a scene with a tier of its own.
+std::optional<std::string> choose_auto_tier(RunPlan& plan, const Note& note) {
+  if (!plan.scene().tier.automatic()) return std::nullopt;
   if (note) note("[rotleak] run.tier = auto: auditing float, double, long double on this scene...");
-  TierChoice c = choose_tier(scene, threads);
-  scene.tier = c.tier;
+  TierChoice c = choose_tier(plan.scene(), plan.threads());
+  plan = plan.with_tier(c.tier);
   return std::move(c.reason);
 }
 
@@ -186,18 +187,16 @@ std::optional<std::string> choose_auto_tier(Scene& scene, int threads, const Not
 /// share, the checkpoint it resumes from, the checkpoints it writes, and the ranks' parts merged at the end.
 class DurableRun {
  public:
-  DurableRun(Scene scene, RunOptions options, const Note& note, const Durability& durable)
-      : scene_(std::move(scene)),
+  DurableRun(const RunPlan& plan, RunOptions options, const Note& note, const Durability& durable)
+      : plan_(durable.ids ? plan.with_particles(durable.ids->second - durable.ids->first) : plan),
+        scene_(plan_.scene()),
         options_(std::move(options)),
         note_(note),
         durable_(durable),
         team_(durable.team ? *durable.team : current_team()),
-        whole_(scene_.particles),
-        inputs_(run_inputs(scene_, resolve_engine(options_.engine, scene_))) {
-    if (durable.ids) {
-      scene_.particles = durable.ids->second - durable.ids->first;
-      options_.first_id = durable.ids->first;
-    }
+        whole_(plan.scene().particles),
+        inputs_(run_inputs(plan.scene(), plan.engine())) {
+    if (durable.ids) options_.first_id = durable.ids->first;
     share_ = rank_share(block_count(scene_.particles), team_.rank(), team_.size());
     if (!durable.path.empty()) path_ = rank_checkpoint(durable.path, team_.rank(), team_.size());
   }
@@ -210,7 +209,7 @@ class DurableRun {
         write_tally_file(path_, timed(tally_file(done, t, rec)));
       };
     }
-    RunResult result = run_ensemble(scene_, options_);
+    RunResult result = run_ensemble(plan_, options_);
     result.wall_seconds += saved_.wall_seconds;
     const std::uint64_t n = scene_.particles;
     if (!team_.all(result.complete)) {  // stopped (on some rank): every rank keeps what it has done
@@ -264,7 +263,8 @@ class DurableRun {
     return f;
   }
 
-  Scene scene_;
+  const RunPlan plan_;  ///< the shard's ids' plan, when a shard
+  const Scene& scene_;
   RunOptions options_;
   const Note& note_;
   const Durability& durable_;
@@ -280,14 +280,14 @@ class DurableRun {
 
 }  // namespace
 
-RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Durability* durable) {
-  std::optional<std::string> choice = choose_auto_tier(scene, options.threads, note);
-  check_engine("--engine", options.engine, scene);
+RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note, const Durability* durable) {
+  std::optional<std::string> choice = choose_auto_tier(plan, note);
   RunSummary s;
   if (durable) {
-    s = DurableRun(std::move(scene), std::move(options), note, *durable).run();
+    s = DurableRun(plan, std::move(options), note, *durable).run();
   } else {
-    RunResult result = run_ensemble(scene, options);
+    const Scene& scene = plan.scene();
+    RunResult result = run_ensemble(plan, options);
     if (!result.complete)  // stopped: a part of the ensemble is not a run to summarise
       throw RunInterrupted({}, particles_in(result.done, scene.particles), scene.particles);
     s = summarise(scene, std::move(result));
@@ -296,16 +296,16 @@ RunSummary run_scene(Scene scene, RunOptions options, const Note& note, const Du
   return s;
 }
 
-Scene checked_scene(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run) {
-  Scene scene = load_scene(path, overrides);                                 // InputError names the key and value
-  check_resources(scene, run.threads);                                       // before any directory is made
-  if (!scene.tier.automatic()) check_engine("--engine", run.engine, scene);  // a bad engine fails before any work
-  return scene;
+RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run) {
+  // load_scene's InputError names the key and value; plan_run's the option or the key asking for most
+  // memory; both before any directory is made
+  return plan_run(load_scene(path, overrides), run);
 }
 
 SimulateOutcome simulate(const SimulateRequest& req) {
   const Team& team = req.team ? *req.team : current_team();
-  const Scene scene = req.scene ? *req.scene : checked_scene(req.scene_path, req.overrides, req.run);
+  const RunPlan plan = req.plan ? *req.plan : checked_plan(req.scene_path, req.overrides, req.run);
+  const Scene& scene = plan.scene();
   if (req.ids && !(req.ids->first < req.ids->second && req.ids->second <= scene.particles))
     throw InputError("--ids", std::to_string(req.ids->first) + ":" + std::to_string(req.ids->second),
                      "must be A:B with 0 <= A < B <= ensemble.particles (" + std::to_string(scene.particles) + ")");
@@ -331,7 +331,7 @@ SimulateOutcome simulate(const SimulateRequest& req) {
   }
   agree(team, failure);
   SimulateOutcome out;
-  out.summary = run_scene(scene, req.run, req.note, &durable);
+  out.summary = run_scene(plan, req.run, req.note, &durable);
   if (team.rank() == 0) {
     out.document = write_run(*dir, run_files(out.summary, scene.particles, req.ids.has_value()));
     out.dir = dir->final_path();

@@ -73,25 +73,25 @@ std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int ran
 
 /// Collective: run_ensemble shared by the ranks of `team`, each its share of the blocks (options.blocks
 /// must be null), the exact tallies merged; every rank gets the whole result (tally, records, done).
-RunResult run_shared(const Scene& scene, RunOptions options, const Team& team);
+RunResult run_shared(const RunPlan& plan, RunOptions options, const Team& team);
 
-/// Runs a scene and summarises it, no files: a tier of auto is chosen first (verify/auto_tier),
-/// then options.engine is checked against the tier actually run (an InputError naming --engine).
-/// With `durable`, checkpoints are kept and resumed as it says; throws RunInterrupted when
-/// RunOptions::stop ended the run early.
-RunSummary run_scene(Scene scene, RunOptions options, const Note& note = {}, const Durability* durable = nullptr);
+/// Runs a planned scene and summarises it, no files: a tier of auto is chosen first (verify/auto_tier)
+/// and the plan settled on it (RunPlan::with_tier: the engine checked against the tier actually run, an
+/// InputError naming --engine). With `durable`, checkpoints are kept and resumed as it says; throws
+/// RunInterrupted when RunOptions::stop ended the run early.
+RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note = {}, const Durability* durable = nullptr);
 
-/// The scene of path and overrides, validated once for a run with `run`'s threads and engine: its keys
-/// (load_scene), the memory it needs (check_resources) and the engine against its tier (a tier of auto is
-/// checked once chosen). Every InputError names the key or option.
-Scene checked_scene(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run);
+/// The plan of the scene of path and overrides for a run with `run`'s threads and engine (plan_run):
+/// its keys (load_scene), the memory it needs, its tier and the engine against it (a tier of auto is
+/// checked once chosen), validated once. Every InputError names the key or option.
+RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run);
 
 struct SimulateRequest {
   std::string scene_path;
   std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
-  /// The scene already loaded from scene_path and overrides by checked_scene (a scan's point, validated
+  /// The plan already made from scene_path and overrides by checked_plan (a scan's point, validated
   /// once when the scan enumerated its points); empty: simulate loads and checks it.
-  std::optional<Scene> scene;
+  std::optional<RunPlan> plan;
   std::filesystem::path out;
   bool force = false;          ///< replace an existing run directory
   RunOptions run;              ///< engine (checked against the tier run), threads, progress, stop

@@ -294,13 +294,13 @@ std::string scan_table_text(const json& document) {
 namespace {
 
 /// One point of a scan: its overrides (--set, then one value per axis), directory name, swept values,
-/// the scene validated once (checked_scene) and what is recorded about it.
+/// its plan, the scene validated once (checked_plan), and what is recorded about it.
 struct ScanPoint {
   std::vector<std::string> overrides;
   std::string slug;
   std::string inputs;  ///< the simulation's inputs, fit keys left out: a point whose fits differ is refitted
   json values, number_theory, fit;
-  Scene scene;
+  std::optional<RunPlan> plan;  ///< set for every point by scan_points
 };
 
 /// Every point of the scan (the last axis varies fastest), each validated before any work.
@@ -328,10 +328,11 @@ std::vector<ScanPoint> scan_points(const ScanRequest& req) {
       p.values[req.axes[a].key] = req.axes[a].values[choice[a]];
     }
     p.slug = point_slug(i, count, req.axes, choice);
-    p.scene = checked_scene(req.scene_path, p.overrides, req.run);
-    p.inputs = simulation_inputs(p.scene, to_string(req.run.engine));
-    p.fit = scene_json(p.scene).at("fit");
-    p.number_theory = omega_number_theory(p.scene);
+    p.plan = checked_plan(req.scene_path, p.overrides, req.run);
+    const Scene& scene = p.plan->scene();
+    p.inputs = simulation_inputs(scene, to_string(req.run.engine));
+    p.fit = scene_json(scene).at("fit");
+    p.number_theory = omega_number_theory(scene);
   }
   return points;
 }
@@ -401,7 +402,7 @@ void refuse_other_inputs(const ScanRequest& req, const std::vector<ScanPoint>& p
 json saved_point(const ScanPoint& p, const fs::path& pdir, bool& refitted) {
   json saved = json::parse(read_file(pdir / "summary.json"));
   refitted = !(saved.at("scene").contains("fit") && saved.at("scene").at("fit") == p.fit);
-  return refitted ? refit_run(pdir, p.scene) : saved;
+  return refitted ? refit_run(pdir, p.plan->scene()) : saved;
 }
 
 /// Runs one point into pdir (every rank: its blocks shared among them, rank 0 writes); returns its
@@ -411,7 +412,7 @@ json run_point(const ScanRequest& req, const ScanPoint& p, const fs::path& pdir,
   SimulateRequest sr;
   sr.scene_path = req.scene_path;
   sr.overrides = p.overrides;
-  sr.scene = p.scene;
+  sr.plan = p.plan;
   sr.out = pdir;
   sr.force = true;  // an incomplete or outdated point is replaced
   sr.resume = req.force ? Resume::no : Resume::if_any;

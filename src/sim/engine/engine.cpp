@@ -33,10 +33,11 @@ std::chrono::steady_clock::time_point epoch_deadline(double checkpoint_seconds) 
                                                 std::chrono::duration<double>(checkpoint_seconds));
 }
 
-/// What every thread of a run shares: the model in tier R, the draws, the split rule, the engine that
-/// runs and the kernel's set-up; checks the options against the scene.
+/// What every thread of a run shares: the plan, the model in tier R (in double: the plan's stadium), the
+/// draws, the split rule and the kernel's set-up.
 template <class R>
 struct RunSetup {
+  const RunPlan& plan;
   const Scene& scene;
   const RunOptions& opt;
   Model<R> model;
@@ -48,32 +49,29 @@ struct RunSetup {
   simd::KernelScene kernel{};  ///< the vectorised kernel's scene (engine simd)
   DensityCells cells;          ///< and its f_c time cells
 
-  RunSetup(const Scene& s, const RunOptions& o)
-      : scene(s),
+  RunSetup(const RunPlan& p, const RunOptions& o)
+      : plan(p),
+        scene(p.scene()),
         opt(o),
-        model(Model<R>::from(s)),
-        sampler(make_sampler(s)),
-        source{sampler.get(), o.first_id, o.draws} {
-    if (opt.draws && opt.draws->size() != scene.particles)
-      throw std::invalid_argument("RunOptions::draws holds " + std::to_string(opt.draws->size()) + " draws for " +
-                                  std::to_string(scene.particles) + " particles");
-    if (scene.splitting.on && (!std::is_same_v<R, double> || opt.draws || scene.escape_records))
-      throw std::invalid_argument(
-          "a split run runs the double tier from the scene's own draws, without escape records");
-    if (scene.splitting.on && !opt.split_rule) scene_rule = make_split_rule(scene);
+        model(model_of(p)),
+        sampler(make_sampler(scene, p.stadium())),
+        source{sampler.get(), o.first_id, o.draws},
+        engine(p.engine()) {
+    if (scene.splitting.on && !opt.split_rule) scene_rule = make_split_rule(scene, p.stadium());
     if (scene.splitting.on) split_rule = opt.split_rule ? opt.split_rule : scene_rule.get();
-    engine = resolve_engine(opt.engine, scene);
     if constexpr (std::is_same_v<R, double>)
       if (engine == Engine::simd) {
         kernel = simd_scene(model);
-        simd_density(kernel, scene);
-        cells = DensityCells::of(kernel.bins, kernel.density_windows, kernel.win_from, kernel.win_to);
-        kernel.lanes = opt.simd_lanes > 0 ? opt.simd_lanes : default_simd_lanes();
-        if (!simd::lanes_available(kernel.lanes))
-          throw std::invalid_argument("RunOptions::simd_lanes = " + std::to_string(opt.simd_lanes) +
-                                      ": this CPU runs the vectorised kernel with 4 lanes (AVX2)" +
-                                      (simd::lanes_available(8) ? " or 8 (AVX-512)" : ""));
+        cells = simd_density(kernel, scene);
+        kernel.lanes = p.simd_lanes();
       }
+  }
+
+  static Model<R> model_of(const RunPlan& p) {
+    if constexpr (std::is_same_v<R, double>)
+      return Model<double>::from(p.scene(), p.stadium());
+    else
+      return Model<R>::from(p.scene());
   }
 
   /// The result before any block runs: the start tallies, the blocks they hold, the engine that runs.
@@ -139,7 +137,7 @@ class Worker {
     if (s_.split_rule) {
       if constexpr (std::is_same_v<R, double>)
         run_lines(
-            s_.scene, *s_.sampler, *s_.split_rule, s_.opt.first_id + lo, s_.opt.first_id + hi,
+            s_.plan, *s_.sampler, *s_.split_rule, s_.opt.first_id + lo, s_.opt.first_id + hi,
             [this](const std::vector<Member>& m, const std::vector<double>& w, double stop,
                    std::vector<ParticleEnd>& ends) { advance_members(m, w, stop, ends); },
             local);
@@ -242,14 +240,15 @@ class Worker {
 /// The batch lifecycle: set up, run epochs of blocks on all threads (each block taken once, in todo
 /// order), merge the threads' exact tallies, checkpoint between epochs, check conservation.
 template <class R>
-RunResult run_tier(const Scene& scene, const RunOptions& opt) {
-  const RunSetup<R> setup(scene, opt);
+RunResult run_tier(const RunPlan& plan, const RunOptions& opt) {
+  const RunSetup<R> setup(plan, opt);
+  const Scene& scene = plan.scene();
   RunResult result = setup.start();
   const IntervalSet todo = setup.todo();
   const std::uint64_t n = scene.particles, total = todo.size();
   const std::uint64_t goal = particles_in(result.done, n) + particles_in(todo, n);
   std::atomic<std::uint64_t> done{particles_in(result.done, n)}, collisions_done{result.tally.collisions};
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const int threads = plan.threads() > 0 ? plan.threads() : omp_get_max_threads();
   const auto t0 = std::chrono::steady_clock::now();
   // Epochs: threads take blocks in todo order from a shared counter until all are taken, a stop is
   // asked for, or the checkpoint time has come; then the tallies are merged and checkpointed.
@@ -297,123 +296,19 @@ RunResult run_tier(const Scene& scene, const RunOptions& opt) {
 
 }  // namespace
 
-std::string to_string(Engine e) {
-  switch (e) {
-    case Engine::automatic:
-      return "auto";
-    case Engine::scalar:
-      return "scalar";
-    case Engine::simd:
-      return "simd";
-  }
-  return "?";
-}
-
-int default_simd_lanes() {
-  const char* forced = std::getenv("ROTLEAK_SIMD_LANES");
-  if (!forced || !*forced) return simd::widest_lanes();
-  const std::string v = forced;
-  const int lanes = v == "4" ? 4 : v == "8" ? 8 : 0;
-  if (!simd::lanes_available(lanes))
-    throw InputError("ROTLEAK_SIMD_LANES", v,
-                     std::string("4 (AVX2) or 8 (AVX-512), a kernel this CPU runs: ") +
-                         (simd::widest_lanes() == 8   ? "4 or 8"
-                          : simd::widest_lanes() == 4 ? "4 only"
-                                                      : "none (unset it: the scalar core runs)"));
-  return lanes;
-}
-
-Engine resolve_engine(Engine requested, const Scene& scene) {
-  // The kernel runs the double tier, with f_c for up to kMaxDensityWindows windows.
-  const bool fits = scene.tier == Tier::double_ &&
-                    (!scene.collision_density ||
-                     scene.collision_density->windows.size() <= static_cast<std::size_t>(simd::kMaxDensityWindows));
-  if (requested == Engine::simd) {
-    if (!simd::available()) throw std::runtime_error("--engine simd: this CPU lacks AVX2 and FMA");
-    if (!fits)
-      throw std::runtime_error("--engine simd runs the double tier (with at most " +
-                               std::to_string(simd::kMaxDensityWindows) + " collision_density windows)");
-    return Engine::simd;
-  }
-  if (requested == Engine::scalar) return Engine::scalar;
-  return fits && simd::available() ? Engine::simd : Engine::scalar;
-}
-
-Engine parse_engine(const std::string& key, const std::string& name) {
-  if (name != "auto" && name != "scalar" && name != "simd") throw InputError(key, name, "allowed: auto, scalar, simd");
-  return name == "scalar" ? Engine::scalar : name == "simd" ? Engine::simd : Engine::automatic;
-}
-
-void check_engine(const std::string& key, Engine e, const Scene& scene) {
-  try {
-    resolve_engine(e, scene);
-  } catch (const std::runtime_error& err) {
-    throw InputError(key, to_string(e), err.what());
-  }
-}
-
-void check_resources(const Scene& scene, int threads) {
-  const int procs = omp_get_num_procs();
-  if (threads > kThreadsPerCore * procs)
-    throw InputError("--threads", std::to_string(threads),
-                     "at most " + std::to_string(kThreadsPerCore) +
-                         " per core: <= " + std::to_string(kThreadsPerCore * procs) + " on this machine (" +
-                         std::to_string(procs) + " cores; 0: one per core)");
-  const double n_threads = threads > 0 ? threads : omp_get_max_threads();
-  // a count per bin, and for weighted runs two exact sums (24 bytes each) per survival bin and one per density bin
-  const bool weighted = scene.sampling.weighted();
-  const double survival = (weighted ? 56.0 : 8.0) * static_cast<double>(scene.survival_bins());
-  const double density = scene.collision_density
-                             ? (weighted ? 32.0 : 8.0) * static_cast<double>(scene.collision_density->bins) *
-                                   static_cast<double>(scene.collision_density->windows.size())
-                             : 0.0;
-  const double records =
-      scene.escape_records ? static_cast<double>(sizeof(EscapeRecord)) * static_cast<double>(scene.particles) : 0.0;
-  // split runs: four exact line sums (~64 bytes each) and two counts per grid point, and a block's
-  // population of at most kBlockSize x split_cap members (member, its end, its kernel start) per thread
-  const double lines = scene.splitting.on ? 300.0 * static_cast<double>(scene.survival_bins()) : 0.0;
-  const double population =
-      scene.splitting.on ? static_cast<double>(kBlockSize) * static_cast<double>(scene.splitting.cap) *
-                               static_cast<double>(2 * sizeof(Member) + sizeof(ParticleEnd) + sizeof(simd::Start))
-                         : 0.0;
-  const double need = (survival + density + lines) * (n_threads + 1) + population * n_threads +
-                      records;  // a tally per thread and the merged one
-  double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-  struct rlimit as {};
-  if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
-    have = std::min(have, static_cast<double>(as.rlim_cur));
-  if (need <= 0.8 * have) return;
-  char why[300];
-  std::snprintf(why, sizeof why, "the run would need %.3g GB for its tallies (%.0f threads) but may use %.3g GB here",
-                need / 1e9, n_threads, 0.8 * have / 1e9);
-  if (population * n_threads >= survival * (n_threads + 1) && population >= density)
-    throw InputError("run.split_cap", std::to_string(scene.splitting.cap),
-                     std::string(why) + "; a block of " + std::to_string(kBlockSize) +
-                         " lines may hold split_cap members each: a smaller cap (or fewer --threads)");
-  if (records >= survival * (n_threads + 1) && records >= density * (n_threads + 1))
-    throw InputError(
-        "ensemble.particles", std::to_string(scene.particles),
-        std::string(why) + "; observe.escapes keeps 32 bytes per particle: fewer particles, or no escape records");
-  if (density > survival)
-    throw InputError("observe.collision_density",
-                     std::to_string(scene.collision_density->bins) + " bins x " +
-                         std::to_string(scene.collision_density->windows.size()) + " windows",
-                     std::string(why) + "; fewer bins or windows (or fewer --threads)");
-  throw InputError("observe.survival_dt", std::to_string(scene.survival_bins()) + " bins",
-                   std::string(why) + "; a coarser survival_dt (or fewer --threads)");
-}
-
-RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
-  check_resources(scene, options.threads);
-  if (!scene.tier.automatic() && !scene.tier.ensemble())
-    throw std::invalid_argument("the ensemble engine runs float, double or long_double, not " + scene.tier.name());
-  return with_tier(scene.tier, [&](auto type) -> RunResult {
+RunResult run_ensemble(const RunPlan& plan, const RunOptions& options) {
+  if (plan.scene().tier.automatic()) throw std::logic_error("run_ensemble: a tier of auto must be chosen first");
+  return with_tier(plan.scene().tier, [&](auto type) -> RunResult {
     using R = typename decltype(type)::type;
     if constexpr (std::is_floating_point_v<R>)
-      return run_tier<R>(scene, options);
+      return run_tier<R>(plan, options);
     else
       throw std::logic_error("unreachable: not an ensemble tier");
   });
+}
+
+RunResult run_ensemble(const Scene& scene, const RunOptions& options) {
+  return run_ensemble(plan_run(scene, options), options);
 }
 
 }  // namespace rotleak

@@ -1,5 +1,6 @@
 // The ensemble engine: OpenMP over particle ids, per-thread tallies merged as exact integers, so the
-// result does not depend on the thread count.
+// result does not depend on the thread count. A run is planned once (plan_run: every check of the scene
+// and the options against this machine) and the engine runs the plan.
 #pragma once
 
 #include <atomic>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/engine/plan.hpp"
 #include "sim/model/initial.hpp"
 #include "sim/model/scene.hpp"
 #include "sim/tally/blocks.hpp"
@@ -15,12 +17,10 @@
 
 namespace rotleak {
 
-/// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes a register,
-/// or AVX-512, 8).
-enum class Engine { automatic, scalar, simd };
-
 class SplitRule;
 
+/// How a run goes. plan_run reads threads, engine, simd_lanes and draws once into the plan; the engine
+/// reads the plan's resolved values, and the rest (ids, blocks, checkpoints, progress, stop) from here.
 struct RunOptions {
   int threads = 0;                    ///< 0: OpenMP's default
   Engine engine = Engine::automatic;  ///< automatic: simd for the double tier when the CPU has AVX2+FMA
@@ -95,7 +95,15 @@ inline constexpr int kThreadsPerCore = 8;
 /// the address-space limit when lower). The InputError names the key that asks for most of it.
 void check_resources(const Scene& scene, int threads);
 
-/// Runs the scene's ensemble in its tier (an ensemble tier; auto must be resolved first).
+/// The one place a run is checked: the memory its tallies need (check_resources), its tier (an
+/// ensemble tier, or auto), a split run's needs (the double tier from the scene's own draws, no escape
+/// records), the draws given, and -- once the tier is known -- the engine and its lanes (an InputError
+/// naming --engine). Builds the stadium in double once.
+RunPlan plan_run(Scene scene, const RunOptions& options);
+
+/// Runs the plan's ensemble (its tier chosen: not auto). Checks nothing the plan holds.
+RunResult run_ensemble(const RunPlan& plan, const RunOptions& options);
+/// run_ensemble(plan_run(scene, options), options): for callers that build a scene and run it once.
 RunResult run_ensemble(const Scene& scene, const RunOptions& options);
 
 }  // namespace rotleak

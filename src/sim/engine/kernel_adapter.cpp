@@ -45,9 +45,8 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   return s;
 }
 
-/// The f_c observer's windows and bins for the kernel.
-void simd_density(simd::KernelScene& s, const Scene& scene) {
-  if (!scene.collision_density) return;
+DensityCells simd_density(simd::KernelScene& s, const Scene& scene) {
+  if (!scene.collision_density) return {};
   s.density_windows = static_cast<int>(scene.collision_density->windows.size());
   s.bins = scene.collision_density->bins;
   for (int w = 0; w < s.density_windows; ++w) {
@@ -56,6 +55,7 @@ void simd_density(simd::KernelScene& s, const Scene& scene) {
     s.win_span_from = w == 0 ? s.win_from[w] : std::min(s.win_span_from, s.win_from[w]);
     s.win_span_to = w == 0 ? s.win_to[w] : std::max(s.win_span_to, s.win_to[w]);
   }
+  return DensityCells::of(s.bins, s.density_windows, s.win_from, s.win_to);
 }
 
 namespace {

@@ -33,8 +33,10 @@ struct DrawSource {
 /// The vectorised kernel's view of a double model.
 simd::KernelScene simd_scene(const Model<double>& m);
 
-/// The f_c observer's windows and bins for the kernel.
-void simd_density(simd::KernelScene& s, const Scene& scene);
+/// The scene's f_c windows and bins in the kernel's scene, and the time cells the kernel counts in, both
+/// from the scene's one spec (observe.collision_density): the kernel's plain copy and the cells that
+/// fold its counts into windows cannot disagree. Empty cells when the scene observes no f_c.
+DensityCells simd_density(simd::KernelScene& s, const Scene& scene);
 
 struct SimdContext {
   const Model<double>* model;

@@ -99,11 +99,11 @@ class LineBook {
 /// line their ends booked (Tally::add_end, in the run's LinesEstimator), the survivors split and thinned.
 class LinesRun {
  public:
-  LinesRun(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
+  LinesRun(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
            Tally& t)
-      : scene_(scene),
+      : scene_(plan.scene()),
         rule_(rule),
-        st_(scene.d, scene.r),
+        st_(plan.stadium()),
         lo_(lo),
         t_(t),
         e_(t.as<LinesEstimator>()),
@@ -249,7 +249,7 @@ class LinesRun {
 
   const Scene& scene_;
   const SplitRule& rule_;
-  const Stadium<double> st_;
+  const Stadium<double>& st_;
   const std::uint64_t lo_;
   Tally& t_;
   LinesEstimator& e_;
@@ -265,14 +265,13 @@ class LinesRun {
 
 }  // namespace
 
-std::unique_ptr<SplitRule> make_split_rule(const Scene& scene) {
-  const Stadium<double> st(scene.d, scene.r);
+std::unique_ptr<SplitRule> make_split_rule(const Scene& scene, const Stadium<double>& st) {
   return std::make_unique<ChaoticSplit>(st.r(), st.half_d(), scene.sampling.p_max);
 }
 
-void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
+void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t) {
-  LinesRun(scene, sampler, rule, lo, hi, t).run(advance);
+  LinesRun(plan, sampler, rule, lo, hi, t).run(advance);
 }
 
 }  // namespace rotleak

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/engine/plan.hpp"
 #include "sim/model/particle.hpp"
 #include "sim/model/sampling.hpp"
 #include "sim/tally/tally.hpp"
@@ -49,16 +50,16 @@ class SplitRule {
 /// The scene's rule: every member splits in two but those in a bouncing-ball stretch -- on a
 /// straight edge with |v_x| < p_bb (the mupo scheme's p_max, 0.05 by default) -- whose copies would
 /// stay together for thousands of time units and whose number would grow with the algebraic tail.
-std::unique_ptr<SplitRule> make_split_rule(const Scene& scene);
+std::unique_ptr<SplitRule> make_split_rule(const Scene& scene, const Stadium<double>& st);
 
 /// Advances every member to `stop` (a split time, or t_max): ends[i] is member i's end; a member that
 /// reaches `stop` ends as survived with its state at its last collision before it (ParticleEnd::last).
 using AdvanceMembers = std::function<void(const std::vector<Member>& members, const std::vector<double>& weights,
                                           double stop, std::vector<ParticleEnd>& ends)>;
 
-/// Runs the lines of ids [lo, hi) to t_max and books them in t: every member's end through
+/// Runs the lines of ids [lo, hi) of the plan's scene to t_max and books them in t: every member's end through
 /// Tally::add_end, the lines' weights and the split statistics in its LinesEstimator.
-void run_lines(const Scene& scene, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
+void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t);
 
 }  // namespace rotleak

@@ -25,10 +25,14 @@ struct Model {
   Model(const ExactReal& d, const ExactReal& r, const ExactReal& width, const ExactReal& start, const ExactReal& omega,
         double tmax)
       : stadium(d, r), leak(stadium, width, start, omega), t_max(R(tmax)) {}
+  Model(const Stadium<R>& st, const ExactReal& width, const ExactReal& start, const ExactReal& omega, double tmax)
+      : stadium(st), leak(stadium, width, start, omega), t_max(R(tmax)) {}
 
   /// The scene's billiard, leak, t_max and fast-forward, rounded once into R.
-  static Model from(const Scene& s) {
-    Model m(s.d, s.r, s.width, s.start, s.omega, s.t_max);
+  static Model from(const Scene& s) { return from(s, Stadium<R>(s.d, s.r)); }
+  /// The same, on the scene's stadium already rounded into R (a run's plan holds it).
+  static Model from(const Scene& s, const Stadium<R>& st) {
+    Model m(st, s.width, s.start, s.omega, s.t_max);
     m.fast_forward = s.fast_forward;
     return m;
   }

@@ -58,8 +58,7 @@ class MupoBase : public Sampler {
 /// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, p as above.
 class MupoBirkhoff final : public MupoBase {
  public:
-  MupoBirkhoff(const Scene& scene, const SamplingSpec& spec) : MupoBase(scene, spec) {
-    const Stadium<double> st(scene.d, scene.r);
+  MupoBirkhoff(const Scene& scene, const Stadium<double>& st) : MupoBase(scene, scene.sampling) {
     for (int k = 0; k < 4; ++k) j_[k] = st.junction(k);
     straight_ = j_[0] + (j_[2] - j_[1]) + (1 - j_[3]);
   }
@@ -94,8 +93,7 @@ class MupoBirkhoff final : public MupoBase {
 /// |delta| log-uniform in [p_min, p_max].
 class MupoFlow final : public MupoBase {
  public:
-  MupoFlow(const Scene& scene, const SamplingSpec& spec) : MupoBase(scene, spec) {
-    const Stadium<double> st(scene.d, scene.r);
+  MupoFlow(const Scene& scene, const Stadium<double>& st) : MupoBase(scene, scene.sampling) {
     half_d_ = st.half_d();
     r_ = st.r();
     area_ = st.area();
@@ -130,10 +128,15 @@ class MupoFlow final : public MupoBase {
 
 }  // namespace
 
+std::unique_ptr<Sampler> make_sampler(const Scene& scene, const Stadium<double>& st) {
+  if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);
+  if (scene.init == InitKind::flow) return std::make_unique<MupoFlow>(scene, st);
+  return std::make_unique<MupoBirkhoff>(scene, st);
+}
+
 std::unique_ptr<Sampler> make_sampler(const Scene& scene) {
   if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);
-  if (scene.init == InitKind::flow) return std::make_unique<MupoFlow>(scene, scene.sampling);
-  return std::make_unique<MupoBirkhoff>(scene, scene.sampling);
+  return make_sampler(scene, Stadium<double>(scene.d, scene.r));
 }
 
 }  // namespace rotleak

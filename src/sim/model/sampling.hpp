@@ -32,7 +32,9 @@ class Sampler {
   virtual bool weighted() const = 0;
 };
 
-/// The scheme of scene.sampling.
+/// The scheme of scene.sampling, on the scene's stadium in double `st` (a run's plan holds it).
+std::unique_ptr<Sampler> make_sampler(const Scene& scene, const Stadium<double>& st);
+/// The same on a stadium built from the scene: for a caller outside a run (one trajectory, a test).
 std::unique_ptr<Sampler> make_sampler(const Scene& scene);
 
 /// Philox words of particle id for a purpose other than the uniform draw (counter word 2 = purpose).
