@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "analysis/continued_fraction.hpp"
+#include "geometry/stadium.hpp"
 
 namespace rotleak {
 
@@ -26,13 +27,13 @@ double log_var(const SurvivalCurve& c, const std::vector<std::size_t>& idx, cons
 
 LeakTimes leak_times(const Scene& scene) {
   LeakTimes lt;
-  const double d = scene.d.to_double(), r = scene.r.to_double(), lambda = scene.width.to_double();
+  const double r = scene.r.to_double(), lambda = scene.width.to_double();
   const double s0 = scene.start.to_double(), omega = scene.omega.to_double();
   lt.omega_sweep = lambda / (2 * r);
   if (omega == 0) return lt;
   lt.rotating = true;
-  const double L = 2 * d + 2 * std::numbers::pi * r;
-  const double lower_start = (d / 2 + std::numbers::pi * r) / L, lower_end = (1.5 * d + std::numbers::pi * r) / L;
+  const Stadium<double> st(scene.d, scene.r);
+  const double lower_start = st.junction(1), lower_end = st.junction(2);  // the lower straight edge, in s
   if (omega > 0) {  // leading edge s_L + lambda/2 moving towards +s
     const double lead = s0 + lambda / 2;
     lt.tau1 = frac(lower_start - lead) / omega;

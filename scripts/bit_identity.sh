@@ -33,5 +33,9 @@ run mupoff $S --particles 100000 --set ensemble.sampling=mupo --set run.fast_for
 run w23fc $S --particles 100000 --set leak.omega=2/3 \
   --set 'observe.collision_density={bins=100, windows=[[0,500],[100,3000]]}'
 for s in 0 0.1 0.1022 0.1024 0.11 0.25; do run "st$s" "data/scenes/stationary_sL_$s.toml" --particles 100000; done
+for z in "1 1" "2 2" "3 0.7"; do  # the other stadiums of tests/test_stadiums.cpp, moving leak with f_c
+  set -- $z
+  run "d$1r$2" $S --particles 50000 --set stadium.d=$1 --set stadium.r=$2 --set leak.omega=2/3 --set "$FC"
+done
 run split $S --particles 20000 --set ensemble.sampling=mupo --set run.splitting=true --set leak.omega=70/71
 cd "$out" && sha256sum ./*/survival.csv ./*/fc.csv

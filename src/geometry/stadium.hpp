@@ -52,6 +52,7 @@ class Stadium {
     junction_[2] = round_exact<R>((ExactReal::parse("3") * hd + pr) / L);
     junction_[3] = round_exact<R>((ExactReal::parse("3") * hd + ExactReal::parse("2") * pr) / L);
     area_ = round_exact<R>(ExactReal::parse("2") * r * d + pr * r);
+    mean_free_path_ = round_exact<R>(ExactReal::pi() * (ExactReal::parse("2") * r * d + pr * r) / L);
     pi_ = num_traits<R>::pi();
   }
 
@@ -59,10 +60,22 @@ class Stadium {
   const R& r() const { return r_; }
   const R& half_d() const { return half_d_; }
   const R& perimeter() const { return L_; }
+  /// 1 / L and r / L, each rounded once from its exact value (not 1 / fl(L)): s of a straight-edge point
+  /// is (x +- ...) inv_perimeter(), of an arc point its angle times r_over_perimeter() (formula::straight_s,
+  /// formula::arc_s). Every engine takes them from here, so that every engine computes the same s.
+  const R& inv_perimeter() const { return inv_L_; }
+  const R& r_over_perimeter() const { return r_over_L_; }
   const R& area() const { return area_; }
+  /// The billiard flow's mean free path, pi area / L (Santalo), rounded once from its exact value.
+  const R& mean_free_path() const { return mean_free_path_; }
   const R& pi() const { return pi_; }
   /// s of the start of piece k+1: right arc, bottom, left arc, top-left half of the top edge.
   const R& junction(int k) const { return junction_[k]; }
+  /// Whether s in [0, 1) lies on a straight edge (the top: s < junction(0) or s >= junction(3); the bottom:
+  /// junction(1) <= s < junction(2)), as at() places it.
+  bool on_straight(const R& s) const {
+    return s < junction_[0] || s >= junction_[3] || (s >= junction_[1] && s < junction_[2]);
+  }
 
   /// Centre x of an arc piece.
   R arc_centre_x(Piece p) const { return p == Piece::right_arc ? half_d_ : R(-half_d_); }
@@ -161,7 +174,7 @@ class Stadium {
 
  private:
   R d_, r_, half_d_, inv_r_;
-  R L_, inv_L_, r_over_L_, L_over_r_, area_, pi_;
+  R L_, inv_L_, r_over_L_, L_over_r_, area_, mean_free_path_, pi_;
   R junction_[4];
 };
 

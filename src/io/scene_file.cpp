@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string_view>
 #include <tuple>
+#include "geometry/stadium.hpp"
 #include "io/files.hpp"
 #include "numeric/input.hpp"
 
@@ -252,8 +253,7 @@ void check_physics(const Scene& s, bool t_max_given) {
   }
   // collisions per particle ~ t_max / mean free path (pi area / perimeter): a tiny r or d makes it endless
   const double d = s.d.to_double(), r = s.r.to_double();
-  const double pi = 3.141592653589793;
-  const double mfp = pi * (2 * r * d + pi * r * r) / (2 * d + 2 * pi * r);
+  const double mfp = Stadium<double>(s.d, s.r).mean_free_path();
   const double per_particle = s.t_max / mfp;
   if (!(per_particle <= 1e9)) {
     char why[300];
@@ -263,7 +263,7 @@ void check_physics(const Scene& s, bool t_max_given) {
                   s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
     // the key to blame: t_max when even the default stadium (d = 2, r = 1) would make too many collisions
     // with it (t_max = 1e12 once blamed stadium.r, never given), else the stadium's smaller size
-    const double mfp_default = pi * (4 + pi) / (4 + 2 * pi);
+    const double mfp_default = Stadium<double>(ExactReal::parse("2"), ExactReal::parse("1")).mean_free_path();
     if (s.t_max / mfp_default > 1e9)
       throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
                        std::string(why) + " (here run.t_max <= " + shortest(std::floor(1e9 * mfp)) + ")");

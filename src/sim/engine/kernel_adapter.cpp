@@ -12,8 +12,8 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   s.half_d = st.half_d();
   s.t_max = m.t_max;
   s.L = st.perimeter();
-  s.inv_L = 1 / st.perimeter();
-  s.r_over_L = st.r() / st.perimeter();
+  s.inv_L = st.inv_perimeter();  // the core's own, rounded once from 1 / L (1 / fl(L) differs by an ulp for d = 1)
+  s.r_over_L = st.r_over_perimeter();
   s.pi = st.pi();
   for (int k = 0; k < 4; ++k) s.junction[k] = st.junction(k);
   s.rotating = m.leak.schedule().rotating();

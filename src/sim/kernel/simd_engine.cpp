@@ -21,6 +21,8 @@ bool available();
 void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n);
 void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n);
+void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
+                  const Exact& exact);
 double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps);
 int pack_size();
 }  // namespace avx512_kernel
@@ -60,6 +62,13 @@ void time_cells(const KernelScene& S, const double* t, double* out, std::size_t 
     avx512_kernel::cell_kernel(S, t, out, n);
   else
     avx2_kernel::cell_kernel(S, t, out, n);
+}
+
+void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx, const Exact& exact) {
+  if (S.lanes == 8)
+    avx512_kernel::probe_kernel(S, points, out, n, ctx, exact);
+  else
+    avx2_kernel::probe_kernel(S, points, out, n, ctx, exact);
 }
 
 void rough_angles(int lanes, const double* ay, const double* ax, double* out, std::size_t n) {

@@ -107,6 +107,20 @@ void rough_angles(int lanes, const double* ay, const double* ax, double* out, st
 /// S.lanes lanes over S's density windows; requires lanes_available(S.lanes).
 void time_cells(const KernelScene& S, const double* t, double* out, std::size_t n);
 
+/// A boundary point for probe(): on piece `piece` (0 top, 1 right arc, 2 bottom, 3 left arc) at (x, y), at time t.
+struct Probe {
+  int piece;
+  double x, y, t;
+};
+struct ProbeResult {
+  double bin;    ///< f_c's bin floor(s S.bins), from the kernel's s
+  bool in_leak;  ///< the kernel's leak test (the moving one when S.rotating)
+};
+/// The kernel's own decisions at given collision points, for the ulp-edge probe test: each point's f_c bin and
+/// whether it is in the leak, by the kernel of S.lanes lanes, computed as run() computes them (the same
+/// functions); requires lanes_available(S.lanes). exact.s_of is asked as run() asks it.
+void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx, const Exact& exact);
+
 /// Runs particles until next() has none left, by the kernel of scene.lanes; requires
 /// lanes_available(scene.lanes).
 void run(const KernelScene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);

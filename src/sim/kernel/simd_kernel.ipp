@@ -15,7 +15,7 @@
 // instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
 // copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
 // objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
-// flights_kernel and pack_size.
+// probe_kernel, flights_kernel and pack_size.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
@@ -53,7 +53,8 @@ namespace {
 /// f(0), ..., f(G - 1), unrolled
 template <class F>
 inline void each(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) { (f(I), ...); }(std::make_integer_sequence<int, G>{});
+  [&]<int... I>(std::integer_sequence<int, I...>) { (f(I), ...); }
+  (std::make_integer_sequence<int, G>{});
 }
 
 // ---- the pack: G registers, every operation the register's own, applied to each ---------------
@@ -73,22 +74,22 @@ struct MV {
   }
 };
 
-#define ROTLEAK_V_BINARY(op)                                  \
-  inline V operator op(const V& x, const V& y) {              \
-    V r;                                                      \
-    each([&](int i) { r.b[i] = x.b[i] op y.b[i]; });          \
-    return r;                                                 \
+#define ROTLEAK_V_BINARY(op)                         \
+  inline V operator op(const V& x, const V& y) {     \
+    V r;                                             \
+    each([&](int i) { r.b[i] = x.b[i] op y.b[i]; }); \
+    return r;                                        \
   }
 ROTLEAK_V_BINARY(+)
 ROTLEAK_V_BINARY(-)
 ROTLEAK_V_BINARY(*)
 ROTLEAK_V_BINARY(/)
 #undef ROTLEAK_V_BINARY
-#define ROTLEAK_V_COMPARE(op)                                 \
-  inline MV operator op(const V& x, const V& y) {             \
-    MV r;                                                     \
-    each([&](int i) { r.m[i] = x.b[i] op y.b[i]; });          \
-    return r;                                                 \
+#define ROTLEAK_V_COMPARE(op)                        \
+  inline MV operator op(const V& x, const V& y) {    \
+    MV r;                                            \
+    each([&](int i) { r.m[i] = x.b[i] op y.b[i]; }); \
+    return r;                                        \
   }
 ROTLEAK_V_COMPARE(<)
 ROTLEAK_V_COMPARE(<=)
@@ -152,7 +153,9 @@ inline V select(const MV& m, const V& x, const V& y) {
   return r;
 }
 inline MV select(const MV& m, const MV& x, const MV& y) { return (m & x) | ((!m) & y); }
-inline Vec2<V> select(const MV& m, const Vec2<V>& x, const Vec2<V>& y) { return {select(m, x.x, y.x), select(m, x.y, y.y)}; }
+inline Vec2<V> select(const MV& m, const Vec2<V>& x, const Vec2<V>& y) {
+  return {select(m, x.x, y.x), select(m, x.y, y.y)};
+}
 // a * b + c as the core evaluates the spelling: a multiply, then an add (two roundings;
 // -ffp-contract=off keeps the compiler from fusing them)
 inline V fma(const V& x, const V& y, const V& z) {
@@ -204,7 +207,7 @@ struct Lanes {
 struct Pack {
   Lanes L{};
   V qx, qy, vx, vy, t;
-  unsigned live_mask = 0;  ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
+  unsigned live_mask = 0;   ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
   std::uint64_t steps = 0;  ///< steps taken (Lanes::base)
   bool zeros = false;       ///< some lane's count of zero-length flights in a row (Lanes::zero) is not 0
 };
@@ -336,7 +339,8 @@ inline V rough_atan2(const V& ay, const V& ax) {
 /// s of the arc hits from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L < 0.16), of the core's.
 /// Inlined by force: as a call it returns its pack through memory (omega = 2/3 measured 4% slower).
 [[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
-  return arc_s_from(S, h, rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
+  return arc_s_from(S, h,
+                    rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
 }
 
 /// The cascade "cheap angle, then a precise one, then ask the core" (a filtered predicate, as CGAL's):
@@ -377,9 +381,7 @@ inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, co
                                          select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]))) &
                       live;
   const V hw(S.half_width);
-  const auto near_end = [&](const V& s, double tol) {
-    return formula::distance_to_leak_end(s, ph, hw) <= V(tol);
-  };
+  const auto near_end = [&](const V& s, double tol) { return formula::distance_to_leak_end(s, ph, hw) <= V(tol); };
   const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end, ctx, exact);
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
@@ -393,20 +395,27 @@ inline V time_cell(const KernelScene& S, const V& t) {
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
 /// floor(s bins) of their time cell (see simd::DensityHit; a cell in a gap has no window); the arc
 /// lanes' s from the cascade with the bin edges as its edges.
-inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count, void* ctx,
-                            const Exact& exact, DensityHit* buf, int& used) {
-  const V bins(static_cast<double>(S.bins)), ZERO(0.0);
+/// f_c's bin floor(s bins) of the lanes in `count`: the straight lanes' s by formula::straight_s, the arc
+/// lanes' from the cascade with the bin edges as its edges.
+inline V density_bin_of(const KernelScene& S, const HitLanes& h, const MV& count, void* ctx, const Exact& exact) {
+  const V bins(static_cast<double>(S.bins));
   const auto near_edge = [&](const V& s, double tol) {
     const V sb = s * bins;
     return abs(sb - nearbyint(sb)) <= V(tol * S.bins);
   };
   const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge, ctx, exact);
-  const V bin = formula::density_bin(s, bins), cell = time_cell(S, t);
+  return formula::density_bin(s, bins);
+}
+
+inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count,
+                            void* ctx, const Exact& exact, DensityHit* buf, int& used) {
+  const V bins(static_cast<double>(S.bins)), ZERO(0.0);
+  const V bin = density_bin_of(S, h, count, ctx, exact), cell = time_cell(S, t);
   const unsigned in = bits(count);
   if (exact.counts) {
     alignas(sizeof(B)) double index[N];
     store(fma(cell, bins, bin), index);  // exact: small integers
-    if (in == kAllLanes) {  // the common case (a window covering most of the run): no mask walk
+    if (in == kAllLanes) {               // the common case (a window covering most of the run): no mask walk
       for (int i = 0; i < N; ++i) ++exact.counts[static_cast<std::uint32_t>(index[i])];
     } else {
       for_lanes(in, [&](int i) { ++exact.counts[static_cast<std::uint32_t>(index[i])]; });
@@ -466,8 +475,8 @@ inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Fi
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
   const V t = g.t + h.t;
   const MV over = t > TMAX;
-  ++g.steps;  // a collision of every lane (a flight past t_max is not one: Lanes::base)
-  if (S.density_windows > 0) {                // parked lanes sit past t_max: `over` excludes them
+  ++g.steps;                    // a collision of every lane (a flight past t_max is not one: Lanes::base)
+  if (S.density_windows > 0) {  // parked lanes sit past t_max: `over` excludes them
     // within the windows' span [first from, last to]; a time in a gap between windows has a cell
     // that no window holds, so it is counted nowhere
     const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & !over;
@@ -556,6 +565,30 @@ void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t
     for (std::size_t k = 0; k < N; ++k) a[k] = k < m ? t[i + k] : 0;
     store(time_cell(S, load(a)), o);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = o[k];
+  }
+}
+
+void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
+                  const Exact& exact) {
+  alignas(sizeof(B)) double piece[N], x[N], y[N], t[N], bin[N], leak[N];
+  for (std::size_t i = 0; i < n; i += N) {
+    const std::size_t m = n - i < N ? n - i : N;
+    for (std::size_t k = 0; k < N; ++k) {
+      const Probe p = k < m ? points[i + k] : Probe{0, 0, S.r, 0};
+      piece[k] = p.piece, x[k] = p.x, y[k] = p.y, t[k] = p.t;
+    }
+    const V pc = load(piece), ts = load(t);
+    HitLanes h;
+    h.straight = (pc == V(0.0)) | (pc == V(2.0));
+    h.up = pc == V(0.0);
+    h.right = pc == V(1.0);
+    h.x = load(x), h.y = load(y), h.t = V(0.0);
+    h.cx = select(h.right, V(S.half_d), V(-S.half_d));
+    const MV all(true);
+    store(density_bin_of(S, h, all, ctx, exact), bin);
+    const MV in = S.rotating ? in_moving_leak(S, h, ts, all, ctx, exact) : in_stationary_leak(S, h);
+    store(select(in, V(1.0), V(0.0)), leak);
+    for (std::size_t k = 0; k < m; ++k) out[i + k] = {bin[k], leak[k] != 0};
   }
 }
 

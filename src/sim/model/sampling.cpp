@@ -58,7 +58,7 @@ class MupoBase : public Sampler {
 /// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, p as above.
 class MupoBirkhoff final : public MupoBase {
  public:
-  MupoBirkhoff(const Scene& scene, const Stadium<double>& st) : MupoBase(scene, scene.sampling) {
+  MupoBirkhoff(const Scene& scene, const Stadium<double>& st) : MupoBase(scene, scene.sampling), st_(st) {
     for (int k = 0; k < 4; ++k) j_[k] = st.junction(k);
     straight_ = j_[0] + (j_[2] - j_[1]) + (1 - j_[3]);
   }
@@ -83,7 +83,8 @@ class MupoBirkhoff final : public MupoBase {
   }
 
  private:
-  bool on_straight(double s) const { return s < j_[0] || s >= j_[3] || (s >= j_[1] && s < j_[2]); }
+  bool on_straight(double s) const { return st_.on_straight(s); }
+  Stadium<double> st_;
   double j_[4];
   double straight_;
 };
