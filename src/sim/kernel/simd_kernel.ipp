@@ -17,7 +17,7 @@
 // objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
 // probe_kernel, flights_kernel and pack_size.
 //
-// What matches the scalar core, as the tests check it (tests/test_simd.cpp):
+// What matches the scalar core, as the tests check it (tests/test_simd.cpp, tests/test_stadiums.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
 //   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
 //   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
@@ -28,14 +28,12 @@
 //   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
 //   arc_s_for takes the rough s where it is far from every edge, SLEEF's where it is not, and the
 //   core's own s (simd::Exact) within `margin` (1e-12) of one: every decision is the core's.
-// The one deliberate FMA is the exact product error of the leak phase, which the scalar core also
-// takes from a true fma.
+// The one deliberate FMA is the exact product error of the leak phase, as in the scalar core.
 //
 // Speed: a collision is a long dependent chain (division, square root, division), so one register of
-// particles leaves the core waiting. The kernel works on a pack of G registers (V: N = W G lanes),
-// each operation written once and applied to the G registers side by side, so the G chains
-// interleave instruction by instruction; branches (an ended lane, a lane near a moving leak) are
-// taken once per pack.
+// particles leaves the core waiting. The kernel works on a pack of G registers (V: N = W G lanes), each
+// operation applied to the G registers side by side, so the G chains interleave instruction by
+// instruction; branches (an ended lane, a lane near a moving leak) are taken once per pack.
 
 constexpr int N = W * G;  ///< lanes of a pack
 static_assert(N <= 32, "lane masks are 32-bit");
@@ -577,16 +575,15 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
       const Probe p = k < m ? points[i + k] : Probe{0, 0, S.r, 0};
       piece[k] = p.piece, x[k] = p.x, y[k] = p.y, t[k] = p.t;
     }
-    const V pc = load(piece), ts = load(t);
+    const V pc = load(piece);
     HitLanes h;
     h.straight = (pc == V(0.0)) | (pc == V(2.0));
     h.up = pc == V(0.0);
     h.right = pc == V(1.0);
-    h.x = load(x), h.y = load(y), h.t = V(0.0);
-    h.cx = select(h.right, V(S.half_d), V(-S.half_d));
+    h.x = load(x), h.y = load(y), h.t = V(0.0), h.cx = select(h.right, V(S.half_d), V(-S.half_d));
     const MV all(true);
     store(density_bin_of(S, h, all, ctx, exact), bin);
-    const MV in = S.rotating ? in_moving_leak(S, h, ts, all, ctx, exact) : in_stationary_leak(S, h);
+    const MV in = S.rotating ? in_moving_leak(S, h, load(t), all, ctx, exact) : in_stationary_leak(S, h);
     store(select(in, V(1.0), V(0.0)), leak);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = {bin[k], leak[k] != 0};
   }
