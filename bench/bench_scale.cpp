@@ -4,7 +4,9 @@
 // cost of checkpoints (every 0.2 s, written to disk) on omega = 2/3; and the kernel's ceiling: its flights
 // alone, and with the draws every particle needs. Reports, never fails.
 // Usage: bench_scale [PARTICLES (default 10^6)] [ROUNDS (default 3)] [THREADS (default all)]
-//        [LANES (the vectorised kernel: 0 the widest this CPU runs (default), 4 AVX2, 8 AVX-512)]
+//        [LANES (the vectorised kernel: 0 the widest this CPU runs (default), 4 AVX2, 8 AVX-512)] [JSON]
+// With JSON, the figures are also written there (scripts/performance_report.py writes docs/performance.md's
+// current table from them; its schema is in docs/output.md).
 #include <omp.h>
 
 #include <algorithm>
@@ -16,6 +18,8 @@
 #include <vector>
 
 #include "bench/plain.hpp"
+#include "io/files.hpp"
+#include "io/json.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "sim/engine/engine.hpp"
@@ -81,7 +85,9 @@ int main(int argc, char** argv) {
   const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
   const int threads = argc > 3 ? std::atoi(argv[3]) : omp_get_max_threads();
   const int lanes = argc > 4 ? std::atoi(argv[4]) : 0;
+  const std::string json_path = argc > 5 ? argv[5] : "";
   const std::string n = std::to_string(particles);
+  json doc = {{"particles", particles}, {"rounds", rounds}, {"threads", threads}, {"scenes", json::array()}};
   const std::vector<Case> cases = {
       {"s_L = 0", "[leak]\nstart = \"0\"\n"},
       {"s_L = 0.25", "[leak]\nstart = \"0.25\"\n"},
@@ -121,6 +127,12 @@ int main(int argc, char** argv) {
     std::printf("| %s | %s | %.3g | %.3g | %.2f | %s |\n", c.name, to_string(ran).c_str(), median(er), median(pr),
                 median(ratios), all.c_str());
     if (plain_sl0 == 0) plain_sl0 = median(pr), collisions_sl0 = static_cast<double>(collisions);
+    doc["scenes"].push_back({{"scene", c.name},
+                             {"engine", to_string(ran)},
+                             {"engine_rate", median(er)},
+                             {"plain_rate", median(pr)},
+                             {"ratio", median(ratios)},
+                             {"ratios", ratios}});
     std::fflush(stdout);
   }
 
@@ -151,6 +163,8 @@ int main(int argc, char** argv) {
         "\nceiling, the kernel's next hit and reflection alone (%d lanes, no clock, leak, fate or refill): %.3g "
         "collisions/s, %.2fx the plain loop on s_L = 0 (flight time %.3g)\n",
         w, rate, rate / plain_sl0, sink);
+    doc["lanes"] = w;
+    doc["ceiling_flights"] = {{"rate", rate}, {"ratio", rate / plain_sl0}};
 
     // what every particle costs before its first flight, in any engine and in the plain loop alike: its
     // draw and initial state (the sampler, libm's sin and cos), for the s_L = 0 run's particles on every
@@ -168,6 +182,10 @@ int main(int argc, char** argv) {
         "per thread); the ceiling with them: %.3g collisions/s, %.2fx the plain loop (sum of x velocities %.3g)\n",
         threads, per_collision, 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles), bound,
         bound / plain_sl0, sink0);
+    doc["ceiling_with_draws"] = {
+        {"rate", bound},
+        {"ratio", bound / plain_sl0},
+        {"draw_ns_per_particle", 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles)}};
   }
 
   // checkpoints: every 0.2 s the merged tallies go to disk (atomically, fsync), against none; the
@@ -195,5 +213,7 @@ int main(int argc, char** argv) {
               100 * median(overhead));
   for (double x : overhead) std::printf(" %+.1f%%", 100 * x);
   std::printf(")\n");
+  doc["checkpoint_overhead"] = median(overhead);
+  if (!json_path.empty()) write_file_atomic(json_path, doc.dump(2) + "\n");
   return 0;
 }

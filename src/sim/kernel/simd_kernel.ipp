@@ -335,7 +335,8 @@ inline V rough_atan2(const V& ay, const V& ax) {
 }
 
 /// s of the arc hits from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L < 0.16), of the core's.
-/// Inlined by force: as a call it returns its pack through memory (omega = 2/3 measured 4% slower).
+/// Inlined by force: as a call it returns its pack through memory (docs/performance.md, "Why the kernel is
+/// written as it is").
 [[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
   return arc_s_from(S, h,
                     rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
@@ -463,8 +464,7 @@ void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, co
 /// One collision for the lanes of g, in the scalar core's order (particle.hpp advance): next hit,
 /// time check, escape test, reflection, zero-flight count; lanes that end are reported and refilled.
 /// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
-/// collision before it. A separate instantiation, so that ordinary runs keep their code as it was
-/// (the branch measured 4-8% slower in bench_scale even where no lane took it).
+/// collision before it. A separate instantiation: the branch cost time even where no lane took it.
 template <bool KeepLast>
 inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
                  DensityHit* buf, int& used) {
@@ -539,8 +539,8 @@ double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t s
   V qx = load(L.qx), qy = load(L.qy), vx = load(L.vx), vy = load(L.vy), sum(0.0);
   for (std::uint64_t n = 0; n < steps; ++n) {
     const HitLanes h = next_hit(S, qx, qy, vx, vy);
-    // step's reflection, the same four lines: formula::reflect (its choose of two lambdas) and a
-    // shared helper each made GCC 12's code slower (ceiling 20x -> 16.8x, 9.3x -> 7.8x)
+    // step's reflection, the same four lines: formula::reflect (its choose of two lambdas) and a shared
+    // helper each made GCC 12's code slower (docs/performance.md, "Why the kernel is written as it is")
     const V wx = formula::from_centre(h.x, h.cx);
     const V k = formula::reflect_factor(wx, h.y, vx, vy);
     vx = select(h.straight, vx, formula::reflected(vx, k, wx));
