@@ -8,8 +8,16 @@ a weak copy of an inline function that scalar code also uses (a formula instanti
 the linker could keep that vector copy for the whole program, and a CPU without AVX-512 would fault in
 scalar code. So: no weak symbols there, but the personality routine's reference (DW.ref.*).
 
-usage: check_kernel_objects.py OBJECT...   (exit 1, naming each weak symbol, when any is found)
+Second, the kernel's hot loop must be one function: GCC 12 once left the pack's own operators and lambdas,
+next_hit and the leak tests as calls inside it (a call passes its packs through memory), and whether it did
+changed with any function added elsewhere in the file. step and flights_kernel are [[gnu::flatten]], and
+run_kernel's ordinary step is inlined into it; run_kernel, flights_kernel and the step instantiations may
+call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and the callbacks.
+
+usage: check_kernel_objects.py OBJECT...   (exit 1, naming each weak symbol or call left, when any is found)
+       check_kernel_objects.py --selftest  (the call finder on a canned disassembly, which it must flag)
 """
+import re
 import subprocess
 import sys
 
@@ -24,7 +32,49 @@ def weak_symbols(path):
     return found
 
 
+HOT = ("run_kernel(", "flights_kernel(", "::step<")
+SELFTEST = """0000000000000000 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)>:
+   0:	call   10 <rotleak::simd::avx2_kernel::(anonymous namespace)::next_hit(rotleak::simd::KernelScene const&)>
+   5:	call   0 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)+0x5>
+			6: R_X86_64_PLT32	Sleef_atan2d4_u35avx2-0x4
+"""
+
+
+def hot_calls(disassembly):
+    """(function, target) of every call from a hot function to a function of the kernel's own but a step."""
+    found, current, pending = [], None, None
+    for line in disassembly.splitlines():
+        head = re.match(r"^[0-9a-f]+ <(.*)>:$", line)
+        if head:
+            current = head.group(1) if any(h in head.group(1) for h in HOT) else None
+            continue
+        if current is None:
+            continue
+        reloc = re.search(r"R_X86_64_\w+\s+(\S+)", line)
+        if reloc and pending is not None:
+            pending = None  # the call's real target is the relocation's symbol (SLEEF, a callback's PLT)
+            continue
+        if pending is not None:
+            found.append(pending)
+            pending = None
+        call = re.search(r"\bcall\s+[0-9a-f]+ <(.*)>", line)
+        if call:
+            target = re.sub(r"\+0x[0-9a-f]+$", "", call.group(1))
+            if "(anonymous namespace)::" in target and "::step<" not in target:
+                pending = (current, target)
+    if pending is not None:
+        found.append(pending)
+    return found
+
+
 def main(paths):
+    if paths == ["--selftest"]:
+        got = hot_calls(SELFTEST)
+        if len(got) == 1 and "next_hit" in got[0][1]:
+            print("check_kernel_objects.py --selftest: the canned call to next_hit is found, SLEEF's is not")
+            return 0
+        print("check_kernel_objects.py --selftest: found %s" % got)
+        return 1
     if not paths:
         print("check_kernel_objects.py: no object files given", file=sys.stderr)
         return 2
@@ -36,7 +86,17 @@ def main(paths):
     if bad:
         print(f"{bad} weak symbol(s) in the kernel objects: a vector copy could replace the scalar code's")
         return 1
-    print(f"{len(paths)} kernel object(s), no weak symbols")
+    calls = 0
+    for p in paths:
+        text = subprocess.run(["objdump", "-dr", "-C", "--no-show-raw-insn", p], check=True, capture_output=True,
+                              text=True).stdout
+        for fn, target in hot_calls(text):
+            print(f"{p}: {fn[:80]} calls {target[:100]}: not inlined into the hot loop")
+            calls += 1
+    if calls:
+        print(f"{calls} call(s) left in the kernel's hot loop")
+        return 1
+    print(f"{len(paths)} kernel object(s), no weak symbols, the hot loop one function (no call of its own but a step)")
     return 0
 
 

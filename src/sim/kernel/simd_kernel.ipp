@@ -464,10 +464,10 @@ void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, co
 /// One collision for the lanes of g, in the scalar core's order (particle.hpp advance): next hit,
 /// time check, escape test, reflection, zero-flight count; lanes that end are reported and refilled.
 /// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
-/// collision before it. A separate instantiation: the branch cost time even where no lane took it.
+/// collision before it. A separate instantiation (the branch cost time where no lane took it); flattened.
 template <bool KeepLast>
-inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish, const Exact& exact,
-                 DensityHit* buf, int& used) {
+[[gnu::flatten]] inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish,
+                                  const Exact& exact, DensityHit* buf, int& used) {
   const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
@@ -532,7 +532,7 @@ void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finis
   if (used) exact.density(ctx, buf, used);
 }
 
-double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
+[[gnu::flatten]] double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   Lanes L{};
   for (int k = 0; k < N; ++k)
     L.qx[k] = starts[k].qx, L.qy[k] = starts[k].qy, L.vx[k] = starts[k].vx, L.vy[k] = starts[k].vy;
