@@ -14,6 +14,7 @@
 #include "analysis/fits.hpp"
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "kernel_widths.hpp"
 #include "names.hpp"
 #include "numeric/input.hpp"
 #include "same_text.hpp"
@@ -38,18 +39,6 @@ RunResult run(const Scene& s, Engine e, int threads = 2, int lanes = 0) {
   o.threads = threads;
   o.simd_lanes = lanes;
   return run_ensemble(s, o);
-}
-
-/// The kernels this CPU runs (4: AVX2, 8: AVX-512): each must give the core's bits.
-std::vector<int> widths() {
-  std::vector<int> w;
-  for (int lanes : {4, 8}) {
-    if (simd::lanes_available(lanes))
-      w.push_back(lanes);
-    else
-      std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
-  }
-  return w;
 }
 
 // Two-sample KS: the largest gap between the two empirical escape-time distributions, against the
@@ -83,7 +72,7 @@ TEST_P(SimdStationary, BitIdenticalToTheScalarCore) {
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
   const Scene s = scene(GetParam(), "0");
   const RunResult a = run(s, Engine::scalar);
-  for (int lanes : widths()) {
+  for (int lanes : test::kernel_widths()) {
     const RunResult b = run(s, Engine::simd, 2, lanes);
     EXPECT_EQ(b.engine, Engine::simd);
     EXPECT_EQ(b.simd_lanes, lanes);
@@ -113,7 +102,7 @@ TEST(Simd, RotatingLeaksBitIdenticalToTheScalarCore) {
   for (const char* omega : {"2/3", "ln(19)", "1008/1009", "1e-4"}) {
     const Scene s = scene("0.3", omega, 40000);
     const RunResult a = run(s, Engine::scalar);
-    for (int lanes : widths()) {
+    for (int lanes : test::kernel_widths()) {
       const RunResult c = run(s, Engine::simd, 2, lanes);
       EXPECT_TRUE(test::same_text(escapes_csv(0, a.records), escapes_csv(0, c.records)))
           << omega << ", " << lanes << " lanes";
@@ -146,7 +135,7 @@ TEST(Simd, CollisionDensityBitIdenticalToTheScalarCore) {
       if (weighted) s.sampling.kind = SamplingKind::mupo;
       const RunResult a = run(s, Engine::scalar), b = run(s, Engine::simd);
       ASSERT_EQ(b.engine, Engine::simd);
-      for (int lanes : widths()) {
+      for (int lanes : test::kernel_widths()) {
         const RunResult c = run(s, Engine::simd, 2, lanes);
         EXPECT_EQ(a.tally.collision_density, c.tally.collision_density) << omega << ", " << lanes << " lanes";
         EXPECT_TRUE(a.tally.collision_density_w == c.tally.collision_density_w) << omega << ", " << lanes;
@@ -170,7 +159,7 @@ TEST(Simd, CollisionDensityWithGapsBitIdentical) {
     s.collision_density = CollisionDensitySpec{200, {{100, 400}, {1000, 2000}, {1500, 1600}}};
     if (weighted) s.sampling.kind = SamplingKind::mupo;
     const RunResult a = run(s, Engine::scalar);
-    for (int lanes : widths()) {
+    for (int lanes : test::kernel_widths()) {
       const RunResult b = run(s, Engine::simd, 2, lanes);
       EXPECT_EQ(a.tally.collision_density, b.tally.collision_density) << lanes << " lanes, weighted " << weighted;
       EXPECT_TRUE(a.tally.collision_density_w == b.tally.collision_density_w) << lanes << " lanes";
@@ -303,7 +292,7 @@ TEST(Simd, RoughAngleWithinItsBound) {
   const double axes[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};  // the axes exactly
   for (int k = 0; k < 4; ++k)
     ay[static_cast<std::size_t>(k)] = axes[k][0], ax[static_cast<std::size_t>(k)] = axes[k][1];
-  for (int lanes : widths()) {
+  for (int lanes : test::kernel_widths()) {
     simd::rough_angles(lanes, ay.data(), ax.data(), out.data(), n);
     double worst = 0;
     for (std::size_t i = 0; i < n; ++i) {

@@ -14,6 +14,7 @@
 
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "kernel_widths.hpp"
 #include "same_text.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/engine/kernel_adapter.hpp"
@@ -35,17 +36,6 @@ Scene scene_of(const Size& z, std::vector<std::string> sets) {
   sets.push_back(std::string("stadium.d=") + z.d);
   sets.push_back(std::string("stadium.r=") + z.r);
   return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml", sets);
-}
-
-std::vector<int> widths() {
-  std::vector<int> w;
-  for (int lanes : {4, 8}) {
-    if (simd::lanes_available(lanes))
-      w.push_back(lanes);
-    else
-      std::printf("[ skipped  ] the %d-lane kernel: this CPU does not run it\n", lanes);
-  }
-  return w;
 }
 
 /// Everything a run's files are made of: survival.csv, the f_c table, the escape records, the collisions.
@@ -77,7 +67,7 @@ void check_every_engine(const Scene& s, const std::string& name) {
   RunOptions two = base;
   two.threads = 2;
   others.push_back({"scalar, 2 threads", two});
-  for (int lanes : widths()) {
+  for (int lanes : test::kernel_widths()) {
     RunOptions o = two;
     o.engine = Engine::simd;
     o.simd_lanes = lanes;
@@ -171,7 +161,7 @@ TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
   }
   EXPECT_GT(near_bin_edge, static_cast<std::size_t>(kBins));  // the probe does look at the edges
   const simd::Exact exact{core_s, no_density};
-  for (int lanes : widths()) {
+  for (int lanes : test::kernel_widths()) {
     simd::KernelScene ks = simd_scene(model);
     ks.lanes = lanes;
     ks.bins = kBins;
