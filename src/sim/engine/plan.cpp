@@ -137,6 +137,13 @@ void settle_engine(const Scene& scene, Engine asked, int lanes_asked, Engine& en
                                 (simd::lanes_available(8) ? " or 8 (AVX-512)" : ""));
 }
 
+/// A split run runs the double tier (or auto, until settled) from the scene's own draws, without records.
+void check_split_needs(const Scene& scene, bool outside_draws) {
+  if (scene.splitting.on &&
+      (!(scene.tier.automatic() || scene.tier == Tier::double_) || outside_draws || scene.escape_records))
+    throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
+}
+
 }  // namespace
 
 RunPlan plan_run(Scene scene, const RunOptions& options) {
@@ -146,9 +153,7 @@ RunPlan plan_run(Scene scene, const RunOptions& options) {
   if (options.draws && options.draws->size() != scene.particles)
     throw std::invalid_argument("RunOptions::draws holds " + std::to_string(options.draws->size()) + " draws for " +
                                 std::to_string(scene.particles) + " particles");
-  if (scene.splitting.on &&
-      (!(scene.tier.automatic() || scene.tier == Tier::double_) || options.draws || scene.escape_records))
-    throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
+  check_split_needs(scene, options.draws != nullptr);
   RunPlan plan;
   plan.stadium_ = std::make_shared<const Stadium<double>>(scene.d, scene.r);
   plan.scene_ = std::move(scene);
@@ -170,8 +175,7 @@ RunPlan RunPlan::with_tier(Tier tier) const {
   if (!scene_.tier.automatic()) return *this;
   RunPlan p = *this;
   p.scene_.tier = tier;
-  if (p.scene_.splitting.on && !(tier == Tier::double_))
-    throw std::invalid_argument("a split run runs the double tier from the scene's own draws, without escape records");
+  check_split_needs(p.scene_, false);  // the draws were checked by plan_run
   settle_engine(p.scene_, p.asked_, p.lanes_asked_, p.engine_, p.lanes_);
   return p;
 }

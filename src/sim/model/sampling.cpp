@@ -58,10 +58,10 @@ class MupoBase : public Sampler {
 /// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, p as above.
 class MupoBirkhoff final : public MupoBase {
  public:
-  MupoBirkhoff(const Scene& scene, const Stadium<double>& st) : MupoBase(scene, scene.sampling), st_(st) {
-    for (int k = 0; k < 4; ++k) j_[k] = st.junction(k);
-    straight_ = j_[0] + (j_[2] - j_[1]) + (1 - j_[3]);
-  }
+  MupoBirkhoff(const Scene& scene, const Stadium<double>& st)
+      : MupoBase(scene, scene.sampling),
+        st_(st),
+        straight_(st.junction(0) + (st.junction(2) - st.junction(1)) + (1 - st.junction(3))) {}
 
   InitialDraw draw(std::uint64_t id) const override {
     r123::Philox4x64::ctr_type w;
@@ -69,23 +69,23 @@ class MupoBirkhoff final : public MupoBase {
     InitialDraw d = ic_.draw(id);  // its creation time tau
     // s uniform over the straight parts [0, j0) + [j1, j2) + [j3, 1), laid end to end
     const double v = InitialConditions::unit(w[1]) * straight_;
-    const double top_right = j_[0], bottom = j_[2] - j_[1];
-    d.s = v < top_right ? v : v < top_right + bottom ? j_[1] + (v - top_right) : j_[3] + (v - top_right - bottom);
-    if (!on_straight(d.s)) d.s = 0;  // rounding at a junction: the edge's midpoint instead (measure zero)
+    const double top_right = st_.junction(0), bottom = st_.junction(2) - st_.junction(1);
+    d.s = v < top_right            ? v
+          : v < top_right + bottom ? st_.junction(1) + (v - top_right)
+                                   : st_.junction(3) + (v - top_right - bottom);
+    if (!st_.on_straight(d.s)) d.s = 0;  // rounding at a junction: the edge's midpoint instead (measure zero)
     const double m = magnitude(w[2]);
     d.p = (w[3] & 1) ? -m : m;
     return d;
   }
 
   double weight(const InitialDraw& d) const override {
-    const double g = on_straight(d.s) ? log_uniform_density(d.p) / straight_ : 0.0;
+    const double g = st_.on_straight(d.s) ? log_uniform_density(d.p) / straight_ : 0.0;
     return mixture_weight(0.5, g);
   }
 
  private:
-  bool on_straight(double s) const { return st_.on_straight(s); }
   Stadium<double> st_;
-  double j_[4];
   double straight_;
 };
 
