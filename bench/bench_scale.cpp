@@ -166,26 +166,43 @@ int main(int argc, char** argv) {
     doc["lanes"] = w;
     doc["ceiling_flights"] = {{"rate", rate}, {"ratio", rate / plain_sl0}};
 
-    // what every particle costs before its first flight, in any engine and in the plain loop alike: its
-    // draw and initial state (the sampler, libm's sin and cos), for the s_L = 0 run's particles on every
-    // thread; with the flights at the ceiling and nothing else, the kernel could reach at most
-    // 1 / (1 / ceiling + draw time per collision)
+    // what every particle costs before its first flight, in any engine: its draw and initial state, for the
+    // s_L = 0 run's particles on every thread, as the kernel's runs make them (draw_starts: the sampler's
+    // draws, then the states vectorised, kStartBatch at a time) and, for comparison, one particle at a time
+    // through the scalar core (initial_state); with the flights at the ceiling and nothing else, the kernel
+    // could reach at most 1 / (1 / ceiling + draw time per collision)
     const Scene sl0 = parse_scene("[leak]\nstart = \"0\"\n[ensemble]\nparticles = " + n + "\n");
     const InitialConditions ic0 = initial_conditions(sl0);
+    const auto sampler = make_sampler(sl0, model.stadium);
+    const DrawSource source{sampler.get(), 0, nullptr};
     const auto t1 = Clock::now();
     double sink0 = 0;
-#pragma omp parallel for num_threads(threads) reduction(+ : sink0) schedule(static)
-    for (std::uint64_t id = 0; id < particles; ++id) sink0 += initial_state(model.stadium, ic0.draw(id)).v.x;
+#pragma omp parallel num_threads(threads) reduction(+ : sink0)
+    {
+      std::vector<simd::Start> batch(kStartBatch);
+#pragma omp for schedule(static)
+      for (std::uint64_t lo = 0; lo < particles; lo += kStartBatch) {
+        const std::size_t k = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, particles - lo));
+        draw_starts(model, source, &ks, false, lo, k, batch.data());
+        for (std::size_t i = 0; i < k; ++i) sink0 += batch[i].vx;
+      }
+    }
     const double per_collision = seconds_since(t1) / collisions_sl0, bound = 1 / (1 / rate + per_collision);
+    const auto t2 = Clock::now();
+    double sink1 = 0;
+#pragma omp parallel for num_threads(threads) reduction(+ : sink1) schedule(static)
+    for (std::uint64_t id = 0; id < particles; ++id) sink1 += initial_state(model.stadium, ic0.draw(id)).v.x;
+    const double scalar_ns = 1e9 * seconds_since(t2) * threads / static_cast<double>(particles);
+    const double draw_ns = 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles);
     std::printf(
         "draws and initial states alone (s_L = 0, %d threads): %.3g s a collision of its run (%.0f ns a particle "
-        "per thread); the ceiling with them: %.3g collisions/s, %.2fx the plain loop (sum of x velocities %.3g)\n",
-        threads, per_collision, 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles), bound,
-        bound / plain_sl0, sink0);
-    doc["ceiling_with_draws"] = {
-        {"rate", bound},
-        {"ratio", bound / plain_sl0},
-        {"draw_ns_per_particle", 1e9 * per_collision * collisions_sl0 * threads / static_cast<double>(particles)}};
+        "per thread; one at a time through the scalar core %.0f ns); the ceiling with them: %.3g collisions/s, "
+        "%.2fx the plain loop (sums of x velocities %.3g, %.3g)\n",
+        threads, per_collision, draw_ns, scalar_ns, bound, bound / plain_sl0, sink0, sink1);
+    doc["ceiling_with_draws"] = {{"rate", bound},
+                                 {"ratio", bound / plain_sl0},
+                                 {"draw_ns_per_particle", draw_ns},
+                                 {"scalar_draw_ns_per_particle", scalar_ns}};
   }
 
   // checkpoints: every 0.2 s the merged tallies go to disk (atomically, fsync), against none; the

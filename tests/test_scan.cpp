@@ -238,7 +238,7 @@ TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
 
 // A split run keeps its exact tallies (tally.bin): a refit rebuilds the same curve, the unsplit lines'
 // groups included, and reproduces every fit bit for bit. From survival.csv alone (a run directory
-// without tally.bin) the groups are lost and kappa's error, whose tail covariance uses them, moves in
+// without tally.bin) the groups are lost and kappa's error, whose tail covariance uses them, may move in
 // its last digits at these settings; a tally.bin of another scene is refused.
 TEST(Refit, SplitRunRebuildsItsCurveFromItsTallies) {
   const test::ScratchDir scratch("rotleak_refit_split_test_");
@@ -256,7 +256,11 @@ TEST(Refit, SplitRunRebuildsItsCurveFromItsTallies) {
   fs::copy(base / "a", base / "csv", fs::copy_options::recursive);
   fs::remove(base / "csv" / "tally.bin");
   const json from_csv = refit(base / "csv", {}).document;
-  EXPECT_NE(from_csv.at("kappa").at("error"), original.at("kappa").at("error")) << "the groups made no difference";
+  // the groups enter kappa's error only through the rounding of its tail covariance here (equal or in the last
+  // digits, by the draws: equal at 5000 particles since the draws' sin and cos became the shared formula,
+  // 2e-16 relative at 6000), so the error from survival.csv alone must agree to rounding, not bit for bit
+  const double e_csv = from_csv.at("kappa").at("error"), e_bin = original.at("kappa").at("error");
+  EXPECT_LE(std::abs(e_csv - e_bin), 1e-12 * e_bin);
   EXPECT_EQ(from_csv.at("kappa").at("value"), original.at("kappa").at("value"));
 
   r.overrides.back() = "leak.omega=2/3";

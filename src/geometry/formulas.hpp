@@ -244,4 +244,54 @@ inline mask_of<T> in_arc_window(const Vec2<T>& rel, const Vec2<T>& from, const V
   return both(cross(from, rel) <= T(0), [&] { return mask_of<T>(cross(rel, to) <= T(0)); });
 }
 
+// ---- a boundary point from its coordinate s, and a Birkhoff start's velocity (the initial states) ----
+
+/// A point of the boundary, its unit tangent towards growing s and its unit inward normal.
+template <class T>
+struct Frame {
+  Vec2<T> q, tangent, normal;
+};
+
+/// The top edge's point at s (s < junction 0, or s >= junction 3 for its left half): x = s L or (s - 1) L.
+template <class T>
+inline Frame<T> top_frame(const mask_of<T>& right_half, const T& s, const T& L, const T& r) {
+  return {{select(right_half, T(s * L), T((s - T(1)) * L)), r}, {T(1), T(0)}, {T(0), T(-1)}};
+}
+
+/// The bottom edge's point at s: x = d/2 - (s - junction 1) L.
+template <class T>
+inline Frame<T> bottom_frame(const T& s, const T& L, const T& half_d, const T& r, const T& junction1) {
+  return {{half_d - (s - junction1) * L, T(-r)}, {T(-1), T(0)}, {T(0), T(1)}};
+}
+
+/// The angle of an arc point from the arc's start (the top of the right arc, the bottom of the left one),
+/// clockwise: (s - start) L / r.
+template <class T>
+inline T arc_angle_of(const T& s, const T& start, const T& L_over_r) {
+  return (s - start) * L_over_r;
+}
+
+/// An arc's point at that angle, from its sine sn and cosine cs: the right arc's when `right`, else the
+/// left one's.
+template <class T>
+inline Frame<T> arc_frame(const mask_of<T>& right, const T& half_d, const T& r, const T& sn, const T& cs) {
+  return {{select(right, T(half_d + r * sn), T(T(-half_d) - r * sn)), select(right, T(r * cs), T(-(r * cs)))},
+          {select(right, cs, T(-cs)), select(right, T(-sn), sn)},
+          {select(right, T(-sn), sn), select(right, T(-cs), cs)}};
+}
+
+/// A flow start's direction angle 2 pi u, u in [0, 1).
+template <class T>
+inline T flow_angle(const T& pi, const T& u) {
+  return T(2) * pi * u;
+}
+
+/// The outgoing unit velocity of Birkhoff momentum p at a boundary point: sqrt(1 - p^2) n + p T.
+template <class T>
+inline Vec2<T> birkhoff_velocity(const Frame<T>& f, const T& p) {
+  using std::sqrt;
+  const T c = sqrt((T(1) - p) * (T(1) + p));
+  return {c * f.normal.x + p * f.tangent.x, c * f.normal.y + p * f.tangent.y};
+}
+
 }  // namespace rotleak::formula

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "geometry/formulas.hpp"
 #include "geometry/vec2.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
+#include "numeric/sin_cos.hpp"
 
 namespace rotleak {
 
@@ -65,6 +67,8 @@ class Stadium {
   /// formula::arc_s). Every engine takes them from here, so that every engine computes the same s.
   const R& inv_perimeter() const { return inv_L_; }
   const R& r_over_perimeter() const { return r_over_L_; }
+  /// L / r, an arc point's angle per unit of s (formula::arc_angle_of), rounded once from its exact value.
+  const R& L_over_r() const { return L_over_r_; }
   const R& area() const { return area_; }
   /// The billiard flow's mean free path, pi area / L (Santalo), rounded once from its exact value.
   const R& mean_free_path() const { return mean_free_path_; }
@@ -80,37 +84,42 @@ class Stadium {
   /// Centre x of an arc piece.
   R arc_centre_x(Piece p) const { return p == Piece::right_arc ? half_d_ : R(-half_d_); }
 
-  /// Point and frame at boundary coordinate s in [0,1).
+  /// Point and frame at boundary coordinate s in [0,1) (the formulas of geometry/formulas.hpp; an arc's sine
+  /// and cosine by sin_cos below).
   BoundaryPoint<R> at(const R& s) const {
-    using std::cos;
-    using std::sin;
     BoundaryPoint<R> b;
+    formula::Frame<R> f;
     if (s < junction_[0] || s >= junction_[3]) {
       b.piece = Piece::top;
-      b.q = {s < junction_[0] ? R(s * L_) : R((s - 1) * L_), r_};
-      b.tangent = {R(1), R(0)};
-      b.normal = {R(0), R(-1)};
+      f = formula::top_frame(s < junction_[0], s, L_, r_);
     } else if (s < junction_[1]) {
-      const R th = (s - junction_[0]) * L_over_r_;  // angle from the top of the right arc
-      const R sn = sin(th), cs = cos(th);
       b.piece = Piece::right_arc;
-      b.q = {half_d_ + r_ * sn, r_ * cs};
-      b.tangent = {cs, R(-sn)};
-      b.normal = {R(-sn), R(-cs)};
+      const auto sc = sin_cos(formula::arc_angle_of(s, junction_[0], L_over_r_));
+      f = formula::arc_frame(true, half_d_, r_, sc.sin, sc.cos);
     } else if (s < junction_[2]) {
       b.piece = Piece::bottom;
-      b.q = {half_d_ - (s - junction_[1]) * L_, R(-r_)};
-      b.tangent = {R(-1), R(0)};
-      b.normal = {R(0), R(1)};
+      f = formula::bottom_frame(s, L_, half_d_, r_, junction_[1]);
     } else {
-      const R th = (s - junction_[2]) * L_over_r_;  // angle from the bottom of the left arc
-      const R sn = sin(th), cs = cos(th);
       b.piece = Piece::left_arc;
-      b.q = {R(-half_d_) - r_ * sn, R(-(r_ * cs))};
-      b.tangent = {R(-cs), sn};
-      b.normal = {sn, cs};
+      const auto sc = sin_cos(formula::arc_angle_of(s, junction_[2], L_over_r_));
+      f = formula::arc_frame(false, half_d_, r_, sc.sin, sc.cos);
     }
+    b.q = f.q;
+    b.tangent = f.tangent;
+    b.normal = f.normal;
     return b;
+  }
+
+  /// sin and cos of an angle in [0, 2 pi]: in the double tier the shared formula (numeric/sin_cos.hpp, which
+  /// the vectorised kernel evaluates too), in every other tier the tier's own.
+  static formula::SinCos<R> sin_cos(const R& angle) {
+    if constexpr (std::is_same_v<R, double>) {
+      return formula::sin_cos(angle);
+    } else {
+      using std::cos;
+      using std::sin;
+      return {sin(angle), cos(angle)};
+    }
   }
 
   /// Boundary coordinate s in [0,1) of a point q on piece p (the formulas of geometry/formulas.hpp).
@@ -165,11 +174,9 @@ class Stadium {
   /// Birkhoff momentum p = sin(theta) = v_out . T of an outgoing velocity at a collision.
   R birkhoff_p(Piece p, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(p, q)); }
 
-  /// Outgoing unit velocity for Birkhoff (s, p): sqrt(1-p^2) n_in + p T.
+  /// Outgoing unit velocity for Birkhoff (s, p): sqrt(1-p^2) n_in + p T (formula::birkhoff_velocity).
   Vec2<R> velocity(const BoundaryPoint<R>& b, const R& p) const {
-    using std::sqrt;
-    const R c = sqrt((1 - p) * (1 + p));
-    return {c * b.normal.x + p * b.tangent.x, c * b.normal.y + p * b.tangent.y};
+    return formula::birkhoff_velocity(formula::Frame<R>{b.q, b.tangent, b.normal}, p);
   }
 
  private:

@@ -182,6 +182,8 @@ class Worker {
   template <class Put>
   SimdContext context(const Model<double>& model, std::uint64_t lo, std::uint64_t hi, bool weights, Put put) {
     SimdContext ctx{&model, s_.source, lo, hi, put, {}};
+    ctx.escape_s = s_.scene.escape_records;
+    ctx.kernel = &s_.kernel;
     if (s_.scene.collision_density) {
       ctx.weights = weights;
       ctx.density = cell_counts_.data();

@@ -14,6 +14,7 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   s.L = st.perimeter();
   s.inv_L = st.inv_perimeter();  // the core's own, rounded once from 1 / L (1 / fl(L) differs by an ulp for d = 1)
   s.r_over_L = st.r_over_perimeter();
+  s.L_over_r = st.L_over_r();
   s.pi = st.pi();
   for (int k = 0; k < 4; ++k) s.junction[k] = st.junction(k);
   s.rotating = m.leak.schedule().rotating();
@@ -94,10 +95,56 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
     *start = (*ctx->members)[*id];
     return true;
   }
-  const InitialDraw d = ctx->draw(*id);
-  const ParticleState<double> ps = initial_state(ctx->model->stadium, d);
-  *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
+  if (ctx->taken == ctx->batch.size()) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, ctx->hi - *id));
+    ctx->batch.resize(n);
+    draw_starts(*ctx->model, ctx->draw, ctx->kernel, ctx->weights, *id, n, ctx->batch.data());
+    ctx->taken = 0;
+  }
+  *start = ctx->batch[ctx->taken++];
   return true;
+}
+
+void draw_starts(const Model<double>& m, const DrawSource& draw, const simd::KernelScene* kernel, bool weights,
+                 std::uint64_t first, std::size_t n, simd::Start* out) {
+  if (!kernel) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const InitialDraw d = draw(first + i);
+      const ParticleState<double> ps = initial_state(m.stadium, d);
+      out[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, weights ? draw.weight(d) : 1.0};
+    }
+    return;
+  }
+  if (const InitialConditions* ic = draw.draws ? nullptr : draw.sampler->uniform_birkhoff()) {
+    simd::uniform_starts(*kernel, ic->seed(), ic->creation_window(), draw.first_id + first, n, out);
+    return;
+  }
+  // the draws (Philox, the sampler), then every Birkhoff start's state and every flow start's direction in
+  // one vectorised call each
+  double s[kStartBatch], p[kStartBatch], u[kStartBatch], vx[kStartBatch], vy[kStartBatch];
+  std::size_t at[kStartBatch], flow[kStartBatch];
+  simd::Start states[kStartBatch];
+  for (std::size_t lo = 0; lo < n; lo += kStartBatch) {
+    const std::size_t k = std::min(kStartBatch, n - lo);
+    std::size_t nb = 0, nf = 0;
+    for (std::size_t i = 0; i < k; ++i) {
+      const InitialDraw d = draw(first + lo + i);
+      simd::Start& o = out[lo + i];
+      o = {d.x, d.y, 0, 0, d.tau, 0, weights ? draw.weight(d) : 1.0};
+      if (d.flow) {
+        u[nf] = d.u, flow[nf++] = lo + i;
+      } else {
+        s[nb] = d.s, p[nb] = d.p, at[nb++] = lo + i;
+      }
+    }
+    if (nb) simd::birkhoff_states(*kernel, s, p, states, nb);
+    for (std::size_t j = 0; j < nb; ++j) {
+      simd::Start& o = out[at[j]];
+      o.qx = states[j].qx, o.qy = states[j].qy, o.vx = states[j].vx, o.vy = states[j].vy;
+    }
+    if (nf) simd::flow_directions(*kernel, u, vx, vy, nf);
+    for (std::size_t j = 0; j < nf; ++j) out[flow[j]].vx = vx[j], out[flow[j]].vy = vy[j];
+  }
 }
 
 void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
@@ -123,7 +170,8 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
     end.t = ctx->model->t_max;
     end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
   }
-  if (end.fate == Fate::escaped) end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  if (end.fate == Fate::escaped && ctx->escape_s)
+    end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
   ctx->record(id, end);
 }
 

@@ -51,7 +51,23 @@ struct SimdContext {
   const DensityCells* cells = nullptr;                        ///< the kernel's time cells
   /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
   const std::vector<simd::Start>* members = nullptr;
+  /// An escape's boundary coordinate (ParticleEnd::s: an atan2 on an arc) is wanted only for escape
+  /// records; without them it is left at 0.
+  bool escape_s = true;
+  /// When set (a kernel this CPU runs): initial states are drawn kStartBatch at a time, vectorised (draw_starts)
+  const simd::KernelScene* kernel = nullptr;
+  std::vector<simd::Start> batch;  ///< drawn ahead: ids next - (batch.size() - taken) ..
+  std::size_t taken = 0;
 };
+
+/// How many particles a SimdContext draws at once.
+inline constexpr std::size_t kStartBatch = 64;
+
+/// The starts of particles first .. first + n - 1 of a draw source (their initial states; with their weights
+/// when `weights`), the states vectorised by `kernel` (simd::birkhoff_states, simd::flow_directions) when
+/// it is given, else by initial_state: the same formulas, the same bits.
+void draw_starts(const Model<double>& m, const DrawSource& draw, const simd::KernelScene* kernel, bool weights,
+                 std::uint64_t first, std::size_t n, simd::Start* out);
 
 /// The kernel's questions to the core and its f_c sink (the callbacks below, for a SimdContext).
 extern const simd::Exact kSimdExact;

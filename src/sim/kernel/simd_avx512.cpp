@@ -7,6 +7,8 @@
 
 #include "geometry/formulas.hpp"
 #include "leak/leak_formulas.hpp"
+#include "numeric/sin_cos.hpp"
+#include "sim/kernel/flatten.hpp"
 #include "sim/kernel/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD512_GROUPS
@@ -27,6 +29,10 @@ inline B fused_fms(const B& a, const B& b, const B& c) {
 inline B sleef_atan2(const B& y, const B& x) {
   return B(Sleef_atan2d8_u35avx512f(static_cast<__m512d>(y), static_cast<__m512d>(x)));
 }
+using U = xsimd::batch<std::uint64_t, xsimd::avx512f>;
+inline U mul_wide(const U& a, const U& b) {
+  return U(_mm512_mul_epu32(static_cast<__m512i>(a), static_cast<__m512i>(b)));
+}
 }  // namespace
 
 bool available() {
@@ -34,5 +40,7 @@ bool available() {
 }
 
 #include "sim/kernel/simd_kernel.ipp"
+// the draws use the kernel's pack
+#include "sim/kernel/simd_draws.ipp"
 
 }  // namespace rotleak::simd::avx512_kernel

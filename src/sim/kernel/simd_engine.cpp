@@ -8,6 +8,8 @@
 
 #include "geometry/formulas.hpp"
 #include "leak/leak_formulas.hpp"
+#include "numeric/sin_cos.hpp"
+#include "sim/kernel/flatten.hpp"
 #include "sim/kernel/simd_engine.hpp"
 
 #ifndef ROTLEAK_SIMD_GROUPS
@@ -25,6 +27,10 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
                   const Exact& exact);
 double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps);
 int pack_size();
+void birkhoff_kernel(const KernelScene& S, const double* s, const double* p, Start* out, std::size_t n);
+void flow_kernel(const KernelScene& S, const double* u, double* vx, double* vy, std::size_t n);
+void uniform_kernel(const KernelScene& S, std::uint64_t seed, double window, std::uint64_t first, std::size_t n,
+                    Start* out);
 }  // namespace avx512_kernel
 
 namespace avx2_kernel {
@@ -40,8 +46,14 @@ inline B fused_fms(const B& a, const B& b, const B& c) {
 inline B sleef_atan2(const B& y, const B& x) {
   return B(Sleef_atan2d4_u35avx2(static_cast<__m256d>(y), static_cast<__m256d>(x)));
 }
+using U = xsimd::batch<std::uint64_t, xsimd::avx2>;
+inline U mul_wide(const U& a, const U& b) {
+  return U(_mm256_mul_epu32(static_cast<__m256i>(a), static_cast<__m256i>(b)));
+}
 }  // namespace
 #include "sim/kernel/simd_kernel.ipp"
+// the draws use the kernel's pack
+#include "sim/kernel/simd_draws.ipp"
 }  // namespace avx2_kernel
 
 bool available() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
@@ -80,6 +92,28 @@ void rough_angles(int lanes, const double* ay, const double* ax, double* out, st
 
 double flights_only(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   return S.lanes == 8 ? avx512_kernel::flights_kernel(S, starts, steps) : avx2_kernel::flights_kernel(S, starts, steps);
+}
+
+void birkhoff_states(const KernelScene& S, const double* s, const double* p, Start* out, std::size_t n) {
+  if (S.lanes == 8)
+    avx512_kernel::birkhoff_kernel(S, s, p, out, n);
+  else
+    avx2_kernel::birkhoff_kernel(S, s, p, out, n);
+}
+
+void flow_directions(const KernelScene& S, const double* u, double* vx, double* vy, std::size_t n) {
+  if (S.lanes == 8)
+    avx512_kernel::flow_kernel(S, u, vx, vy, n);
+  else
+    avx2_kernel::flow_kernel(S, u, vx, vy, n);
+}
+
+void uniform_starts(const KernelScene& S, std::uint64_t seed, double window, std::uint64_t first, std::size_t n,
+                    Start* out) {
+  if (S.lanes == 8)
+    avx512_kernel::uniform_kernel(S, seed, window, first, n, out);
+  else
+    avx2_kernel::uniform_kernel(S, seed, window, first, n, out);
 }
 
 int pack_lanes(int lanes) { return lanes == 8 ? avx512_kernel::pack_size() : avx2_kernel::pack_size(); }

@@ -19,7 +19,7 @@ inline constexpr int kMaxDensityWindows = 8;
 /// Everything the kernel needs, in doubles, from a Model<double>.
 struct KernelScene {
   double r, half_d, t_max;
-  double L, inv_L, r_over_L, pi;
+  double L, inv_L, r_over_L, L_over_r, pi;
   double junction[4];
   bool rotating;
   // stationary leak: windows per piece (0 top, 1 right arc, 2 bottom, 3 left arc)
@@ -120,6 +120,19 @@ struct ProbeResult {
 /// whether it is in the leak, by the kernel of S.lanes lanes, computed as run() computes them (the same
 /// functions); requires lanes_available(S.lanes). exact.s_of is asked as run() asks it.
 void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx, const Exact& exact);
+
+/// Initial states from their draws, vectorised, by the kernel of S.lanes lanes (requires lanes_available):
+/// - birkhoff_states: out[i]'s position and velocity of Birkhoff (s[i], p[i]), Stadium<double>::at and velocity;
+/// - flow_directions: a flow start's direction (cos 2 pi u[i], sin 2 pi u[i]) in vx[i], vy[i].
+/// The same formulas as the scalar core's (geometry/formulas.hpp; an angle's sine and cosine by
+/// numeric/sin_cos.hpp), so the same bits.
+void birkhoff_states(const KernelScene& S, const double* s, const double* p, Start* out, std::size_t n);
+void flow_directions(const KernelScene& S, const double* u, double* vx, double* vy, std::size_t n);
+/// The uniform Birkhoff starts of particles first .. first + n - 1 of a scene with this seed and creation window,
+/// draws and states together (InitialConditions::draw's Philox4x64-10 words, then birkhoff_states), vectorised:
+/// out[i]'s position, velocity and creation time, the scalar core's bits.
+void uniform_starts(const KernelScene& S, std::uint64_t seed, double window, std::uint64_t first, std::size_t n,
+                    Start* out);
 
 /// Runs particles until next() has none left, by the kernel of scene.lanes; requires
 /// lanes_available(scene.lanes).

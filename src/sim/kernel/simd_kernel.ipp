@@ -1,10 +1,10 @@
 // The vectorised kernel, written once for any register width. Included, inside a namespace of its own,
 // by one translation unit per instruction set (simd_engine.cpp: AVX2, 4 lanes; simd_avx512.cpp:
-// AVX-512, 8 lanes), each compiled for its set alone (src/CMakeLists.txt). The includer includes
-// geometry/formulas.hpp and leak/leak_formulas.hpp at file scope and defines, in an anonymous namespace
-// before the #include: B (the register: xsimd::batch<double, arch>), M (its mask), W (lanes per
+// AVX-512, 8 lanes), each compiled for its set alone (src/CMakeLists.txt). The includer includes the
+// formulas (geometry/, leak/, numeric/sin_cos.hpp) and sim/kernel/flatten.hpp at file scope and defines, in
+// an anonymous namespace before the #include: B (the register: xsimd::batch<double, arch>), M (its mask), W (lanes per
 // register), G (registers per pack), bits(M) (lane k is bit k), fused_fms(a, b, c) (a true fused
-// a * b - c) and sleef_atan2(y, x) (SLEEF's u35 atan2 for that width).
+// a * b - c), sleef_atan2(y, x) (SLEEF's u35 atan2), U and mul_wide (64-bit lanes, their low halves' product).
 //
 // The physics is not written here: every expression of a flight, a collision, a boundary coordinate and
 // the leak is a call into the shared formulas (geometry/formulas.hpp, leak/leak_formulas.hpp), the
@@ -15,7 +15,7 @@
 // instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
 // copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
 // objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
-// probe_kernel, flights_kernel and pack_size.
+// probe_kernel, flights_kernel, pack_size, birkhoff_kernel and flow_kernel.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp, tests/test_stadiums.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
@@ -466,8 +466,8 @@ void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, co
 /// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
 /// collision before it. A separate instantiation (the branch cost time where no lane took it); flattened.
 template <bool KeepLast>
-[[gnu::flatten]] inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish,
-                                  const Exact& exact, DensityHit* buf, int& used) {
+ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish,
+                                        const Exact& exact, DensityHit* buf, int& used) {
   const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
@@ -532,7 +532,7 @@ void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finis
   if (used) exact.density(ctx, buf, used);
 }
 
-[[gnu::flatten]] double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
+ROTLEAK_KERNEL_FLATTEN double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   Lanes L{};
   for (int k = 0; k < N; ++k)
     L.qx[k] = starts[k].qx, L.qy[k] = starts[k].qy, L.vx[k] = starts[k].vx, L.vy[k] = starts[k].vy;

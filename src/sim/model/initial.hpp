@@ -27,6 +27,10 @@ class InitialConditions {
   InitialConditions(std::uint64_t seed, InitKind kind, double creation_window, double half_d, double r)
       : seed_(seed), kind_(kind), window_(creation_window), half_d_(half_d), r_(r) {}
 
+  std::uint64_t seed() const { return seed_; }
+  InitKind kind() const { return kind_; }
+  double creation_window() const { return window_; }
+
   /// Uniform double in [0,1) from the top 53 bits.
   static double unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
   /// Uniform in the open interval (-1, 1), symmetric and exact: (2m + 1 - 2^53) / 2^53.
@@ -79,8 +83,6 @@ struct ParticleState {
 
 template <class R>
 ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
-  using std::cos;
-  using std::sin;
   ParticleState<R> ps;
   ps.t = R(dr.tau);
   if (!dr.flow) {
@@ -88,9 +90,9 @@ ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
     ps.q = b.q;
     ps.v = st.velocity(b, R(dr.p));
   } else {
-    const R angle = 2 * st.pi() * R(dr.u);
+    const auto sc = Stadium<R>::sin_cos(formula::flow_angle(st.pi(), R(dr.u)));
     ps.q = {R(dr.x), R(dr.y)};
-    ps.v = {cos(angle), sin(angle)};
+    ps.v = {sc.cos, sc.sin};
   }
   return ps;
 }

@@ -12,6 +12,9 @@ class UniformSampler final : public Sampler {
   InitialDraw draw(std::uint64_t id) const override { return ic_.draw(id); }
   double weight(const InitialDraw&) const override { return 1; }
   bool weighted() const override { return false; }
+  const InitialConditions* uniform_birkhoff() const override {
+    return ic_.kind() == InitKind::birkhoff ? &ic_ : nullptr;
+  }
 
  private:
   InitialConditions ic_;

@@ -30,6 +30,9 @@ class Sampler {
   virtual double weight(const InitialDraw& d) const = 0;
   /// False for the uniform scheme: the engine then keeps no weighted tallies.
   virtual bool weighted() const = 0;
+  /// The uniform Birkhoff scheme's initial conditions (whose draws the vectorised kernel can make itself,
+  /// simd::uniform_starts), else null.
+  virtual const InitialConditions* uniform_birkhoff() const { return nullptr; }
 };
 
 /// The scheme of scene.sampling, on the scene's stadium in double `st` (a run's plan holds it).
