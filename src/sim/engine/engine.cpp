@@ -181,7 +181,12 @@ class Worker {
   /// The kernel's context for particles [lo, hi) of `model`, f_c wired to the thread's tallies.
   template <class Put>
   SimdContext context(const Model<double>& model, std::uint64_t lo, std::uint64_t hi, bool weights, Put put) {
-    SimdContext ctx{&model, s_.source, lo, hi, put, {}};
+    SimdContext ctx{};
+    ctx.model = &model;
+    ctx.draw = s_.source;
+    ctx.next = lo;
+    ctx.hi = hi;
+    ctx.record = put;
     ctx.escape_s = s_.scene.escape_records;
     ctx.kernel = &s_.kernel;
     if (s_.scene.collision_density) {
