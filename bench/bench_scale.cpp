@@ -183,7 +183,7 @@ int main(int argc, char** argv) {
 #pragma omp for schedule(static)
       for (std::uint64_t lo = 0; lo < particles; lo += kStartBatch) {
         const std::size_t k = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, particles - lo));
-        draw_starts(model, source, &ks, false, lo, k, batch.data());
+        draw_starts(source, ks, false, lo, k, batch.data());
         for (std::size_t i = 0; i < k; ++i) sink0 += batch[i].vx;
       }
     }

@@ -98,25 +98,17 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
   if (ctx->taken == ctx->batch.size()) {
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, ctx->hi - *id));
     ctx->batch.resize(n);
-    draw_starts(*ctx->model, ctx->draw, ctx->kernel, ctx->weights, *id, n, ctx->batch.data());
+    draw_starts(ctx->draw, *ctx->kernel, ctx->weights, *id, n, ctx->batch.data());
     ctx->taken = 0;
   }
   *start = ctx->batch[ctx->taken++];
   return true;
 }
 
-void draw_starts(const Model<double>& m, const DrawSource& draw, const simd::KernelScene* kernel, bool weights,
-                 std::uint64_t first, std::size_t n, simd::Start* out) {
-  if (!kernel) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const InitialDraw d = draw(first + i);
-      const ParticleState<double> ps = initial_state(m.stadium, d);
-      out[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, weights ? draw.weight(d) : 1.0};
-    }
-    return;
-  }
+void draw_starts(const DrawSource& draw, const simd::KernelScene& kernel, bool weights, std::uint64_t first,
+                 std::size_t n, simd::Start* out) {
   if (const InitialConditions* ic = draw.draws ? nullptr : draw.sampler->uniform_birkhoff()) {
-    simd::uniform_starts(*kernel, ic->seed(), ic->creation_window(), draw.first_id + first, n, out);
+    simd::uniform_starts(kernel, ic->seed(), ic->creation_window(), draw.first_id + first, n, out);
     return;
   }
   // the draws (Philox, the sampler), then every Birkhoff start's state and every flow start's direction in
@@ -137,12 +129,12 @@ void draw_starts(const Model<double>& m, const DrawSource& draw, const simd::Ker
         s[nb] = d.s, p[nb] = d.p, at[nb++] = lo + i;
       }
     }
-    if (nb) simd::birkhoff_states(*kernel, s, p, states, nb);
+    if (nb) simd::birkhoff_states(kernel, s, p, states, nb);
     for (std::size_t j = 0; j < nb; ++j) {
       simd::Start& o = out[at[j]];
       o.qx = states[j].qx, o.qy = states[j].qy, o.vx = states[j].vx, o.vy = states[j].vy;
     }
-    if (nf) simd::flow_directions(*kernel, u, vx, vy, nf);
+    if (nf) simd::flow_directions(kernel, u, vx, vy, nf);
     for (std::size_t j = 0; j < nf; ++j) out[flow[j]].vx = vx[j], out[flow[j]].vy = vy[j];
   }
 }

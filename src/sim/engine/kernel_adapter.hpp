@@ -54,7 +54,7 @@ struct SimdContext {
   /// An escape's boundary coordinate (ParticleEnd::s: an atan2 on an arc) is wanted only for escape
   /// records; without them it is left at 0.
   bool escape_s = true;
-  /// When set (a kernel this CPU runs): initial states are drawn kStartBatch at a time, vectorised (draw_starts)
+  /// The kernel's scene, for its draws: initial states are drawn kStartBatch at a time, vectorised (draw_starts)
   const simd::KernelScene* kernel = nullptr;
   std::vector<simd::Start> batch;  ///< drawn ahead: ids next - (batch.size() - taken) ..
   std::size_t taken = 0;
@@ -64,10 +64,11 @@ struct SimdContext {
 inline constexpr std::size_t kStartBatch = 64;
 
 /// The starts of particles first .. first + n - 1 of a draw source (their initial states; with their weights
-/// when `weights`), the states vectorised by `kernel` (simd::birkhoff_states, simd::flow_directions) when
-/// it is given, else by initial_state: the same formulas, the same bits.
-void draw_starts(const Model<double>& m, const DrawSource& draw, const simd::KernelScene* kernel, bool weights,
-                 std::uint64_t first, std::size_t n, simd::Start* out);
+/// when `weights`), made by `kernel`: a uniform Birkhoff source's draws and states together
+/// (simd::uniform_starts), any other source's draws one by one and their states vectorised
+/// (simd::birkhoff_states, simd::flow_directions). The scalar core's formulas, the same bits as initial_state.
+void draw_starts(const DrawSource& draw, const simd::KernelScene& kernel, bool weights, std::uint64_t first,
+                 std::size_t n, simd::Start* out);
 
 /// The kernel's questions to the core and its f_c sink (the callbacks below, for a SimdContext).
 extern const simd::Exact kSimdExact;
