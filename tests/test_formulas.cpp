@@ -5,13 +5,17 @@
 // whole output files with the scalar core's.)
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
 
 #include "geometry/formulas.hpp"
 #include "leak/leak_formulas.hpp"
+#include "numeric/binade.hpp"
 #include "numeric/mpfr_real.hpp"
 
 namespace rotleak {
@@ -92,3 +96,40 @@ TEST(Formulas, DistanceToTheLeaksEnds) {
 
 }  // namespace
 }  // namespace rotleak
+
+// The fast-forward's binade and power of two from a double's bits must be libm's ilogb and ldexp(1, e)
+// everywhere: normal numbers of both signs over the whole exponent range, around every power of two,
+// the subnormals, zero and the exponents that leave the normal range.
+TEST(Binade, BitsGiveWhatLibmGives) {
+  std::vector<double> xs = {0.0,
+                            -0.0,
+                            std::numeric_limits<double>::denorm_min(),
+                            std::numeric_limits<double>::min(),
+                            std::numeric_limits<double>::max(),
+                            1.0,
+                            -1.0,
+                            0.5,
+                            3.0};
+  for (int e = -1074; e <= 1023; ++e) {
+    const double p = std::ldexp(1.0, e);
+    for (double x : {p, std::nextafter(p, 0.0), std::nextafter(p, 1e308), 1.5 * p})
+      if (std::isfinite(x)) xs.push_back(x), xs.push_back(-x);
+  }
+  std::mt19937_64 g(5);
+  for (int i = 0; i < 100000; ++i) {
+    const double x = std::bit_cast<double>(g() & 0x7fefffffffffffffULL);  // any finite double
+    xs.push_back(x), xs.push_back(-x);
+  }
+  std::size_t differ = 0;
+  for (double x : xs) {
+    if (x == 0) continue;  // ilogb(0) is FP_ILOGB0 either way (libm's answer)
+    differ += rotleak::binade_of(x) != std::ilogb(x);
+    differ += rotleak::binade_of(static_cast<float>(x)) != std::ilogb(static_cast<float>(x)) &&
+              static_cast<float>(x) != 0 && std::isfinite(static_cast<float>(x));
+  }
+  EXPECT_EQ(differ, 0u) << "of " << xs.size();
+  for (int e = -1100; e <= 1100; ++e) {
+    const double want = std::ldexp(1.0, e), got = rotleak::pow2<double>(e);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want)) << e;
+  }
+}

@@ -10,6 +10,7 @@
 #include "geometry/formulas.hpp"
 #include "geometry/stadium.hpp"
 #include "leak/leak.hpp"
+#include "numeric/binade.hpp"
 #include "sim/model/fate.hpp"
 #include "sim/model/initial.hpp"
 
@@ -165,8 +166,8 @@ SumRun<R> next_run(R x, R d, long cap) {
   if (inc == 0) return {R(0), cap};  // d below half an ulp of x: x never moves
   const R x2 = x1 + d;
   if (x2 - x1 != inc || x == 0 || x1 == 0) return {inc, 1};  // a tie or a binade edge: one step
-  const int e = std::ilogb(x);
-  const R lo = std::ldexp(R(1), e), hi = std::ldexp(R(1), e + 1);  // |x| in [lo, hi)
+  const int e = binade_of(x);
+  const R lo = pow2<R>(e), hi = pow2<R>(e + 1);  // |x| in [lo, hi)
   const R ax = abs(x);
   const bool away = (x > 0) == (inc > 0);  // |x| grows
   const R ainc = abs(inc);
@@ -181,7 +182,7 @@ SumRun<R> next_run(R x, R d, long cap) {
   // the divisions were rounded: make sure the last point is still inside the binade
   while (len > 1) {
     const R last = std::fma(R(static_cast<double>(len)), inc, x);
-    if (std::ilogb(last) == e && (last > 0) == (x > 0) && last != 0) break;
+    if (binade_of(last) == e && (last > 0) == (x > 0) && last != 0) break;
     --len;
   }
   return {inc, len < 1 ? 1 : len};
