@@ -173,7 +173,8 @@ TEST(Simd, CollisionDensityWithGapsBitIdentical) {
 
 // The kernel counts each f_c collision once, in its time cell, and the engine adds the cell to every
 // window that holds its times. Checked here at the edges themselves (from and to are inclusive),
-// with windows that share edges, nest, touch and repeat.
+// with windows that share edges, nest, touch and repeat, at the times a collision is counted at (within
+// the windows' span: the kernel's cell leaves out the edges the span decides).
 TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
   const std::vector<std::vector<std::pair<double, double>>> sets = {{{0, 20000}, {2000, 20000}},
                                                                     {{0, 1000}, {1000, 2000}, {500, 1500}, {0, 2000}},
@@ -195,13 +196,12 @@ TEST(Simd, TimeCellsGiveEachTimeItsWindows) {
       }
       simd::KernelScene ks{};  // the kernel's own cell of each time
       ks.lanes = lanes;
-      ks.density_windows = n;
-      for (int w = 0; w < n; ++w)
-        ks.win_from[w] = from[static_cast<std::size_t>(w)], ks.win_to[w] = to[static_cast<std::size_t>(w)];
+      set_density_windows(ks, n, from.data(), to.data());
       std::vector<double> cell(times.size());
       simd::time_cells(ks, times.data(), cell.data(), times.size());
       for (std::size_t i = 0; i < times.size(); ++i) {
         const double t = times[i];
+        if (t < ks.win_span_from || t > ks.win_span_to) continue;  // never counted: no cell asked for
         unsigned want = 0;
         for (int w = 0; w < n; ++w)
           if (t >= from[static_cast<std::size_t>(w)] && t <= to[static_cast<std::size_t>(w)]) want |= 1u << w;
@@ -275,33 +275,39 @@ TEST(Simd, FirstCollisionsAgreeExactly) {
   EXPECT_GT(first, 19000u);
 }
 
-// The moving leak's first look uses a rough atan2 and trusts it to 1e-4 in s (about 1e-3 rad),
-// relying on its stated bound of 2e-5 rad (Abramowitz & Stegun 4.4.49 with the reflections and
-// rounded coefficients); the bound is checked here on 4 * 10^6 angles around the circle, the octant
-// edges and the axes included (measured: 1.15e-5).
-TEST(Simd, RoughAngleWithinItsBound) {
+// The first look of the moving leak and of f_c takes an arc hit's rough angle and trusts it to
+// kRoughAngleError (1e-5 rad; the cascade settles every lane within twice that of an edge by SLEEF's
+// angle or the core's s).
+TEST(Simd, RoughArcAngleWithinItsBound) {
+  // Arc points (ay >= 0, at distance r from the centre, as formula::arc_angle_y / _x give them) over the whole
+  // arc, on four radii, the arc's two ends and its middle exactly, and points a rounding off its ends (ay < 0
+  // or -0): the kernel's rough angle against libm's atan2 clamped to [0, pi], as formula::arc_s clamps it.
+  // The bound is the kernel's kRoughAngleError, 1e-5 rad (the polynomial's own error is 3.4e-6 doubled by the
+  // half angle; a failure here means the cascade could keep a rough s that decides differently from the core).
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
-  constexpr std::size_t n = 4000000;
-  std::vector<double> ay(n), ax(n), out(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double th = -M_PI + 2 * M_PI * static_cast<double>(i) / static_cast<double>(n - 4);
-    const double r = 0.5 + static_cast<double>(i % 7) * 0.25;
-    ay[i] = r * std::sin(th);
-    ax[i] = r * std::cos(th);
-  }
-  const double axes[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};  // the axes exactly
-  for (int k = 0; k < 4; ++k)
-    ay[static_cast<std::size_t>(k)] = axes[k][0], ax[static_cast<std::size_t>(k)] = axes[k][1];
-  for (int lanes : test::kernel_widths()) {
-    simd::rough_angles(lanes, ay.data(), ax.data(), out.data(), n);
-    double worst = 0;
+  constexpr std::size_t n = 1000000;
+  for (const double r : {1.0, 0.7, 2.0, 0.3}) {
+    std::vector<double> ay, ax;
     for (std::size_t i = 0; i < n; ++i) {
-      double d = std::abs(out[i] - std::atan2(ay[i], ax[i]));
-      d = std::min(d, 2 * M_PI - d);  // -pi and pi are one direction
-      worst = std::max(worst, d);
+      const double th = M_PI * static_cast<double>(i) / static_cast<double>(n - 1);
+      ay.push_back(r * std::sin(th)), ax.push_back(r * std::cos(th));
     }
-    EXPECT_LT(worst, 2e-5) << lanes << " lanes";
-    std::printf("rough atan2, %d lanes: largest error %.3g rad\n", lanes, worst);
+    for (const double y : {0.0, -0.0, -1e-17, -1e-300}) {  // the ends exactly and a rounding beyond them
+      ay.push_back(y), ax.push_back(r);
+      ay.push_back(y), ax.push_back(-r);
+    }
+    ay.push_back(r), ax.push_back(0);
+    std::vector<double> out(ay.size());
+    for (int lanes : test::kernel_widths()) {
+      simd::rough_arc_angles(lanes, r, ay.data(), ax.data(), out.data(), ay.size());
+      double worst = 0;
+      for (std::size_t i = 0; i < ay.size(); ++i) {
+        const double want = std::clamp(std::atan2(ay[i], ax[i]), 0.0, M_PI);
+        worst = std::max(worst, std::abs(out[i] - want));
+      }
+      EXPECT_LT(worst, 1e-5) << lanes << " lanes, r = " << r;
+      std::printf("rough arc angle, %d lanes, r = %g: largest error %.3g rad\n", lanes, r, worst);
+    }
   }
 }
 

@@ -32,6 +32,26 @@ inline T leak_phase(const T& hi, const T& lo, const T& start, const T& t, const 
   return c;
 }
 
+/// A cheap leak centre for a first look: start + hi t, neither reduced modulo 1 nor corrected by the exact
+/// error of hi t or by lo t. circular_offset(s, it) differs from circular_offset(s, leak_phase(...)) by at
+/// most rough_phase_bound(hi, lo, t_max) for 0 <= t <= t_max and start in [0, 1) (docs/model.md, "The
+/// moving leak's first look"), so a decision farther than that from an edge is the exact phase's.
+template <class T>
+inline T rough_leak_phase(const T& hi, const T& start, const T& t) {
+  const T prod = hi * t;
+  return prod + start;
+}
+
+/// The bound of rough_leak_phase over double: with u = 2^-53, the rough centre is within 3u (|hi| t + 1) of
+/// start + omega t (two roundings; omega - hi - lo is below u^2 |hi|), lo t is dropped (|lo| t), the offset's
+/// difference s - c rounds once more (u (|hi| t + 2); the subtraction of its floor is exact), and the exact
+/// phase and its offset are within 6u of the truth: 4u |hi| t_max + |lo| t_max + 12u, taken twice.
+inline double rough_phase_bound(double hi, double lo, double t_max) {
+  using std::abs;
+  constexpr double u = 0x1p-53;
+  return 2 * (4 * u * abs(hi) * t_max + abs(lo) * t_max + 12 * u);
+}
+
 /// Is boundary coordinate s inside the leak of half width `half_width` centred at `centre`?
 template <class T>
 inline mask_of<T> in_leak(const T& s, const T& centre, const T& half_width) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "leak/leak_formulas.hpp"
+
 namespace rotleak {
 
 /// The vectorised kernel's view of a double model.
@@ -39,6 +41,9 @@ simd::KernelScene simd_scene(const Model<double>& m) {
     s.arc_reach[k] = m.leak.reach(k);
   }
   s.margin = 1e-12;
+  // the rough phase pays only where its bound leaves few lanes to the exact one (and far from s's wrap at 1/2)
+  const double bound = formula::rough_phase_bound(s.omega_hi, s.omega_lo, s.t_max);
+  s.phase_bound = s.rotating && s.half_width <= 0.25 && bound <= s.half_width / 64 ? bound : 0;
   s.density_windows = 0;
   s.bins = 1;
   // a jump costs a few hundred ns, about 40 vectorised bounces: hand over only long phases
@@ -48,15 +53,34 @@ simd::KernelScene simd_scene(const Model<double>& m) {
 
 DensityCells simd_density(simd::KernelScene& s, const Scene& scene) {
   if (!scene.collision_density) return {};
-  s.density_windows = static_cast<int>(scene.collision_density->windows.size());
+  const auto& windows = scene.collision_density->windows;
+  double from[simd::kMaxDensityWindows], to[simd::kMaxDensityWindows];
+  const int n = static_cast<int>(windows.size());
+  for (int w = 0; w < n; ++w)
+    from[w] = windows[static_cast<std::size_t>(w)].from, to[w] = windows[static_cast<std::size_t>(w)].to;
+  set_density_windows(s, n, from, to);
   s.bins = scene.collision_density->bins;
-  for (int w = 0; w < s.density_windows; ++w) {
-    s.win_from[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].from;
-    s.win_to[w] = scene.collision_density->windows[static_cast<std::size_t>(w)].to;
-    s.win_span_from = w == 0 ? s.win_from[w] : std::min(s.win_span_from, s.win_from[w]);
-    s.win_span_to = w == 0 ? s.win_to[w] : std::max(s.win_span_to, s.win_to[w]);
-  }
   return DensityCells::of(s.bins, s.density_windows, s.win_from, s.win_to);
+}
+
+void set_density_windows(simd::KernelScene& s, int n, const double* from, const double* to) {
+  s.density_windows = n;
+  s.n_cell_from = s.n_cell_to = 0;
+  s.cell_base = 0;
+  for (int w = 0; w < n; ++w) {
+    s.win_from[w] = from[w], s.win_to[w] = to[w];
+    s.win_span_from = w == 0 ? from[w] : std::min(s.win_span_from, from[w]);
+    s.win_span_to = w == 0 ? to[w] : std::max(s.win_span_to, to[w]);
+  }
+  // formula::time_cell counts from[w] when t >= from[w] and to[w] when t > to[w]; for t in the span a from
+  // at its start always counts and a to at its end never does (no to lies before the span's start)
+  for (int w = 0; w < n; ++w) {
+    if (from[w] <= s.win_span_from)
+      s.cell_base += 1;
+    else
+      s.cell_from[s.n_cell_from++] = from[w];
+    if (to[w] < s.win_span_to) s.cell_to[s.n_cell_to++] = to[w];
+  }
 }
 
 namespace {

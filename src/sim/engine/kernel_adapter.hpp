@@ -38,6 +38,10 @@ simd::KernelScene simd_scene(const Model<double>& m);
 /// fold its counts into windows cannot disagree. Empty cells when the scene observes no f_c.
 DensityCells simd_density(simd::KernelScene& s, const Scene& scene);
 
+/// The kernel's f_c time windows [from[w], to[w]] (n of them, at most simd::kMaxDensityWindows): the windows,
+/// their span, and the edges a counted collision's time cell depends on (KernelScene::cell_base).
+void set_density_windows(simd::KernelScene& s, int n, const double* from, const double* to);
+
 struct SimdContext {
   const Model<double>* model;
   DrawSource draw;

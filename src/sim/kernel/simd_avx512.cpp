@@ -39,6 +39,9 @@ bool available() {
   return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("fma");
 }
 
+// the pack, then the kernel over it
+#include "sim/kernel/simd_pack.ipp"
+//
 #include "sim/kernel/simd_kernel.ipp"
 // the draws use the kernel's pack
 #include "sim/kernel/simd_draws.ipp"

@@ -32,6 +32,10 @@ struct KernelScene {
   /// the arcs (pieces 1, 3): the leak can touch an arc only when its centre lies within reach of
   /// the arc's middle (Leak::hit skips the angle otherwise)
   double arc_mid[4], arc_reach[4];
+  /// > 0: the moving leak's first look takes formula::rough_leak_phase, whose offsets lie within this bound of
+  /// the exact phase's for t <= t_max (formula::rough_phase_bound), and the exact phase only for lanes within
+  /// it of a decision's edge; 0: the exact phase at every hit (a bound too wide to be of use)
+  double phase_bound;
   /// a vector atan2 (SLEEF, 3.5 ulp) may decide differently from libm's only this close to a leak
   /// end or a bin edge (in s); such lanes ask Exact for the core's s
   double margin;
@@ -40,6 +44,13 @@ struct KernelScene {
   int bins;
   double win_from[kMaxDensityWindows], win_to[kMaxDensityWindows];
   double win_span_from, win_span_to;  ///< the least from and the greatest to
+  /// The time cell of a counted collision (t in [win_span_from, win_span_to]): cell_base plus the cell_from
+  /// edges with t >= edge and the cell_to edges with t > edge. It is formula::time_cell's count without the
+  /// edges whose answer the span fixes (a from at the span's start is always passed, a to at its end never).
+  /// set_density_windows (sim/engine/kernel_adapter.hpp) fills these from the windows.
+  double cell_base;
+  int n_cell_from, n_cell_to;
+  double cell_from[kMaxDensityWindows], cell_to[kMaxDensityWindows];
   /// > 0: a lane whose straight-edge hit starts at least this many bounces between the straight
   /// edges is handed back (LaneEnd::handed_back) for the scalar fast-forward; 0: never.
   double handoff_bounces;
@@ -99,12 +110,14 @@ int widest_lanes();
 /// True when this CPU runs the kernel of `lanes` (4 or 8) lanes a register.
 bool lanes_available(int lanes);
 
-/// The kernel's rough atan2 (the moving leak's first look), for its test: out[i] for (ay[i], ax[i]),
-/// any n, by the kernel of `lanes` lanes; requires lanes_available(lanes).
-void rough_angles(int lanes, const double* ay, const double* ax, double* out, std::size_t n);
+/// The kernel's rough angle of an arc point (the first look of the moving leak and of f_c), for its test:
+/// out[i] for (ay[i], ax[i]) at distance r from the arc's centre (formula::arc_angle_y, arc_angle_x), any n, by
+/// the kernel of `lanes` lanes; requires lanes_available(lanes).
+void rough_arc_angles(int lanes, double r, const double* ay, const double* ax, double* out, std::size_t n);
 
-/// The kernel's f_c time cell (DensityHit) of each t[i], for its test: out[i], by the kernel of
-/// S.lanes lanes over S's density windows; requires lanes_available(S.lanes).
+/// The kernel's f_c time cell (DensityHit) of each t[i] in [S.win_span_from, S.win_span_to] (a counted
+/// collision's), for its test: out[i], by the kernel of S.lanes lanes over S's density windows; requires
+/// lanes_available(S.lanes).
 void time_cells(const KernelScene& S, const double* t, double* out, std::size_t n);
 
 /// A boundary point for probe(): on piece `piece` (0 top, 1 right arc, 2 bottom, 3 left arc) at (x, y), at time t.

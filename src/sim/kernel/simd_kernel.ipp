@@ -22,7 +22,7 @@
 //   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
 //   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
 // - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle, and
-//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_atan2, within 2e-5 rad) and
+//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_arc_angle, within 1e-5 rad) and
 //   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; libm's is
 //   within 1 ulp, so the two differ by < 2e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
 //   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
@@ -33,165 +33,19 @@
 // Speed: a collision is a long dependent chain (division, square root, division), so one register of
 // particles leaves the core waiting. The kernel works on a pack of G registers (V: N = W G lanes), each
 // operation applied to the G registers side by side, so the G chains interleave instruction by
-// instruction; branches (an ended lane, a lane near a moving leak) are taken once per pack.
+// instruction; branches (an ended lane, a lane near a moving leak) are taken once per pack. The pack
+// (V, MV, their operations and the selection hook) is sim/kernel/simd_pack.ipp, included before this file.
 
-constexpr int N = W * G;  ///< lanes of a pack
-static_assert(N <= 32, "lane masks are 32-bit");
-constexpr unsigned kAllLanes = N == 32 ? ~0u : (1u << N) - 1;
 constexpr int kDensityBuffer = 1024;
-/// How far the kernel trusts its angles, in one place (arc_s_for): rough_atan2's error bound in rad
-/// (1.15e-5 measured; Simd.RoughAngleWithinItsBound checks the bound), i.e. kRoughAngleError r / L in s
-/// (< 3.2e-6: r / L < 0.16); a rough s decides only beyond kRoughAngleSafety times that bound from an edge
-/// (twofold; 3.5-fold on the measured error). SLEEF's s decides beyond KernelScene::margin of one.
-constexpr double kRoughAngleError = 2e-5;
+/// How far the kernel trusts its angles, in one place (arc_s_for, in_moving_leak): rough_arc_angle's error
+/// bound in rad (3.4e-6 in theory and measured; Simd.RoughArcAngleWithinItsBound checks the bound), i.e.
+/// kRoughAngleError r / L in s (< 1.6e-6: r / L < 0.16); a rough s decides only beyond kRoughAngleSafety times
+/// that bound from an edge (twofold; sixfold on the measured error). SLEEF's s decides beyond
+/// KernelScene::margin of one.
+constexpr double kRoughAngleError = 1e-5;
 constexpr double kRoughAngleSafety = 2;
 
 namespace {
-
-/// f(0), ..., f(G - 1), unrolled
-template <class F>
-inline void each(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) { (f(I), ...); }
-  (std::make_integer_sequence<int, G>{});
-}
-
-// ---- the pack: G registers, every operation the register's own, applied to each ---------------
-
-struct V {
-  B b[G];
-  V() = default;
-  explicit V(double x) {
-    each([&](int i) { b[i] = B(x); });
-  }
-};
-struct MV {
-  M m[G];
-  MV() = default;
-  explicit MV(bool x) {
-    each([&](int i) { m[i] = M(x); });
-  }
-};
-
-#define ROTLEAK_V_BINARY(op)                         \
-  inline V operator op(const V& x, const V& y) {     \
-    V r;                                             \
-    each([&](int i) { r.b[i] = x.b[i] op y.b[i]; }); \
-    return r;                                        \
-  }
-ROTLEAK_V_BINARY(+)
-ROTLEAK_V_BINARY(-)
-ROTLEAK_V_BINARY(*)
-ROTLEAK_V_BINARY(/)
-#undef ROTLEAK_V_BINARY
-#define ROTLEAK_V_COMPARE(op)                        \
-  inline MV operator op(const V& x, const V& y) {    \
-    MV r;                                            \
-    each([&](int i) { r.m[i] = x.b[i] op y.b[i]; }); \
-    return r;                                        \
-  }
-ROTLEAK_V_COMPARE(<)
-ROTLEAK_V_COMPARE(<=)
-ROTLEAK_V_COMPARE(>)
-ROTLEAK_V_COMPARE(>=)
-ROTLEAK_V_COMPARE(==)
-ROTLEAK_V_COMPARE(!=)
-#undef ROTLEAK_V_COMPARE
-inline V operator-(const V& x) {
-  V r;
-  each([&](int i) { r.b[i] = -x.b[i]; });
-  return r;
-}
-inline MV operator&(const MV& x, const MV& y) {
-  MV r;
-  each([&](int i) { r.m[i] = x.m[i] & y.m[i]; });
-  return r;
-}
-inline MV operator|(const MV& x, const MV& y) {
-  MV r;
-  each([&](int i) { r.m[i] = x.m[i] | y.m[i]; });
-  return r;
-}
-inline MV operator!(const MV& x) {
-  MV r;
-  each([&](int i) { r.m[i] = !x.m[i]; });
-  return r;
-}
-template <class F>
-inline V map(const V& x, F f) {
-  V r;
-  each([&](int i) { r.b[i] = f(x.b[i]); });
-  return r;
-}
-inline V sqrt(const V& x) {
-  return map(x, [](B a) { return xsimd::sqrt(a); });
-}
-inline V abs(const V& x) {
-  return map(x, [](B a) { return xsimd::abs(a); });
-}
-inline V floor(const V& x) {
-  return map(x, [](B a) { return xsimd::floor(a); });
-}
-inline V nearbyint(const V& x) {
-  return map(x, [](B a) { return xsimd::nearbyint(a); });
-}
-inline V max(const V& x, const V& y) {
-  V r;
-  each([&](int i) { r.b[i] = xsimd::max(x.b[i], y.b[i]); });
-  return r;
-}
-inline V min(const V& x, const V& y) {
-  V r;
-  each([&](int i) { r.b[i] = xsimd::min(x.b[i], y.b[i]); });
-  return r;
-}
-// the selection hook of the shared formulas (numeric/select.hpp), for packs: per lane
-inline V select(const MV& m, const V& x, const V& y) {
-  V r;
-  each([&](int i) { r.b[i] = xsimd::select(m.m[i], x.b[i], y.b[i]); });
-  return r;
-}
-inline MV select(const MV& m, const MV& x, const MV& y) { return (m & x) | ((!m) & y); }
-inline Vec2<V> select(const MV& m, const Vec2<V>& x, const Vec2<V>& y) {
-  return {select(m, x.x, y.x), select(m, x.y, y.y)};
-}
-// a * b + c as the core evaluates the spelling: a multiply, then an add (two roundings;
-// -ffp-contract=off keeps the compiler from fusing them)
-inline V fma(const V& x, const V& y, const V& z) {
-  V r;
-  each([&](int i) { r.b[i] = x.b[i] * y.b[i] + z.b[i]; });
-  return r;
-}
-/// lane k of the pack is bit k
-inline unsigned bits(const MV& m) {
-  unsigned r = 0;
-  each([&](int i) { r |= bits(m.m[i]) << (W * i); });
-  return r;
-}
-/// both branches, and a lane select: no branch to mispredict (a lane's choice is data)
-template <class F, class G2>
-inline auto choose(const MV& m, const F& a, const G2& b) -> decltype(a()) {
-  return select(m, a(), b());
-}
-template <class F>
-inline MV both(const MV& m, const F& f) {
-  return m & f();
-}
-inline V load(const double* p) {
-  V r;
-  each([&](int i) { r.b[i] = B::load_aligned(p + W * i); });
-  return r;
-}
-inline void store(const V& v, double* p) {
-  each([&](int i) { v.b[i].store_aligned(p + W * i); });
-}
-/// lanes of `mask` in increasing order
-template <class F>
-inline void for_lanes(unsigned mask, F f) {
-  while (mask) {
-    f(__builtin_ctz(mask));
-    mask &= mask - 1;
-  }
-}
 
 struct Lanes {
   alignas(sizeof(B)) double qx[N], qy[N], vx[N], vy[N], t[N], zero[N], w[N];
@@ -314,46 +168,41 @@ inline V sleef_arc_s(const KernelScene& S, const HitLanes& h, const MV& arcs, co
   return select(arcs, arc_s_from(S, h, angle), s);
 }
 
-/// A cheap angle atan2(ay, ax) in [-pi, pi] for the moving leak's first look: octant reduction and
-/// Abramowitz & Stegun 4.4.49 (their bound 1e-5 rad on [0, 1]; with the reflections and the seven
-/// published digits of the coefficients, 1.15e-5 measured): taken as |error| <= 2e-5 rad, which
-/// tests/test_simd.cpp checks against libm on 4 * 10^6 angles.
-inline V rough_atan2(const V& ay, const V& ax) {
-  const V ZERO(0.0);
-  const V a = abs(ay), b = abs(ax);
-  const V hi = max(a, b), lo = min(a, b);
-  const V z = lo / select(hi > ZERO, hi, V(1.0));
-  const V z2 = z * z;
-  V p = fma(z2, V(0.0208351), V(-0.0851330));
-  p = fma(z2, p, V(0.1801410));
-  p = fma(z2, p, V(-0.3302995));
-  p = fma(z2, p, V(0.9998660));
-  V t = z * p;
-  t = select(a > b, V(1.5707963267948966) - t, t);
-  t = select(ax < ZERO, V(3.141592653589793) - t, t);
-  return select(ay < ZERO, -t, t);
+/// A cheap angle of an arc point for the first look: atan2(ay, ax) clamped to [0, pi], as formula::arc_s takes
+/// it, for a point at distance r from its arc's centre (ay, ax from formula::arc_angle_y, arc_angle_x: ay >= 0
+/// on the arc). By the half angle it is pi/2 - 2 atan(z), z = ax / (r + ay) in [-1, 1], with atan(z) an odd
+/// polynomial of degree 11 (Lawson's minimax fit on [0, 1], 1.67e-6 rad at most), so within 3.4e-6 rad of the
+/// exact angle plus a few ulps for the point's own distance from the centre (rounded: r (1 + 1e-15)). An ay with
+/// its sign bit set (a point a rounding off the arc's end, or -0) has a negative angle, which the clamp makes 0:
+/// so does this. tests/test_simd.cpp (Simd.RoughArcAngleWithinItsBound) checks it against libm within
+/// kRoughAngleError.
+inline B rough_arc_angle(const B& ay, const B& ax, const B& r) {
+  const B z = ax / (r + ay);
+  const B z2 = z * z;
+  B p = z2 * B(-0.011719012263455883) + B(0.05264705591686962);  // a multiply, then an add (-ffp-contract=off)
+  p = z2 * p + B(-0.11642623523528958);
+  p = z2 * p + B(0.19354029313772714);
+  p = z2 * p + B(-0.3326228188511722);
+  p = z2 * p + B(0.9999772190936193);
+  const B angle = B(1.5707963267948966) - B(2.0) * (z * p);
+  return xsimd::select(xsimd::copysign(B(1.0), ay) < B(0.0), B(0.0), angle);
 }
 
-/// s of the arc hits from rough_atan2: within 2e-5 rad, 3.2e-6 in s (r / L < 0.16), of the core's.
+/// s of the arc hits from rough_arc_angle: within kRoughAngleError r / L (r / L < 0.16) of the core's.
 /// Inlined by force: as a call it returns its pack through memory (docs/performance.md, "Why the kernel is
 /// written as it is").
 [[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
-  return arc_s_from(S, h,
-                    rough_atan2(formula::arc_angle_y(h.right, h.x, V(S.half_d)), formula::arc_angle_x(h.right, h.y)));
+  const V ay = formula::arc_angle_y(h.right, h.x, V(S.half_d)), ax = formula::arc_angle_x(h.right, h.y);
+  V angle;
+  each([&](int i) { angle.b[i] = rough_arc_angle(ay.b[i], ax.b[i], B(S.r)); });
+  return arc_s_from(S, h, angle);
 }
 
-/// The cascade "cheap angle, then a precise one, then ask the core" (a filtered predicate, as CGAL's):
-/// s of the arc lanes in `arcs` (the other lanes keep `s`), exact enough that every decision that
-/// near(s, tol) guards comes out as the core's; near(s, tol) gives the lanes whose s lies within tol
-/// (in s) of one of that decision's edges. A lane keeps the rough s beyond kRoughAngleSafety times its bound
-/// from every edge, else takes SLEEF's s, which it keeps beyond KernelScene::margin, else the core's own s.
+/// The cascade's second half: the lanes of `fine` take SLEEF's s, which they keep beyond KernelScene::margin of
+/// every edge of near(s, tol), else the core's own s (Exact::s_of); the other lanes keep `s`.
 template <class Near>
-inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
-                   const Exact& exact) {
-  if (!bits(arcs)) return s;
-  s = select(arcs, rough_arc_s(S, h), s);
-  const MV fine = arcs & near(s, kRoughAngleSafety * kRoughAngleError * S.r_over_L);
-  if (!bits(fine)) return s;
+inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s, const Near& near, void* ctx,
+                    const Exact& exact) {
   s = sleef_arc_s(S, h, fine, s);
   if (const unsigned ask = bits(fine & near(s, S.margin))) {
     alignas(sizeof(B)) double sv[N], x[N], y[N];
@@ -365,16 +214,36 @@ inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s,
   return s;
 }
 
-/// Moving leak: the phase (formula::leak_phase), then Leak::hit: on an arc nothing unless the leak
-/// can touch it now (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes'
-/// s from the cascade with the leak's two ends as its edges.
-inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
-                         const Exact& exact) {
-  const V ph = formula::leak_phase(V(S.omega_hi), V(S.omega_lo), V(S.start), t, [](const V& a, const V& b, const V& p) {
+/// The cascade "cheap angle, then a precise one, then ask the core" (a filtered predicate, as CGAL's):
+/// s of the arc lanes in `arcs` (the other lanes keep `s`), exact enough that every decision that
+/// near(s, tol) guards comes out as the core's; near(s, tol) gives the lanes whose s lies within tol
+/// (in s) of one of that decision's edges. A lane keeps the rough s beyond kRoughAngleSafety times its bound
+/// from every edge, else takes fine_arc_s.
+template <class Near>
+inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
+                   const Exact& exact) {
+  if (!bits(arcs)) return s;
+  s = select(arcs, rough_arc_s(S, h), s);
+  const MV fine = arcs & near(s, kRoughAngleSafety * kRoughAngleError * S.r_over_L);
+  if (!bits(fine)) return s;
+  return fine_arc_s(S, h, fine, s, near, ctx, exact);
+}
+
+/// The leak's exact centre at t (formula::leak_phase), as Leak::hit takes it.
+inline V exact_phase(const KernelScene& S, const V& t) {
+  return formula::leak_phase(V(S.omega_hi), V(S.omega_lo), V(S.start), t, [](const V& a, const V& b, const V& p) {
     V err;  // the exact error of a b: a true fused multiply-subtract
     each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
     return err;
   });
+}
+
+/// Moving leak, Leak::hit with the exact phase: on an arc nothing unless the leak can touch it now
+/// (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes' s from the cascade
+/// with the leak's two ends as its edges.
+inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
+                               const Exact& exact) {
+  const V ph = exact_phase(S, t);
   const MV near_arc = (!h.straight) &
                       formula::may_touch(select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3])), ph,
                                          select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]))) &
@@ -385,10 +254,52 @@ inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, co
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
 
+/// Moving leak, the same decisions as a filtered predicate. The cheap centre c (formula::rough_leak_phase) is
+/// within b = KernelScene::phase_bound of the exact one, the arc lanes' rough s (rough_arc_s) within
+/// kRoughAngleError r / L of the core's; a lane whose distances from the edges of may_touch (gap_mid) and of
+/// in_leak (gap) exceed those errors is decided by them, and the rare others (`unsure`) by Leak::hit's own
+/// decision: the exact phase, and s from fine_arc_s.
+inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
+                         const Exact& exact) {
+  if (S.phase_bound == 0) return in_moving_leak_exact(S, h, t, live, ctx, exact);
+  const double b = S.phase_bound;
+  const V c = formula::rough_leak_phase(V(S.omega_hi), V(S.start), t);
+  const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
+  const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
+  const V gap_mid = abs(formula::circular_offset(mid, c)) - reach;  // <= 0: may touch the arc
+  const MV arc = (!h.straight) & live;
+  const MV touch = arc & (gap_mid <= V(b));  // may touch by the exact phase
+  V s = straight_s(S, h);
+  if (bits(touch)) s = select(touch, rough_arc_s(S, h), s);
+  const V gap = abs(formula::circular_offset(s, c)) - V(S.half_width);  // <= 0: inside
+  const MV looked = h.straight | touch;
+  const V tol(kRoughAngleSafety * kRoughAngleError * S.r_over_L + b);
+  MV in = looked & (gap <= V(0.0)) & (h.straight | (gap_mid <= V(-b)));
+  const MV unsure = live & ((looked & (abs(gap) <= tol)) | (arc & (abs(gap_mid) <= V(b))));
+  if (bits(unsure)) {
+    const V ph = exact_phase(S, t);
+    const MV fine = unsure & touch;
+    if (bits(fine)) {
+      const V hw(S.half_width);
+      s = fine_arc_s(
+          S, h, fine, s, [&](const V& x, double e) { return formula::distance_to_leak_end(x, ph, hw) <= V(e); }, ctx,
+          exact);
+    }
+    const MV touches = h.straight | formula::may_touch(mid, ph, reach);
+    in = select(unsure, touches & formula::in_leak(s, ph, V(S.half_width)), in);
+  }
+  return in;
+}
+
 /// The time cell of t (formula::time_cell): one count per collision serves every window (the caller
 /// folds the cells into them).
 inline V time_cell(const KernelScene& S, const V& t) {
-  return formula::time_cell(t, S.win_from, S.win_to, S.density_windows);
+  // formula::time_cell over the edges the span leaves open (KernelScene::cell_base): t is a counted one's
+  const V one(1.0), zero(0.0);
+  V cell(S.cell_base);
+  for (int k = 0; k < S.n_cell_from; ++k) cell = cell + select(t >= V(S.cell_from[k]), one, zero);
+  for (int k = 0; k < S.n_cell_to; ++k) cell = cell + select(t > V(S.cell_to[k]), one, zero);
+  return cell;
 }
 
 /// f_c: the lanes in `count` (alive, t within the windows' span) add one collision to bin
@@ -589,12 +500,12 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
   }
 }
 
-void rough_kernel(const double* ay, const double* ax, double* out, std::size_t n) {
-  alignas(sizeof(B)) double a[N], b[N], o[N];
-  for (std::size_t i = 0; i < n; i += N) {
-    const std::size_t m = n - i < N ? n - i : N;
-    for (std::size_t k = 0; k < N; ++k) a[k] = k < m ? ay[i + k] : 0, b[k] = k < m ? ax[i + k] : 1;
-    store(rough_atan2(load(a), load(b)), o);
+void rough_kernel(double r, const double* ay, const double* ax, double* out, std::size_t n) {
+  alignas(sizeof(B)) double a[W], b[W], o[W];
+  for (std::size_t i = 0; i < n; i += W) {
+    const std::size_t m = n - i < W ? n - i : W;
+    for (std::size_t k = 0; k < W; ++k) a[k] = k < m ? ay[i + k] : 0, b[k] = k < m ? ax[i + k] : r;
+    rough_arc_angle(B::load_aligned(a), B::load_aligned(b), B(r)).store_aligned(o);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = o[k];
   }
 }
