@@ -1,5 +1,6 @@
 // Where an ulp of the kernel's constants decides (tests/test_stadiums.cpp runs whole runs): at points within a
-// few ulps of every f_c bin edge and of the moving leak's two ends, on four stadiums, the kernel's own bin and
+// few ulps of every f_c bin edge, of the moving leak's two ends, and of the junctions while a leak end sits on
+// one, on four stadiums, the kernel's own bin and
 // leak test (simd::probe: the functions run() uses) must be the core's. With 1/L and r/L computed from the
 // rounded perimeter, as the kernel once did, 58 bins and 174 leak decisions differ on d = 1, r = 1.
 #include <gtest/gtest.h>
@@ -62,6 +63,18 @@ TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
     points_near(st, c - hw, t, points);
     points_near(st, c + hw, t, points);
   }
+  // the leak's ends on the junctions: there the leak's centre lies at the edge of may_touch (whether it can
+  // reach an arc at all), the other decision the kernel's first look settles from a rough phase
+  const double omega = 2.0 / 3.0, start = 0.3, hw = model.leak.half_width();
+  for (int j = 0; j < 4; ++j)
+    for (const double side : {-1.0, 1.0})
+      for (int turn = 0; turn < 3; ++turn) {
+        const double c = st.junction(j) + side * hw - start;
+        const double t = (c - std::floor(c) + turn) / omega;
+        points_near(st, st.junction(j), t, points);
+        points_near(st, st.junction(j) + 1e-9, t, points);
+        points_near(st, st.junction(j) - 1e-9, t, points);
+      }
   std::size_t near_bin_edge = 0;
   for (const simd::Probe& p : points) {
     const double sb = st.s_of(static_cast<Piece>(p.piece), {p.x, p.y}) * kBins;
