@@ -165,16 +165,17 @@ class Worker {
   void run_particles(std::uint64_t lo, std::uint64_t hi, Observer& observe, Record& rec) {
     for (std::uint64_t i = lo; i < hi; ++i) {
       const InitialDraw d = s_.source(i);
-      if constexpr (Observer::active) observe.weight = s_.source.weight(d);
-      rec(i, run_particle(s_.model, initial_state(s_.model.stadium, d), observe));
+      const double w = local.weighted() ? s_.source.weight(d) : 1.0;
+      if constexpr (Observer::active) observe.weight = w;
+      ParticleEnd end = run_particle(s_.model, initial_state(s_.model.stadium, d), observe);
+      end.weight = w;
+      rec(i, end);
     }
   }
 
-  /// A particle's end into the thread's tallies (and its escape record).
+  /// A particle's end into the thread's tallies (and its escape record); its weight came with it from its start.
   void record(std::uint64_t i, const ParticleEnd& end) {
-    // the weight is a function of (seed, id): rebuilt here, not carried by lanes
-    const double w = local.weighted() ? s_.source.weight(s_.source(i)) : 1.0;
-    local.add_end(end.fate, end.t, end.collisions, w, s_.scene.survival_dt);
+    local.add_end(end.fate, end.t, end.collisions, end.weight, s_.scene.survival_dt);
     if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate};
   }
 
@@ -189,8 +190,8 @@ class Worker {
     ctx.record = put;
     ctx.escape_s = s_.scene.escape_records;
     ctx.kernel = &s_.kernel;
+    ctx.weights = weights;  // lanes carry their weight to the tallies (and to a weighted f_c)
     if (s_.scene.collision_density) {
-      ctx.weights = weights;
       ctx.density = cell_counts_.data();
       ctx.density_w = local.weighted() ? cell_sums_.data() : nullptr;
       if constexpr (std::is_same_v<R, double>) ctx.observer = &density_;

@@ -170,6 +170,7 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
     Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
     f.end.collisions = e.collisions;
     const double weight = e.weight;
+    f.end.weight = weight;
     if (ctx->observer) ctx->observer->weight = weight;
     if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
       ctx->resume.push_back({id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, f.end.collisions, weight}});
@@ -179,6 +180,7 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
     return;
   }
   ParticleEnd end;
+  end.weight = e.weight;
   end.fate = static_cast<Fate>(e.fate);
   end.t = e.t;
   end.collisions = e.collisions;

@@ -48,11 +48,11 @@ struct SimdContext {
   std::uint64_t next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
   std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
-  bool weights = false;                                       ///< lanes carry their weight (weighted f_c)
-  std::uint64_t* density = nullptr;                           ///< this thread's f_c counts, by time cell
-  FixedSum* density_w = nullptr;                              ///< and weighted sums
-  DensityObserver<double>* observer = nullptr;                ///< f_c of the fast-forwarded bounces
-  const DensityCells* cells = nullptr;                        ///< the kernel's time cells
+  bool weights = false;                         ///< lanes carry their weight (a weighted run: its tallies and f_c)
+  std::uint64_t* density = nullptr;             ///< this thread's f_c counts, by time cell
+  FixedSum* density_w = nullptr;                ///< and weighted sums
+  DensityObserver<double>* observer = nullptr;  ///< f_c of the fast-forwarded bounces
+  const DensityCells* cells = nullptr;          ///< the kernel's time cells
   /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
   const std::vector<simd::Start>* members = nullptr;
   /// An escape's boundary coordinate (ParticleEnd::s: an atan2 on an arc) is wanted only for escape

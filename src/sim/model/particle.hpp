@@ -118,6 +118,8 @@ struct ParticleEnd {
   /// Survived, double tier: the state at its last collision before t_max (or its creation), from
   /// which the flight that passes t_max starts -- where a split run continues a member.
   ParticleState<double> last{};
+  /// The particle's sampling weight (1 unweighted), as its start carried it: what its tallies add.
+  double weight = 1;
 };
 
 /// A particle in flight: its state and, once it has ended, how.
