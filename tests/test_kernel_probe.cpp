@@ -44,14 +44,11 @@ void points_near(const Stadium<double>& st, double s, double t, std::vector<simd
   }
 }
 
-}  // namespace
-
-class Stadiums : public ::testing::TestWithParam<Size> {};
-
-TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
-  if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
-  const Size z = GetParam();
-  const Scene s = scene_of(z, {"leak.omega=2/3", "leak.width=0.02", "leak.start=0.3"});
+/// The probe on stadium z with the leak turning at `omega` (exact text, its double `omega_d`): every bin and leak
+/// decision the kernel makes must be the core's. `rough`: whether the kernel's first look takes the rough phase
+/// (KernelScene::phase_bound > 0) or, its bound too wide at this omega, the exact phase at every hit.
+void decides_as_the_core(const Size& z, const std::string& omega, double omega_d, bool rough) {
+  const Scene s = scene_of(z, {"leak.omega=" + omega, "leak.width=0.02", "leak.start=0.3"});
   const Model<double> model = Model<double>::from(s);
   const Stadium<double>& st = model.stadium;
   constexpr int kBins = 1000;
@@ -65,12 +62,12 @@ TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
   }
   // the leak's ends on the junctions: there the leak's centre lies at the edge of may_touch (whether it can
   // reach an arc at all), the other decision the kernel's first look settles from a rough phase
-  const double omega = 2.0 / 3.0, start = 0.3, hw = model.leak.half_width();
+  const double start = 0.3, hw = model.leak.half_width();
   for (int j = 0; j < 4; ++j)
     for (const double side : {-1.0, 1.0})
       for (int turn = 0; turn < 3; ++turn) {
         const double c = st.junction(j) + side * hw - start;
-        const double t = (c - std::floor(c) + turn) / omega;
+        const double t = (c - std::floor(c) + turn) / omega_d;
         points_near(st, st.junction(j), t, points);
         points_near(st, st.junction(j) + 1e-9, t, points);
         points_near(st, st.junction(j) - 1e-9, t, points);
@@ -86,6 +83,7 @@ TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
     simd::KernelScene ks = simd_scene(model);
     ks.lanes = lanes;
     ks.bins = kBins;
+    EXPECT_EQ(ks.phase_bound > 0, rough) << "omega = " << omega << ": phase bound " << ks.phase_bound;
     std::vector<simd::ProbeResult> got(points.size());
     simd::probe(ks, points.data(), got.data(), points.size(), const_cast<Stadium<double>*>(&st), exact);
     std::size_t bins_differ = 0, leak_differs = 0;
@@ -99,6 +97,17 @@ TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
     EXPECT_EQ(bins_differ, 0u) << z.name << ", " << lanes << " lanes, of " << points.size() << " points";
     EXPECT_EQ(leak_differs, 0u) << z.name << ", " << lanes << " lanes, of " << points.size() << " points";
   }
+}
+
+}  // namespace
+
+class Stadiums : public ::testing::TestWithParam<Size> {};
+
+TEST_P(Stadiums, KernelDecidesAsTheCoreWithinAnUlpOfBinEdgesAndLeakEnds) {
+  if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
+  decides_as_the_core(GetParam(), "2/3", 2.0 / 3.0, true);
+  // omega t_max = 2 * 10^12: the rough phase's bound (4.4e-4) is wider than the leak allows, the exact phase decides
+  decides_as_the_core(GetParam(), "1e8", 1e8, false);
 }
 
 INSTANTIATE_TEST_SUITE_P(FourSizes, Stadiums, ::testing::ValuesIn(kSizes),
