@@ -96,16 +96,6 @@ inline V floor(const V& x) {
 inline V nearbyint(const V& x) {
   return map(x, [](B a) { return xsimd::nearbyint(a); });
 }
-inline V max(const V& x, const V& y) {
-  V r;
-  each([&](int i) { r.b[i] = xsimd::max(x.b[i], y.b[i]); });
-  return r;
-}
-inline V min(const V& x, const V& y) {
-  V r;
-  each([&](int i) { r.b[i] = xsimd::min(x.b[i], y.b[i]); });
-  return r;
-}
 // the selection hook of the shared formulas (numeric/select.hpp), for packs: per lane
 inline V select(const MV& m, const V& x, const V& y) {
   V r;
