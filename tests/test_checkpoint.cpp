@@ -131,6 +131,28 @@ TEST(TallyFile, RoundTripsBitForBitAndRefusesDamage) {
   }
 }
 
+// A sum's limbs outside FixedSum's range are damage, refused at once: a split file's zero total at limb
+// 2^50 hung the reader's comparison (found by fuzz_tally), and a merge would cover the span word by word.
+TEST(TallyFile, RefusesASumOutsideTheLimbRange) {
+  Scene scene = busy_scene(4096);
+  RunResult r = run_ensemble(scene, {});
+  auto* e = r.tally.get_if<WeightedEstimator>();
+  ASSERT_NE(e, nullptr);
+  for (const long base : {1L << 50, -(1L << 50), FixedSum::kLimbEnd, FixedSum::kLowestLimb - 1}) {
+    e->total_w = FixedSum::from_limbs(base, {1});
+    TallyFile f{simulation_inputs(scene, "scalar"), scene.particles, 0, scene.particles, r.done, r.tally, r.records};
+    try {
+      decode_tally_file(encode_tally_file(f), "mem");
+      ADD_FAILURE() << "accepted a sum at limb " << base;
+    } catch (const std::runtime_error& err) {
+      EXPECT_NE(std::string(err.what()).find("outside [-64, 64)"), std::string::npos) << err.what();
+    }
+  }
+  e->total_w = FixedSum::from_limbs(FixedSum::kLimbEnd - 1, {1});  // the range's last limb is read
+  TallyFile f{simulation_inputs(scene, "scalar"), scene.particles, 0, scene.particles, r.done, r.tally, r.records};
+  EXPECT_TRUE(decode_tally_file(encode_tally_file(f), "mem").tally.estimator == r.tally.estimator);
+}
+
 TEST(TallyFile, InputsDifferenceNamesTheKey) {
   Scene a = busy_scene(100), b = busy_scene(100);
   b.width_text = "0.02";

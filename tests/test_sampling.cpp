@@ -196,6 +196,28 @@ TEST(FixedSum, KeepsTinyTermsExactlyInAnyOrder) {
   EXPECT_EQ(a_limbs_of(first), a_limbs_of(FixedSum::from_limbs(first.base(), first.limbs())));
 }
 
+// Equality compares the values held, not the span between two sums' scales: a sum read from a damaged file
+// at limb 2^50 against zero took 2^50 steps (found by fuzz_tally as a hang). The extremes the suite forms
+// (the smallest subnormal squared, 2^1000 times many terms) lie inside [kLowestLimb, kLimbEnd).
+TEST(FixedSum, EqualityIsOfValuesAndTheRangeHoldsEveryTerm) {
+  const FixedSum far = FixedSum::from_limbs(1L << 50, {1});
+  EXPECT_FALSE(far == FixedSum{});
+  EXPECT_FALSE(FixedSum{} == far);
+  EXPECT_TRUE(FixedSum::from_limbs(0, {0, 1, 0}) == FixedSum::from_limbs(1, {1}));
+  EXPECT_FALSE(FixedSum::from_limbs(0, {0, 1}) == FixedSum::from_limbs(0, {1}));
+  FixedSum staged, settled;
+  staged.add(0.5);
+  settled.merge(staged);
+  EXPECT_TRUE(staged == settled);
+  FixedSum low, high;
+  low.add_square(std::ldexp(1.0, -1074));
+  for (int k = 0; k < 64; ++k) high.add_times(std::nextafter(0x1p1000, 0.0), ~0ull);
+  for (const FixedSum* f : {&low, &high}) {
+    EXPECT_GE(f->base(), FixedSum::kLowestLimb);
+    EXPECT_LE(f->base() + static_cast<long>(f->limbs().size()), FixedSum::kLimbEnd);
+  }
+}
+
 // E_q[w] = 1. Error model: the sample mean of N independent weights, standard error sd(w) / sqrt(N);
 // 5 standard errors (one test per scheme).
 TEST(Sampling, WeightsIntegrateToOne) {

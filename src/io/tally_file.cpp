@@ -37,6 +37,10 @@ FixedSum get_sum(ByteReader& r) {
   const long base = static_cast<long>(r.word());
   const std::uint64_t n = r.word();
   if (n > 4096) throw std::runtime_error("tally file: an exact sum of " + std::to_string(n) + " limbs");
+  if (n > 0 && (base < FixedSum::kLowestLimb || base > FixedSum::kLimbEnd - static_cast<long>(n)))
+    throw std::runtime_error("tally file: an exact sum at limbs " + std::to_string(base) + " + " + std::to_string(n) +
+                             ", outside [" + std::to_string(FixedSum::kLowestLimb) + ", " +
+                             std::to_string(FixedSum::kLimbEnd) + ")");
   std::vector<std::uint64_t> limbs(n);
   r.words(limbs);
   return FixedSum::from_limbs(base, std::move(limbs));

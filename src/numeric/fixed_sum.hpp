@@ -129,14 +129,17 @@ class FixedSum {
     return {m, e + 64 * top};
   }
 
+  /// Equal values (whatever their staging and untrimmed limbs); the work is the limbs held, never the
+  /// span between two sums' scales (a read file's sum may lie anywhere: found by fuzz_tally).
   bool operator==(const FixedSum& other) const {
-    FixedSum ta, tb;
-    const FixedSum &a = settled(ta), &o = other.settled(tb);
-    const long lo = std::min(a.base_, o.base_), hi = std::max(a.end(), o.end());
-    for (long k = lo; k < hi; ++k)
-      if (a.limb(k) != o.limb(k)) return false;
-    return true;
+    const FixedSum a = trimmed(), o = other.trimmed();
+    return a.base_ == o.base_ && a.limb_ == o.limb_;
   }
+
+  /// Limb indices any sum the suite forms lies within: terms from 2^-2148 (the smallest subnormal,
+  /// squared; limb -34) to 2^1000 times fewer than 2^128 of them (limb 17). A reader refuses a sum
+  /// outside them (a merge would otherwise cover the span between, one word a limb).
+  static constexpr long kLowestLimb = -64, kLimbEnd = 64;
 
   /// The value as (lowest limb index, limbs from there up), zero limbs trimmed at both ends: equal
   /// values give equal words (how tally files store a sum).
