@@ -28,6 +28,7 @@ Command add_regimes(CLI::App& app);
 Command add_merge(CLI::App& app);
 Command add_calibrate(CLI::App& app);
 Command add_predict(CLI::App& app);
+Command add_orbits(CLI::App& app);
 
 /// The run options of a command that runs a scan (scan, calibrate): --threads (>= 0), --engine, the
 /// progress line on a terminal and the per-point status lines unless --no-progress.

@@ -35,7 +35,8 @@ std::vector<rotleak::cli::Command> add_commands(CLI::App& app) {
       rotleak::cli::add_covering(app), rotleak::cli::add_shadow(app),    rotleak::cli::add_lyapunov(app),
       rotleak::cli::add_audit(app),    rotleak::cli::add_certify(app),   rotleak::cli::add_verify(app),
       rotleak::cli::add_scan(app),     rotleak::cli::add_fit(app),       rotleak::cli::add_regimes(app),
-      rotleak::cli::add_merge(app),    rotleak::cli::add_calibrate(app), rotleak::cli::add_predict(app)};
+      rotleak::cli::add_merge(app),    rotleak::cli::add_calibrate(app), rotleak::cli::add_predict(app),
+      rotleak::cli::add_orbits(app)};
   for (const auto& c : commands) {
     const auto positional = [](CLI::Option* opt) { return opt->get_positional(); };
     if (c.app->get_options(positional).empty()) continue;

@@ -373,6 +373,7 @@ class Mpfi {
     return r;                        \
   }
   ROTLEAK_MPFI_UNARY(sqrt, mpfi_sqrt)
+  ROTLEAK_MPFI_UNARY(sqr, mpfi_sqr)  ///< x^2 >= 0 (x * x of an interval holding 0 reaches below 0)
   ROTLEAK_MPFI_UNARY(sin, mpfi_sin)
   ROTLEAK_MPFI_UNARY(cos, mpfi_cos)
   ROTLEAK_MPFI_UNARY(abs, mpfi_abs)

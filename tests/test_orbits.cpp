@@ -1,0 +1,169 @@
+// Proven periodic orbits (verify/orbits.hpp, docs/model.md "Periodic orbits"): the closed-form multipliers,
+// codes without an orbit refused, proofs that nest when the bits double, the code enumeration against a
+// brute-force count, and the found set closed under the stadium's mirrors and stable against more starts.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "numeric/input.hpp"
+#include "verify/orbits.hpp"
+
+namespace rotleak {
+namespace {
+
+const ExactReal kD = ExactReal::parse("2"), kR = ExactReal::parse("1");
+
+/// |enclosure's midpoint - exact| and whether the enclosure holds the exact value, at 256 bits.
+void expect_value(const Mpfi& got, const Mpfr& exact, const char* what) {
+  EXPECT_TRUE(got.contains(exact.data())) << what << ": the enclosure misses the closed form";
+  mpfr_t mid;
+  mpfr_init2(mid, 256);
+  mpfi_mid(mid, got.data());
+  mpfr_sub(mid, mid, exact.data(), MPFR_RNDN);
+  EXPECT_LT(std::abs(mpfr_get_d(mid, MPFR_RNDN)), 1e-30) << what;
+  mpfr_clear(mid);
+}
+
+// The horizontal 2-bounce orbit through (+-2, 0): Lambda = 17 + 12 sqrt 2, length 8. The diamond through
+// (0, +-1), (+-2, 0): Lambda = 31 + 8 sqrt 15, length 4 sqrt 5 (d = 2, r = 1). Both enclosed and matched
+// to 1e-30.
+TEST(Orbits, ClosedFormMultipliersAndLengths) {
+  OrbitOptions opt;
+  const CodeOrbits rl = code_orbits(kD, kR, parse_orbit_code("RL"), opt);
+  const CodeOrbits diamond = code_orbits(kD, kR, parse_orbit_code("TRBL"), opt);
+  ASSERT_EQ(rl.orbits.size(), 1u);
+  ASSERT_EQ(diamond.orbits.size(), 1u);
+  const MpfrPrecision guard(256);
+  expect_value(rl.orbits[0].multiplier, Mpfr(17) + Mpfr(12) * sqrt(Mpfr(2)), "RL multiplier");
+  expect_value(rl.orbits[0].length, Mpfr(8), "RL length");
+  expect_value(diamond.orbits[0].multiplier, Mpfr(31) + Mpfr(8) * sqrt(Mpfr(15)), "TRBL multiplier");
+  expect_value(diamond.orbits[0].length, Mpfr(4) * sqrt(Mpfr(5)), "TRBL length");
+  EXPECT_EQ(rl.orbits[0].stability(), "hyperbolic");
+  EXPECT_EQ(rl.orbits[0].weight, 1);  // its own reverse
+}
+
+// RRR has no orbit (a circle keeps the angle of incidence, so three bounces on one semicircle step the centre
+// angle by 2 pi / 3 each, a span of 4 pi / 3 > pi), nor has BR (perpendicular to the bottom and to the arc: the
+// vertical through the arc's centre, which meets both at the junction), nor TB (the bouncing-ball family, a
+// continuum: none isolated). Each is refused: no orbit listed. A start that is no zero is proven only as the
+// zero Newton reaches from it (its box holds that zero, not the start).
+TEST(Orbits, CodesWithoutAnOrbitAreRefused) {
+  OrbitOptions opt;
+  for (const char* text : {"RRR", "BR", "TB", "TBTB"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), opt);
+    EXPECT_TRUE(got.orbits.empty()) << text;
+    EXPECT_EQ(got.family, std::string(text).find('R') == std::string::npos) << text;
+  }
+  const MpfrPrecision guard(opt.bits);
+  ProvenOrbit o;
+  ASSERT_TRUE(prove_orbit(kD, kR, parse_orbit_code("RL"), {Mpfr(0.3), Mpfr(0.1)}, opt.bits, o));
+  EXPECT_TRUE(o.box[0].contains(Mpfr(0).data()) && o.box[1].contains(Mpfr(0).data()));
+  EXPECT_FALSE(o.proof_box[0].contains(Mpfr(0.3).data()));
+  EXPECT_THROW(parse_orbit_code("TTR"), InputError);
+  EXPECT_THROW(parse_orbit_code("BRB"), InputError);  // cyclically B follows B
+  EXPECT_THROW(parse_orbit_code("TXB"), InputError);
+  EXPECT_THROW(parse_orbit_code("R"), InputError);
+}
+
+// An orbit proven again at twice the bits (from its box's midpoint) lies inside the first proof's box and
+// inside its Krawczyk image: the two proofs speak of the same unique zero.
+TEST(Orbits, ReprovenAtTwiceTheBitsLiesInTheFirstBox) {
+  OrbitOptions opt;
+  for (const char* text : {"RRL", "TRL", "TRBL", "RRLRLLB", "TRRBLLTRBL"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), opt);
+    ASSERT_FALSE(got.orbits.empty()) << text;
+    for (const ProvenOrbit& first : got.orbits) {
+      const MpfrPrecision guard(2 * opt.bits);
+      std::vector<Mpfr> mid(first.box.size());
+      for (std::size_t i = 0; i < mid.size(); ++i) mpfi_mid(mid[i].data(), first.box[i].data());
+      ProvenOrbit second;
+      ASSERT_TRUE(prove_orbit(kD, kR, first.code, mid, 2 * opt.bits, second)) << text;
+      for (std::size_t i = 0; i < mid.size(); ++i) {
+        EXPECT_GT(mpfi_is_strictly_inside(second.box[i].data(), first.proof_box[i].data()), 0) << text << " " << i;
+        EXPECT_GT(mpfi_is_inside(second.box[i].data(), first.box[i].data()), 0) << text << " " << i;
+      }
+      EXPECT_LT(second.box_width, first.box_width * 1e-20) << text;
+    }
+  }
+}
+
+// orbit_codes(n): one code per class under rotation and reversal, against a brute-force count of the
+// classes of all 4^n words with no two cyclically adjacent bounces on one straight edge.
+TEST(Orbits, CodesAreOnePerClassOfRotationAndReversal) {
+  for (int n = 2; n <= 7; ++n) {
+    std::set<std::string> classes;
+    std::string w(static_cast<std::size_t>(n), 'T');
+    for (long k = 0; k < (1L << (2 * n)); ++k) {
+      for (int i = 0; i < n; ++i) w[static_cast<std::size_t>(i)] = "TRBL"[(k >> (2 * i)) & 3];
+      bool ok = true;
+      for (int i = 0; i < n && ok; ++i) {
+        const char a = w[static_cast<std::size_t>(i)], b = w[static_cast<std::size_t>((i + 1) % n)];
+        ok = !((a == 'T' || a == 'B') && a == b);
+      }
+      if (!ok) continue;
+      std::string best = w, rev(w.rbegin(), w.rend());
+      for (int s = 0; s < n; ++s) {
+        best = std::min({best, w.substr(static_cast<std::size_t>(s)) + w.substr(0, static_cast<std::size_t>(s)),
+                         rev.substr(static_cast<std::size_t>(s)) + rev.substr(0, static_cast<std::size_t>(s))},
+                        [](const std::string& a, const std::string& b) {
+                          // the enumeration's order: T < R < B < L
+                          const auto rank = [](char c) { return std::string("TRBL").find(c); };
+                          return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(),
+                                                              [&](char x, char y) { return rank(x) < rank(y); });
+                        });
+      }
+      classes.insert(best);
+    }
+    std::set<std::string> ours;
+    for (const OrbitCode& c : orbit_codes(n)) ours.insert(orbit_code_text(c));
+    EXPECT_EQ(ours, classes) << "period " << n;
+  }
+}
+
+// The search to period 8: four times the starts (another seed) find no orbit more (the count is the search's
+// fixed point), and every orbit's mirror images are in the set (close_under_symmetry adds what a code's own
+// search missed; at period 11 it adds 44 orbits).
+TEST(Orbits, TheSetIsClosedUnderMirrorsAndStableAgainstMoreStarts) {
+  OrbitOptions opt;
+  opt.starts = 24;
+  const OrbitSearch a = find_orbits(kD, kR, 8, opt, 0);
+  opt.starts = 96;
+  opt.seed = 7;
+  const OrbitSearch b = find_orbits(kD, kR, 8, opt, 0);
+  ASSERT_EQ(a.periods.size(), b.periods.size());
+  for (std::size_t i = 0; i < a.periods.size(); ++i) {
+    EXPECT_EQ(a.periods[i].proven, b.periods[i].proven) << "period " << a.periods[i].period;
+    EXPECT_EQ(a.periods[i].prime_cycles, b.periods[i].prime_cycles) << "period " << a.periods[i].period;
+    EXPECT_EQ(a.periods[i].unproven, 0u);
+  }
+  // each orbit's three mirror images lie in proof boxes of their codes' orbits
+  std::map<std::string, std::vector<const ProvenOrbit*>> by_code;
+  for (const ProvenOrbit& o : a.orbits) by_code[orbit_code_text(o.code)].push_back(&o);
+  const MpfrPrecision guard(opt.bits);
+  std::size_t images = 0;
+  for (const ProvenOrbit& o : a.orbits) {
+    std::vector<Mpfr> mid(o.box.size());
+    for (std::size_t i = 0; i < mid.size(); ++i) mpfi_mid(mid[i].data(), o.box[i].data());
+    for (const auto& [mx, my] : {std::pair{true, false}, {false, true}, {true, true}}) {
+      const auto [code, u] = mirror_orbit(o.code, mid, mx, my);
+      const auto& list = by_code[orbit_code_text(code)];
+      const bool held = std::any_of(list.begin(), list.end(), [&](const ProvenOrbit* p) {
+        for (std::size_t s = 0; s < u.size(); ++s) {  // the image may start at another bounce of a code w^k
+          bool in = true;
+          for (std::size_t i = 0; i < u.size() && in; ++i) in = p->proof_box[i].contains(u[(i + s) % u.size()].data());
+          if (in) return true;
+        }
+        return false;
+      });
+      EXPECT_TRUE(held) << orbit_code_text(o.code) << " mirrored (" << mx << ", " << my << ") -> "
+                        << orbit_code_text(code);
+      ++images;
+    }
+  }
+  EXPECT_EQ(images, 3 * a.orbits.size());
+}
+
+}  // namespace
+}  // namespace rotleak
