@@ -256,7 +256,8 @@ def check_json(path, schemas, summary, errors):
                     errors.append(f"{path}: key {key} is not in docs/output.md's summary.json table")
             return
         kind = ("summary.json of shadow" if "truth" in doc else "summary.json of covering" if "covering" in doc
-                else "summary.json of audit" if doc.get("command") == "audit" else None)
+                else "summary.json of audit" if doc.get("command") == "audit"
+                else "summary.json of orbits" if doc.get("command") == "orbits" else None)
         if kind is None:
             errors.append(f"{path}: a summary.json that docs/output.md does not describe")
             return

@@ -23,6 +23,7 @@ q=(--no-progress)
 "$bin" covering --omega 2/3 --omega 1e-4 --resolution 200 --segments --out "$work/out/covering" >/dev/null
 "$bin" audit "$scene" --sample 20 --stats-particles 20000 --stratify-particles 5000 --max-collisions 200 \
   --tiers float,double --threads 2 --out "$work/out/audit" >/dev/null
+"$bin" orbits --period-max 5 --out "$work/out/orbits" --no-progress
 "$py" "$here/check_output_schema.py" "$work/out"
 
 # the check must fail on damaged files

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
+#include "analysis/cycle_expansion.hpp"
 #include "numeric/input.hpp"
+#include "verify/orbit_replay.hpp"
 #include "verify/orbits.hpp"
 
 namespace rotleak {
@@ -163,6 +167,91 @@ TEST(Orbits, TheSetIsClosedUnderMirrorsAndStableAgainstMoreStarts) {
     }
   }
   EXPECT_EQ(images, 3 * a.orbits.size());
+}
+
+// The cycle expansion on a system it must reproduce exactly: the full binary shift with every symbol
+// stretching by 2 and taking time 1 + symbol (prime cycles: the binary Lyndon words, P_n = (1/n) sum_{d | n}
+// mu(d) 2^{n/d}). Its zeta functions are polynomials of degree 1 in z: the topological entropy is ln 2 and
+// the Lyapunov exponent ln 2 a collision at every order, and ln 2 / (3/2) a unit time (each symbol weighs
+// 1/|Lambda| = 1/2, so the mean time a collision is 3/2).
+TEST(Orbits, CycleExpansionIsExactOnTheFullBinaryShift) {
+  std::vector<PrimeCycle> cycles;
+  for (int n = 1; n <= 10; ++n)
+    for (unsigned w = 0; w < (1u << n); ++w) {
+      bool lyndon = true;  // w smaller than each of its proper rotations
+      for (int k = 1; k < n && lyndon; ++k) {
+        const unsigned rot = ((w << k) | (w >> (n - k))) & ((1u << n) - 1);
+        lyndon = w < rot;
+      }
+      if (n == 1) lyndon = true;
+      if (!lyndon) continue;
+      const int ones = __builtin_popcount(w);
+      cycles.push_back({n, static_cast<double>(n + ones), n * std::log(2.0), 1});
+    }
+  for (const CycleAverages& a : cycle_averages(cycles, 10)) {
+    EXPECT_NEAR(a.entropy, std::log(2.0), 1e-12) << a.order;
+    EXPECT_NEAR(a.lyapunov_collision, std::log(2.0), 1e-12) << a.order;
+    EXPECT_NEAR(a.lyapunov_time, std::log(2.0) / 1.5, 1e-12) << a.order;
+    EXPECT_NEAR(a.escape_time, 0.0, 1e-12) << a.order;
+  }
+}
+
+// The stadium's cycles to period 9: the topological entropy stays below Cinc & Troubetzkoy's rigorous bound
+// log(3.49066) on the billiard map's (every cycle count N_n <= 3.49066^n, up to the polynomial factor the
+// bound allows: here the plain inequality is checked), and a closed billiard escapes at rate 0 (|s(0)| small
+// against the Lyapunov exponent).
+TEST(Orbits, StadiumCyclesRespectTheEntropyBound) {
+  const OrbitSearch s = find_orbits(kD, kR, 9, OrbitOptions{}, 0);
+  const std::vector<PrimeCycle> cycles = prime_cycles(s, OrbitOptions{});
+  const double bound = std::log(3.49066);
+  for (const CycleAverages& a : cycle_averages(cycles, 9)) {
+    EXPECT_LT(a.entropy, bound) << a.order;
+    EXPECT_LT(a.entropy_count, bound) << a.order;
+  }
+  const CycleAverages last = cycle_averages(cycles, 9).back();
+  EXPECT_LT(std::abs(last.escape_time), 0.1 * last.lyapunov_time);
+}
+
+// Each tier follows a proven orbit until its own error, amplified by |Lambda| a period, passes the tolerance:
+// the departure collision lies in the error model's window around n ln(tol / u) / ln|Lambda|, for every
+// tier from float to MPFR at 256 bits, on every piece the code says. (Not RL: on the x axis, started at
+// s = 1/4, p = 0 exactly, double-double and float128 compute the symmetric orbit without error and never
+// leave it.)
+TEST(OrbitReplay, EachTierLeavesTheOrbitWhenItsErrorModelSays) {
+  for (const char* text : {"TRBL", "RRL", "TRRBLLTRBL", "RRLRLLB"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), OrbitOptions{});
+    ASSERT_FALSE(got.orbits.empty()) << text;
+    for (const std::string& tier : replay_tiers()) {
+      const OrbitReplay rp = replay_orbit(kD, kR, got.orbits[0], tier);
+      std::printf("%s %-12s departs at %zu, predicted %.1f [%.1f, %.1f], A ~ %.3g\n", text, tier.c_str(), rp.departure,
+                  rp.predicted, rp.low, rp.high,
+                  1e-6 / (rp.unit_roundoff * std::exp(rp.log_multiplier * static_cast<double>(rp.departure) /
+                                                      static_cast<double>(rp.period))));
+      EXPECT_TRUE(rp.pass) << text << " " << tier << ": departs at " << rp.departure << ", window [" << rp.low << ", "
+                           << rp.high << "], wrong piece at " << rp.wrong_piece;
+    }
+  }
+}
+
+// A one-ulp change in the reflection (v.x += 2^-53 v.x after each bounce, an error double makes anyway)
+// leaves float and double on their schedule, and breaks the replay of every finer tier: they leave the orbit
+// at double's time, far before their own window.
+TEST(OrbitReplay, AOneUlpChangeInTheReflectionBreaksTheFinerTiers) {
+  const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code("TRBL"), OrbitOptions{});
+  ASSERT_EQ(got.orbits.size(), 1u);
+  ReplayOptions kicked;
+  kicked.reflection_kick = 0x1p-53;
+  for (const std::string& tier : replay_tiers()) {
+    const OrbitReplay clean = replay_orbit(kD, kR, got.orbits[0], tier),
+                      rp = replay_orbit(kD, kR, got.orbits[0], tier, kicked);
+    EXPECT_TRUE(clean.pass) << tier;
+    const bool coarse = tier == "float" || tier == "double";
+    EXPECT_EQ(rp.pass, coarse) << tier << ": departs at " << rp.departure << ", window [" << rp.low << ", " << rp.high
+                               << "]";
+    if (!coarse) {
+      EXPECT_LT(static_cast<double>(rp.departure), rp.low) << tier;
+    }
+  }
 }
 
 }  // namespace

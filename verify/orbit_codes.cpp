@@ -65,7 +65,8 @@ long reversal_shift(const OrbitCode& c) {
 OrbitCode parse_orbit_code(const std::string& text, const std::string& key) {
   OrbitCode c;
   for (char ch : text) {
-    const char* at = std::find(std::begin(kLetters), std::end(kLetters), static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+    const char* at = std::find(std::begin(kLetters), std::end(kLetters),
+                               static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
     if (at == std::end(kLetters))
       throw InputError(key, text, "letters T (top edge), R (right arc), B (bottom edge), L (left arc)");
     c.push_back(static_cast<Piece>(at - std::begin(kLetters)));
@@ -117,6 +118,5 @@ std::pair<OrbitCode, std::vector<Mpfr>> mirror_orbit(const OrbitCode& c, const s
   }
   return {best, best_v};
 }
-
 
 }  // namespace rotleak

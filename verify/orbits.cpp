@@ -4,11 +4,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <cmath>
+#include <map>
 #include <random>
 #include <sstream>
 
+#include "analysis/cycle_expansion.hpp"
 #include "geometry/periodic.hpp"
 #include "io/files.hpp"
 #include "io/json.hpp"
@@ -182,8 +183,8 @@ struct Krawczyk {
 /// coordinates: s clockwise from the top edge's midpoint over L, p the outgoing velocity along the core's
 /// tangent; from the box's midpoint in MPFR, as the core's s takes an atan2 whose interval form straddles
 /// the left arc's branch cut).
-void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi>& si,
-              const periodic::Shape<Mpfr>& sf, ProvenOrbit& out) {
+void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi>& si, const periodic::Shape<Mpfr>& sf,
+              ProvenOrbit& out) {
   const OrbitCode& code = out.code;
   const std::size_t n = code.size();
   const auto ek = periodic::equations(si, code, out.box);
@@ -428,6 +429,15 @@ OrbitSearch find_orbits(const ExactReal& d, const ExactReal& r, int period_max, 
   return s;
 }
 
+std::vector<PrimeCycle> prime_cycles(const OrbitSearch& s, const OrbitOptions& opt) {
+  const MpfrPrecision guard(opt.bits);
+  std::vector<PrimeCycle> cycles;
+  for (const ProvenOrbit& o : s.orbits)
+    cycles.push_back({static_cast<int>(o.code.size()), num_traits<Mpfi>::to_double(o.length),
+                      std::log(std::abs(num_traits<Mpfi>::to_double(o.multiplier))), o.weight});
+  return cycles;
+}
+
 std::string orbit_digits(const Mpfi& x, int digits) {
   mpfr_t m;
   mpfr_init2(m, mpfi_get_prec(x.data()));
@@ -447,8 +457,8 @@ void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const Ex
   csv << "code,period,length,multiplier,lyapunov,stability,weight,box_width,s0,p0\n";
   for (const ProvenOrbit& o : s.orbits) {
     const MpfrPrecision guard(opt.bits);
-    const double lyap = std::log(std::abs(num_traits<Mpfi>::to_double(o.multiplier))) /
-                        num_traits<Mpfi>::to_double(o.length);
+    const double lyap =
+        std::log(std::abs(num_traits<Mpfi>::to_double(o.multiplier))) / num_traits<Mpfi>::to_double(o.length);
     csv << orbit_code_text(o.code) << ',' << o.code.size() << ',' << orbit_digits(o.length) << ','
         << orbit_digits(o.multiplier) << ',' << shortest(lyap) << ',' << o.stability() << ',' << o.weight << ','
         << shortest(o.box_width) << ',' << orbit_digits(o.s0) << ',' << orbit_digits(o.p0) << '\n';
@@ -468,6 +478,16 @@ void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const Ex
                        {"seconds", t.seconds}});
     proven += t.proven, unproven += t.unproven;
   }
+  const int max_period = s.periods.empty() ? 2 : s.periods.back().period;
+  json expansion = json::array();
+  for (const CycleAverages& a : cycle_averages(prime_cycles(s, opt), max_period))
+    expansion.push_back({{"order", a.order},
+                         {"entropy", a.entropy},
+                         {"entropy_count", a.entropy_count},
+                         {"lyapunov_time", a.lyapunov_time},
+                         {"lyapunov_collision", a.lyapunov_collision},
+                         {"mean_free_path", a.mean_free_path},
+                         {"escape_time", a.escape_time}});
   const json summary = {{"command", "orbits"},
                         {"schema", 1},
                         {"version", kVersion},
@@ -479,7 +499,11 @@ void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const Ex
                         {"proven", proven},
                         {"unproven", unproven},
                         {"seconds", s.seconds},
-                        {"periods", periods}};
+                        {"periods", periods},
+                        {"bouncing_ball_family",
+                         "codes (TB)^k: vertical bounces at every x in (-d/2, d/2), parabolic (trace 2), not isolated; "
+                         "not proven and not counted"},
+                        {"cycle_expansion", expansion}};
   write_file_atomic(dir / "orbits.csv", csv.str());
   write_file_atomic(dir / "summary.json", summary.dump(2) + "\n");
 }

@@ -9,16 +9,17 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/cycle_expansion.hpp"
 #include "geometry/stadium.hpp"
-#include "verify/orbit_codes.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/tiers.hpp"
+#include "verify/orbit_codes.hpp"
 
 namespace rotleak {
 
 struct OrbitOptions {
-  long bits = 160;       ///< MPFR / MPFI working precision of the refinement and the proof
-  int starts = 48;       ///< Newton starts a code (double, uniform in the code's parameter box)
+  long bits = 160;  ///< MPFR / MPFI working precision of the refinement and the proof
+  int starts = 48;  ///< Newton starts a code (double, uniform in the code's parameter box)
   std::uint64_t seed = 1;
 };
 
@@ -29,7 +30,7 @@ struct ProvenOrbit {
   std::vector<Mpfi> proof_box;
   Mpfi length, trace, multiplier;  ///< enclosures; multiplier: Lambda with |Lambda| > 1, sign of the trace
   Mpfi s0, p0;  ///< bounce 0 in the core's Birkhoff coordinates (Stadium::s_of, birkhoff_p), at the box's midpoint
-  double box_width = 0;            ///< widest component of `box`
+  double box_width = 0;  ///< widest component of `box`
   /// 2 when the time-reversed orbit has the reversed code, another class of codes (not listed); 1 when the
   /// reversed orbit is listed under this code (or is this orbit)
   int weight = 1;
@@ -39,9 +40,9 @@ struct ProvenOrbit {
 /// What one code gave.
 struct CodeOrbits {
   std::vector<ProvenOrbit> orbits;
-  int candidates = 0;  ///< distinct admissible zeros Newton reached
-  int unproven = 0;    ///< candidates the Krawczyk test did not prove (a parabolic family, or too wide a box)
-  int repeats = 0;     ///< proven orbits that repeat a shorter one (code w^k), not listed
+  int candidates = 0;   ///< distinct admissible zeros Newton reached
+  int unproven = 0;     ///< candidates the Krawczyk test did not prove (a parabolic family, or too wide a box)
+  int repeats = 0;      ///< proven orbits that repeat a shorter one (code w^k), not listed
   int by_symmetry = 0;  ///< orbits found as mirror images of another code's (close_under_symmetry)
   bool family = false;  ///< (TB)^k: the bouncing-ball family (parabolic, not isolated), not searched
 };
@@ -80,6 +81,9 @@ OrbitSearch find_orbits(const ExactReal& d, const ExactReal& r, int period_max, 
 /// DIR/orbits.csv and DIR/summary.json (docs/output.md), each written whole (temp name, then rename).
 void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const ExactReal& r, const OrbitSearch& s,
                   const OrbitOptions& opt);
+
+/// The search's cycles as the cycle expansion takes them (period, length, ln|Lambda|, weight).
+std::vector<PrimeCycle> prime_cycles(const OrbitSearch& s, const OrbitOptions& opt);
 
 /// An enclosure's midpoint to `digits` significant digits.
 std::string orbit_digits(const Mpfi& x, int digits = 30);

@@ -31,6 +31,7 @@
 #include "sim/engine/engine.hpp"
 #include "sim/model/initial.hpp"
 #include "sim/model/scene.hpp"
+#include "verify/orbit_replay.hpp"
 
 namespace rotleak {
 
@@ -129,10 +130,15 @@ struct EngineCheck {
 TierCheck check_tier(const RefCase& c, const std::string& tier, bool check_bits);
 EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward);
 
+/// The proven periodic orbits `rotleak verify` replays by default (d = 2, r = 1; none on a symmetry axis,
+/// where a tier may compute the orbit exactly): the diamond and three off-axis orbits of periods 3, 7, 10.
+std::vector<std::string> default_orbit_codes();
+
 /// What `rotleak verify` runs.
 struct VerifyOptions {
   std::vector<std::string> tiers = reference_tiers();
-  std::vector<std::pair<Engine, bool>> engines;  ///< (engine, fast_forward)
+  std::vector<std::pair<Engine, bool>> engines;                  ///< (engine, fast_forward)
+  std::vector<std::string> orbit_codes = default_orbit_codes();  ///< each code's first orbit, replayed (point tiers)
   bool check_bits = true;
   int threads = 0;  ///< 0: all cores
 };
@@ -142,6 +148,7 @@ struct VerifyReport {
   std::size_t cases = 0;
   std::vector<TierCheck> tiers;      ///< tier-major, cases in set order
   std::vector<EngineCheck> engines;  ///< engine-major
+  std::vector<OrbitReplay> orbits;   ///< orbit-major, the point tiers of `tiers` in order
   bool pass = true;
 };
 

@@ -8,6 +8,8 @@
 #include <limits>
 #include <optional>
 
+#include "numeric/input.hpp"
+#include "numeric/tier.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/kernel/simd_engine.hpp"
 #include "verify/reference_detail.hpp"
@@ -263,6 +265,25 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
   return out;
 }
 
+namespace {
+
+/// Each code's first proven orbit (d = 2, r = 1) through the point tiers of opt.tiers.
+std::vector<OrbitReplay> replay_orbits(const VerifyOptions& opt) {
+  const ExactReal d = ExactReal::parse("2"), r = ExactReal::parse("1");
+  std::vector<std::string> tiers;
+  for (const std::string& t : opt.tiers)
+    if (const auto tier = Tier::parse(t); tier && !tier->interval() && !tier->automatic()) tiers.push_back(t);
+  std::vector<OrbitReplay> out;
+  for (const std::string& text : opt.orbit_codes) {
+    const CodeOrbits got = code_orbits(d, r, parse_orbit_code(text, "--orbit"), OrbitOptions{});
+    if (got.orbits.empty()) throw InputError("--orbit", text, "a code with a proven orbit (rotleak orbits --code)");
+    for (const std::string& t : tiers) out.push_back(replay_orbit(d, r, got.orbits[0], t));
+  }
+  return out;
+}
+
+}  // namespace
+
 VerifyReport verify_reference(const ReferenceSet& set, const VerifyOptions& opt) {
   VerifyReport rep;
   rep.provenance_json = set.provenance_json;
@@ -288,9 +309,13 @@ VerifyReport verify_reference(const ReferenceSet& set, const VerifyOptions& opt)
     }
   }
   if (error) std::rethrow_exception(error);
+  rep.orbits = replay_orbits(opt);
   for (const TierCheck& t : rep.tiers) rep.pass = rep.pass && t.pass;
   for (const EngineCheck& e : rep.engines) rep.pass = rep.pass && e.pass;
+  for (const OrbitReplay& o : rep.orbits) rep.pass = rep.pass && o.pass;
   return rep;
 }
+
+std::vector<std::string> default_orbit_codes() { return {"TRBL", "RRL", "RRLRLLB", "TRRBLLTRBL"}; }
 
 }  // namespace rotleak

@@ -39,6 +39,17 @@ json verify_json(const VerifyReport& rep) {
                        {"got", e.got},
                        {"pass", e.pass}});
   doc["engines"] = engines;
+  json orbits = json::array();
+  for (const OrbitReplay& o : rep.orbits)
+    orbits.push_back({{"code", o.code},
+                      {"tier", o.tier},
+                      {"departure", o.departure},
+                      {"predicted", o.predicted},
+                      {"low", o.low},
+                      {"high", o.high},
+                      {"wrong_piece", o.wrong_piece},
+                      {"pass", o.pass}});
+  doc["orbits"] = orbits;
   return doc;
 }
 
@@ -108,6 +119,21 @@ void engine_rows(std::string& out, const std::vector<EngineCheck>& engines, std:
   }
 }
 
+/// The orbit replays (docs/model.md, "Periodic orbits"): per code and tier, the collision where the tier
+/// leaves the orbit against its window; failures appended.
+void orbit_rows(std::string& out, const std::vector<OrbitReplay>& orbits, std::vector<std::string>& failures) {
+  if (orbits.empty()) return;
+  appendf(out, "\n%-12s %-12s %9s %16s  %s\n", "orbit", "tier", "departs", "window", "verdict");
+  for (const OrbitReplay& o : orbits) {
+    appendf(out, "%-12s %-12s %9zu %7.1f..%-7.1f  %s\n", o.code.c_str(), o.tier.c_str(), o.departure, o.low, o.high,
+            o.pass ? "pass" : "FAIL");
+    if (!o.pass)
+      failures.push_back("orbit " + o.code + " " + o.tier + ": leaves it at collision " + std::to_string(o.departure) +
+                         (o.wrong_piece ? " (a wrong piece at " + std::to_string(o.wrong_piece) + ")" : std::string()) +
+                         ", the error model says " + std::to_string(o.low) + " .. " + std::to_string(o.high));
+  }
+}
+
 }  // namespace
 
 std::string verify_text(const VerifyReport& rep) {
@@ -124,6 +150,7 @@ std::string verify_text(const VerifyReport& rep) {
   std::vector<std::string> failures;
   for (std::size_t i = 0; i < rep.tiers.size();) tier_row(out, rep.tiers, i, failures);
   engine_rows(out, rep.engines, failures);
+  orbit_rows(out, rep.orbits, failures);
   out += "\n";
   for (const std::string& f : failures) out += "FAIL " + f + "\n";
   out += rep.pass ? "verify: pass\n" : "verify: FAIL (" + std::to_string(failures.size()) + " checks)\n";

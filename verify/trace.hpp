@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 
 #include "sim/model/particle.hpp"
 
@@ -14,15 +15,15 @@ struct TraceStep {
   const R& t;     ///< its time
   Piece piece;
   const Vec2<R>& q;  ///< its point
-  const Vec2<R>& v;  ///< outgoing velocity
+  Vec2<R>& v;        ///< outgoing velocity (on() may perturb it: a test of the replays)
   bool in_leak;      ///< the escape test at this collision
 };
 
-/// Follows the particle with binary initial data `draw` through at most `max_collisions` collisions
-/// (or until t_max), calling on(step) after each. Returns the number of collisions traced.
+/// Follows the particle from state ps through at most `max_collisions` collisions (or until t_max),
+/// calling on(step) after each (its velocity may be changed there: a test's perturbation). Returns the
+/// number of collisions traced.
 template <class R, class On>
-std::size_t trace(const Model<R>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
-  ParticleState<R> ps = initial_state(model.stadium, draw);
+std::size_t trace_from(const Model<R>& model, ParticleState<R> ps, std::size_t max_collisions, On&& on) {
   for (std::size_t k = 1; k <= max_collisions; ++k) {
     const Hit<R> h = model.stadium.next_hit(ps.q, ps.v);
     ps.t += h.t;
@@ -33,6 +34,12 @@ std::size_t trace(const Model<R>& model, const InitialDraw& draw, std::size_t ma
     if (!on(TraceStep<R>{k, ps.t, h.piece, ps.q, ps.v, leak})) return k;
   }
   return max_collisions;
+}
+
+/// The same from binary initial data `draw` (initial_state).
+template <class R, class On>
+std::size_t trace(const Model<R>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
+  return trace_from(model, initial_state(model.stadium, draw), max_collisions, std::forward<On>(on));
 }
 
 template <class R>

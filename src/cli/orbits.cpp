@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/cycle_expansion.hpp"
 #include "cli/commands.hpp"
 #include "io/files.hpp"
 #include "io/json.hpp"
@@ -33,10 +34,14 @@ ExactReal positive(const std::string& key, const std::string& text) {
 }
 
 json orbit_json(const ProvenOrbit& o) {
-  return {{"code", orbit_code_text(o.code)},      {"period", o.code.size()},
-          {"length", orbit_digits(o.length)},     {"multiplier", orbit_digits(o.multiplier)},
-          {"trace", orbit_digits(o.trace)},       {"stability", o.stability()},
-          {"weight", o.weight},                   {"box_width", o.box_width}};
+  return {{"code", orbit_code_text(o.code)},
+          {"period", o.code.size()},
+          {"length", orbit_digits(o.length)},
+          {"multiplier", orbit_digits(o.multiplier)},
+          {"trace", orbit_digits(o.trace)},
+          {"stability", o.stability()},
+          {"weight", o.weight},
+          {"box_width", o.box_width}};
 }
 
 int run_code(const OrbitsArgs& a, const ExactReal& d, const ExactReal& r, const OrbitOptions& opt) {
@@ -68,14 +73,15 @@ int run_code(const OrbitsArgs& a, const ExactReal& d, const ExactReal& r, const 
 }
 
 void print_period(const PeriodTally& t) {
-  std::fprintf(stderr, "orbits: period %d: %zu codes, %zu proven (%zu prime cycles), %zu unproven, %.1f s\n", t.period,
-               t.codes, t.proven, t.prime_cycles, t.unproven, t.seconds);
+  std::fprintf(stderr, "orbits: period %d: %zu proven (%zu prime cycles) of %zu codes, %zu unproven, %.1f s\n",
+               t.period, t.proven, t.prime_cycles, t.codes, t.unproven, t.seconds);
 }
 
 int run_orbits(const OrbitsArgs& a) {
   const ExactReal d = positive("--d", a.d), r = positive("--r", a.r);
   if (a.bits < 64 || a.bits > 4096) throw InputError("--bits", std::to_string(a.bits), "must be in [64, 4096]");
-  if (a.starts < 1 || a.starts > 100000) throw InputError("--starts", std::to_string(a.starts), "must be in [1, 100000]");
+  if (a.starts < 1 || a.starts > 100000)
+    throw InputError("--starts", std::to_string(a.starts), "must be in [1, 100000]");
   if (a.threads < 0) throw InputError("--threads", std::to_string(a.threads), "must be >= 0 (0: all cores)");
   if (a.seed < 0) throw InputError("--seed", std::to_string(a.seed), "must be >= 0");
   OrbitOptions opt;
@@ -97,6 +103,11 @@ int run_orbits(const OrbitsArgs& a) {
   if (!a.quiet)
     std::fprintf(stderr, "orbits: %zu proven in %.1f s on %d threads -> %s\n", s.orbits.size(), s.seconds, s.threads,
                  a.out.c_str());
+  const CycleAverages e = cycle_averages(prime_cycles(s, opt), a.period_max).back();
+  std::printf(
+      "cycle expansion to period %d: entropy %.5f (from the count %.5f), Lyapunov %.5f a unit time, %.5f a "
+      "collision, mean free path %.4f\n",
+      e.order, e.entropy, e.entropy_count, e.lyapunov_time, e.lyapunov_collision, e.mean_free_path);
   return 0;
 }
 

@@ -1,5 +1,5 @@
-// rotleak verify [--tier T|all]... [--engine E|all]... [--reference DIR] [--ignore-bits] [--json]
-// rotleak verify --regenerate [--reference DIR]
+// rotleak verify [--tier T|all]... [--engine E|all]... [--orbit CODE|default|none]... [--reference DIR] [--ignore-bits]
+// [--json] rotleak verify --regenerate [--reference DIR]
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -21,7 +21,7 @@ namespace {
 std::string default_reference() { return (data_dir() / "trajectories").string(); }
 
 struct VerifyArgs {
-  std::vector<std::string> tiers{"all"}, engines{"all"};
+  std::vector<std::string> tiers{"all"}, engines{"all"}, orbits{"default"};
   std::string reference;  ///< empty: default_reference()
   bool json_out = false, ignore_bits = false, regenerate = false;
   int threads = 0;
@@ -88,6 +88,15 @@ int run_verify(const VerifyArgs& a) {
     if (e != "all" && e != "scalar" && e != "simd" && e != "none")
       throw InputError("--engine", e, "allowed: all, scalar, simd, none");
   }
+  opt.orbit_codes.clear();
+  for (const std::string& o : a.orbits) {
+    if (o == "default") {
+      for (const auto& c : default_orbit_codes()) opt.orbit_codes.push_back(c);
+    } else if (o != "none") {
+      parse_orbit_code(o, "--orbit");
+      opt.orbit_codes.push_back(o);
+    }
+  }
   const std::string reference = a.reference.empty() ? default_reference() : a.reference;
   const ReferenceSet set = read_reference(reference);
   VerifyReport rep = verify_reference(set, opt);
@@ -112,6 +121,9 @@ Command add_verify(CLI::App& app) {
         return s + "mpfi:256)";
       }());
   sub->add_option("--engine", a->engines, "scalar, simd, all or none (repeatable; default all)");
+  sub->add_option("--orbit", a->orbits,
+                  "A periodic orbit's code replayed through the point tiers (repeatable; default: default, the "
+                  "proven orbits TRBL, RRL, RRLRLLB, TRRBLLTRBL; none: no orbit)");
   sub->add_option(
       "--reference", a->reference,
       "Reference directory (default: DATA/trajectories, DATA as $ROTLEAK_DATA or the installed share/rotleak/data)");

@@ -1,0 +1,111 @@
+#include "verify/orbit_replay.hpp"
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <type_traits>
+
+#include "geometry/periodic.hpp"
+#include "numeric/tier_dispatch.hpp"
+#include "verify/reference_detail.hpp"
+#include "verify/trace.hpp"
+
+namespace rotleak {
+
+namespace {
+
+using reference_detail::Big;
+
+/// The orbit's bounces in Birkhoff coordinates (s, p), at the precision the orbit was proven with.
+struct Truth {
+  std::vector<std::unique_ptr<Big>> s, p;
+};
+
+Truth truth_of(const ExactReal& d, const ExactReal& r, const ProvenOrbit& o, long bits) {
+  const MpfrPrecision guard(bits);
+  const std::size_t n = o.code.size();
+  const auto shape = periodic::Shape<Mpfr>::of(d, r);
+  const Stadium<Mpfr> st(d, r);
+  std::vector<Vec2<Mpfr>> q(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Mpfr u;
+    mpfi_mid(u.data(), o.box[i].data());
+    q[i] = periodic::point(shape, o.code[i], u).q;
+  }
+  Truth t;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2<Mpfr> dq = q[(i + 1) % n] - q[i];
+    const Mpfr len = sqrt(dot(dq, dq));
+    t.s.push_back(std::make_unique<Big>());
+    t.p.push_back(std::make_unique<Big>());
+    // named values: mpfr_set is a statement-expression macro, and a temporary passed to it dies before it is read
+    const Mpfr s = st.s_of(o.code[i], q[i]);
+    const Mpfr p = st.birkhoff_p(o.code[i], q[i], Vec2<Mpfr>{dq.x / len, dq.y / len});
+    mpfr_set(t.s.back()->v, s.data(), MPFR_RNDN);
+    mpfr_set(t.p.back()->v, p.data(), MPFR_RNDN);
+  }
+  return t;
+}
+
+}  // namespace
+
+std::vector<std::string> replay_tiers() { return {"float", "double", "long_double", "dd", "float128", "mpfr:256"}; }
+
+OrbitReplay replay_orbit(const ExactReal& d, const ExactReal& r, const ProvenOrbit& orbit, const std::string& tier,
+                         const ReplayOptions& opt) {
+  OrbitReplay out;
+  out.tier = tier;
+  out.code = orbit_code_text(orbit.code);
+  out.period = orbit.code.size();
+  const long bits = 2 * tier_bits(tier) + 64;
+  ProvenOrbit truth;
+  {
+    const MpfrPrecision guard(bits);
+    std::vector<Mpfr> mid(out.period);
+    for (std::size_t i = 0; i < out.period; ++i) mpfi_mid(mid[i].data(), orbit.box[i].data());
+    if (!prove_orbit(d, r, orbit.code, mid, bits, truth))
+      throw std::runtime_error("orbit " + out.code + ": not proven again at " + std::to_string(bits) + " bits");
+    out.log_multiplier = std::log(std::abs(num_traits<Mpfi>::to_double(truth.multiplier)));
+  }
+  const Truth tr = truth_of(d, r, truth, bits);
+  out.unit_roundoff = std::ldexp(1.0, -static_cast<int>(tier_bits(tier)));
+  const double n = static_cast<double>(out.period);
+  out.predicted = n * std::log(opt.tolerance / out.unit_roundoff) / out.log_multiplier;
+  out.low = out.predicted - n * std::log(opt.a_max) / out.log_multiplier;
+  out.high = out.predicted - n * std::log(opt.a_min) / out.log_multiplier + 1;
+  const double L = Stadium<double>(d, r).perimeter();
+  with_tier(tier, [&](auto id) {
+    using R = typename decltype(id)::type;
+    if constexpr (std::is_same_v<R, Mpfi>) {
+      throw std::invalid_argument("an orbit replay follows a point tier, not " + tier);
+    } else {
+      Model<R> model(d, r, ExactReal::parse("0"), ExactReal::parse("0"), ExactReal::parse("0"), 1e300);
+      // the start: bounce 0 rounded into R, leaving along the orbit
+      ParticleState<R> ps;
+      const BoundaryPoint<R> b = model.stadium.at(num_traits<R>::from_mpfr(tr.s[0]->v));
+      ps.q = b.q;
+      ps.v = model.stadium.velocity(b, num_traits<R>::from_mpfr(tr.p[0]->v));
+      const R kick = R(opt.reflection_kick);
+      trace_from(model, ps, opt.max_periods * out.period, [&](const TraceStep<R>& st) {
+        if (opt.reflection_kick != 0) st.v.x = st.v.x + kick * st.v.x;
+        const std::size_t i = st.k % out.period;
+        Big s, p;
+        num_traits<R>::to_mpfr(s.v, model.stadium.s_of(st.piece, st.q));
+        num_traits<R>::to_mpfr(p.v, model.stadium.birkhoff_p(st.piece, st.q, st.v));
+        const double div =
+            std::max(L * reference_detail::distance(s, *tr.s[i], true), reference_detail::distance(p, *tr.p[i]));
+        if (div > opt.tolerance) {
+          out.departure = st.k;
+          return false;
+        }
+        if (st.piece != orbit.code[i] && out.wrong_piece == 0) out.wrong_piece = st.k;
+        return true;
+      });
+    }
+  });
+  const double k = static_cast<double>(out.departure);
+  out.pass = out.departure > 0 && out.wrong_piece == 0 && k >= out.low && k <= out.high;
+  return out;
+}
+
+}  // namespace rotleak
