@@ -254,5 +254,34 @@ TEST(OrbitReplay, AOneUlpChangeInTheReflectionBreaksTheFinerTiers) {
   }
 }
 
+// Each engine (scalar and vectorised, with and without the fast-forward) follows a proven orbit from bounce
+// 0 for one period: a leak of width 1e-6 centred there takes the particle at collision n, at the orbit's
+// length. With p0 moved by 1e-7 the particle misses it (the check can fail).
+TEST(OrbitReplay, EnginesFollowAnOrbitForAPeriod) {
+  for (const char* text : {"TRBL", "RRLRLLB"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), OrbitOptions{});
+    ASSERT_FALSE(got.orbits.empty());
+    for (const Engine e : {Engine::scalar, Engine::simd})
+      for (const bool ff : {false, true}) {
+        const OrbitEngineReplay rp = replay_orbit_engine(kD, kR, got.orbits[0], e, ff);
+        EXPECT_TRUE(rp.pass) << text << " " << rp.engine << ": expected " << rp.expected << ", got " << rp.got;
+      }
+    ProvenOrbit moved = got.orbits[0];
+    moved.p0 = moved.p0 + Mpfi(1e-7);
+    EXPECT_FALSE(replay_orbit_engine(kD, kR, moved, Engine::scalar, false).pass) << text;
+  }
+}
+
+// A second stadium (d = 1, r = 1): the horizontal orbit between the arcs, a chord of l = d + 2 r = 3, has
+// trace 2 (2 (l / r - 1)^2 - 1) = 14, so Lambda = 7 + 4 sqrt 3, and length 2 l = 6.
+TEST(Orbits, ClosedFormOnASecondStadium) {
+  const ExactReal d1 = ExactReal::parse("1");
+  const CodeOrbits rl = code_orbits(d1, kR, parse_orbit_code("RL"), OrbitOptions{});
+  ASSERT_EQ(rl.orbits.size(), 1u);
+  const MpfrPrecision guard(256);
+  expect_value(rl.orbits[0].multiplier, Mpfr(7) + Mpfr(4) * sqrt(Mpfr(3)), "RL multiplier, d = 1");
+  expect_value(rl.orbits[0].length, Mpfr(6), "RL length, d = 1");
+}
+
 }  // namespace
 }  // namespace rotleak

@@ -1,12 +1,16 @@
 #include "verify/orbit_replay.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <type_traits>
 
 #include "geometry/periodic.hpp"
+#include "io/files.hpp"
+#include "io/scene_file.hpp"
 #include "numeric/tier_dispatch.hpp"
+#include "sim/kernel/simd_engine.hpp"
 #include "verify/reference_detail.hpp"
 #include "verify/trace.hpp"
 
@@ -105,6 +109,42 @@ OrbitReplay replay_orbit(const ExactReal& d, const ExactReal& r, const ProvenOrb
   });
   const double k = static_cast<double>(out.departure);
   out.pass = out.departure > 0 && out.wrong_piece == 0 && k >= out.low && k <= out.high;
+  return out;
+}
+
+OrbitEngineReplay replay_orbit_engine(const ExactReal& d, const ExactReal& r, const ProvenOrbit& orbit, Engine engine,
+                                      bool fast_forward) {
+  OrbitEngineReplay out;
+  out.engine = to_string(engine) + (fast_forward ? "+ff" : "");
+  out.code = orbit_code_text(orbit.code);
+  const std::size_t n = orbit.code.size();
+  if (engine == Engine::simd && !simd::available()) {
+    out.expected = out.got = "not run: this CPU has no AVX2 and FMA";
+    out.pass = true;
+    return out;
+  }
+  const double length = num_traits<Mpfi>::to_double(orbit.length);
+  Scene sc =
+      parse_scene("[stadium]\nd = \"" + d.text() + "\"\nr = \"" + r.text() +
+                  "\"\n[leak]\nwidth = \"1e-6\"\nstart = \"" + orbit_digits(orbit.s0) +
+                  "\"\nomega = \"0\"\n[ensemble]\nparticles = 1\n[run]\nt_max = " + shortest(1.5 * length) + "\n");
+  sc.tier = Tier::double_;
+  sc.escape_records = true;
+  sc.fast_forward = fast_forward;
+  const std::vector<InitialDraw> draws{
+      InitialDraw{num_traits<Mpfi>::to_double(orbit.s0), num_traits<Mpfi>::to_double(orbit.p0), 0, 0, 0, 0, false}};
+  RunOptions opt;
+  opt.threads = 1;
+  opt.engine = engine;
+  opt.draws = &draws;
+  const EscapeRecord rec = run_ensemble(sc, opt).records.at(0);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "escape at collision %zu, t = %.15g (within 1e-9)", n, length);
+  out.expected = buf;
+  std::snprintf(buf, sizeof buf, "%s at collision %llu, t = %.15g", rec.fate == Fate::escaped ? "escape" : "no escape",
+                static_cast<unsigned long long>(rec.collisions), rec.t);
+  out.got = buf;
+  out.pass = rec.fate == Fate::escaped && rec.collisions == n && std::abs(rec.t - length) < 1e-9;
   return out;
 }
 

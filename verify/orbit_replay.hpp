@@ -11,6 +11,7 @@
 
 #include "numeric/exact.hpp"
 #include "numeric/tier.hpp"  // before numeric/tiers.hpp: its TierKind::float128 would shadow the type
+#include "sim/engine/engine.hpp"
 #include "verify/orbits.hpp"
 
 namespace rotleak {
@@ -44,6 +45,16 @@ struct OrbitReplay {
 /// 2 bits(tier) + 64 bits.
 OrbitReplay replay_orbit(const ExactReal& d, const ExactReal& r, const ProvenOrbit& orbit, const std::string& tier,
                          const ReplayOptions& opt = {});
+
+/// One engine's replay of a proven orbit: the particle started at bounce 0 (double), a stationary leak of
+/// width 1e-6 centred there; it must escape at its first return, collision n, at the orbit's length.
+struct OrbitEngineReplay {
+  std::string engine, code;
+  std::string expected, got;
+  bool pass = false;
+};
+OrbitEngineReplay replay_orbit_engine(const ExactReal& d, const ExactReal& r, const ProvenOrbit& orbit, Engine engine,
+                                      bool fast_forward);
 
 /// The tiers an orbit replay runs by default.
 std::vector<std::string> replay_tiers();

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "analysis/cycle_expansion.hpp"
+#include "geometry/orbit_codes.hpp"
 #include "geometry/stadium.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/tiers.hpp"
-#include "verify/orbit_codes.hpp"
 
 namespace rotleak {
 

@@ -267,19 +267,31 @@ EngineCheck check_engine(const RefCase& c, Engine engine, bool fast_forward) {
 
 namespace {
 
-/// Each code's first proven orbit (d = 2, r = 1) through the point tiers of opt.tiers.
-std::vector<OrbitReplay> replay_orbits(const VerifyOptions& opt) {
+/// Each code's first proven orbit (d = 2, r = 1) through the point tiers of opt.tiers and the engines.
+void replay_orbits(const VerifyOptions& opt, VerifyReport& rep) {
   const ExactReal d = ExactReal::parse("2"), r = ExactReal::parse("1");
   std::vector<std::string> tiers;
   for (const std::string& t : opt.tiers)
     if (const auto tier = Tier::parse(t); tier && !tier->interval() && !tier->automatic()) tiers.push_back(t);
-  std::vector<OrbitReplay> out;
+  std::vector<ProvenOrbit> orbits;
   for (const std::string& text : opt.orbit_codes) {
-    const CodeOrbits got = code_orbits(d, r, parse_orbit_code(text, "--orbit"), OrbitOptions{});
+    CodeOrbits got = code_orbits(d, r, parse_orbit_code(text, "--orbit"), OrbitOptions{});
     if (got.orbits.empty()) throw InputError("--orbit", text, "a code with a proven orbit (rotleak orbits --code)");
-    for (const std::string& t : tiers) out.push_back(replay_orbit(d, r, got.orbits[0], t));
+    for (const std::string& t : tiers) rep.orbits.push_back(replay_orbit(d, r, got.orbits[0], t));
+    orbits.push_back(std::move(got.orbits[0]));
   }
-  return out;
+  for (const auto& [engine, ff] : opt.engines)  // engine-major, as the reference cases' rows
+    for (const ProvenOrbit& o : orbits) {
+      const OrbitEngineReplay e = replay_orbit_engine(d, r, o, engine, ff);
+      EngineCheck c;
+      c.engine = e.engine;
+      c.case_name = "orbit " + e.code;
+      c.expected = e.expected;
+      c.got = e.got;
+      c.checked = true;
+      c.pass = e.pass;
+      rep.engines.push_back(c);
+    }
 }
 
 }  // namespace
@@ -309,7 +321,7 @@ VerifyReport verify_reference(const ReferenceSet& set, const VerifyOptions& opt)
     }
   }
   if (error) std::rethrow_exception(error);
-  rep.orbits = replay_orbits(opt);
+  replay_orbits(opt, rep);
   for (const TierCheck& t : rep.tiers) rep.pass = rep.pass && t.pass;
   for (const EngineCheck& e : rep.engines) rep.pass = rep.pass && e.pass;
   for (const OrbitReplay& o : rep.orbits) rep.pass = rep.pass && o.pass;

@@ -1,4 +1,4 @@
-#include "verify/orbit_codes.hpp"
+#include "geometry/orbit_codes.hpp"
 
 #include <algorithm>
 #include <cctype>
