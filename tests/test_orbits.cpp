@@ -6,11 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <set>
 
 #include "analysis/cycle_expansion.hpp"
+#include "io/files.hpp"
 #include "numeric/input.hpp"
+#include "scratch.hpp"
+#include "verify/orbit_checkpoint.hpp"
 #include "verify/orbit_replay.hpp"
 #include "verify/orbits.hpp"
 
@@ -281,6 +285,49 @@ TEST(Orbits, ClosedFormOnASecondStadium) {
   const MpfrPrecision guard(256);
   expect_value(rl.orbits[0].multiplier, Mpfr(7) + Mpfr(4) * sqrt(Mpfr(3)), "RL multiplier, d = 1");
   expect_value(rl.orbits[0].length, Mpfr(6), "RL length, d = 1");
+}
+
+/// What a search's orbits.csv would hold, as text: codes, weights, enclosures to 30 digits, box widths.
+std::string listing(const OrbitSearch& s) {
+  std::string out;
+  const MpfrPrecision guard(OrbitOptions{}.bits);
+  for (const ProvenOrbit& o : s.orbits)
+    out += orbit_code_text(o.code) + " " + std::to_string(o.weight) + " " + orbit_digits(o.length) + " " +
+           orbit_digits(o.multiplier) + " " + std::to_string(o.box_width) + "\n";
+  for (const PeriodTally& t : s.periods)
+    out += std::to_string(t.period) + ": " + std::to_string(t.proven) + " " + std::to_string(t.prime_cycles) + "\n";
+  return out;
+}
+
+// A search stopped after period 5 (its checkpoint written) and resumed to period 7 lists exactly what one
+// search to period 7 lists: the stored points are the proofs' own (exact hexadecimal), and refining a
+// refined point changes nothing. A checkpoint of other inputs is refused; a damaged one names its line.
+TEST(Orbits, AResumedSearchListsWhatOneSearchLists) {
+  const test::ScratchDir dir("rotleak_orbits_ckpt_");
+  std::filesystem::create_directories(dir.path);
+  const std::filesystem::path ckpt = dir.path / "orbits.checkpoint";
+  const OrbitSearch whole = find_orbits(kD, kR, 7, OrbitOptions{}, 0);
+  find_orbits(kD, kR, 5, OrbitOptions{}, 0, nullptr, ckpt);
+  ASSERT_TRUE(std::filesystem::exists(ckpt));
+  const OrbitSearch resumed = find_orbits(kD, kR, 7, OrbitOptions{}, 0, nullptr, ckpt);
+  EXPECT_EQ(listing(resumed), listing(whole));
+  const OrbitSearch shorter = find_orbits(kD, kR, 4, OrbitOptions{}, 0, nullptr, ckpt);
+  EXPECT_EQ(shorter.periods.size(), 3u);
+  OrbitOptions other;
+  other.seed = 2;
+  EXPECT_THROW(find_orbits(kD, kR, 7, other, 0, nullptr, ckpt), InputError);
+  const std::string text = read_file(ckpt);
+  for (const std::string& bad :
+       {text.substr(0, text.size() / 2), std::string("rotleak-orbits-checkpoint 1\n"),
+        std::string("rotleak-orbits-checkpoint 1\ninputs\n"),  // found by fuzz_orbit_checkpoint
+        text + "orbit RL 1 0x0p0\n", text + "period 9 1 1 1 1 0 1 0 0 0.1\n"}) {
+    try {
+      parse_orbit_checkpoint(bad, "ckpt");
+      ADD_FAILURE() << "accepted: " << bad.substr(bad.size() > 60 ? bad.size() - 60 : 0);
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("ckpt:"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "numeric/exact.hpp"
-#include "numeric/tier.hpp"  // before numeric/tiers.hpp: its TierKind::float128 would shadow the type
+#include "numeric/tier.hpp"
 #include "sim/engine/engine.hpp"
 #include "verify/orbits.hpp"
 

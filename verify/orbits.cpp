@@ -14,6 +14,7 @@
 #include "io/files.hpp"
 #include "io/json.hpp"
 #include "numeric/input.hpp"
+#include "verify/orbit_checkpoint.hpp"
 #include "version.hpp"
 
 namespace rotleak {
@@ -143,8 +144,9 @@ std::vector<Mpfr> refined(const periodic::Shape<Mpfr>& sm, const OrbitCode& code
     for (std::size_t i = 0; i < n; ++i) minus_g[i] = -e.g[i];
     if (!solve(e.hessian(), minus_g, n, step)) break;
     Mpfr big(0);
-    for (std::size_t i = 0; i < n; ++i) m[i] += step[i], big = std::max(big, abs(step[i]));
-    if (big < tiny) break;
+    for (std::size_t i = 0; i < n; ++i) big = std::max(big, abs(step[i]));
+    if (big < tiny) break;  // not taken: refining a refined point changes nothing (a resumed search's proofs)
+    for (std::size_t i = 0; i < n; ++i) m[i] += step[i];
   }
   return m;
 }
@@ -235,6 +237,7 @@ bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, 
     return false;
   }
   out.code = code;
+  out.point = m;
   out.proof_box = x;
   out.box = k;
   std::vector<Mpfi> xt, kt;
@@ -394,12 +397,26 @@ void close_under_symmetry(const ExactReal& d, const ExactReal& r, const std::vec
 }
 
 OrbitSearch find_orbits(const ExactReal& d, const ExactReal& r, int period_max, const OrbitOptions& opt, int threads,
-                        void (*progress)(const PeriodTally&)) {
+                        void (*progress)(const PeriodTally&), const std::filesystem::path& checkpoint) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
+  const std::string inputs = orbit_search_inputs(d, r, opt);
   OrbitSearch s;
+  if (!checkpoint.empty() && std::filesystem::exists(checkpoint)) {  // resume: its periods proven again
+    const OrbitCheckpoint c = parse_orbit_checkpoint(read_file(checkpoint), checkpoint.string());
+    if (c.inputs != inputs)
+      throw InputError("--out", checkpoint.string(),
+                       "a checkpoint of other inputs (" + c.inputs + ", not " + inputs + "): remove it, or run those");
+    s = resume_orbit_search(d, r, c, opt);
+    while (!s.periods.empty() && s.periods.back().period > period_max) {  // a shorter search than the checkpoint's
+      s.orbits.resize(s.orbits.size() - s.periods.back().proven);
+      s.periods.pop_back();
+    }
+    if (progress)
+      for (const PeriodTally& t : s.periods) progress(t);
+  }
   s.threads = threads > 0 ? threads : omp_get_max_threads();
-  for (int n = 2; n <= period_max; ++n) {
+  for (int n = static_cast<int>(s.periods.size()) + 2; n <= period_max; ++n) {
     const auto t0 = clock::now();
     const std::vector<OrbitCode> codes = orbit_codes(n);
     std::vector<CodeOrbits> got(codes.size());
@@ -423,6 +440,7 @@ OrbitSearch find_orbits(const ExactReal& d, const ExactReal& r, int period_max, 
     }
     t.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     s.periods.push_back(t);
+    if (!checkpoint.empty()) write_file_atomic(checkpoint, orbit_checkpoint_text(inputs, s), /*durable=*/true);
     if (progress) progress(t);
   }
   s.seconds = std::chrono::duration<double>(clock::now() - start).count();
@@ -469,6 +487,7 @@ void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const Ex
     periods.push_back({{"period", t.period},
                        {"codes", t.codes},
                        {"codes_with_orbits", t.codes_with_orbits},
+                       {"refused", t.codes - t.codes_with_orbits - t.family_codes},
                        {"candidates", t.candidates},
                        {"proven", t.proven},
                        {"unproven", t.unproven},

@@ -28,6 +28,7 @@ struct ProvenOrbit {
   std::vector<Mpfi> box;  ///< the Krawczyk image: holds the orbit's u, and no other zero of the gradient lies
                           ///< in the box it was proven in (`proof_box`)
   std::vector<Mpfi> proof_box;
+  std::vector<Mpfr> point;         ///< the refined point the proof started from (a checkpoint keeps it exactly)
   Mpfi length, trace, multiplier;  ///< enclosures; multiplier: Lambda with |Lambda| > 1, sign of the trace
   Mpfi s0, p0;  ///< bounce 0 in the core's Birkhoff coordinates (Stadium::s_of, birkhoff_p), at the box's midpoint
   double box_width = 0;  ///< widest component of `box`
@@ -74,9 +75,11 @@ struct OrbitSearch {
   int threads = 1;
 };
 
-/// Every code of period 2 .. period_max; `progress` (if set) hears each period as it completes.
+/// Every code of period 2 .. period_max; `progress` (if set) hears each period as it completes. With a
+/// `checkpoint` path, each completed period is written there (verify/orbit_checkpoint.hpp), and a search
+/// that finds one goes on from it (InputError when it holds other inputs); the caller removes it.
 OrbitSearch find_orbits(const ExactReal& d, const ExactReal& r, int period_max, const OrbitOptions& opt, int threads,
-                        void (*progress)(const PeriodTally&) = nullptr);
+                        void (*progress)(const PeriodTally&) = nullptr, const std::filesystem::path& checkpoint = {});
 
 /// DIR/orbits.csv and DIR/summary.json (docs/output.md), each written whole (temp name, then rename).
 void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const ExactReal& r, const OrbitSearch& s,

@@ -1,6 +1,7 @@
 // rotleak orbits --period-max N --out DIR [--d 2] [--r 1] [--bits 160] [--starts 48] [--threads T] [--force]
 // rotleak orbits --code TRBL [--d 2] [--r 1] [--bits 160] [--json]
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "analysis/cycle_expansion.hpp"
@@ -97,9 +98,13 @@ int run_orbits(const OrbitsArgs& a) {
     throw InputError("--period-max", std::to_string(a.period_max), "must be in [2, 16]");
   if (a.out.empty()) throw InputError("--out", "", "a directory for orbits.csv and summary.json");
   RunDirectory dir(a.out, a.force);
-  const OrbitSearch s = find_orbits(d, r, a.period_max, opt, a.threads, a.quiet ? nullptr : print_period);
+  // DIR.checkpoint beside the target while the search runs: a killed search goes on from its last period
+  std::filesystem::path checkpoint = RunDirectory::normalise(a.out);
+  checkpoint += ".checkpoint";
+  const OrbitSearch s = find_orbits(d, r, a.period_max, opt, a.threads, a.quiet ? nullptr : print_period, checkpoint);
   write_orbits(dir.file("orbits.csv").parent_path(), d, r, s, opt);
   dir.commit();
+  std::filesystem::remove(checkpoint);
   if (!a.quiet)
     std::fprintf(stderr, "orbits: %zu proven in %.1f s on %d threads -> %s\n", s.orbits.size(), s.seconds, s.threads,
                  a.out.c_str());

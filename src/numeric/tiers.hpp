@@ -12,6 +12,7 @@
 
 #include "numeric/mpfr_real.hpp"
 #include "numeric/num_traits.hpp"
+#include "numeric/tier.hpp"  // first: its TierKind::float128, declared after the type below, would shadow it
 
 // MPFR 4 built with float128 support (Debian's is); g++ 12 has no _Float128 in C++, __float128 is the same type.
 extern "C" __float128 mpfr_get_float128(mpfr_srcptr, mpfr_rnd_t);
