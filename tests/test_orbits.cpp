@@ -84,8 +84,7 @@ TEST(Orbits, ReprovenAtTwiceTheBitsLiesInTheFirstBox) {
     ASSERT_FALSE(got.orbits.empty()) << text;
     for (const ProvenOrbit& first : got.orbits) {
       const MpfrPrecision guard(2 * opt.bits);
-      std::vector<Mpfr> mid(first.box.size());
-      for (std::size_t i = 0; i < mid.size(); ++i) mpfi_mid(mid[i].data(), first.box[i].data());
+      const std::vector<Mpfr> mid = box_midpoint(first.box);
       ProvenOrbit second;
       ASSERT_TRUE(prove_orbit(kD, kR, first.code, mid, 2 * opt.bits, second)) << text;
       for (std::size_t i = 0; i < mid.size(); ++i) {
@@ -152,8 +151,7 @@ TEST(Orbits, TheSetIsClosedUnderMirrorsAndStableAgainstMoreStarts) {
   const MpfrPrecision guard(opt.bits);
   std::size_t images = 0;
   for (const ProvenOrbit& o : a.orbits) {
-    std::vector<Mpfr> mid(o.box.size());
-    for (std::size_t i = 0; i < mid.size(); ++i) mpfi_mid(mid[i].data(), o.box[i].data());
+    const std::vector<Mpfr> mid = box_midpoint(o.box);
     for (const auto& [mx, my] : {std::pair{true, false}, {false, true}, {true, true}}) {
       const auto [code, u] = mirror_orbit(o.code, mid, mx, my);
       const auto& list = by_code[orbit_code_text(code)];

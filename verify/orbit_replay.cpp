@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "geometry/periodic.hpp"
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/tier_dispatch.hpp"
@@ -27,24 +26,13 @@ struct Truth {
 
 Truth truth_of(const ExactReal& d, const ExactReal& r, const ProvenOrbit& o, long bits) {
   const MpfrPrecision guard(bits);
-  const std::size_t n = o.code.size();
-  const auto shape = periodic::Shape<Mpfr>::of(d, r);
-  const Stadium<Mpfr> st(d, r);
-  std::vector<Vec2<Mpfr>> q(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    Mpfr u;
-    mpfi_mid(u.data(), o.box[i].data());
-    q[i] = periodic::point(shape, o.code[i], u).q;
-  }
+  const std::vector<Mpfr> u = box_midpoint(o.box);
   Truth t;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2<Mpfr> dq = q[(i + 1) % n] - q[i];
-    const Mpfr len = sqrt(dot(dq, dq));
+  for (std::size_t i = 0; i < o.code.size(); ++i) {
+    // named values: mpfr_set is a statement-expression macro, and a temporary passed to it dies before it is read
+    const auto [s, p] = orbit_bounce_birkhoff(d, r, o.code, u, i);
     t.s.push_back(std::make_unique<Big>());
     t.p.push_back(std::make_unique<Big>());
-    // named values: mpfr_set is a statement-expression macro, and a temporary passed to it dies before it is read
-    const Mpfr s = st.s_of(o.code[i], q[i]);
-    const Mpfr p = st.birkhoff_p(o.code[i], q[i], Vec2<Mpfr>{dq.x / len, dq.y / len});
     mpfr_set(t.s.back()->v, s.data(), MPFR_RNDN);
     mpfr_set(t.p.back()->v, p.data(), MPFR_RNDN);
   }
@@ -65,11 +53,9 @@ OrbitReplay replay_orbit(const ExactReal& d, const ExactReal& r, const ProvenOrb
   ProvenOrbit truth;
   {
     const MpfrPrecision guard(bits);
-    std::vector<Mpfr> mid(out.period);
-    for (std::size_t i = 0; i < out.period; ++i) mpfi_mid(mid[i].data(), orbit.box[i].data());
-    if (!prove_orbit(d, r, orbit.code, mid, bits, truth))
+    if (!prove_orbit(d, r, orbit.code, box_midpoint(orbit.box), bits, truth))
       throw std::runtime_error("orbit " + out.code + ": not proven again at " + std::to_string(bits) + " bits");
-    out.log_multiplier = std::log(std::abs(num_traits<Mpfi>::to_double(truth.multiplier)));
+    out.log_multiplier = truth.log_multiplier();
   }
   const Truth tr = truth_of(d, r, truth, bits);
   out.unit_roundoff = std::ldexp(1.0, -static_cast<int>(tier_bits(tier)));

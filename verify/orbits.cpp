@@ -121,6 +121,25 @@ bool strictly_inside(const std::vector<Mpfi>& a, const std::vector<Mpfi>& b) {
 
 }  // namespace
 
+double ProvenOrbit::log_multiplier() const { return std::log(std::abs(num_traits<Mpfi>::to_double(multiplier))); }
+
+std::vector<Mpfr> box_midpoint(const std::vector<Mpfi>& box) {
+  std::vector<Mpfr> mid(box.size());
+  for (std::size_t i = 0; i < box.size(); ++i) mpfi_mid(mid[i].data(), box[i].data());
+  return mid;
+}
+
+std::pair<Mpfr, Mpfr> orbit_bounce_birkhoff(const ExactReal& d, const ExactReal& r, const OrbitCode& code,
+                                            const std::vector<Mpfr>& u, std::size_t i) {
+  const auto shape = periodic::Shape<Mpfr>::of(d, r);
+  const Stadium<Mpfr> st(d, r);
+  const std::size_t j = (i + 1) % code.size();
+  const Vec2<Mpfr> q = periodic::point(shape, code[i], u[i]).q, next = periodic::point(shape, code[j], u[j]).q;
+  const Vec2<Mpfr> dq = next - q;
+  const Mpfr len = sqrt(dot(dq, dq));
+  return {st.s_of(code[i], q), st.birkhoff_p(code[i], q, Vec2<Mpfr>{dq.x / len, dq.y / len})};
+}
+
 std::string ProvenOrbit::stability() const {
   try {
     if (trace > Mpfi(2)) return "hyperbolic";
@@ -182,14 +201,9 @@ struct Krawczyk {
 };
 
 /// The proven orbit's length, trace, multiplier, width and start (bounce 0 in the core's Birkhoff
-/// coordinates: s clockwise from the top edge's midpoint over L, p the outgoing velocity along the core's
-/// tangent; from the box's midpoint in MPFR, as the core's s takes an atan2 whose interval form straddles
-/// the left arc's branch cut).
-void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi>& si, const periodic::Shape<Mpfr>& sf,
-              ProvenOrbit& out) {
-  const OrbitCode& code = out.code;
-  const std::size_t n = code.size();
-  const auto ek = periodic::equations(si, code, out.box);
+/// coordinates, from the box's midpoint: orbit_bounce_birkhoff).
+void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi>& si, ProvenOrbit& out) {
+  const auto ek = periodic::equations(si, out.code, out.box);
   out.length = ek.length;
   out.trace = ek.trace();
   try {  // Lambda = (tr + sign(tr) sqrt(tr^2 - 4)) / 2, |Lambda| >= 1
@@ -201,25 +215,17 @@ void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi
   }
   out.box_width = 0;
   for (const Mpfi& v : out.box) out.box_width = std::max(out.box_width, v.width());
-  const Stadium<Mpfr> st(d, r);
-  std::vector<Mpfr> mid(n);
-  for (std::size_t i = 0; i < n; ++i) mpfi_mid(mid[i].data(), out.box[i].data());
-  const Vec2<Mpfr> q0 = periodic::point(sf, code[0], mid[0]).q, q1 = periodic::point(sf, code[1], mid[1]).q;
-  const Vec2<Mpfr> dq = q1 - q0;
-  const Mpfr len = sqrt(dot(dq, dq));
-  out.s0 = point_interval(st.s_of(code[0], q0));
-  out.p0 = point_interval(st.birkhoff_p(code[0], q0, Vec2<Mpfr>{dq.x / len, dq.y / len}));
+  const auto [s0, p0] = orbit_bounce_birkhoff(d, r, out.code, box_midpoint(out.box), 0);
+  out.s0 = point_interval(s0);
+  out.p0 = point_interval(p0);
 }
 
-}  // namespace
-
-bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& u, long bits,
-                 ProvenOrbit& out) {
-  const MpfrPrecision guard(bits);
+/// The Krawczyk proof around m, a point already refined (prove_orbit refines first; settle has).
+bool prove_refined(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& m, long bits,
+                   ProvenOrbit& out) {
   const std::size_t n = code.size();
   const auto sf = periodic::Shape<Mpfr>::of(d, r);
   const auto si = periodic::Shape<Mpfi>::of(d, r);
-  const std::vector<Mpfr> m = refined(sf, code, std::vector<Mpfr>(u.begin(), u.end()), bits);
   std::vector<Mpfr> c;
   if (!inverse(periodic::equations(sf, code, m).hessian(), n, c)) return false;
   Krawczyk kr{si, code, {}, {}, {}};
@@ -246,8 +252,18 @@ bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, 
       out.box = kt;
       break;
     }
-  describe(d, r, si, sf, out);
+  describe(d, r, si, out);
   return true;
+}
+
+}  // namespace
+
+bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& u, long bits,
+                 ProvenOrbit& out) {
+  const MpfrPrecision guard(bits);
+  const std::vector<Mpfr> m =
+      refined(periodic::Shape<Mpfr>::of(d, r), code, std::vector<Mpfr>(u.begin(), u.end()), bits);
+  return prove_refined(d, r, code, m, bits, out);
 }
 
 namespace {
@@ -274,7 +290,7 @@ void settle(const ExactReal& d, const ExactReal& r, const OrbitCode& code, std::
     const std::vector<Mpfr> m = refined(sm, code, queue[q], opt.bits);
     if (known(m)) continue;
     ProvenOrbit o;
-    if (!prove_orbit(d, r, code, m, opt.bits, o)) {
+    if (!prove_refined(d, r, code, m, opt.bits, o)) {
       ++res.unproven;
       continue;
     }
@@ -284,8 +300,7 @@ void settle(const ExactReal& d, const ExactReal& r, const OrbitCode& code, std::
       continue;
     }
     o.weight = rev < 0 ? 2 : 1;
-    std::vector<Mpfr> mid(n);
-    for (std::size_t i = 0; i < n; ++i) mpfi_mid(mid[i].data(), o.box[i].data());
+    const std::vector<Mpfr> mid = box_midpoint(o.box);
     res.orbits.push_back(std::move(o));
     if (rev >= 0) queue.push_back(reversed_values(mid, static_cast<std::size_t>(rev)));  // the orbit backwards
   }
@@ -382,8 +397,7 @@ void close_under_symmetry(const ExactReal& d, const ExactReal& r, const std::vec
   for (std::size_t i = 0; i < codes.size(); ++i) {
     const std::size_t held = got[i].orbits.size();
     for (std::size_t k = 0; k < held; ++k) {
-      std::vector<Mpfr> mid(codes[i].size());
-      for (std::size_t j = 0; j < mid.size(); ++j) mpfi_mid(mid[j].data(), got[i].orbits[k].box[j].data());
+      const std::vector<Mpfr> mid = box_midpoint(got[i].orbits[k].box);
       for (const auto& [mx, my] : {std::pair{true, false}, {false, true}, {true, true}}) {
         auto [code, u] = mirror_orbit(codes[i], mid, mx, my);
         const auto at = index.find(code);
@@ -451,8 +465,8 @@ std::vector<PrimeCycle> prime_cycles(const OrbitSearch& s, const OrbitOptions& o
   const MpfrPrecision guard(opt.bits);
   std::vector<PrimeCycle> cycles;
   for (const ProvenOrbit& o : s.orbits)
-    cycles.push_back({static_cast<int>(o.code.size()), num_traits<Mpfi>::to_double(o.length),
-                      std::log(std::abs(num_traits<Mpfi>::to_double(o.multiplier))), o.weight});
+    cycles.push_back(
+        {static_cast<int>(o.code.size()), num_traits<Mpfi>::to_double(o.length), o.log_multiplier(), o.weight});
   return cycles;
 }
 
@@ -475,8 +489,7 @@ void write_orbits(const std::filesystem::path& dir, const ExactReal& d, const Ex
   csv << "code,period,length,multiplier,lyapunov,stability,weight,box_width,s0,p0\n";
   for (const ProvenOrbit& o : s.orbits) {
     const MpfrPrecision guard(opt.bits);
-    const double lyap =
-        std::log(std::abs(num_traits<Mpfi>::to_double(o.multiplier))) / num_traits<Mpfi>::to_double(o.length);
+    const double lyap = o.log_multiplier() / num_traits<Mpfi>::to_double(o.length);
     csv << orbit_code_text(o.code) << ',' << o.code.size() << ',' << orbit_digits(o.length) << ','
         << orbit_digits(o.multiplier) << ',' << shortest(lyap) << ',' << o.stability() << ',' << o.weight << ','
         << shortest(o.box_width) << ',' << orbit_digits(o.s0) << ',' << orbit_digits(o.p0) << '\n';

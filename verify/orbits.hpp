@@ -36,7 +36,17 @@ struct ProvenOrbit {
   /// reversed orbit is listed under this code (or is this orbit)
   int weight = 1;
   std::string stability() const;
+  double log_multiplier() const;  ///< ln|Lambda|, from the enclosure's midpoint
 };
+
+/// A box's midpoint, at the working precision: the orbit's parameters to the box's width.
+std::vector<Mpfr> box_midpoint(const std::vector<Mpfi>& box);
+
+/// Bounce i of the orbit (code, u) in the core's Birkhoff coordinates: s (Stadium::s_of) and p, the velocity
+/// leaving it (towards bounce i + 1) along the core's tangent. In MPFR: the core's s takes an atan2 whose
+/// interval form straddles the left arc's branch cut.
+std::pair<Mpfr, Mpfr> orbit_bounce_birkhoff(const ExactReal& d, const ExactReal& r, const OrbitCode& code,
+                                            const std::vector<Mpfr>& u, std::size_t i);
 
 /// What one code gave.
 struct CodeOrbits {
