@@ -1,18 +1,53 @@
 #include "verify/certify.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
+#include "numeric/mpfi_ops.hpp"
 #include "numeric/tiers.hpp"
+#include "verify/lohner.hpp"
 #include "verify/trace.hpp"
 
 namespace rotleak {
 
-Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, std::size_t max_collisions) {
+namespace {
+
+/// The Lohner enclosure's trace: collision by collision until the leak, t_max or the cap.
+template <class On>
+void trace_lohner(const Model<Mpfi>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
+  LohnerEnclosure set(model, draw);
+  for (std::size_t k = 1; k <= max_collisions; ++k) {
+    const EnclosedCollision e = set.step();
+    if (e.t > model.t_max) return;
+    if (!on(e)) return;
+  }
+}
+
+}  // namespace
+
+Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, std::size_t max_collisions,
+                       Enclosure method) {
   Certificate c;
   c.bits = bits;
   MpfrPrecision precision(bits);
   try {
     const Model<Mpfi> model = model_of<Mpfi>(scene);
+    if (method == Enclosure::lohner) {
+      trace_lohner(model, draw, max_collisions, [&](const EnclosedCollision& s) {
+        c.certified_collisions = s.k;
+        c.last_width = std::exp2(s.log2_width);
+        if (s.in_leak) {
+          c.escape_certified = true;
+          c.escape_collision = s.k;
+          c.escape_time_lo = s.t.lo();
+          c.escape_time_hi = s.t.hi();
+          return false;
+        }
+        return true;
+      });
+      return c;
+    }
     trace(model, draw, max_collisions, [&](const TraceStep<Mpfi>& s) {
       c.certified_collisions = s.k;
       c.last_width = std::max(s.q.x.width(), s.q.y.width());
@@ -32,15 +67,47 @@ Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, s
 }
 
 std::vector<Certificate> certify(const Scene& scene, const InitialDraw& draw, long start_bits, long max_bits,
-                                 std::size_t max_collisions) {
+                                 std::size_t max_collisions, Enclosure method) {
   std::vector<Certificate> attempts;
   for (long bits = start_bits; bits <= max_bits; bits *= 2) {
-    attempts.push_back(certify_at(scene, draw, bits, max_collisions));
+    attempts.push_back(certify_at(scene, draw, bits, max_collisions, method));
     const Certificate& c = attempts.back();
     // done when proven, or when the trace ended by itself (t_max or the collision cap), not by doubt
     if (c.escape_certified || c.certified_collisions == max_collisions) break;
   }
   return attempts;
+}
+
+}  // namespace rotleak
+
+namespace rotleak {
+
+std::vector<double> enclosure_log2_widths(const Scene& scene, const InitialDraw& draw, long bits,
+                                          std::size_t max_collisions, Enclosure method) {
+  MpfrPrecision precision(bits);
+  Model<Mpfi> model = model_of<Mpfi>(scene);
+  model.t_max = Mpfi(std::numeric_limits<double>::max());
+  std::vector<double> widths;
+  const auto widest = [](const Vec2<Mpfi>& q, const Vec2<Mpfi>& v) {
+    return std::max({log2_width(q.x), log2_width(q.y), log2_width(v.x), log2_width(v.y)});
+  };
+  try {
+    if (method == Enclosure::lohner) {
+      LohnerEnclosure set(model, draw);
+      widths.push_back(set.log2_width());
+      for (std::size_t k = 1; k <= max_collisions; ++k) widths.push_back(set.step().log2_width);
+    } else {
+      const ParticleState<Mpfi> ps = initial_state(model.stadium, draw);
+      widths.push_back(widest(ps.q, ps.v));
+      trace_from(model, ps, max_collisions, [&](const TraceStep<Mpfi>& s) {
+        widths.push_back(widest(s.q, s.v));
+        return true;
+      });
+    }
+  } catch (const UncertainDecision&) {
+    // the enclosure has become too wide to decide a branch: the widths so far are the answer
+  }
+  return widths;
 }
 
 }  // namespace rotleak

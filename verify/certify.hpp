@@ -10,6 +10,7 @@
 
 #include "sim/model/initial.hpp"
 #include "sim/model/scene.hpp"
+#include "verify/lohner.hpp"
 
 namespace rotleak {
 
@@ -23,11 +24,18 @@ struct Certificate {
 };
 
 /// One attempt at `bits` bits, at most max_collisions collisions.
-Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, std::size_t max_collisions);
+Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, std::size_t max_collisions,
+                       Enclosure method = Enclosure::lohner);
 
 /// Doubles the bits from start_bits until the escape is certified or max_bits is passed; returns
 /// every attempt (the last one is the answer).
 std::vector<Certificate> certify(const Scene& scene, const InitialDraw& draw, long start_bits, long max_bits,
-                                 std::size_t max_collisions);
+                                 std::size_t max_collisions, Enclosure method = Enclosure::lohner);
+
+/// log2 of the largest width of a trajectory's enclosure of (x, y, vx, vy): w[0] at the start, w[k] after
+/// collision k, the leak and t_max ignored, until max_collisions or the first branch the enclosure cannot
+/// decide. Their growth, (w[k] - w[0]) / k, is the bits a collision the method loses.
+std::vector<double> enclosure_log2_widths(const Scene& scene, const InitialDraw& draw, long bits,
+                                          std::size_t max_collisions, Enclosure method);
 
 }  // namespace rotleak
