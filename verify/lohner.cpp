@@ -122,33 +122,43 @@ double LohnerEnclosure::log2_width() const {
 
 EnclosedCollision LohnerEnclosure::step() {
   const Stadium<Mpfi>& st = model_.stadium;
-  const Vec4 b = box();
   // the Jacobian on the box (jets), and the map at the centre (thin intervals): the same branches, since
   // the centre lies in the box and every branch was decided on the whole box
   std::array<J4, 4> xb;
+  const Vec4 b = box();
   for (int i = 0; i < 4; ++i) xb[i] = J4::variable(b[i], i);
   const Collision<J4> fb = collide(J4(st.r()), J4(st.half_d()), xb);
   const Collision<Mpfi> fc = collide(st.r(), st.half_d(), c_);
   if (fb.exit.straight != fc.exit.straight || fb.exit.up != fc.exit.up || fb.exit.right != fc.exit.right)
     throw std::logic_error("Lohner enclosure: the centre took another branch than its box");
   const std::array<const J4*, 4> out{&fb.exit.x, &fb.exit.y, &fb.v.x, &fb.v.y};
-  const Vec4 yc{fc.exit.x, fc.exit.y, fc.v.x, fc.v.y};
-
   Mat4 m;  // DF(B) A
-  Vec4 g;  // the flight time's gradient on B, times A
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) {
-      m[i][j] = Mpfi(0);
-      for (int k = 0; k < 4; ++k) m[i][j] += out[i]->d[k] * a_[k][j];
-    }
-  for (int j = 0; j < 4; ++j) {
-    g[j] = Mpfi(0);
-    for (int k = 0; k < 4; ++k) g[j] += fb.exit.t.d[k] * a_[k][j];
-  }
-  Mpfi tau = fc.exit.t;
-  for (int j = 0; j < 4; ++j) tau += g[j] * r_[j];
+    for (int j = 0; j < 4; ++j) m[i][j] = dot_column(out[i]->d, j);
+  Mpfi tau = fc.exit.t;  // tau(c) + grad tau(B) A r
+  for (int j = 0; j < 4; ++j) tau += dot_column(fb.exit.t.d, j) * r_[j];
   t_ += tau;
+  move_to(m, {fc.exit.x, fc.exit.y, fc.v.x, fc.v.y});
 
+  EnclosedCollision e;
+  e.k = ++k_;
+  e.piece = piece_of(fb.exit.straight, fb.exit.up, fb.exit.right);
+  e.t = t_;
+  const Vec4 nb = box();
+  e.q = {intersect(nb[0], fb.exit.x.v), intersect(nb[1], fb.exit.y.v)};
+  e.log2_width = -INFINITY;
+  for (const Mpfi& x : nb) e.log2_width = std::max(e.log2_width, rotleak::log2_width(x));
+  e.in_leak = model_.leak.hit(e.piece, e.q, e.t);
+  return e;
+}
+
+Mpfi LohnerEnclosure::dot_column(const std::array<Mpfi, 4>& row, int j) const {
+  Mpfi s(0);
+  for (int k = 0; k < 4; ++k) s += row[static_cast<std::size_t>(k)] * a_[k][j];
+  return s;
+}
+
+void LohnerEnclosure::move_to(const Mat4& m, const Vec4& yc) {
   // A' = the orthogonal factor of mid(M), its columns taken in order of how far each stretches the set
   std::array<int, 4> order{0, 1, 2, 3};
   std::array<double, 4> reach{};
@@ -166,13 +176,13 @@ EnclosedCollision LohnerEnclosure::step() {
     }
   const DMat q = orthogonal_factor(mid);
   const Mat4 q_inv = inverse_enclosure(q);
-
+  // c' = mid F(c); r' = (A'^-1 M) r + A'^-1 (F(c) - c')
   Vec4 c_next, r_next;
   for (int i = 0; i < 4; ++i) c_next[i] = midpoint(yc[i]);
   for (int i = 0; i < 4; ++i) {
     Mpfi acc(0);
     for (int j = 0; j < 4; ++j) {
-      Mpfi qm(0);  // (A'^-1 M)_ij
+      Mpfi qm(0);
       for (int k = 0; k < 4; ++k) qm += q_inv[i][k] * m[k][j];
       acc += qm * r_[j];
       acc += q_inv[i][j] * (yc[j] - c_next[j]);
@@ -183,17 +193,6 @@ EnclosedCollision LohnerEnclosure::step() {
   r_ = r_next;
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) a_[i][j] = Mpfi(q[i][j]);
-
-  EnclosedCollision e;
-  e.k = ++k_;
-  e.piece = piece_of(fb.exit.straight, fb.exit.up, fb.exit.right);
-  e.t = t_;
-  const Vec4 nb = box();
-  e.q = {intersect(nb[0], fb.exit.x.v), intersect(nb[1], fb.exit.y.v)};
-  e.log2_width = -INFINITY;
-  for (const Mpfi& x : nb) e.log2_width = std::max(e.log2_width, rotleak::log2_width(x));
-  e.in_leak = model_.leak.hit(e.piece, e.q, e.t);
-  return e;
 }
 
 }  // namespace rotleak

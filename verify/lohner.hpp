@@ -44,6 +44,10 @@ class LohnerEnclosure {
   using Vec4 = std::array<Mpfi, 4>;
   using Mat4 = std::array<Vec4, 4>;
   Vec4 box() const;
+  /// Row `row` of a Jacobian times column j of A.
+  Mpfi dot_column(const std::array<Mpfi, 4>& row, int j) const;
+  /// The set after the collision: M = DF(B) A, yc = F(c) (the new A, c and r).
+  void move_to(const Mat4& m, const Vec4& yc);
 
   const Model<Mpfi>& model_;
   Vec4 c_, r_;
