@@ -13,15 +13,17 @@ namespace rotleak {
 
 namespace {
 
-/// The Lohner enclosure's trace: collision by collision until the leak, t_max or the cap.
+/// The Lohner enclosure's trace: collision by collision until the leak, t_max or the cap. Returns whether
+/// it passed t_max (proven: the time after the last collision lies beyond it).
 template <class On>
-void trace_lohner(const Model<Mpfi>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
+bool trace_lohner(const Model<Mpfi>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
   LohnerEnclosure set(model, draw);
   for (std::size_t k = 1; k <= max_collisions; ++k) {
     const EnclosedCollision e = set.step();
-    if (e.t > model.t_max) return;
-    if (!on(e)) return;
+    if (e.t > model.t_max) return true;
+    if (!on(e.k, e.t, e.in_leak, std::exp2(e.log2_width))) return false;
   }
+  return false;
 }
 
 }  // namespace
@@ -31,35 +33,30 @@ Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, s
   Certificate c;
   c.bits = bits;
   MpfrPrecision precision(bits);
+  const auto on = [&](std::size_t k, const Mpfi& t, bool in_leak, double width) {
+    c.certified_collisions = k;
+    c.last_width = width;
+    c.last_time_lo = t.lo();
+    if (in_leak) {
+      c.escape_certified = true;
+      c.escape_collision = k;
+      c.escape_time_lo = t.lo();
+      c.escape_time_hi = t.hi();
+      return false;
+    }
+    return true;
+  };
   try {
     const Model<Mpfi> model = model_of<Mpfi>(scene);
     if (method == Enclosure::lohner) {
-      trace_lohner(model, draw, max_collisions, [&](const EnclosedCollision& s) {
-        c.certified_collisions = s.k;
-        c.last_width = std::exp2(s.log2_width);
-        if (s.in_leak) {
-          c.escape_certified = true;
-          c.escape_collision = s.k;
-          c.escape_time_lo = s.t.lo();
-          c.escape_time_hi = s.t.hi();
-          return false;
-        }
-        return true;
+      c.survived = trace_lohner(model, draw, max_collisions, on);
+    } else {
+      const std::size_t n = trace(model, draw, max_collisions, [&](const TraceStep<Mpfi>& s) {
+        return on(s.k, s.t, s.in_leak, std::max(s.q.x.width(), s.q.y.width()));
       });
-      return c;
+      // trace stops at the leak (on says so), at the cap, or where the time passed t_max
+      c.survived = !c.escape_certified && n < max_collisions && n == c.certified_collisions;
     }
-    trace(model, draw, max_collisions, [&](const TraceStep<Mpfi>& s) {
-      c.certified_collisions = s.k;
-      c.last_width = std::max(s.q.x.width(), s.q.y.width());
-      if (s.in_leak) {
-        c.escape_certified = true;
-        c.escape_collision = s.k;
-        c.escape_time_lo = s.t.lo();
-        c.escape_time_hi = s.t.hi();
-        return false;
-      }
-      return true;
-    });
   } catch (const UncertainDecision&) {
     // the next decision could not be proven at these bits: certified_collisions says how far it got
   }
@@ -73,7 +70,7 @@ std::vector<Certificate> certify(const Scene& scene, const InitialDraw& draw, lo
     attempts.push_back(certify_at(scene, draw, bits, max_collisions, method));
     const Certificate& c = attempts.back();
     // done when proven, or when the trace ended by itself (t_max or the collision cap), not by doubt
-    if (c.escape_certified || c.certified_collisions == max_collisions) break;
+    if (c.escape_certified || c.survived || c.certified_collisions == max_collisions) break;
   }
   return attempts;
 }

@@ -21,6 +21,8 @@ struct Certificate {
   std::size_t escape_collision = 0;
   double escape_time_lo = 0, escape_time_hi = 0;  ///< enclosure of the escape time
   double last_width = 0;                          ///< width of the last position enclosure
+  double last_time_lo = 0;  ///< lower end of the last certified collision's time: alive until then, proven
+  bool survived = false;    ///< passed t_max with every decision before it proven
 };
 
 /// One attempt at `bits` bits, at most max_collisions collisions.

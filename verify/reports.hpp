@@ -9,6 +9,7 @@
 #include "io/json.hpp"
 #include "verify/audit.hpp"
 #include "verify/certify.hpp"
+#include "verify/certify_sample.hpp"
 #include "verify/lyapunov.hpp"
 #include "verify/shadow.hpp"
 
@@ -27,5 +28,8 @@ std::string lyapunov_text(const LyapunovStudy& s, const std::string& scene_sourc
 
 json certify_json(std::uint64_t particle, const std::vector<Certificate>& attempts);
 std::string certify_text(const std::vector<Certificate>& attempts);
+
+/// The lines `rotleak certify --sample` prints: what was proven, the bracket, each tier against it.
+std::string sample_text(const SampleCertificate& c, const SampleOptions& opt);
 
 }  // namespace rotleak

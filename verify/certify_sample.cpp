@@ -1,0 +1,292 @@
+#include "verify/certify_sample.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "io/files.hpp"
+#include "io/json.hpp"
+#include "io/progress.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/tier_dispatch.hpp"
+#include "sim/model/sampling.hpp"
+#include "verify/trace.hpp"
+#include "version.hpp"
+
+namespace rotleak {
+
+const char* status_name(EscapeStatus s) {
+  switch (s) {
+    case EscapeStatus::proven:
+      return "proven";
+    case EscapeStatus::survives:
+      return "survives";
+    case EscapeStatus::undecided:
+      return "undecided";
+  }
+  return "?";
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ParticleEscape certify_particle(const Scene& capped, const InitialDraw& draw, std::uint64_t id,
+                                const SampleOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<Certificate> attempts =
+      certify(capped, draw, opt.start_bits, opt.max_bits, std::numeric_limits<std::size_t>::max());
+  const Certificate& c = attempts.back();
+  ParticleEscape e;
+  e.id = id;
+  e.bits = c.bits;
+  e.collisions = c.escape_certified ? c.escape_collision : c.certified_collisions;
+  if (c.escape_certified) {
+    e.status = EscapeStatus::proven;
+    e.t_lo = c.escape_time_lo, e.t_hi = c.escape_time_hi;
+  } else if (c.survived) {
+    e.status = EscapeStatus::survives;
+    e.t_lo = e.t_hi = capped.t_max;
+  } else {
+    e.status = EscapeStatus::undecided;
+    e.t_lo = c.certified_collisions ? c.last_time_lo : draw.tau;
+    e.t_hi = capped.t_max;
+  }
+  e.seconds = seconds_since(t0);
+  return e;
+}
+
+/// A tier's escape time and collision for one particle (the scalar core, every bounce stepped).
+template <class R>
+std::pair<double, std::size_t> tier_escape(const Model<R>& model, const InitialDraw& draw) {
+  double t = std::numeric_limits<double>::infinity();
+  std::size_t k = 0;
+  trace(model, draw, std::numeric_limits<std::size_t>::max(), [&](const TraceStep<R>& s) {
+    if (!s.in_leak) return true;
+    t = num_traits<R>::to_double(s.t);
+    k = s.k;
+    return false;
+  });
+  return {t, k};
+}
+
+TierEscapes run_tier(const std::string& tier, const Scene& capped, const std::vector<InitialDraw>& draws,
+                     std::vector<std::size_t>& collisions) {
+  TierEscapes out;
+  out.tier = tier;
+  out.t.resize(draws.size());
+  collisions.resize(draws.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  with_tier(tier, [&](auto type) {
+    using R = typename decltype(type)::type;
+    const Model<R> model = model_of<R>(capped);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::size_t i = 0; i < draws.size(); ++i) std::tie(out.t[i], collisions[i]) = tier_escape(model, draws[i]);
+  });
+  out.seconds = seconds_since(t0);
+  return out;
+}
+
+/// Kolmogorov's limiting distribution, P(D sqrt(n_e) > lambda) (the series converges fast for lambda >= 0.2).
+double kolmogorov_q(double lambda) {
+  if (lambda < 0.2) return 1;
+  double sum = 0;
+  for (int j = 1; j <= 100; ++j) sum += (j % 2 ? 2 : -2) * std::exp(-2.0 * j * j * lambda * lambda);
+  return std::clamp(sum, 0.0, 1.0);
+}
+
+}  // namespace
+
+SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SampleCertificate out;
+  Scene capped = scene;
+  capped.t_max = opt.t_cap > 0 ? opt.t_cap : scene.t_max;
+  out.t_cap = capped.t_max;
+  const auto sampler = make_sampler(capped);
+  std::vector<InitialDraw> draws(opt.sample);
+  for (std::uint64_t i = 0; i < opt.sample; ++i) draws[i] = sampler->draw(i);
+  out.particles.resize(opt.sample);
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  out.threads = omp_get_max_threads();
+  std::atomic<std::uint64_t> done{0}, collisions{0};
+  ProgressLine progress(opt.progress, "[certify]");
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::uint64_t i = 0; i < opt.sample; ++i) {
+    out.particles[i] = certify_particle(capped, draws[i], i, opt);
+    collisions += out.particles[i].collisions;
+    const std::uint64_t n = ++done;
+    if (omp_get_thread_num() == 0) progress.update(n, opt.sample, collisions, false);
+  }
+  progress.update(opt.sample, opt.sample, collisions, true);
+  out.tier_collisions.clear();
+  for (const std::string& tier : opt.tiers) {
+    std::vector<std::size_t> k;
+    out.tiers.push_back(run_tier(tier, capped, draws, k));
+    out.tier_collisions.insert(out.tier_collisions.end(), k.begin(), k.end());
+  }
+  out.seconds = seconds_since(t0);
+  return out;
+}
+
+SampleBracket bracket_of(const SampleCertificate& c, double dt) {
+  SampleBracket b;
+  const double n = static_cast<double>(c.particles.size());
+  const std::size_t points = static_cast<std::size_t>(std::floor(c.t_cap / dt + 1e-9)) + 1;
+  b.tier_p.assign(c.tiers.size(), {});
+  for (std::size_t j = 0; j < points; ++j) {
+    const double t = std::min(c.t_cap, static_cast<double>(j) * dt);
+    std::size_t alive = 0, maybe = 0;
+    for (const ParticleEscape& e : c.particles) {
+      if (e.t_lo > t)
+        ++alive;  // proven alive at t: the escape (or the doubt) comes later
+      else if (e.t_hi > t)
+        ++maybe;  // its escape time's enclosure (or its undecided stretch) holds t
+      else if (e.status == EscapeStatus::survives)
+        ++alive;
+    }
+    b.t.push_back(t);
+    b.lower.push_back(static_cast<double>(alive) / n);
+    b.upper.push_back(static_cast<double>(alive + maybe) / n);
+    for (std::size_t k = 0; k < c.tiers.size(); ++k) {
+      const auto& ts = c.tiers[k].t;
+      b.tier_p[k].push_back(static_cast<double>(std::count_if(ts.begin(), ts.end(), [&](double x) { return x > t; })) /
+                            n);
+    }
+  }
+  return b;
+}
+
+std::vector<TierJudgement> judge_tiers(const SampleCertificate& c, const SampleBracket& b) {
+  std::vector<TierJudgement> out;
+  const std::size_t n = c.particles.size();
+  const double nd = static_cast<double>(n);
+  for (std::size_t k = 0; k < c.tiers.size(); ++k) {
+    TierJudgement j;
+    j.tier = c.tiers[k].tier;
+    j.grid_points = b.t.size();
+    for (std::size_t i = 0; i < b.t.size(); ++i) {
+      const double p = b.tier_p[k][i], mid = 0.5 * (b.lower[i] + b.upper[i]);
+      // beyond the shadowing horizon a tier's escape and the truth's are two draws from one law: the
+      // difference of two proportions of n has standard error sqrt(2 P (1 - P) / n)
+      const double se = std::sqrt(2 * std::max(mid * (1 - mid), 1 / nd) / nd);
+      const bool outside = p < b.lower[i] || p > b.upper[i];
+      const double gap = std::max(b.lower[i] - p, p - b.upper[i]);
+      const bool tight = b.upper[i] - b.lower[i] < se;
+      j.outside += outside;
+      j.outside_beyond_3s += outside && gap > 3 * se;
+      j.tight += tight;
+      j.outside_where_tight += outside && tight;
+    }
+    // Kolmogorov-Smirnov on the escape times up to the cap, the certified ones taken at their enclosures'
+    // midpoints (undecided particles left out of both samples)
+    std::vector<double> a, t;
+    for (std::size_t i = 0; i < n; ++i) {
+      const ParticleEscape& e = c.particles[i];
+      if (e.status == EscapeStatus::undecided) continue;
+      a.push_back(e.status == EscapeStatus::proven ? 0.5 * (e.t_lo + e.t_hi) : INFINITY);
+      t.push_back(c.tiers[k].t[i]);
+      if (e.status == EscapeStatus::proven && c.tier_collisions[k * n + i] == e.collisions) ++j.same_escape_collision;
+    }
+    std::sort(a.begin(), a.end());
+    std::sort(t.begin(), t.end());
+    std::size_t ia = 0, it = 0;
+    double d = 0;
+    while (ia < a.size() && it < t.size() && std::isfinite(std::min(a[ia], t[it]))) {
+      const double x = std::min(a[ia], t[it]);
+      while (ia < a.size() && a[ia] <= x) ++ia;
+      while (it < t.size() && t[it] <= x) ++it;
+      d = std::max(d, std::abs(static_cast<double>(ia) - static_cast<double>(it)) / static_cast<double>(a.size()));
+    }
+    const double ne = static_cast<double>(a.size()) / 2;
+    j.ks_d = d;
+    j.ks_p = a.empty() ? 1 : kolmogorov_q((std::sqrt(ne) + 0.12 + 0.11 / std::sqrt(ne)) * d);
+    out.push_back(j);
+  }
+  return out;
+}
+
+void write_sample_certificate(const std::filesystem::path& dir, const Scene& scene, const SampleOptions& opt,
+                              const SampleCertificate& c) {
+  std::filesystem::create_directories(dir);
+  const double dt = opt.dt > 0 ? opt.dt : c.t_cap / 400;
+  const SampleBracket b = bracket_of(c, dt);
+  const std::vector<TierJudgement> judged = judge_tiers(c, b);
+  std::ostringstream esc;
+  esc << "id,status,t_lo,t_hi,collisions,bits,seconds";
+  for (const TierEscapes& t : c.tiers) esc << ",t_" << t.tier;
+  esc << "\n";
+  std::size_t proven = 0, survives = 0, undecided = 0, proven_before = 0;
+  double seconds = 0, width_max = 0;
+  long bits_max = 0;
+  for (std::size_t i = 0; i < c.particles.size(); ++i) {
+    const ParticleEscape& e = c.particles[i];
+    esc << e.id << ',' << status_name(e.status) << ',' << shortest(e.t_lo) << ',' << shortest(e.t_hi) << ','
+        << e.collisions << ',' << e.bits << ',' << shortest(e.seconds);
+    for (const TierEscapes& t : c.tiers) esc << ',' << (std::isfinite(t.t[i]) ? shortest(t.t[i]) : "inf");
+    esc << "\n";
+    proven += e.status == EscapeStatus::proven;
+    survives += e.status == EscapeStatus::survives;
+    undecided += e.status == EscapeStatus::undecided;
+    seconds += e.seconds;
+    bits_max = std::max(bits_max, e.bits);
+    if (e.status == EscapeStatus::proven) width_max = std::max(width_max, e.t_hi - e.t_lo);
+  }
+  proven_before = proven;
+  std::ostringstream br;
+  br << "t,lower,upper";
+  for (const TierEscapes& t : c.tiers) br << ",p_" << t.tier;
+  br << "\n";
+  double bracket_width_max = 0;
+  for (std::size_t i = 0; i < b.t.size(); ++i) {
+    br << shortest(b.t[i]) << ',' << shortest(b.lower[i]) << ',' << shortest(b.upper[i]);
+    for (const auto& p : b.tier_p) br << ',' << shortest(p[i]);
+    br << "\n";
+    bracket_width_max = std::max(bracket_width_max, b.upper[i] - b.lower[i]);
+  }
+  json tiers = json::array();
+  for (std::size_t k = 0; k < judged.size(); ++k) {
+    const TierJudgement& j = judged[k];
+    tiers.push_back({{"tier", j.tier},
+                     {"seconds", c.tiers[k].seconds},
+                     {"grid_points", j.grid_points},
+                     {"outside", j.outside},
+                     {"outside_beyond_3_errors", j.outside_beyond_3s},
+                     {"tight", j.tight},
+                     {"outside_where_tight", j.outside_where_tight},
+                     {"ks_d", j.ks_d},
+                     {"ks_p", j.ks_p},
+                     {"same_escape_collision", j.same_escape_collision}});
+  }
+  const double n = static_cast<double>(c.particles.size());
+  const json summary = {{"command", "certify"},
+                        {"schema", 1},
+                        {"version", kVersion},
+                        {"scene", scene_to_toml(scene)},
+                        {"sample", c.particles.size()},
+                        {"t_cap", c.t_cap},
+                        {"dt", dt},
+                        {"proven", proven_before},
+                        {"survives", survives},
+                        {"undecided", undecided},
+                        {"proven_fraction", static_cast<double>(proven + survives) / n},
+                        {"bits", {{"start", opt.start_bits}, {"cap", opt.max_bits}, {"largest_used", bits_max}}},
+                        {"escape_time_width_max", width_max},
+                        {"bracket_width_max", bracket_width_max},
+                        {"threads", c.threads},
+                        {"seconds", c.seconds},
+                        {"seconds_per_particle", seconds / n},
+                        {"tiers", tiers}};
+  write_file_atomic(dir / "escapes.csv", esc.str());
+  write_file_atomic(dir / "bracket.csv", br.str());
+  write_file_atomic(dir / "summary.json", summary.dump(2) + "\n");
+}
+
+}  // namespace rotleak
