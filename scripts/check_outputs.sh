@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every kind of file rotleak writes, made once and read back against docs/output.md's schemas with
 # Python's csv and json and with pandas (scripts/check_output_schema.py): a run with escapes and f_c, a
-# split run, a 3-point scan, a shadow, a covering of two omegas with segments, and an audit. Then four
+# split run, a 3-point scan, a shadow, a covering of two omegas with segments, an audit, proven orbits and a certified sample. Then four
 # damaged copies (a row one field short, an undocumented summary.json key, a renamed column, a flipped bit in a
 # split run's tally.bin) must be
 # refused, so the check is seen to fail where it should.
@@ -24,6 +24,7 @@ q=(--no-progress)
 "$bin" audit "$scene" --sample 20 --stats-particles 20000 --stratify-particles 5000 --max-collisions 200 \
   --tiers float,double --threads 2 --out "$work/out/audit" >/dev/null
 "$bin" orbits --period-max 5 --out "$work/out/orbits" --no-progress
+"$bin" certify "$scene" --sample 40 --t-cap 500 --out "$work/out/certify" --no-progress >/dev/null
 "$py" "$here/check_output_schema.py" "$work/out"
 
 # the check must fail on damaged files

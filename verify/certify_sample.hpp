@@ -18,7 +18,8 @@ struct SampleOptions {
   std::uint64_t sample = 10000;  ///< particles 0 .. sample - 1 of the scene
   double t_cap = 0;              ///< follow each particle to this time (0: the scene's t_max)
   long start_bits = 64, max_bits = 16384;
-  int threads = 0;  ///< 0: OpenMP's default
+  double time_width = 1e-9;  ///< a proven escape time wider than this is proven again with twice the bits
+  int threads = 0;           ///< 0: OpenMP's default
   std::vector<std::string> tiers{"double", "long_double", "dd"};
   double dt = 0;  ///< the bracket's grid step (0: t_cap / 400)
   bool progress = true;

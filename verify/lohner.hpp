@@ -37,6 +37,9 @@ class LohnerEnclosure {
   LohnerEnclosure(const Model<Mpfi>& model, const InitialDraw& draw);
   /// Maps the set through the next collision (UncertainDecision where a branch is undecided on the box).
   EnclosedCollision step();
+  /// Moves the set by `by` in coordinate i (0, 1: x, y; 2, 3: vx, vy): another system's trajectory from here
+  /// on (a test's perturbation of one reflection).
+  void shift(int i, const Mpfi& by) { c_[static_cast<std::size_t>(i)] += by; }
   /// log2 of the largest width of the box of the current set.
   double log2_width() const;
 

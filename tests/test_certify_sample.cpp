@@ -1,0 +1,117 @@
+// Certified samples (verify/certify_sample.hpp): the bracket holds the sample's curve computed in MPFR
+// far beyond the bits any escape needs, a one-ulp change of one reflection moves a named particle's
+// proven escape, the files do not depend on the threads, and bad inputs are refused by key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+#include "io/files.hpp"
+#include "io/scene_file.hpp"
+#include "numeric/tiers.hpp"
+#include "sim/model/sampling.hpp"
+#include "verify/certify_sample.hpp"
+#include "verify/lohner.hpp"
+#include "verify/trace.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+Scene quickstart() { return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml", {}); }
+
+SampleOptions small(std::uint64_t n, double t_cap) {
+  SampleOptions o;
+  o.sample = n;
+  o.t_cap = t_cap;
+  o.tiers = {"double"};
+  o.progress = false;
+  return o;
+}
+
+}  // namespace
+
+// The bracket holds the curve of the same particles followed by the core in MPFR at 1024 bits (error model:
+// MPFR loses about 1.35 bits a collision, so after the <= 400 collisions of t <= 700 its points are within
+// 2^-480 of the truth, and its escape decisions are the truth's unless a hit lies that close to a leak end).
+// A deterministic check that fails if an enclosure or the counting of the bracket is wrong.
+TEST(CertifySample, TheBracketHoldsTheSamplesHighPrecisionCurve) {
+  const Scene scene = quickstart();
+  const SampleOptions opt = small(150, 700);
+  const SampleCertificate c = certify_sample(scene, opt);
+  Scene capped = scene;
+  capped.t_max = 700;
+  std::vector<double> truth(opt.sample, std::numeric_limits<double>::infinity());
+  {
+    MpfrPrecision bits(1024);
+    const Model<Mpfr> model = model_of<Mpfr>(capped);
+    const auto sampler = make_sampler(capped);
+    for (std::uint64_t id = 0; id < opt.sample; ++id)
+      trace(model, sampler->draw(id), std::numeric_limits<std::size_t>::max(), [&](const TraceStep<Mpfr>& s) {
+        if (s.in_leak) truth[id] = num_traits<Mpfr>::to_double(s.t);
+        return !s.in_leak;
+      });
+  }
+  std::size_t proven = 0;
+  for (const ParticleEscape& e : c.particles) {
+    if (e.status == EscapeStatus::undecided) continue;
+    ++proven;
+    if (e.status == EscapeStatus::proven) {
+      EXPECT_LE(e.t_lo, truth[e.id]) << "particle " << e.id;
+      EXPECT_GE(e.t_hi, truth[e.id]) << "particle " << e.id;
+      EXPECT_LE(e.t_hi - e.t_lo, 1e-9);
+    } else {
+      EXPECT_TRUE(std::isinf(truth[e.id])) << "particle " << e.id;
+    }
+  }
+  EXPECT_GE(proven, opt.sample - 1);
+  const SampleBracket b = bracket_of(c, 0.5);
+  for (std::size_t i = 0; i < b.t.size(); ++i) {
+    const double p =
+        static_cast<double>(std::count_if(truth.begin(), truth.end(), [&](double x) { return x > b.t[i]; })) /
+        static_cast<double>(opt.sample);
+    ASSERT_LE(b.lower[i], p) << "t = " << b.t[i];
+    ASSERT_GE(b.upper[i], p) << "t = " << b.t[i];
+  }
+}
+
+// Particle 1 of the quick-start scene escapes at collision 127 (proven); the same enclosure with its velocity
+// moved by one ulp of double after the first reflection is another billiard's trajectory from there on, and
+// chaos carries the ulp to an O(1) change within ~40 collisions: its proof ends elsewhere.
+TEST(CertifySample, AOneUlpChangeOfOneReflectionMovesANamedParticlesEscape) {
+  const Scene scene = quickstart();
+  const InitialDraw draw = make_sampler(scene)->draw(1);
+  MpfrPrecision bits(512);
+  const Model<Mpfi> model = model_of<Mpfi>(scene);
+  const auto escape = [&](bool perturb) -> std::size_t {
+    LohnerEnclosure set(model, draw);
+    try {
+      for (std::size_t k = 1; k <= 2000; ++k) {
+        const EnclosedCollision e = set.step();
+        if (k == 1 && perturb) set.shift(2, Mpfi(std::ldexp(1.0, -53)));
+        if (e.in_leak) return k;
+      }
+    } catch (const UncertainDecision&) {
+    }
+    return 0;  // not proven
+  };
+  EXPECT_EQ(escape(false), 127u);
+  EXPECT_NE(escape(true), 127u);
+}
+
+// The files hold the same bytes whatever the threads (particles are certified independently and stored by id).
+TEST(CertifySample, OneAndTwoThreadsWriteTheSameFiles) {
+  const Scene scene = quickstart();
+  const auto dir = std::filesystem::temp_directory_path() / ("rotleak_certify_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  for (int threads : {1, 2}) {
+    SampleOptions opt = small(60, 400);
+    opt.threads = threads;
+    write_sample_certificate(dir / std::to_string(threads), scene, opt, certify_sample(scene, opt));
+  }
+  for (const char* f : {"escapes.csv", "bracket.csv"})
+    EXPECT_EQ(read_file(dir / "1" / f), read_file(dir / "2" / f)) << f;
+  std::filesystem::remove_all(dir);
+}
