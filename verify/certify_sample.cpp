@@ -221,44 +221,37 @@ std::vector<TierJudgement> judge_tiers(const SampleCertificate& c, const SampleB
   return out;
 }
 
-void write_sample_certificate(const std::filesystem::path& dir, const Scene& scene, const SampleOptions& opt,
-                              const SampleCertificate& c) {
-  std::filesystem::create_directories(dir);
-  const double dt = opt.dt > 0 ? opt.dt : c.t_cap / 400;
-  const SampleBracket b = bracket_of(c, dt);
-  const std::vector<TierJudgement> judged = judge_tiers(c, b);
+namespace {
+
+std::string escapes_csv(const SampleCertificate& c) {
   std::ostringstream esc;
   esc << "id,status,t_lo,t_hi,collisions,bits";
   for (const TierEscapes& t : c.tiers) esc << ",t_" << t.tier;
   esc << "\n";
-  std::size_t proven = 0, survives = 0, undecided = 0, proven_before = 0;
-  double seconds = 0, width_max = 0;
-  long bits_max = 0;
   for (std::size_t i = 0; i < c.particles.size(); ++i) {
     const ParticleEscape& e = c.particles[i];
     esc << e.id << ',' << status_name(e.status) << ',' << shortest(e.t_lo) << ',' << shortest(e.t_hi) << ','
         << e.collisions << ',' << e.bits;
     for (const TierEscapes& t : c.tiers) esc << ',' << (std::isfinite(t.t[i]) ? shortest(t.t[i]) : "inf");
     esc << "\n";
-    proven += e.status == EscapeStatus::proven;
-    survives += e.status == EscapeStatus::survives;
-    undecided += e.status == EscapeStatus::undecided;
-    seconds += e.seconds;
-    bits_max = std::max(bits_max, e.bits);
-    if (e.status == EscapeStatus::proven) width_max = std::max(width_max, e.t_hi - e.t_lo);
   }
-  proven_before = proven;
+  return esc.str();
+}
+
+std::string bracket_csv(const SampleCertificate& c, const SampleBracket& b) {
   std::ostringstream br;
   br << "t,lower,upper";
   for (const TierEscapes& t : c.tiers) br << ",p_" << t.tier;
   br << "\n";
-  double bracket_width_max = 0;
   for (std::size_t i = 0; i < b.t.size(); ++i) {
     br << shortest(b.t[i]) << ',' << shortest(b.lower[i]) << ',' << shortest(b.upper[i]);
     for (const auto& p : b.tier_p) br << ',' << shortest(p[i]);
     br << "\n";
-    bracket_width_max = std::max(bracket_width_max, b.upper[i] - b.lower[i]);
   }
+  return br.str();
+}
+
+json tiers_json(const SampleCertificate& c, const std::vector<TierJudgement>& judged) {
   json tiers = json::array();
   for (std::size_t k = 0; k < judged.size(); ++k) {
     const TierJudgement& j = judged[k];
@@ -273,29 +266,53 @@ void write_sample_certificate(const std::filesystem::path& dir, const Scene& sce
                      {"ks_p", j.ks_p},
                      {"same_escape_collision", j.same_escape_collision}});
   }
+  return tiers;
+}
+
+json summary_json(const Scene& scene, const SampleOptions& opt, const SampleCertificate& c, const SampleBracket& b,
+                  double dt) {
+  std::size_t count[3] = {0, 0, 0};
+  double seconds = 0, width_max = 0, bracket_width_max = 0;
+  long bits_max = 0;
+  for (const ParticleEscape& e : c.particles) {
+    ++count[static_cast<int>(e.status)];
+    seconds += e.seconds;
+    bits_max = std::max(bits_max, e.bits);
+    if (e.status == EscapeStatus::proven) width_max = std::max(width_max, e.t_hi - e.t_lo);
+  }
+  for (std::size_t i = 0; i < b.t.size(); ++i) bracket_width_max = std::max(bracket_width_max, b.upper[i] - b.lower[i]);
   const double n = static_cast<double>(c.particles.size());
-  const json summary = {{"command", "certify"},
-                        {"schema", 1},
-                        {"version", kVersion},
-                        {"scene", scene_to_toml(scene)},
-                        {"sample", c.particles.size()},
-                        {"t_cap", c.t_cap},
-                        {"dt", dt},
-                        {"proven", proven_before},
-                        {"survives", survives},
-                        {"undecided", undecided},
-                        {"proven_fraction", static_cast<double>(proven + survives) / n},
-                        {"bits", {{"start", opt.start_bits}, {"cap", opt.max_bits}, {"largest_used", bits_max}}},
-                        {"time_width", opt.time_width},
-                        {"escape_time_width_max", width_max},
-                        {"bracket_width_max", bracket_width_max},
-                        {"threads", c.threads},
-                        {"seconds", c.seconds},
-                        {"seconds_per_particle", seconds / n},
-                        {"tiers", tiers}};
-  write_file_atomic(dir / "escapes.csv", esc.str());
-  write_file_atomic(dir / "bracket.csv", br.str());
-  write_file_atomic(dir / "summary.json", summary.dump(2) + "\n");
+  return {{"command", "certify"},
+          {"schema", 1},
+          {"version", kVersion},
+          {"scene", scene_to_toml(scene)},
+          {"sample", c.particles.size()},
+          {"t_cap", c.t_cap},
+          {"dt", dt},
+          {"proven", count[0]},
+          {"survives", count[1]},
+          {"undecided", count[2]},
+          {"proven_fraction", static_cast<double>(count[0] + count[1]) / n},
+          {"bits", {{"start", opt.start_bits}, {"cap", opt.max_bits}, {"largest_used", bits_max}}},
+          {"time_width", opt.time_width},
+          {"escape_time_width_max", width_max},
+          {"bracket_width_max", bracket_width_max},
+          {"threads", c.threads},
+          {"seconds", c.seconds},
+          {"seconds_per_particle", seconds / n},
+          {"tiers", tiers_json(c, judge_tiers(c, b))}};
+}
+
+}  // namespace
+
+void write_sample_certificate(const std::filesystem::path& dir, const Scene& scene, const SampleOptions& opt,
+                              const SampleCertificate& c) {
+  std::filesystem::create_directories(dir);
+  const double dt = opt.dt > 0 ? opt.dt : c.t_cap / 400;
+  const SampleBracket b = bracket_of(c, dt);
+  write_file_atomic(dir / "escapes.csv", escapes_csv(c));
+  write_file_atomic(dir / "bracket.csv", bracket_csv(c, b));
+  write_file_atomic(dir / "summary.json", summary_json(scene, opt, c, b, dt).dump(2) + "\n");
 }
 
 }  // namespace rotleak

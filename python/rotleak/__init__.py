@@ -35,14 +35,14 @@ try:
     from ._version import __version__  # type: ignore[import]  # written by the build (cmake/version.cmake)
 except ImportError:  # the source tree's python/, not a build or an install
     __version__ = "unknown"
-from .readers import (SCHEMA, Alpha, Amplitude, Calibration, Kappa, PathLike, RotleakError, Run, Scan,
-                      read_calibration, read_run, read_scan)
+from .readers import (SCHEMA, Alpha, Amplitude, Calibration, Certification, Kappa, PathLike, RotleakError, Run,
+                      Scan, read_calibration, read_certification, read_run, read_scan)
 
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "Kappa", "Alpha", "Amplitude",
-           "read_run", "read_scan", "read_calibration", "simulate", "calibrate", "predict", "omega", "covering",
+__all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "Certification", "Kappa", "Alpha",
+           "Amplitude", "read_run", "read_scan", "read_calibration", "read_certification", "simulate", "calibrate", "predict", "omega", "covering",
            "Omega", "Covering", "Value", "Progress", "PathLike"]
 
 #: A scene value as Python gives it: exact keys take str, int or Fraction (never float); a list or a dict

@@ -531,3 +531,75 @@ def read_calibration(path: PathLike) -> Calibration:
     Calibration
     """
     return Calibration(path)
+
+
+class Certification:
+    """A certified sample (``rotleak certify SCENE --sample N --out DIR``): per particle its proven escape
+    (``escapes``), the sample's survival curve between proven bounds with the point tiers' curves of the same
+    ids (``bracket``), and the summary (``document``: proven_fraction, bits, each tier judged)."""
+
+    def __init__(self, directory: PathLike) -> None:
+        path = os.fspath(directory)
+        self.document = _command_document(path, "summary.json", "certify", "certified sample")
+        if not isinstance(self.document, dict):
+            raise RotleakError("%s: summary.json is not a certified sample's" % path)
+        _check_schema(self.document, "summary.json", path)
+        if not isinstance(self.document.get("tiers"), list):
+            raise RotleakError("%s: summary.json: tiers is not an array" % path)
+        for name in ("escapes.csv", "bracket.csv"):
+            if not os.path.exists(os.path.join(path, name)):
+                raise RotleakError("%s: incomplete certified sample: no %s" % (path, name))
+        self.path = path
+        self._escapes: Optional[pandas.DataFrame] = None
+        self._bracket: Optional[pandas.DataFrame] = None
+
+    @property
+    def tiers(self) -> list[str]:
+        """The point tiers judged against the bracket."""
+        return [str(t["tier"]) for t in self.document["tiers"]]
+
+    @property
+    def proven_fraction(self) -> float:
+        """The share of the sample whose escape (or survival past the cap) is proven."""
+        return float(self.document["proven_fraction"])
+
+    @property
+    def escapes(self) -> pandas.DataFrame:
+        """escapes.csv as a DataFrame, one row per particle id."""
+        if self._escapes is None:
+            table = _read_table(os.path.join(self.path, "escapes.csv"), "escapes.csv", self.path)
+            want = ["id", "status", "t_lo", "t_hi", "collisions", "bits"] + ["t_" + t for t in self.tiers]
+            if list(table.columns) != want:
+                raise RotleakError("%s: escapes.csv: columns %s, not %s" % (self.path, list(table.columns), want))
+            self._escapes = table
+        return self._escapes
+
+    @property
+    def bracket(self) -> pandas.DataFrame:
+        """bracket.csv as a DataFrame: t, lower, upper, and p_<tier> per tier."""
+        if self._bracket is None:
+            table = _read_table(os.path.join(self.path, "bracket.csv"), "bracket.csv", self.path)
+            want = ["t", "lower", "upper"] + ["p_" + t for t in self.tiers]
+            if list(table.columns) != want:
+                raise RotleakError("%s: bracket.csv: columns %s, not %s" % (self.path, list(table.columns), want))
+            self._bracket = table
+        return self._bracket
+
+    def __repr__(self) -> str:
+        return "<rotleak.Certification %s: %d particles to t = %g, %.4f%% proven>" % (
+            self.path, self.document["sample"], self.document["t_cap"], 100 * self.proven_fraction)
+
+
+def read_certification(path: PathLike) -> Certification:
+    """Read a certified sample's directory.
+
+    Parameters
+    ----------
+    path : str or path
+        A directory ``rotleak certify SCENE --sample N --out`` wrote.
+
+    Returns
+    -------
+    Certification
+    """
+    return Certification(path)

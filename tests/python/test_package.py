@@ -311,6 +311,38 @@ class Package(unittest.TestCase):
         p = scan.point(scan.point_names[2])
         self.assertEqual(p.summary["kappa"], scan.document["points"][2]["kappa"])
 
+    def test_certified_sample_reads_back_with_csv_json_and_pandas(self):
+        """rotleak certify --sample's files (docs/output.md) with the standard readers and the package's
+        Certification, and its picture drawn from the directory."""
+        import csv
+        scene = os.path.join(SRC, "data", "scenes", "quickstart.toml")
+        out = os.path.join(self.tmp, "certified")
+        subprocess.run([BIN, "certify", scene, "--sample", "30", "--t-cap", "300", "--tiers", "double,dd",
+                        "--no-progress", "--out", out], check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(out, "escapes.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0]), ["id", "status", "t_lo", "t_hi", "collisions", "bits", "t_double", "t_dd"])
+        self.assertEqual([int(r["id"]) for r in rows], list(range(30)))
+        self.assertTrue(all(r["status"] in ("proven", "survives", "undecided") for r in rows))
+        self.assertTrue(all(float(r["t_lo"]) <= float(r["t_hi"]) <= 300 for r in rows))
+        with open(os.path.join(out, "summary.json")) as f:
+            doc = json.load(f)
+        self.assertEqual(doc["command"], "certify")
+        self.assertEqual(doc["sample"], 30)
+        self.assertEqual([t["tier"] for t in doc["tiers"]], ["double", "dd"])
+        bracket = pd.read_csv(os.path.join(out, "bracket.csv"))
+        self.assertEqual(list(bracket.columns), ["t", "lower", "upper", "p_double", "p_dd"])
+        self.assertTrue((bracket["lower"] <= bracket["upper"]).all())
+        self.assertEqual(bracket["lower"].iloc[0], 1.0)
+        c = rotleak.read_certification(out)
+        self.assertEqual(c.tiers, ["double", "dd"])
+        self.assertEqual(len(c.escapes), 30)
+        self.assertAlmostEqual(c.proven_fraction, doc["proven_fraction"])
+        from rotleak import plot
+        self.assertEqual(plot.draw(out), [os.path.join(out, "certify.png")])
+        with self.assertRaises(rotleak.RotleakError):
+            rotleak.read_certification(self.scan_dir)  # a scan is not a certified sample
+
     def test_calibration_reads_back_with_csv_json_and_pandas(self):
         """rotleak calibrate's files (docs/output.md "Calibration") with the standard readers, the package's
         Calibration the same, and rotleak.calibrate in process writing the same bytes as the command."""

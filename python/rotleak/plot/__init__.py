@@ -27,9 +27,9 @@ if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
     matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from ..readers import Calibration, PathLike, RotleakError, Run, Scan, json_document  # noqa: E402
+from ..readers import Calibration, Certification, PathLike, RotleakError, Run, Scan, json_document  # noqa: E402
 
-Drawable = Union[Run, Scan, Calibration, PathLike]
+Drawable = Union[Run, Scan, Calibration, Certification, PathLike]
 Point = tuple[float, float]
 
 
@@ -78,7 +78,8 @@ def bench_main(name: str, draw_rows: Callable[[Sequence[dict[str, str]]], Any]) 
 
 
 def kind_of(directory: PathLike) -> Optional[str]:
-    """Which rotleak command wrote a directory: run, scan, calibration, shadow, covering, regimes; None
+    """Which rotleak command wrote a directory: run, scan, calibration, shadow, covering, regimes,
+    certification; None
     otherwise."""
     if os.path.exists(os.path.join(directory, "calibration.json")):
         return "calibration"
@@ -99,6 +100,8 @@ def kind_of(directory: PathLike) -> Optional[str]:
         return "shadow"
     if "covering" in doc:
         return "covering"
+    if doc.get("command") == "certify":
+        return "certification"
     return None
 
 
@@ -107,17 +110,17 @@ def draw(what: Drawable) -> list[str]:
 
     Parameters
     ----------
-    what : Run, Scan, Calibration, or a directory
-        A run, scan or calibration object (a run made in process needs ``rotleak.plot.run.draw(run,
-        out=DIR)``), or any directory a rotleak command wrote: a run, scan, calibration, shadow, covering
-        or regimes search.
+    what : Run, Scan, Calibration, Certification, or a directory
+        A run, scan, calibration or certified sample (a run made in process needs ``rotleak.plot.run.draw(run,
+        out=DIR)``), or any directory a rotleak command wrote: a run, scan, calibration, shadow, covering,
+        regimes search or certified sample.
 
     Returns
     -------
     list of str
         The paths of the pictures drawn.
     """
-    from . import calibration, covering, regimes, run, scan, shadow
+    from . import calibration, certify, covering, regimes, run, scan, shadow
 
     if isinstance(what, Run):
         return run.draw(what)
@@ -125,11 +128,13 @@ def draw(what: Drawable) -> list[str]:
         return scan.draw(what)
     if isinstance(what, Calibration):
         return calibration.draw(what)
+    if isinstance(what, Certification):
+        return certify.draw(what)
     directory = what
     kind = kind_of(directory)
     drawers: dict[str, Callable[[PathLike], list[str]]] = {
         "run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
-        "regimes": regimes.draw, "calibration": calibration.draw}
+        "regimes": regimes.draw, "calibration": calibration.draw, "certification": certify.draw}
     if kind is None:
         raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
                            "no scan.json, no regimes.json, no calibration.json)" % os.fspath(directory))
