@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
 # FUZZ_TARGETS: a subset, space-separated (two shells can share the machine's cores)
-read -r -a targets <<<"${FUZZ_TARGETS:-fuzz_scene fuzz_tally fuzz_survival_csv fuzz_run_documents fuzz_orbit_code fuzz_orbit_checkpoint}"
+read -r -a targets <<<"${FUZZ_TARGETS:-fuzz_scene fuzz_tally fuzz_survival_csv fuzz_run_documents fuzz_orbit_code fuzz_orbit_checkpoint fuzz_certify_checkpoint}"
 bash scripts/setup.sh
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAK_FUZZ=ON \
   -DROTLEAK_TESTS=OFF -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null

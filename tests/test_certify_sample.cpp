@@ -12,6 +12,7 @@
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
 #include "sim/model/sampling.hpp"
+#include "verify/certify_checkpoint.hpp"
 #include "verify/certify_sample.hpp"
 #include "verify/lohner.hpp"
 #include "verify/trace.hpp"
@@ -113,5 +114,31 @@ TEST(CertifySample, OneAndTwoThreadsWriteTheSameFiles) {
   }
   for (const char* f : {"escapes.csv", "bracket.csv"})
     EXPECT_EQ(read_file(dir / "1" / f), read_file(dir / "2" / f)) << f;
+  std::filesystem::remove_all(dir);
+}
+
+// A run resumed from a checkpoint of its first particles writes what one uninterrupted run writes; a checkpoint
+// of other inputs is refused.
+TEST(CertifySample, AResumedRunWritesWhatOneRunWrites) {
+  const Scene scene = quickstart();
+  const auto dir = std::filesystem::temp_directory_path() / ("rotleak_certify_resume_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  SampleOptions opt = small(60, 400);
+  const SampleCertificate whole = certify_sample(scene, opt);
+  write_sample_certificate(dir / "whole", scene, opt, whole);
+  std::vector<char> done(opt.sample, 0);
+  for (std::size_t i = 0; i < 25; ++i) done[i] = 1;
+  opt.checkpoint = dir / "run.checkpoint";
+  write_file_atomic(opt.checkpoint, certify_checkpoint_text(certify_sample_inputs(scene, opt), whole.particles, done));
+  const SampleCertificate resumed = certify_sample(scene, opt);
+  for (std::size_t i = 0; i < 25; ++i)  // taken from the checkpoint, not certified again: the same timing, bit for bit
+    EXPECT_EQ(resumed.particles[i].seconds, whole.particles[i].seconds) << "particle " << i;
+  write_sample_certificate(dir / "resumed", scene, opt, resumed);
+  for (const char* f : {"escapes.csv", "bracket.csv"})
+    EXPECT_EQ(read_file(dir / "whole" / f), read_file(dir / "resumed" / f)) << f;
+  SampleOptions other = opt;
+  other.t_cap = 300;
+  EXPECT_THROW(certify_sample(scene, other), std::runtime_error);
   std::filesystem::remove_all(dir);
 }

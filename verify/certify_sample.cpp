@@ -15,6 +15,7 @@
 #include "io/scene_file.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "sim/model/sampling.hpp"
+#include "verify/certify_checkpoint.hpp"
 #include "verify/trace.hpp"
 #include "version.hpp"
 
@@ -86,7 +87,7 @@ std::pair<double, std::size_t> tier_escape(const Model<R>& model, const InitialD
 }
 
 TierEscapes run_tier(const std::string& tier, const Scene& capped, const std::vector<InitialDraw>& draws,
-                     std::vector<std::size_t>& collisions) {
+                     std::vector<std::size_t>& collisions, int threads) {
   TierEscapes out;
   out.tier = tier;
   out.t.resize(draws.size());
@@ -95,11 +96,29 @@ TierEscapes run_tier(const std::string& tier, const Scene& capped, const std::ve
   with_tier(tier, [&](auto type) {
     using R = typename decltype(type)::type;
     const Model<R> model = model_of<R>(capped);
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
     for (std::size_t i = 0; i < draws.size(); ++i) std::tie(out.t[i], collisions[i]) = tier_escape(model, draws[i]);
   });
   out.seconds = seconds_since(t0);
   return out;
+}
+
+/// The particles a checkpoint holds, marked done (none without one); a checkpoint of other inputs, or of ids
+/// outside the sample, is refused.
+std::vector<char> resume(const Scene& scene, const SampleOptions& opt, std::vector<ParticleEscape>& particles) {
+  std::vector<char> done(opt.sample, 0);
+  if (opt.checkpoint.empty() || !std::filesystem::exists(opt.checkpoint)) return done;
+  const std::string where = opt.checkpoint.string();
+  const CertifyCheckpoint c = parse_certify_checkpoint(read_file(opt.checkpoint), where);
+  if (c.inputs != certify_sample_inputs(scene, opt))
+    throw std::runtime_error(where + ": a checkpoint of other inputs (" + c.inputs + "); remove it to start again");
+  for (const ParticleEscape& e : c.particles) {
+    if (e.id >= opt.sample)
+      throw std::runtime_error(where + ": particle " + std::to_string(e.id) + " is not in the sample");
+    particles[e.id] = e;
+    done[e.id] = 1;
+  }
+  return done;
 }
 
 /// Kolmogorov's limiting distribution, P(D sqrt(n_e) > lambda) (the series converges fast for lambda >= 0.2).
@@ -122,22 +141,37 @@ SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt) {
   std::vector<InitialDraw> draws(opt.sample);
   for (std::uint64_t i = 0; i < opt.sample; ++i) draws[i] = sampler->draw(i);
   out.particles.resize(opt.sample);
-  if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  out.threads = omp_get_max_threads();
-  std::atomic<std::uint64_t> done{0}, collisions{0};
+  std::vector<char> done = resume(scene, opt, out.particles);
+  out.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const int threads = out.threads;
+  std::atomic<std::uint64_t> finished{0}, collisions{0};
+  for (std::uint64_t i = 0; i < opt.sample; ++i)
+    if (done[i]) ++finished, collisions += out.particles[i].collisions;
   ProgressLine progress(opt.progress, "[certify]");
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::uint64_t i = 0; i < opt.sample; ++i) {
-    out.particles[i] = certify_particle(capped, draws[i], i, opt);
-    collisions += out.particles[i].collisions;
-    const std::uint64_t n = ++done;
-    if (omp_get_thread_num() == 0) progress.update(n, opt.sample, collisions, false);
+  auto saved = std::chrono::steady_clock::now();
+  constexpr std::uint64_t kChunk = 256;  // particles between chances to write the checkpoint
+  for (std::uint64_t from = 0; from < opt.sample; from += kChunk) {
+    const std::uint64_t to = std::min(opt.sample, from + kChunk);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::uint64_t i = from; i < to; ++i) {
+      if (done[i]) continue;
+      out.particles[i] = certify_particle(capped, draws[i], i, opt);
+      done[i] = 1;
+      collisions += out.particles[i].collisions;
+      const std::uint64_t n = ++finished;
+      if (omp_get_thread_num() == 0) progress.update(n, opt.sample, collisions, false);
+    }
+    if (!opt.checkpoint.empty() && to < opt.sample && seconds_since(saved) >= opt.checkpoint_seconds) {
+      write_file_atomic(opt.checkpoint,
+                        certify_checkpoint_text(certify_sample_inputs(scene, opt), out.particles, done));
+      saved = std::chrono::steady_clock::now();
+    }
   }
   progress.update(opt.sample, opt.sample, collisions, true);
   out.tier_collisions.clear();
   for (const std::string& tier : opt.tiers) {
     std::vector<std::size_t> k;
-    out.tiers.push_back(run_tier(tier, capped, draws, k));
+    out.tiers.push_back(run_tier(tier, capped, draws, k, threads));
     out.tier_collisions.insert(out.tier_collisions.end(), k.begin(), k.end());
   }
   out.seconds = seconds_since(t0);

@@ -23,6 +23,10 @@ struct SampleOptions {
   std::vector<std::string> tiers{"double", "long_double", "dd"};
   double dt = 0;  ///< the bracket's grid step (0: t_cap / 400)
   bool progress = true;
+  /// Where the run keeps its checkpoint (empty: none): read if it is there, written whole at most every
+  /// checkpoint_seconds; the caller removes it when the directory is complete.
+  std::filesystem::path checkpoint;
+  double checkpoint_seconds = 30;
 };
 
 enum class EscapeStatus { proven, survives, undecided };

@@ -544,8 +544,13 @@ class Certification:
         if not isinstance(self.document, dict):
             raise RotleakError("%s: summary.json is not a certified sample's" % path)
         _check_schema(self.document, "summary.json", path)
-        if not isinstance(self.document.get("tiers"), list):
-            raise RotleakError("%s: summary.json: tiers is not an array" % path)
+        tiers = self.document.get("tiers")
+        if not isinstance(tiers, list) or not all(isinstance(t, dict) and isinstance(t.get("tier"), str) for t in tiers):
+            raise RotleakError("%s: summary.json: tiers is not an array of objects with a tier" % path)
+        for key in ("sample", "t_cap", "proven_fraction"):
+            value = self.document.get(key)
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise RotleakError("%s: summary.json: %s is not a number" % (path, key))
         for name in ("escapes.csv", "bracket.csv"):
             if not os.path.exists(os.path.join(path, name)):
                 raise RotleakError("%s: incomplete certified sample: no %s" % (path, name))

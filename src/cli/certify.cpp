@@ -63,9 +63,13 @@ int run_sample(const CertifyArgs& a, const Scene& scene) {
   opt.dt = a.dt;
   opt.progress = !a.quiet;
   RunDirectory dir(a.out, a.force);
+  // DIR.checkpoint beside the target while the sample runs: a killed run goes on from it
+  opt.checkpoint = RunDirectory::normalise(a.out);
+  opt.checkpoint += ".checkpoint";
   const SampleCertificate c = certify_sample(scene, opt);
   write_sample_certificate(dir.file("summary.json").parent_path(), scene, opt, c);
   dir.commit();
+  std::filesystem::remove(opt.checkpoint);
   std::fputs(sample_text(c, opt).c_str(), stdout);
   return 0;
 }

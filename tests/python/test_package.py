@@ -258,6 +258,28 @@ class Package(unittest.TestCase):
                 self.assertIn(bad, str(e), "seed %d case %d" % (seed, case))
         shutil.rmtree(bad)
 
+    def test_random_damage_of_a_certified_sample_is_a_rotleak_error(self):
+        # read_certification on summary.json, escapes.csv or bracket.csv cut or changed at random (seed
+        # ROTLEAK_TEST_SEED): it reads them, or refuses with a RotleakError naming the directory; never a
+        # JSONDecodeError, a pandas error, a KeyError or a TypeError
+        seed, rng = seeded()
+        good = os.path.join(self.tmp, "certified_good")
+        subprocess.run([BIN, "certify", os.path.join(SRC, "data", "scenes", "quickstart.toml"), "--sample", "12",
+                        "--t-cap", "200", "--tiers", "double", "--no-progress", "--out", good], check=True,
+                       stdout=subprocess.DEVNULL)
+        bad = os.path.join(self.tmp, "random_certified")
+        for case in range(60):
+            damaged_copy(rng, good, ("summary.json", "escapes.csv", "bracket.csv")[case % 3], bad, case % 2 == 0,
+                         '0123456789.,-e\n"{}[]:x ')
+            try:
+                c = rotleak.read_certification(bad)
+                c.escapes  # noqa: B018
+                c.bracket  # noqa: B018
+                repr(c)
+            except rotleak.RotleakError as e:
+                self.assertIn(bad, str(e), "seed %d case %d" % (seed, case))
+        shutil.rmtree(bad)
+
     def test_python_arguments_of_the_wrong_type_are_refused_by_name(self):
         # each once ran something other than what was written, or dumped a pybind11 signature
         cases = [
