@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     const Growth l = measure(scene, draw, bits, collisions, Enclosure::lohner);
     const Growth v = measure(scene, draw, interval_bits, collisions, Enclosure::interval);
     const std::size_t n = std::min(l.reached, v.reached);
-    const double bl = n ? l.bits_per_collision(n) : NAN, bv = n ? v.bits_per_collision(n) : NAN;
+    const double bl = n ? l.bits_per_collision(n) : std::nan(""), bv = n ? v.bits_per_collision(n) : std::nan("");
     std::printf("%8llu %10zu %10zu %8zu %12.3f %12.3f %10.2f %10.2f\n", static_cast<unsigned long long>(id), l.reached,
                 v.reached, n, bl, bv, l.seconds, v.seconds);
     rows.push_back({{"particle", id},
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
                     {"n", n},
                     {"lohner_bits_per_collision", bl},
                     {"interval_bits_per_collision", bv},
-                    {"lohner_bits_per_collision_full", l.reached ? l.bits_per_collision(l.reached) : NAN},
+                    {"lohner_bits_per_collision_full", l.reached ? l.bits_per_collision(l.reached) : std::nan("")},
                     {"lohner_seconds", l.seconds},
                     {"interval_seconds", v.seconds}});
     if (n >= collisions) {
@@ -92,8 +92,8 @@ int main(int argc, char** argv) {
       ++counted;
     }
   }
-  const double mean_l = counted ? sum_l / static_cast<double>(counted) : NAN;
-  const double mean_i = counted ? sum_i / static_cast<double>(counted) : NAN;
+  const double mean_l = counted ? sum_l / static_cast<double>(counted) : std::nan("");
+  const double mean_i = counted ? sum_i / static_cast<double>(counted) : std::nan("");
   std::printf(
       "mean over the %zu particles both enclose for %zu collisions: lohner %.3f, interval %.3f bits a collision\n",
       counted, collisions, mean_l, mean_i);

@@ -51,6 +51,52 @@ std::string certify_checkpoint_text(const std::string& inputs, const std::vector
   return out.str();
 }
 
+namespace {
+
+/// One `particle ...` line's words; fail(why) throws with the line.
+template <class Fail>
+ParticleEscape parse_particle(const std::vector<std::string>& w, const Fail& fail) {
+  const auto count = [&](const std::string& x) {
+    std::size_t at = 0;
+    unsigned long long v = 0;
+    try {
+      v = std::stoull(x, &at);
+    } catch (const std::exception&) {
+      at = 0;
+    }
+    if (x.empty() || x[0] == '-' || at != x.size()) fail("not a count: \"" + x + "\"");
+    return v;
+  };
+  const auto number = [&](const std::string& x) {
+    char* end = nullptr;
+    const double v = std::strtod(x.c_str(), &end);
+    if (x.empty() || end != x.c_str() + x.size() || !std::isfinite(v) || v < 0) fail("not a time: \"" + x + "\"");
+    return v;
+  };
+  if (w.size() != 8 || w[0] != "particle") fail("not a particle line");
+  ParticleEscape e;
+  e.id = count(w[1]);
+  if (w[2] == "proven")
+    e.status = EscapeStatus::proven;
+  else if (w[2] == "survives")
+    e.status = EscapeStatus::survives;
+  else if (w[2] == "undecided")
+    e.status = EscapeStatus::undecided;
+  else
+    fail("not a status: \"" + w[2] + "\"");
+  e.t_lo = number(w[3]);
+  e.t_hi = number(w[4]);
+  if (e.t_lo > e.t_hi) fail("t_lo above t_hi");
+  e.collisions = count(w[5]);
+  const unsigned long long bits = count(w[6]);
+  if (bits > (1ULL << 22)) fail("more bits than certify allows");
+  e.bits = static_cast<long>(bits);
+  e.seconds = number(w[7]);
+  return e;
+}
+
+}  // namespace
+
 CertifyCheckpoint parse_certify_checkpoint(const std::string& text, const std::string& where) {
   CertifyCheckpoint c;
   std::istringstream in(text);
@@ -58,23 +104,6 @@ CertifyCheckpoint parse_certify_checkpoint(const std::string& text, const std::s
   std::size_t n = 0;
   const auto fail = [&](const std::string& why) {
     throw std::runtime_error(where + ":" + std::to_string(n) + ": " + why);
-  };
-  const auto count = [&](const std::string& w) {
-    std::size_t at = 0;
-    unsigned long long v = 0;
-    try {
-      v = std::stoull(w, &at);
-    } catch (const std::exception&) {
-      at = 0;
-    }
-    if (w.empty() || w[0] == '-' || at != w.size()) fail("not a count: \"" + w + "\"");
-    return v;
-  };
-  const auto number = [&](const std::string& w) {
-    char* end = nullptr;
-    const double x = std::strtod(w.c_str(), &end);
-    if (w.empty() || end != w.c_str() + w.size() || !std::isfinite(x) || x < 0) fail("not a time: \"" + w + "\"");
-    return x;
   };
   std::set<std::uint64_t> seen;
   while (std::getline(in, line)) {
@@ -91,27 +120,8 @@ CertifyCheckpoint parse_certify_checkpoint(const std::string& text, const std::s
     std::istringstream words(line);
     std::vector<std::string> w;
     for (std::string x; words >> x;) w.push_back(x);
-    if (w.size() != 8 || w[0] != "particle") fail("not a particle line");
-    ParticleEscape e;
-    e.id = count(w[1]);
-    if (!seen.insert(e.id).second) fail("particle " + w[1] + " twice");
-    if (w[2] == "proven")
-      e.status = EscapeStatus::proven;
-    else if (w[2] == "survives")
-      e.status = EscapeStatus::survives;
-    else if (w[2] == "undecided")
-      e.status = EscapeStatus::undecided;
-    else
-      fail("not a status: \"" + w[2] + "\"");
-    e.t_lo = number(w[3]);
-    e.t_hi = number(w[4]);
-    if (e.t_lo > e.t_hi) fail("t_lo above t_hi");
-    e.collisions = count(w[5]);
-    const unsigned long long bits = count(w[6]);
-    if (bits > (1ULL << 22)) fail("more bits than certify allows");
-    e.bits = static_cast<long>(bits);
-    e.seconds = number(w[7]);
-    c.particles.push_back(e);
+    c.particles.push_back(parse_particle(w, fail));
+    if (!seen.insert(c.particles.back().id).second) fail("particle " + w[1] + " twice");
   }
   if (n < 2) fail("incomplete: no inputs line");
   return c;

@@ -233,7 +233,7 @@ std::vector<TierJudgement> judge_tiers(const SampleCertificate& c, const SampleB
     for (std::size_t i = 0; i < n; ++i) {
       const ParticleEscape& e = c.particles[i];
       if (e.status == EscapeStatus::undecided) continue;
-      a.push_back(e.status == EscapeStatus::proven ? 0.5 * (e.t_lo + e.t_hi) : INFINITY);
+      a.push_back(e.status == EscapeStatus::proven ? 0.5 * (e.t_lo + e.t_hi) : std::numeric_limits<double>::infinity());
       t.push_back(c.tiers[k].t[i]);
       if (e.status == EscapeStatus::proven && c.tier_collisions[k * n + i] == e.collisions) ++j.same_escape_collision;
     }
