@@ -9,6 +9,7 @@
 
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
+#include "verify/checkpoint_text.hpp"
 
 namespace rotleak {
 
@@ -53,29 +54,11 @@ std::string certify_checkpoint_text(const std::string& inputs, const std::vector
 
 namespace {
 
-/// One `particle ...` line's words; fail(why) throws with the line.
-template <class Fail>
-ParticleEscape parse_particle(const std::vector<std::string>& w, const Fail& fail) {
-  const auto count = [&](const std::string& x) {
-    std::size_t at = 0;
-    unsigned long long v = 0;
-    try {
-      v = std::stoull(x, &at);
-    } catch (const std::exception&) {
-      at = 0;
-    }
-    if (x.empty() || x[0] == '-' || at != x.size()) fail("not a count: \"" + x + "\"");
-    return v;
-  };
-  const auto number = [&](const std::string& x) {
-    char* end = nullptr;
-    const double v = std::strtod(x.c_str(), &end);
-    if (x.empty() || end != x.c_str() + x.size() || !std::isfinite(v) || v < 0) fail("not a time: \"" + x + "\"");
-    return v;
-  };
-  if (w.size() != 8 || w[0] != "particle") fail("not a particle line");
+/// One `particle ...` record.
+ParticleEscape parse_particle(const std::vector<std::string>& w, const CheckpointReader& r) {
+  if (w.size() != 8 || w[0] != "particle") r.fail("not a particle line");
   ParticleEscape e;
-  e.id = count(w[1]);
+  e.id = r.count(w[1]);
   if (w[2] == "proven")
     e.status = EscapeStatus::proven;
   else if (w[2] == "survives")
@@ -83,47 +66,29 @@ ParticleEscape parse_particle(const std::vector<std::string>& w, const Fail& fai
   else if (w[2] == "undecided")
     e.status = EscapeStatus::undecided;
   else
-    fail("not a status: \"" + w[2] + "\"");
-  e.t_lo = number(w[3]);
-  e.t_hi = number(w[4]);
-  if (e.t_lo > e.t_hi) fail("t_lo above t_hi");
-  e.collisions = count(w[5]);
-  const unsigned long long bits = count(w[6]);
-  if (bits > (1ULL << 22)) fail("more bits than certify allows");
+    r.fail("not a status: \"" + w[2] + "\"");
+  e.t_lo = r.time(w[3]);
+  e.t_hi = r.time(w[4]);
+  if (e.t_lo > e.t_hi) r.fail("t_lo above t_hi");
+  e.collisions = r.count(w[5]);
+  const std::size_t bits = r.count(w[6]);
+  if (bits > (std::size_t{1} << 22)) r.fail("more bits than certify allows");
   e.bits = static_cast<long>(bits);
-  e.seconds = number(w[7]);
+  e.seconds = r.time(w[7]);
   return e;
 }
 
 }  // namespace
 
 CertifyCheckpoint parse_certify_checkpoint(const std::string& text, const std::string& where) {
+  CheckpointReader r(text, kMagic, where);
   CertifyCheckpoint c;
-  std::istringstream in(text);
-  std::string line;
-  std::size_t n = 0;
-  const auto fail = [&](const std::string& why) {
-    throw std::runtime_error(where + ":" + std::to_string(n) + ": " + why);
-  };
+  c.inputs = r.inputs();
   std::set<std::uint64_t> seen;
-  while (std::getline(in, line)) {
-    ++n;
-    if (n == 1) {
-      if (line != kMagic) fail("not a rotleak certify checkpoint");
-      continue;
-    }
-    if (n == 2) {
-      if (line.rfind("inputs ", 0) != 0) fail("no inputs line");
-      c.inputs = line.substr(7);
-      continue;
-    }
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string x; words >> x;) w.push_back(x);
-    c.particles.push_back(parse_particle(w, fail));
-    if (!seen.insert(c.particles.back().id).second) fail("particle " + w[1] + " twice");
+  for (std::vector<std::string> w; r.next(w);) {
+    c.particles.push_back(parse_particle(w, r));
+    if (!seen.insert(c.particles.back().id).second) r.fail("particle " + w[1] + " twice");
   }
-  if (n < 2) fail("incomplete: no inputs line");
   return c;
 }
 

@@ -5,25 +5,13 @@
 
 #include "io/files.hpp"
 #include "numeric/input.hpp"
+#include "verify/checkpoint_text.hpp"
 
 namespace rotleak {
 
 namespace {
 
 constexpr const char* kMagic = "rotleak-orbits-checkpoint 1";
-
-std::size_t count(const std::string& word, const std::string& where, std::size_t line) {
-  std::size_t at = 0;
-  unsigned long long v = 0;
-  try {
-    v = std::stoull(word, &at);
-  } catch (const std::exception&) {
-    at = 0;
-  }
-  if (at != word.size() || word.empty() || word[0] == '-')
-    throw std::runtime_error(where + ":" + std::to_string(line) + ": not a count: \"" + word + "\"");
-  return static_cast<std::size_t>(v);
-}
 
 }  // namespace
 
@@ -56,63 +44,46 @@ std::string orbit_checkpoint_text(const std::string& inputs, const OrbitSearch& 
 }
 
 OrbitCheckpoint parse_orbit_checkpoint(const std::string& text, const std::string& where) {
+  CheckpointReader r(text, kMagic, where);
   OrbitCheckpoint c;
-  std::istringstream in(text);
-  std::string line;
-  std::size_t n = 0, owed = 0;  // orbits the last period line announced and not yet read
-  const auto fail = [&](const std::string& why) {
-    throw std::runtime_error(where + ":" + std::to_string(n) + ": " + why);
-  };
-  while (std::getline(in, line)) {
-    ++n;
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string x; words >> x;) w.push_back(x);
-    if (n == 1) {
-      if (line != kMagic) fail("not a rotleak orbit checkpoint");
-      continue;
-    }
-    if (n == 2) {
-      if (line.rfind("inputs ", 0) != 0) fail("no inputs line");
-      c.inputs = line.substr(7);
-      continue;
-    }
+  c.inputs = r.inputs();
+  std::size_t owed = 0;  // orbits the last period line announced and not yet read
+  for (std::vector<std::string> w; r.next(w);) {
     if (!w.empty() && w[0] == "period" && w.size() == 11) {
-      if (owed != 0) fail("a period before the last one's orbits");
+      if (owed != 0) r.fail("a period before the last one's orbits");
       PeriodTally t;
-      t.period = static_cast<int>(count(w[1], where, n));
-      if (t.period != static_cast<int>(c.periods.size()) + 2) fail("periods out of order");
+      t.period = static_cast<int>(r.count(w[1]));
+      if (t.period != static_cast<int>(c.periods.size()) + 2) r.fail("periods out of order");
       std::size_t* fields[] = {&t.codes,    &t.codes_with_orbits, &t.candidates,  &t.proven,
                                &t.unproven, &t.prime_cycles,      &t.by_symmetry, &t.family_codes};
-      for (std::size_t i = 0; i < 8; ++i) *fields[i] = count(w[2 + i], where, n);
+      for (std::size_t i = 0; i < 8; ++i) *fields[i] = r.count(w[2 + i]);
       try {
         t.seconds = std::stod(w[10]);
       } catch (const std::exception&) {
-        fail("seconds unreadable");
+        r.fail("seconds unreadable");
       }
       owed = t.proven;
       c.periods.push_back(t);
     } else if (!w.empty() && w[0] == "orbit" && w.size() >= 5) {
-      if (owed == 0) fail("an orbit no period line announced");
+      if (owed == 0) r.fail("an orbit no period line announced");
       OrbitCheckpoint::Orbit o;
       try {
         o.code = parse_orbit_code(w[1], "orbit");
       } catch (const InputError& e) {
-        fail(e.what());
+        r.fail(e.what());
       }
       if (static_cast<int>(o.code.size()) != c.periods.back().period || w.size() != 3 + o.code.size())
-        fail("an orbit of another period");
-      o.weight = static_cast<int>(count(w[2], where, n));
-      if (o.weight != 1 && o.weight != 2) fail("weight " + w[2]);
+        r.fail("an orbit of another period");
+      o.weight = static_cast<int>(r.count(w[2]));
+      if (o.weight != 1 && o.weight != 2) r.fail("weight " + w[2]);
       o.u.assign(w.begin() + 3, w.end());
       c.orbits.push_back(std::move(o));
       --owed;
     } else {
-      fail("unreadable line");
+      r.fail("unreadable line");
     }
   }
-  if (n < 2) fail("truncated");
-  if (owed != 0) fail("truncated: orbits missing");
+  if (owed != 0) r.fail("truncated: orbits missing");
   return c;
 }
 
