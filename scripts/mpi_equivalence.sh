@@ -89,9 +89,17 @@ if len(a["verdicts"]) < 4 or a["sample"] != 48:
     sys.exit("audit: too little to compare (%d verdicts, sample %d)" % (len(a["verdicts"]), a["sample"]))
 PY
 echo "audit under 3 ranks: audit.json identical to one process (timings aside)"
+# a certified sample: ranks share the particles in turn; its files identical to one process's
+"$bin" certify "$scene" --sample 90 --t-cap 400 --threads 2 --out certify1 --no-progress >/dev/null
+"$mpirun" -np 3 --oversubscribe "$bin" certify "$scene" --sample 90 --t-cap 400 --threads 1 --out certify3 \
+  --no-progress >/dev/null
+for f in escapes.csv bracket.csv; do
+  cmp "certify1/$f" "certify3/$f" || { echo "certify under 3 ranks: $f differs from one process's"; exit 1; }
+done
+echo "certify --sample under 3 ranks: escapes.csv and bracket.csv identical to one process"
 # any other command is refused under mpirun with one line (it would run K times over its files)
 set +e
 msg=$("$mpirun" -np 2 "$bin" omega 2/3 2>&1 >/dev/null)
 set -e
-grep -q "only \`rotleak simulate\`, \`scan\`, \`calibrate\` and \`audit\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
+grep -q "only \`rotleak simulate\`, \`scan\`, \`calibrate\`, \`audit\` and \`certify --sample\` run under MPI" <<<"$msg" || { echo "omega under 2 ranks not refused: $msg"; exit 1; }
 echo "other commands under mpirun: refused with one line"

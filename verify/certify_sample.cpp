@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "io/files.hpp"
 #include "io/json.hpp"
@@ -131,22 +132,39 @@ double kolmogorov_q(double lambda) {
 
 }  // namespace
 
-SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
-  SampleCertificate out;
+namespace {
+
+Scene capped_scene(const Scene& scene, const SampleOptions& opt) {
   Scene capped = scene;
   capped.t_max = opt.t_cap > 0 ? opt.t_cap : scene.t_max;
-  out.t_cap = capped.t_max;
+  return capped;
+}
+
+std::vector<InitialDraw> draws_of(const Scene& capped, std::uint64_t n) {
   const auto sampler = make_sampler(capped);
-  std::vector<InitialDraw> draws(opt.sample);
-  for (std::uint64_t i = 0; i < opt.sample; ++i) draws[i] = sampler->draw(i);
+  std::vector<InitialDraw> draws(n);
+  for (std::uint64_t i = 0; i < n; ++i) draws[i] = sampler->draw(i);
+  return draws;
+}
+
+}  // namespace
+
+SampleParticles certify_particles(const Scene& scene, const SampleOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene capped = capped_scene(scene, opt);
+  const std::vector<InitialDraw> draws = draws_of(capped, opt.sample);
+  SampleParticles out;
   out.particles.resize(opt.sample);
-  std::vector<char> done = resume(scene, opt, out.particles);
+  out.done = resume(scene, opt, out.particles);
   out.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   const int threads = out.threads;
+  const auto mine = [&](std::uint64_t i) { return i % opt.ranks == opt.rank; };
+  std::uint64_t owned = 0;
   std::atomic<std::uint64_t> finished{0}, collisions{0};
-  for (std::uint64_t i = 0; i < opt.sample; ++i)
-    if (done[i]) ++finished, collisions += out.particles[i].collisions;
+  for (std::uint64_t i = 0; i < opt.sample; ++i) {
+    owned += mine(i);
+    if (mine(i) && out.done[i]) ++finished, collisions += out.particles[i].collisions;
+  }
   ProgressLine progress(opt.progress, "[certify]");
   auto saved = std::chrono::steady_clock::now();
   constexpr std::uint64_t kChunk = 256;  // particles between chances to write the checkpoint
@@ -154,28 +172,45 @@ SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt) {
     const std::uint64_t to = std::min(opt.sample, from + kChunk);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (std::uint64_t i = from; i < to; ++i) {
-      if (done[i]) continue;
+      if (out.done[i] || !mine(i)) continue;
       out.particles[i] = certify_particle(capped, draws[i], i, opt);
-      done[i] = 1;
+      out.done[i] = 1;
       collisions += out.particles[i].collisions;
       const std::uint64_t n = ++finished;
-      if (omp_get_thread_num() == 0) progress.update(n, opt.sample, collisions, false);
+      if (omp_get_thread_num() == 0) progress.update(n, owned, collisions, false);
     }
     if (!opt.checkpoint.empty() && to < opt.sample && seconds_since(saved) >= opt.checkpoint_seconds) {
       write_file_atomic(opt.checkpoint,
-                        certify_checkpoint_text(certify_sample_inputs(scene, opt), out.particles, done));
+                        certify_checkpoint_text(certify_sample_inputs(scene, opt), out.particles, out.done));
       saved = std::chrono::steady_clock::now();
     }
   }
-  progress.update(opt.sample, opt.sample, collisions, true);
-  out.tier_collisions.clear();
-  for (const std::string& tier : opt.tiers) {
-    std::vector<std::size_t> k;
-    out.tiers.push_back(run_tier(tier, capped, draws, k, threads));
-    out.tier_collisions.insert(out.tier_collisions.end(), k.begin(), k.end());
-  }
+  progress.update(owned, owned, collisions, true);
   out.seconds = seconds_since(t0);
   return out;
+}
+
+SampleCertificate complete_sample(const Scene& scene, const SampleOptions& opt, SampleParticles p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::uint64_t i = 0; i < opt.sample; ++i)
+    if (!p.done.at(i)) throw std::logic_error("complete_sample: particle " + std::to_string(i) + " not certified");
+  const Scene capped = capped_scene(scene, opt);
+  const std::vector<InitialDraw> draws = draws_of(capped, opt.sample);
+  SampleCertificate out;
+  out.particles = std::move(p.particles);
+  out.t_cap = capped.t_max;
+  out.threads = p.threads;
+  for (const std::string& tier : opt.tiers) {
+    std::vector<std::size_t> k;
+    out.tiers.push_back(run_tier(tier, capped, draws, k, p.threads));
+    out.tier_collisions.insert(out.tier_collisions.end(), k.begin(), k.end());
+  }
+  out.seconds = p.seconds + seconds_since(t0);
+  return out;
+}
+
+SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt) {
+  return complete_sample(scene, opt, certify_particles(scene, opt));
 }
 
 SampleBracket bracket_of(const SampleCertificate& c, double dt) {

@@ -27,6 +27,8 @@ struct SampleOptions {
   /// checkpoint_seconds; the caller removes it when the directory is complete.
   std::filesystem::path checkpoint;
   double checkpoint_seconds = 30;
+  /// Certify only the ids i with i % ranks == rank (an MPI rank's share; run/certify_shared.hpp).
+  std::uint64_t rank = 0, ranks = 1;
 };
 
 enum class EscapeStatus { proven, survives, undecided };
@@ -79,6 +81,16 @@ struct SampleCertificate {
   double seconds = 0;
 };
 
+/// The certificates of a share of the sample (opt.rank of opt.ranks), marked done; the rest left empty.
+struct SampleParticles {
+  std::vector<ParticleEscape> particles;
+  std::vector<char> done;
+  int threads = 0;
+  double seconds = 0;
+};
+SampleParticles certify_particles(const Scene& scene, const SampleOptions& opt);
+/// The sample from every particle's certificate: the point tiers run on the same ids.
+SampleCertificate complete_sample(const Scene& scene, const SampleOptions& opt, SampleParticles p);
 /// Certifies the sample (threads over particles; the result does not depend on them).
 SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt);
 

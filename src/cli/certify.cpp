@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
+#include "run/certify_shared.hpp"
 #include "sim/model/sampling.hpp"
 #include "verify/certify_sample.hpp"
 #include "verify/reports.hpp"
@@ -62,13 +63,24 @@ int run_sample(const CertifyArgs& a, const Scene& scene) {
   opt.tiers = tier_list(a.tiers);
   opt.dt = a.dt;
   opt.progress = !a.quiet;
-  RunDirectory dir(a.out, a.force);
-  // DIR.checkpoint beside the target while the sample runs: a killed run goes on from it
+  // under mpirun every rank certifies its share; rank 0 stages the directory (before any work) and writes
+  const Team& team = current_team();
+  const bool lead = team.rank() == 0;
+  std::unique_ptr<RunDirectory> dir;
+  std::exception_ptr failure;
+  try {
+    if (lead) dir = std::make_unique<RunDirectory>(a.out, a.force);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  agree(team, failure);
+  // DIR.checkpoint beside the target while the sample runs: a killed run goes on from it (one process)
   opt.checkpoint = RunDirectory::normalise(a.out);
   opt.checkpoint += ".checkpoint";
-  const SampleCertificate c = certify_sample(scene, opt);
-  write_sample_certificate(dir.file("summary.json").parent_path(), scene, opt, c);
-  dir.commit();
+  const SampleCertificate c = certify_shared(scene, opt, team);
+  if (!lead) return 0;
+  write_sample_certificate(dir->file("summary.json").parent_path(), scene, opt, c);
+  dir->commit();
   std::filesystem::remove(opt.checkpoint);
   std::fputs(sample_text(c, opt).c_str(), stdout);
   return 0;
@@ -80,6 +92,9 @@ int run_certify(const CertifyArgs& a) {
     throw InputError("--bits", std::to_string(a.bits),
                      "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits], and --max-bits <= 2^22");
   if (a.sample != 0) return run_sample(a, scene);
+  if (current_team().size() > 1)
+    throw InputError("mpirun -np", std::to_string(current_team().size()),
+                     "certify --particle runs as one process; under MPI only --sample shares its work");
   if (a.particle == -1) throw InputError("--particle", "", "give --particle ID (one particle) or --sample N --out DIR");
   if (a.particle < 0 || static_cast<std::uint64_t>(a.particle) >= scene.particles)
     throw InputError("--particle", std::to_string(a.particle),

@@ -46,15 +46,17 @@ std::vector<rotleak::cli::Command> add_commands(CLI::App& app) {
   return commands;
 }
 
-/// Runs the parsed command. Under mpirun only simulate, scan, calibrate and audit share their work between
-/// ranks; any other command would run K times over and race on its files.
+/// Runs the parsed command. Under mpirun only simulate, scan, calibrate, audit and certify --sample share their
+/// work between ranks; any other command would run K times over and race on its files.
 int run_parsed(const std::vector<rotleak::cli::Command>& commands, const rotleak::Team& team) {
   for (const auto& c : commands)
     if (c.app->parsed()) {
       const std::string name = c.app->get_name();
-      if (team.size() > 1 && name != "simulate" && name != "scan" && name != "audit" && name != "calibrate")
+      if (team.size() > 1 && name != "simulate" && name != "scan" && name != "audit" && name != "calibrate" &&
+          name != "certify")
         throw rotleak::InputError("mpirun -np", std::to_string(team.size()),
-                                  "only `rotleak simulate`, `scan`, `calibrate` and `audit` run under MPI; run "
+                                  "only `rotleak simulate`, `scan`, `calibrate`, `audit` and `certify --sample` run "
+                                  "under MPI; run "
                                   "`rotleak " +
                                       name + "` as one process (its runs use all cores of the machine)");
       return c.run();
