@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
@@ -37,16 +38,24 @@ SampleOptions small(std::uint64_t n, double t_cap) {
 // The bracket holds the curve of the same particles followed by the core in MPFR at 1024 bits (error model:
 // MPFR loses about 1.35 bits a collision, so after the <= 400 collisions of t <= 700 its points are within
 // 2^-480 of the truth, and its escape decisions are the truth's unless a hit lies that close to a leak end).
-// A deterministic check that fails if an enclosure or the counting of the bracket is wrong.
+// A deterministic check that fails if an enclosure or the counting of the bracket is wrong. The suite runs
+// 150 particles; ROTLEAK_REFERENCE="PARTICLES BITS T_CAP" runs another size (the issue's: "1000 4096 2000").
 TEST(CertifySample, TheBracketHoldsTheSamplesHighPrecisionCurve) {
   const Scene scene = quickstart();
-  const SampleOptions opt = small(150, 700);
+  std::uint64_t particles = 150;
+  long truth_bits = 1024;
+  double t_cap = 700;
+  if (const char* size = std::getenv("ROTLEAK_REFERENCE")) {
+    std::istringstream in(size);
+    ASSERT_TRUE(in >> particles >> truth_bits >> t_cap) << "ROTLEAK_REFERENCE = \"" << size << "\"";
+  }
+  const SampleOptions opt = small(particles, t_cap);
   const SampleCertificate c = certify_sample(scene, opt);
   Scene capped = scene;
-  capped.t_max = 700;
+  capped.t_max = t_cap;
   std::vector<double> truth(opt.sample, std::numeric_limits<double>::infinity());
   {
-    MpfrPrecision bits(1024);
+    MpfrPrecision bits(truth_bits);
     const Model<Mpfr> model = model_of<Mpfr>(capped);
     const auto sampler = make_sampler(capped);
     for (std::uint64_t id = 0; id < opt.sample; ++id)
