@@ -241,6 +241,22 @@ SampleBracket bracket_of(const SampleCertificate& c, double dt) {
   return b;
 }
 
+SampleTotals totals_of(const SampleCertificate& c, const SampleBracket& b) {
+  SampleTotals t;
+  for (const ParticleEscape& e : c.particles) {
+    t.proven += e.status == EscapeStatus::proven;
+    t.survives += e.status == EscapeStatus::survives;
+    t.undecided += e.status == EscapeStatus::undecided;
+    t.cpu_seconds += e.seconds;
+    t.bits_max = std::max(t.bits_max, e.bits);
+    if (e.status == EscapeStatus::proven) t.escape_width_max = std::max(t.escape_width_max, e.t_hi - e.t_lo);
+  }
+  for (std::size_t i = 0; i < b.t.size(); ++i)
+    if (b.upper[i] - b.lower[i] > t.bracket_width_max)
+      t.bracket_width_max = b.upper[i] - b.lower[i], t.bracket_widest_at = b.t[i];
+  return t;
+}
+
 std::vector<TierJudgement> judge_tiers(const SampleCertificate& c, const SampleBracket& b) {
   std::vector<TierJudgement> out;
   const std::size_t n = c.particles.size();
@@ -340,16 +356,7 @@ json tiers_json(const SampleCertificate& c, const std::vector<TierJudgement>& ju
 
 json summary_json(const Scene& scene, const SampleOptions& opt, const SampleCertificate& c, const SampleBracket& b,
                   double dt) {
-  std::size_t count[3] = {0, 0, 0};
-  double seconds = 0, width_max = 0, bracket_width_max = 0;
-  long bits_max = 0;
-  for (const ParticleEscape& e : c.particles) {
-    ++count[static_cast<int>(e.status)];
-    seconds += e.seconds;
-    bits_max = std::max(bits_max, e.bits);
-    if (e.status == EscapeStatus::proven) width_max = std::max(width_max, e.t_hi - e.t_lo);
-  }
-  for (std::size_t i = 0; i < b.t.size(); ++i) bracket_width_max = std::max(bracket_width_max, b.upper[i] - b.lower[i]);
+  const SampleTotals tot = totals_of(c, b);
   const double n = static_cast<double>(c.particles.size());
   return {{"command", "certify"},
           {"schema", 1},
@@ -358,17 +365,17 @@ json summary_json(const Scene& scene, const SampleOptions& opt, const SampleCert
           {"sample", c.particles.size()},
           {"t_cap", c.t_cap},
           {"dt", dt},
-          {"proven", count[0]},
-          {"survives", count[1]},
-          {"undecided", count[2]},
-          {"proven_fraction", static_cast<double>(count[0] + count[1]) / n},
-          {"bits", {{"start", opt.start_bits}, {"cap", opt.max_bits}, {"largest_used", bits_max}}},
+          {"proven", tot.proven},
+          {"survives", tot.survives},
+          {"undecided", tot.undecided},
+          {"proven_fraction", static_cast<double>(tot.proven + tot.survives) / n},
+          {"bits", {{"start", opt.start_bits}, {"cap", opt.max_bits}, {"largest_used", tot.bits_max}}},
           {"time_width", opt.time_width},
-          {"escape_time_width_max", width_max},
-          {"bracket_width_max", bracket_width_max},
+          {"escape_time_width_max", tot.escape_width_max},
+          {"bracket_width_max", tot.bracket_width_max},
           {"threads", c.threads},
           {"seconds", c.seconds},
-          {"seconds_per_particle", seconds / n},
+          {"seconds_per_particle", tot.cpu_seconds / n},
           {"tiers", tiers_json(c, judge_tiers(c, b))}};
 }
 

@@ -94,7 +94,17 @@ SampleCertificate complete_sample(const Scene& scene, const SampleOptions& opt, 
 /// Certifies the sample (threads over particles; the result does not depend on them).
 SampleCertificate certify_sample(const Scene& scene, const SampleOptions& opt);
 
+/// What a sample's certificates add up to (the summary's and the printed lines' one count).
+struct SampleTotals {
+  std::size_t proven = 0, survives = 0, undecided = 0;
+  long bits_max = 0;
+  double cpu_seconds = 0;        ///< the certificates' own seconds, summed over the particles
+  double escape_width_max = 0;   ///< the widest proven escape time
+  double bracket_width_max = 0;  ///< the widest upper - lower on the grid
+  double bracket_widest_at = 0;  ///< where
+};
 SampleBracket bracket_of(const SampleCertificate& c, double dt);
+SampleTotals totals_of(const SampleCertificate& c, const SampleBracket& b);
 std::vector<TierJudgement> judge_tiers(const SampleCertificate& c, const SampleBracket& b);
 
 /// DIR/escapes.csv, DIR/bracket.csv, then DIR/summary.json (last: the directory is complete when it is

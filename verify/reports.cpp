@@ -316,16 +316,8 @@ std::string certify_text(const std::vector<Certificate>& attempts) {
 }
 
 std::string sample_text(const SampleCertificate& c, const SampleOptions& opt) {
-  std::size_t proven = 0, survives = 0, undecided = 0;
-  long bits = 0;
-  double width = 0;
-  for (const ParticleEscape& e : c.particles) {
-    proven += e.status == EscapeStatus::proven;
-    survives += e.status == EscapeStatus::survives;
-    undecided += e.status == EscapeStatus::undecided;
-    bits = std::max(bits, e.bits);
-    if (e.status == EscapeStatus::proven) width = std::max(width, e.t_hi - e.t_lo);
-  }
+  const SampleBracket b = bracket_of(c, opt.dt > 0 ? opt.dt : c.t_cap / 400);
+  const SampleTotals t = totals_of(c, b);
   const double n = static_cast<double>(c.particles.size());
   std::string out;
   appendf(out, "certified %zu particles to t = %g on %d threads in %.1f s (%.2f ms a particle)\n", c.particles.size(),
@@ -333,18 +325,16 @@ std::string sample_text(const SampleCertificate& c, const SampleOptions& opt) {
   appendf(out,
           "proven: %zu escapes, %zu survivors past the cap = %.4f%%; undecided %zu; bits up to %ld; escape times "
           "within %.3g\n",
-          proven, survives, 100.0 * static_cast<double>(proven + survives) / n, undecided, bits, width);
-  const SampleBracket b = bracket_of(c, opt.dt > 0 ? opt.dt : c.t_cap / 400);
-  double widest = 0, at = 0;
-  for (std::size_t i = 0; i < b.t.size(); ++i)
-    if (b.upper[i] - b.lower[i] > widest) widest = b.upper[i] - b.lower[i], at = b.t[i];
-  appendf(out, "bracket: widest %.3g (at t = %g)\n", widest, at);
+          t.proven, t.survives, 100.0 * static_cast<double>(t.proven + t.survives) / n, t.undecided, t.bits_max,
+          t.escape_width_max);
+  appendf(out, "bracket: widest %.3g (at t = %g)\n", t.bracket_width_max, t.bracket_widest_at);
   for (const TierJudgement& j : judge_tiers(c, b))
     appendf(out,
             "%-12s outside the bracket at %zu of %zu grid points (%zu by more than 3 errors; %zu where the bracket is "
             "tighter than one error, of %zu); KS D = %.4f, p = %.3g; same escape collision %.1f%%\n",
             j.tier.c_str(), j.outside, j.grid_points, j.outside_beyond_3s, j.outside_where_tight, j.tight, j.ks_d,
-            j.ks_p, 100.0 * static_cast<double>(j.same_escape_collision) / std::max(1.0, static_cast<double>(proven)));
+            j.ks_p,
+            100.0 * static_cast<double>(j.same_escape_collision) / std::max(1.0, static_cast<double>(t.proven)));
   return out;
 }
 
