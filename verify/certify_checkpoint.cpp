@@ -1,12 +1,12 @@
 #include "verify/certify_checkpoint.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include "io/bytes.hpp"
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
 #include "verify/checkpoint_text.hpp"
@@ -17,25 +17,18 @@ namespace {
 
 constexpr const char* kMagic = "rotleak-certify-checkpoint 1";
 
-std::string hex(double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", x);
-  return buf;
-}
-
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
-  return h;
+std::uint64_t scene_hash(const Scene& scene) {
+  const std::string text = scene_to_toml(scene);
+  return fnv1a(text.data(), text.size());
 }
 
 }  // namespace
 
 std::string certify_sample_inputs(const Scene& scene, const SampleOptions& opt) {
   std::ostringstream out;
-  out << "scene=" << std::hex << fnv1a(scene_to_toml(scene)) << std::dec << " sample=" << opt.sample
-      << " t_cap=" << hex(opt.t_cap > 0 ? opt.t_cap : scene.t_max) << " bits=" << opt.start_bits << '-' << opt.max_bits
-      << " time_width=" << hex(opt.time_width);
+  out << "scene=" << std::hex << scene_hash(scene) << std::dec << " sample=" << opt.sample
+      << " t_cap=" << hex_exact(opt.t_cap > 0 ? opt.t_cap : scene.t_max) << " bits=" << opt.start_bits << '-'
+      << opt.max_bits << " time_width=" << hex_exact(opt.time_width);
   return out.str();
 }
 
@@ -46,8 +39,8 @@ std::string certify_checkpoint_text(const std::string& inputs, const std::vector
   for (std::size_t i = 0; i < particles.size(); ++i) {
     if (!done[i]) continue;
     const ParticleEscape& e = particles[i];
-    out << "particle " << e.id << ' ' << status_name(e.status) << ' ' << hex(e.t_lo) << ' ' << hex(e.t_hi) << ' '
-        << e.collisions << ' ' << e.bits << ' ' << hex(e.seconds) << '\n';
+    out << "particle " << e.id << ' ' << status_name(e.status) << ' ' << hex_exact(e.t_lo) << ' ' << hex_exact(e.t_hi)
+        << ' ' << e.collisions << ' ' << e.bits << ' ' << hex_exact(e.seconds) << '\n';
   }
   return out.str();
 }

@@ -130,10 +130,6 @@ double kolmogorov_q(double lambda) {
   return std::clamp(sum, 0.0, 1.0);
 }
 
-}  // namespace
-
-namespace {
-
 Scene capped_scene(const Scene& scene, const SampleOptions& opt) {
   Scene capped = scene;
   capped.t_max = opt.t_cap > 0 ? opt.t_cap : scene.t_max;

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "io/bytes.hpp"
+#include "io/files.hpp"
 #include "io/json.hpp"
 #include "numeric/tier_dispatch.hpp"
 #include "verify/reference.hpp"
@@ -92,12 +94,6 @@ inline int digits_of(const std::string& s) {
   return std::max(n, 1);
 }
 
-inline std::string hex(double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", x);
-  return buf;
-}
-
 inline double from_hex(const std::string& s, const std::string& what) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
@@ -105,15 +101,9 @@ inline double from_hex(const std::string& s, const std::string& what) {
   return v;
 }
 
-// FNV-1a, 64 bits.
-inline void mix(std::uint64_t& h, const void* data, std::size_t n) {
-  const auto* b = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < n; ++i) {
-    h ^= b[i];
-    h *= 1099511628211ULL;
-  }
-}
-inline constexpr std::uint64_t kHashSeed = 14695981039346656037ULL;
+// FNV-1a, 64 bits (io/bytes.hpp).
+inline void mix(std::uint64_t& h, const void* data, std::size_t n) { h = fnv1a(data, n, h); }
+inline constexpr std::uint64_t kHashSeed = kFnvOffset;
 
 /// Mixes the exact value of x (sign, exponent, odd significand in hex): independent of the type's layout.
 template <class R>

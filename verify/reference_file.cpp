@@ -103,8 +103,9 @@ void write_reference(const std::string& dir, const ReferenceSet& set) {
     j["kind"] = c.kind;
     j["note"] = c.note;
     j["particle"] = nullable(c.id);
-    j["draw"] = {{"s", hex(c.draw.s)}, {"p", hex(c.draw.p)},     {"x", hex(c.draw.x)}, {"y", hex(c.draw.y)},
-                 {"u", hex(c.draw.u)}, {"tau", hex(c.draw.tau)}, {"flow", c.draw.flow}};
+    j["draw"] = {{"s", hex_exact(c.draw.s)}, {"p", hex_exact(c.draw.p)}, {"x", hex_exact(c.draw.x)},
+                 {"y", hex_exact(c.draw.y)}, {"u", hex_exact(c.draw.u)}, {"tau", hex_exact(c.draw.tau)},
+                 {"flow", c.draw.flow}};
     j["bits"] = c.bits;
     j["collisions_requested"] = c.requested;
     j["collisions"] = c.steps.size();

@@ -15,6 +15,18 @@ namespace rotleak {
 
 static_assert(std::endian::native == std::endian::little, "bytes are written as little-endian words");
 
+/// FNV's 64-bit offset basis, where an FNV-1a hash starts.
+inline constexpr std::uint64_t kFnvOffset = 14695981039346656037ULL;
+/// FNV-1a, 64 bits, of n bytes, going on from h (kFnvOffset for a new hash).
+inline std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = kFnvOffset) {
+  const auto* b = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= b[i];
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
 struct ByteWriter {
   std::string out;
   void word(std::uint64_t w) { out.append(reinterpret_cast<const char*>(&w), 8); }

@@ -17,6 +17,8 @@ std::string read_file(const std::filesystem::path& path);
 
 /// Shortest decimal that reads back to the same double (std::to_chars).
 std::string shortest(double x);
+/// The double exactly, in C's hexadecimal (%a); strtod reads it back bit for bit.
+std::string hex_exact(double x);
 
 /// An exclusive lock on a directory's path, held from construction to destruction: flock on
 /// `.<name>.lock` beside it (the parent must exist), so that a second rotleak process that writes the

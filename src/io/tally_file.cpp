@@ -14,14 +14,9 @@ namespace {
 
 constexpr const char* kMagic = "rotleak-tallies 3\n";
 
-std::uint64_t fnv1a(const char* p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i < n; ++i) {
-    h ^= static_cast<unsigned char>(p[i]);
-    h *= 1099511628211ull;
-  }
-  return h;
-}
+/// The file's checksum: FNV-1a started from 1469598103934665603 (not FNV's offset basis; the format has
+/// always carried this start, and docs/output.md and the readers use it).
+std::uint64_t checksum(const char* p, std::size_t n) { return fnv1a(p, n, 1469598103934665603ull); }
 
 // a sum: its lowest limb's index, its limb count, the limbs (trimmed: equal sums, equal bytes)
 void put_sum(ByteWriter& w, const FixedSum& f) {
@@ -120,7 +115,7 @@ std::string encode_tally_file(const TallyFile& f) {
 }
 
 std::string sealed_tally_bytes(std::string body) {
-  const std::uint64_t sum = fnv1a(body.data(), body.size());
+  const std::uint64_t sum = checksum(body.data(), body.size());
   body.append(reinterpret_cast<const char*>(&sum), 8);
   return body;
 }
@@ -228,7 +223,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   if (in.size() < magic + 8 || [&] {
         std::uint64_t sum;
         std::memcpy(&sum, in.data() + in.size() - 8, 8);
-        return sum != fnv1a(in.data(), in.size() - 8);
+        return sum != checksum(in.data(), in.size() - 8);
       }())
     throw std::runtime_error(where + ": tally file damaged (checksum mismatch)");
   const std::size_t nl = in.find('\n', magic);
