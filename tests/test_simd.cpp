@@ -281,9 +281,10 @@ TEST(Simd, FirstCollisionsAgreeExactly) {
 TEST(Simd, RoughArcAngleWithinItsBound) {
   // Arc points (ay >= 0, at distance r from the centre, as formula::arc_angle_y / _x give them) over the whole
   // arc, on four radii, the arc's two ends and its middle exactly, and points a rounding off its ends (ay < 0
-  // or -0): the kernel's rough angle against libm's atan2 clamped to [0, pi], as formula::arc_s clamps it.
-  // The bound is the kernel's kRoughAngleError, 1e-5 rad (the polynomial's own error is 3.4e-6 doubled by the
-  // half angle; a failure here means the cascade could keep a rough s that decides differently from the core).
+  // or -0): the kernel's rough s on an arc starting at s = 0 against libm's atan2 clamped to [0, pi], as
+  // formula::arc_s clamps it, times r / L (1: the angle; the default stadium's 0.0973; a small 0.01). The bound
+  // is the kernel's kRoughAngleError r / L, 1e-5 r / L (the polynomial's own error is 3.4e-6 doubled by the half
+  // angle; a failure here means the cascade could keep a rough s that decides differently from the core).
   if (!simd::available()) GTEST_SKIP() << "no AVX2+FMA on this CPU";
   constexpr std::size_t n = 1000000;
   for (const double r : {1.0, 0.7, 2.0, 0.3}) {
@@ -298,16 +299,18 @@ TEST(Simd, RoughArcAngleWithinItsBound) {
     }
     ay.push_back(r), ax.push_back(0);
     std::vector<double> out(ay.size());
-    for (int lanes : test::kernel_widths()) {
-      simd::rough_arc_angles(lanes, r, ay.data(), ax.data(), out.data(), ay.size());
-      double worst = 0;
-      for (std::size_t i = 0; i < ay.size(); ++i) {
-        const double want = std::clamp(std::atan2(ay[i], ax[i]), 0.0, M_PI);
-        worst = std::max(worst, std::abs(out[i] - want));
+    for (const double scale : {1.0, 1 / (4 + 2 * M_PI), 0.01})
+      for (int lanes : test::kernel_widths()) {
+        simd::rough_arc_s(lanes, r, scale, ay.data(), ax.data(), out.data(), ay.size());
+        double worst = 0;
+        for (std::size_t i = 0; i < ay.size(); ++i) {
+          const double want = std::clamp(std::atan2(ay[i], ax[i]), 0.0, M_PI) * scale;
+          worst = std::max(worst, std::abs(out[i] - want) / scale);
+        }
+        EXPECT_LT(worst, 1e-5) << lanes << " lanes, r = " << r << ", r / L = " << scale;
+        std::printf("rough arc s, %d lanes, r = %g, r / L = %.3g: largest error / (r / L) %.3g\n", lanes, r, scale,
+                    worst);
       }
-      EXPECT_LT(worst, 1e-5) << lanes << " lanes, r = " << r;
-      std::printf("rough arc angle, %d lanes, r = %g: largest error %.3g rad\n", lanes, r, worst);
-    }
   }
 }
 

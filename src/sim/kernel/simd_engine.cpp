@@ -21,7 +21,7 @@ namespace rotleak::simd {
 namespace avx512_kernel {  // sim/kernel/simd_avx512.cpp
 bool available();
 void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
-void rough_kernel(double r, const double* ay, const double* ax, double* out, std::size_t n);
+void rough_kernel(double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n);
 void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n);
 void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
                   const Exact& exact);
@@ -86,11 +86,11 @@ void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::siz
     avx2_kernel::probe_kernel(S, points, out, n, ctx, exact);
 }
 
-void rough_arc_angles(int lanes, double r, const double* ay, const double* ax, double* out, std::size_t n) {
+void rough_arc_s(int lanes, double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n) {
   if (lanes == 8)
-    avx512_kernel::rough_kernel(r, ay, ax, out, n);
+    avx512_kernel::rough_kernel(r, r_over_L, ay, ax, out, n);
   else
-    avx2_kernel::rough_kernel(r, ay, ax, out, n);
+    avx2_kernel::rough_kernel(r, r_over_L, ay, ax, out, n);
 }
 
 double flights_only(const KernelScene& S, const Start* starts, std::uint64_t steps) {

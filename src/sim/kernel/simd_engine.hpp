@@ -110,10 +110,11 @@ int widest_lanes();
 /// True when this CPU runs the kernel of `lanes` (4 or 8) lanes a register.
 bool lanes_available(int lanes);
 
-/// The kernel's rough angle of an arc point (the first look of the moving leak and of f_c), for its test:
-/// out[i] for (ay[i], ax[i]) at distance r from the arc's centre (formula::arc_angle_y, arc_angle_x), any n, by
-/// the kernel of `lanes` lanes; requires lanes_available(lanes).
-void rough_arc_angles(int lanes, double r, const double* ay, const double* ax, double* out, std::size_t n);
+/// The kernel's rough s of an arc point (the first look of the moving leak and of f_c), for its test: out[i] for
+/// (ay[i], ax[i]) at distance r from the arc's centre (formula::arc_angle_y, arc_angle_x) on an arc that starts
+/// at s = 0, with r / L = r_over_L (1: the angle itself), any n, by the kernel of `lanes` lanes; requires
+/// lanes_available(lanes).
+void rough_arc_s(int lanes, double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n);
 
 /// The kernel's f_c time cell (DensityHit) of each t[i] in [S.win_span_from, S.win_span_to] (a counted
 /// collision's), for its test: out[i], by the kernel of S.lanes lanes over S's density windows; requires

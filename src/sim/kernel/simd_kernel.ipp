@@ -22,13 +22,14 @@
 //   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
 //   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
 // - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle, and
-//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_arc_angle, within 1e-5 rad) and
+//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_arc_s, within 1e-5 rad) and
 //   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; libm's is
 //   within 1 ulp, so the two differ by < 2e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
 //   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
 //   arc_s_for takes the rough s where it is far from every edge, SLEEF's where it is not, and the
 //   core's own s (simd::Exact) within `margin` (1e-12) of one: every decision is the core's.
-// The one deliberate FMA is the exact product error of the leak phase, as in the scalar core.
+// The deliberate FMAs: the exact product error of the leak phase, as in the scalar core, and the rough s
+// (rough_arc_s), whose bits decide nothing (only its error bound does).
 //
 // Speed: a collision is a long dependent chain (division, square root, division), so one register of
 // particles leaves the core waiting. The kernel works on a pack of G registers (V: N = W G lanes), each
@@ -37,7 +38,7 @@
 // (V, MV, their operations and the selection hook) is sim/kernel/simd_pack.ipp, included before this file.
 
 constexpr int kDensityBuffer = 1024;
-/// How far the kernel trusts its angles, in one place (arc_s_for, in_moving_leak): rough_arc_angle's error
+/// How far the kernel trusts its angles, in one place (arc_s_for, in_moving_leak): rough_arc_s's error
 /// bound in rad (3.4e-6 in theory and measured; Simd.RoughArcAngleWithinItsBound checks the bound), i.e.
 /// kRoughAngleError r / L in s (< 1.6e-6: r / L < 0.16); a rough s decides only beyond kRoughAngleSafety times
 /// that bound from an edge (twofold; sixfold on the measured error). SLEEF's s decides beyond
@@ -168,34 +169,51 @@ inline V sleef_arc_s(const KernelScene& S, const HitLanes& h, const MV& arcs, co
   return select(arcs, arc_s_from(S, h, angle), s);
 }
 
-/// A cheap angle of an arc point for the first look: atan2(ay, ax) clamped to [0, pi], as formula::arc_s takes
-/// it, for a point at distance r from its arc's centre (ay, ax from formula::arc_angle_y, arc_angle_x: ay >= 0
-/// on the arc). By the half angle it is pi/2 - 2 atan(z), z = ax / (r + ay) in [-1, 1], with atan(z) an odd
-/// polynomial of degree 11 (Lawson's minimax fit on [0, 1], 1.67e-6 rad at most), so within 3.4e-6 rad of the
-/// exact angle plus a few ulps for the point's own distance from the centre (rounded: r (1 + 1e-15)). An ay with
-/// its sign bit set (a point a rounding off the arc's end, or -0) has a negative angle, which the clamp makes 0:
-/// so does this. tests/test_simd.cpp (Simd.RoughArcAngleWithinItsBound) checks it against libm within
-/// kRoughAngleError.
-inline B rough_arc_angle(const B& ay, const B& ax, const B& r) {
+/// A cheap s of an arc point for the first look, within kRoughAngleError r / L of formula::arc_s(atan2(ay, ax))
+/// (the angle clamped to [0, pi]), for a point at distance r from its arc's centre (ay, ax as formula::arc_angle_y,
+/// arc_angle_x give them: ay >= 0 on the arc). By the half angle the angle is pi/2 - 2 atan(z), z = ax / (r + ay)
+/// in [-1, 1], with atan(z) = z p(z^2), p a polynomial of degree 5 in z^2 (Lawson's minimax fit on [0, 1], 1.67e-6
+/// rad at most), so within 3.4e-6 rad of the exact angle plus a few ulps for the point's own distance from the
+/// centre (rounded: r (1 + 1e-15)). Its bits decide nothing (only its bound, through the cascade), so it is
+/// evaluated in the fewest operations, with true fused multiply-adds: the coefficients `k` are p's scaled by
+/// -2 r / L (RoughArc), so s = mid + z k(z^2), mid = the arc's start + (pi / 2) r / L. An ay with its sign bit
+/// set (a point a rounding off the arc's end, or -0) has a negative angle, which arc_s clamps to 0: s = the
+/// arc's start, as here. The upper clamp is not taken: beyond pi the polynomial's s lies within its bound of
+/// arc_s's. tests/test_simd.cpp (Simd.RoughArcAngleWithinItsBound) checks it against libm within the bound.
+constexpr double kRoughAtan[6] = {-0.011719012263455883, 0.05264705591686962, -0.11642623523528958,
+                                  0.19354029313772714,   -0.3326228188511722, 0.9999772190936193};
+
+/// rough_arc_s's constants for boundary coordinates scaled by r / L (the scene's, or 1 for the bare angle)
+struct RoughArc {
+  double k[6];
+  explicit RoughArc(double r_over_L) {
+    for (int i = 0; i < 6; ++i) k[i] = -2 * kRoughAtan[i] * r_over_L;
+  }
+};
+
+[[gnu::always_inline]] inline B rough_arc_s(const B& ay, const B& ax, const B& r, const B& mid, const B& start,
+                                            const RoughArc& c) {
   const B z = ax / (r + ay);
   const B z2 = z * z;
-  B p = z2 * B(-0.011719012263455883) + B(0.05264705591686962);  // a multiply, then an add (-ffp-contract=off)
-  p = z2 * p + B(-0.11642623523528958);
-  p = z2 * p + B(0.19354029313772714);
-  p = z2 * p + B(-0.3326228188511722);
-  p = z2 * p + B(0.9999772190936193);
-  const B angle = B(1.5707963267948966) - B(2.0) * (z * p);
-  return xsimd::select(xsimd::copysign(B(1.0), ay) < B(0.0), B(0.0), angle);
+  B p = xsimd::fma(z2, B(c.k[0]), B(c.k[1]));
+  p = xsimd::fma(z2, p, B(c.k[2]));
+  p = xsimd::fma(z2, p, B(c.k[3]));
+  p = xsimd::fma(z2, p, B(c.k[4]));
+  p = xsimd::fma(z2, p, B(c.k[5]));
+  return xsimd::select(xsimd::copysign(B(1.0), ay) < B(0.0), start, xsimd::fma(z, p, mid));
 }
 
-/// s of the arc hits from rough_arc_angle: within kRoughAngleError r / L (r / L < 0.16) of the core's.
-/// Inlined by force: as a call it returns its pack through memory (docs/performance.md, "Why the kernel is
-/// written as it is").
+/// s of the arc hits from rough_arc_s: within kRoughAngleError r / L (r / L < 0.16) of the core's. ay is
+/// |x| - d/2 on both arcs (formula::arc_angle_y's two spellings round alike). Inlined by force: as a call it
+/// returns its pack through memory (docs/performance.md, "Why the kernel is written as it is").
 [[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
-  const V ay = formula::arc_angle_y(h.right, h.x, V(S.half_d)), ax = formula::arc_angle_x(h.right, h.y);
-  V angle;
-  each([&](int i) { angle.b[i] = rough_arc_angle(ay.b[i], ax.b[i], B(S.r)); });
-  return arc_s_from(S, h, angle);
+  const V ay = abs(h.x) - V(S.half_d), ax = formula::arc_angle_x(h.right, h.y);
+  const V start = select(h.right, V(S.junction[0]), V(S.junction[2]));
+  const V mid = start + V(S.pi / 2 * S.r_over_L);
+  const RoughArc c(S.r_over_L);
+  V s;
+  each([&](int i) { s.b[i] = rough_arc_s(ay.b[i], ax.b[i], B(S.r), mid.b[i], start.b[i], c); });
+  return s;
 }
 
 /// The cascade's second half: the lanes of `fine` take SLEEF's s, which they keep beyond KernelScene::margin of
@@ -500,12 +518,13 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
   }
 }
 
-void rough_kernel(double r, const double* ay, const double* ax, double* out, std::size_t n) {
+void rough_kernel(double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n) {
   alignas(sizeof(B)) double a[W], b[W], o[W];
+  const RoughArc c(r_over_L);
   for (std::size_t i = 0; i < n; i += W) {
     const std::size_t m = n - i < W ? n - i : W;
     for (std::size_t k = 0; k < W; ++k) a[k] = k < m ? ay[i + k] : 0, b[k] = k < m ? ax[i + k] : r;
-    rough_arc_angle(B::load_aligned(a), B::load_aligned(b), B(r)).store_aligned(o);
+    rough_arc_s(B::load_aligned(a), B::load_aligned(b), B(r), B(M_PI / 2 * r_over_L), B(0.0), c).store_aligned(o);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = o[k];
   }
 }
