@@ -88,6 +88,12 @@ TEST_P(Stadiums, StationaryAndMovingLeaksGiveTheSameBitsOnEveryEngine) {
     check_every_engine(scene_of(z, {"leak.omega=" + std::string(omega), "leak.width=0.02", "leak.start=0.3",
                                     "ensemble.particles=9000", "run.t_max=3000", "observe.escapes=true", fc}),
                        std::string(z.name) + ", omega " + omega);
+  // slow leaks from the top edge: one that never reaches an arc before t_max (the kernel's first look then takes no
+  // arc angle: KernelScene::arcs_reachable) and one that drifts onto the right arc on most stadiums
+  for (const auto& [omega, start] : {std::pair{"1e-7", "0"}, std::pair{"2e-5", "0.05"}})
+    check_every_engine(scene_of(z, {"leak.omega=" + std::string(omega), "leak.start=" + std::string(start),
+                                    "ensemble.particles=9000", "run.t_max=3000", "observe.escapes=true", fc}),
+                       std::string(z.name) + ", omega " + omega + " from " + start);
   // importance-sampled (weighted f_c) and fast-forwarded through the bouncing-ball stretches
   check_every_engine(scene_of(z, {"leak.omega=1e-4", "ensemble.sampling=mupo", "run.fast_forward=true",
                                   "ensemble.particles=9000", "run.t_max=3000", fc}),

@@ -1,10 +1,28 @@
 #include "sim/engine/kernel_adapter.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "leak/leak_formulas.hpp"
 
 namespace rotleak {
+
+namespace {
+
+/// Can the moving leak touch an arc for some t in [0, t_max]? Its centre start + omega t sweeps an interval of
+/// half length |omega| t_max / 2 about start + omega t_max / 2, and touches arc k within arc_reach[k] of its
+/// middle; 1e-9 covers this double arithmetic's roundings and the rough phase's bound many times over.
+bool arcs_reachable(const simd::KernelScene& s) {
+  if (!s.rotating) return false;
+  const double sweep = (std::abs(s.omega_hi) + std::abs(s.omega_lo)) * s.t_max / 2;
+  if (!(sweep < 0.5)) return true;
+  const double centre = s.start + s.omega_hi * s.t_max / 2;
+  for (int k = 1; k <= 3; k += 2)
+    if (std::abs(formula::circular_offset(s.arc_mid[k], centre)) <= s.arc_reach[k] + sweep + 1e-9) return true;
+  return false;
+}
+
+}  // namespace
 
 /// The vectorised kernel's view of a double model.
 simd::KernelScene simd_scene(const Model<double>& m) {
@@ -40,6 +58,7 @@ simd::KernelScene simd_scene(const Model<double>& m) {
     s.arc_mid[k] = m.leak.piece_mid(k);
     s.arc_reach[k] = m.leak.reach(k);
   }
+  s.arcs_reachable = arcs_reachable(s);
   s.margin = 1e-12;
   // the rough phase pays only where its bound leaves few lanes to the exact one (and far from s's wrap at 1/2)
   const double bound = formula::rough_phase_bound(s.omega_hi, s.omega_lo, s.t_max);

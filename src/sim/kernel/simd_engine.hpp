@@ -32,6 +32,9 @@ struct KernelScene {
   /// the arcs (pieces 1, 3): the leak can touch an arc only when its centre lies within reach of
   /// the arc's middle (Leak::hit skips the angle otherwise)
   double arc_mid[4], arc_reach[4];
+  /// false: the leak's centre never comes within reach of an arc for t in [0, t_max] (a slow leak on a straight
+  /// edge), so the first look takes no arc lane's angle
+  bool arcs_reachable;
   /// > 0: the moving leak's first look takes formula::rough_leak_phase, whose offsets lie within this bound of
   /// the exact phase's for t <= t_max (formula::rough_phase_bound), and the exact phase only for lanes within
   /// it of a decision's edge; 0: the exact phase at every hit (a bound too wide to be of use)

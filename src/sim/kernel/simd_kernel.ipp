@@ -272,39 +272,49 @@ inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V&
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
 
+/// A cheap s of the straight hits for the first look: x / L on the top edge, unwrapped (the leak test takes s
+/// modulo 1), junction1 + (d/2 - x) / L on the bottom one; within a few ulps of formula::straight_s modulo 1.
+[[gnu::always_inline]] inline V rough_straight_s(const KernelScene& S, const HitLanes& h) {
+  const V base = select(h.up, V(0.0), V(S.junction[1] + S.half_d * S.inv_L));
+  const V slope = select(h.up, V(S.inv_L), V(-S.inv_L));
+  V s;
+  each([&](int i) { s.b[i] = xsimd::fma(h.x.b[i], slope.b[i], base.b[i]); });
+  return s;
+}
+
 /// Moving leak, the same decisions as a filtered predicate. The cheap centre c (formula::rough_leak_phase) is
-/// within b = KernelScene::phase_bound of the exact one, the arc lanes' rough s (rough_arc_s) within
-/// kRoughAngleError r / L of the core's; a lane whose distances from the edges of may_touch (gap_mid) and of
-/// in_leak (gap) exceed those errors is decided by them, and the rare others (`unsure`) by Leak::hit's own
-/// decision: the exact phase, and s from fine_arc_s.
+/// within b = KernelScene::phase_bound of the exact one, the rough s (rough_arc_s, rough_straight_s) within
+/// kRoughAngleError r / L of the core's; a lane whose distance from the leak's ends (gap) exceeds those errors
+/// is decided by it, the rare others (`unsure`) by Leak::hit's own decision: the exact phase, may_touch, and s
+/// from fine_arc_s. Leak::hit asks first whether the leak can touch the arc (may_touch: its centre within
+/// reach = half the arc + the half width of the arc's middle); a hit inside the leak by more than those errors
+/// lies on an arc the leak touches by as much (the triangle inequality), so only `unsure` lanes ask it.
 inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
                          const Exact& exact) {
   if (S.phase_bound == 0) return in_moving_leak_exact(S, h, t, live, ctx, exact);
   const double b = S.phase_bound;
   const V c = formula::rough_leak_phase(V(S.omega_hi), V(S.start), t);
-  const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
-  const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
-  const V gap_mid = abs(formula::circular_offset(mid, c)) - reach;  // <= 0: may touch the arc
   const MV arc = (!h.straight) & live;
-  const MV touch = arc & (gap_mid <= V(b));  // may touch by the exact phase
-  V s = straight_s(S, h);
-  if (bits(touch)) s = select(touch, rough_arc_s(S, h), s);
+  V s = rough_straight_s(S, h);
+  if (S.arcs_reachable && bits(arc)) s = select(arc, rough_arc_s(S, h), s);
   const V gap = abs(formula::circular_offset(s, c)) - V(S.half_width);  // <= 0: inside
-  const MV looked = h.straight | touch;
+  const MV looked = S.arcs_reachable ? live : h.straight & live;
   const V tol(kRoughAngleSafety * kRoughAngleError * S.r_over_L + b);
-  MV in = looked & (gap <= V(0.0)) & (h.straight | (gap_mid <= V(-b)));
-  const MV unsure = live & ((looked & (abs(gap) <= tol)) | (arc & (abs(gap_mid) <= V(b))));
+  MV in = looked & (gap <= V(0.0));
+  const MV unsure = looked & (abs(gap) <= tol);
   if (bits(unsure)) {
     const V ph = exact_phase(S, t);
-    const MV fine = unsure & touch;
-    if (bits(fine)) {
-      const V hw(S.half_width);
+    const V hw(S.half_width);
+    const MV fine = unsure & arc;
+    if (bits(fine))
       s = fine_arc_s(
           S, h, fine, s, [&](const V& x, double e) { return formula::distance_to_leak_end(x, ph, hw) <= V(e); }, ctx,
           exact);
-    }
+    s = select(unsure & h.straight, straight_s(S, h), s);
+    const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
+    const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
     const MV touches = h.straight | formula::may_touch(mid, ph, reach);
-    in = select(unsure, touches & formula::in_leak(s, ph, V(S.half_width)), in);
+    in = select(unsure, touches & formula::in_leak(s, ph, hw), in);
   }
   return in;
 }
