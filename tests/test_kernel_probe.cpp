@@ -72,6 +72,12 @@ void decides_as_the_core(const Size& z, const std::string& omega, double omega_d
         points_near(st, st.junction(j) + 1e-9, t, points);
         points_near(st, st.junction(j) - 1e-9, t, points);
       }
+  // the arcs' four corners as arc hits (x = +-d/2 exactly), the leak sweeping over them: there the core's angle
+  // hangs on the sign of a zero (at x = -d/2 its -0 gives the angle 0, so the core puts the top-left corner at the
+  // left arc's start), which the kernel's rough s must share
+  for (int i = 0; i < 4000; ++i)
+    for (const double sx : {-1.0, 1.0})
+      for (const double sy : {-1.0, 1.0}) points.push_back({sx > 0 ? 1 : 3, sx * st.half_d(), sy * st.r(), 0.011 * i});
   std::size_t near_bin_edge = 0;
   for (const simd::Probe& p : points) {
     const double sb = st.s_of(static_cast<Piece>(p.piece), {p.x, p.y}) * kBins;

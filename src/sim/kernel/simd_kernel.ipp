@@ -203,11 +203,12 @@ struct RoughArc {
   return xsimd::select(xsimd::copysign(B(1.0), ay) < B(0.0), start, xsimd::fma(z, p, mid));
 }
 
-/// s of the arc hits from rough_arc_s: within kRoughAngleError r / L (r / L < 0.16) of the core's. ay is
-/// |x| - d/2 on both arcs (formula::arc_angle_y's two spellings round alike). Inlined by force: as a call it
-/// returns its pack through memory (docs/performance.md, "Why the kernel is written as it is").
+/// s of the arc hits from rough_arc_s: within kRoughAngleError r / L (r / L < 0.16) of the core's. ay as
+/// formula::arc_angle_y spells it: at x = -d/2 its -0 (not |x| - d/2's +0) is what makes the core's angle 0
+/// there. Inlined by force: as a call it returns its pack through memory (docs/performance.md, "Why the kernel
+/// is written as it is").
 [[gnu::always_inline]] inline V rough_arc_s(const KernelScene& S, const HitLanes& h) {
-  const V ay = abs(h.x) - V(S.half_d), ax = formula::arc_angle_x(h.right, h.y);
+  const V ay = formula::arc_angle_y(h.right, h.x, V(S.half_d)), ax = formula::arc_angle_x(h.right, h.y);
   const V start = select(h.right, V(S.junction[0]), V(S.junction[2]));
   const V mid = start + V(S.pi / 2 * S.r_over_L);
   const RoughArc c(S.r_over_L);

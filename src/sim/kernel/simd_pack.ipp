@@ -58,9 +58,11 @@ ROTLEAK_V_COMPARE(>=)
 ROTLEAK_V_COMPARE(==)
 ROTLEAK_V_COMPARE(!=)
 #undef ROTLEAK_V_COMPARE
+// -x as IEEE negation, the sign bit flipped: xsimd's AVX-512 neg is 0 - x, which gives +0 for +0 where the core's
+// -x gives -0 (the core's arc angle at x = -d/2 hangs on that zero's sign: tests/test_kernel_probe.cpp)
 inline V operator-(const V& x) {
   V r;
-  each([&](int i) { r.b[i] = -x.b[i]; });
+  each([&](int i) { r.b[i] = xsimd::bitwise_xor(x.b[i], B(-0.0)); });
   return r;
 }
 inline MV operator&(const MV& x, const MV& y) {
