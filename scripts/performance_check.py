@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """bench_scale's JSON read back with Python's json, and performance_report.py's table made from it in a copy of
-docs/performance.md: every scene a row whose shares are its ratio over the ceiling and over s_L = 0, the rest of
+docs/performance.md: every scene a row whose shares are its share of the ceiling and its ratio over s_L = 0, the rest of
 the document byte for byte as it was, and a second report replacing the first, not adding to it. Small and
 untimed: nothing here judges a speed.   Usage: scripts/performance_check.py BUILD_DIR"""
 import json
@@ -52,13 +52,13 @@ def main():
         if pr.BEGIN in before and outside(before) != outside(after):
             fail("the report changed the document outside its markers")
         section = after[after.index(pr.BEGIN):after.index(pr.END)]
-        ceiling = doc["ceiling_with_draws"]["ratio"]
         for s in doc["scenes"]:
             row = re.search(r"^\| %s \| ([0-9.]+) \| ([0-9]+)%% \| ([0-9]+)%% \|" % re.escape(s["scene"]), section, re.M)
             if not row:
                 fail("no row for %s" % s["scene"])
             ratio, share, first = float(row.group(1)), int(row.group(2)), int(row.group(3))
-            if abs(ratio - s["ratio"]) > 0.005 or share != round(100 * s["ratio"] / ceiling) or \
+            if abs(ratio - s["ratio"]) > 0.005 or share != round(100 * s["ceiling_share"]) or \
+                    len(s["ceiling_shares"]) != doc["rounds"] or \
                     first != round(100 * s["ratio"] / doc["scenes"][0]["ratio"]):
                 fail("the row of %s does not follow from the JSON: %s" % (s["scene"], row.group(0)))
     print("performance_check: bench_scale's JSON read back; the table made from it, once, rows as the JSON says")
