@@ -167,17 +167,13 @@ int main(int argc, char** argv) {
       "bench_scale: %s particles, %d threads, %d interleaved rounds, kernel lanes %s; median of the per-round "
       "ratios\n\n",
       n.c_str(), threads, rounds, lanes > 0 ? std::to_string(lanes).c_str() : "widest");
-  {
-    const int w = lanes > 0 ? lanes : simd::widest_lanes();
-    const bool kernel = w > 0 && simd::lanes_available(w);
-    std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |%s\n",
-                kernel ? " share of the ceiling with draws (median) |" : "");
-    std::printf("|---|---|---|---|---|---|%s\n", kernel ? "---|" : "");
-  }
   // the ceiling beside every round of every scene (where this CPU runs the kernel): each scene's share of it is
   // the median of its rounds' engine rate over the ceiling with draws of the same round
   const int w = lanes > 0 ? lanes : simd::widest_lanes();
   const bool kernel = w > 0 && simd::lanes_available(w);
+  std::printf("| scene | engine | engine collisions/s | plain collisions/s | ratio (median) | ratios |%s\n",
+              kernel ? " share of the ceiling with draws (median) |" : "");
+  std::printf("|---|---|---|---|---|---|%s\n", kernel ? "---|" : "");
   double collisions_sl0 = 0;  // the collisions of s_L = 0's particles, for the draws' share of a collision
   std::vector<double> flights_ratio, draws_ratio, draws_share, draw_ns, scalar_ns;  // s_L = 0's rounds / all
   Ceiling last;
