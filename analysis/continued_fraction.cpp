@@ -260,11 +260,11 @@ std::string decimal(mpfr_srcptr v, int digits, mpfr_rnd_t rnd) {
 
 }  // namespace
 
-Enclosure enclose_decimal(const ExactReal& x, int digits) {
+DecimalEnclosure enclose_decimal(const ExactReal& x, int digits) {
   const mpfr_prec_t bits = static_cast<mpfr_prec_t>(digits * 3.33 + 16);
   mpfr_t lo, hi;
   mpfr_inits2(bits, lo, hi, static_cast<mpfr_ptr>(nullptr));
-  Enclosure e;
+  DecimalEnclosure e;
   if (x.is_rational() && sgn(x.as_rational()) == 0) {
     e.lo = e.hi = "0";
   } else {
@@ -278,7 +278,7 @@ Enclosure enclose_decimal(const ExactReal& x, int digits) {
   return e;
 }
 
-Enclosure signed_error(const ExactReal& x, const Fraction& f, int digits) {
+DecimalEnclosure signed_error(const ExactReal& x, const Fraction& f, int digits) {
   return enclose_decimal(x - ExactReal::rational(f.value()), digits);
 }
 

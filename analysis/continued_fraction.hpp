@@ -65,12 +65,12 @@ std::optional<Fraction> smallest_denominator_within(const ExactReal& x, const Ex
 
 /// Certified enclosure of x - p/q, as two decimal strings with `digits` significant digits,
 /// rounded outward.
-struct Enclosure {
+struct DecimalEnclosure {
   std::string lo, hi;
   double approx = 0;
 };
-Enclosure signed_error(const ExactReal& x, const Fraction& f, int digits = 6);
+DecimalEnclosure signed_error(const ExactReal& x, const Fraction& f, int digits = 6);
 /// Certified enclosure of an exact value itself.
-Enclosure enclose_decimal(const ExactReal& x, int digits);
+DecimalEnclosure enclose_decimal(const ExactReal& x, int digits);
 
 }  // namespace rotleak

@@ -24,7 +24,7 @@ struct OmegaReportOptions {
 
 struct Approximation {
   Fraction f;
-  Enclosure error;  ///< certified enclosure of omega - p/q
+  DecimalEnclosure error;  ///< certified enclosure of omega - p/q
 };
 
 struct SemiconvergentRun {
@@ -37,7 +37,7 @@ struct OmegaReport {
   std::string input;  ///< as the user wrote it
   ExactReal x;
   OmegaReportOptions options;
-  Enclosure value;
+  DecimalEnclosure value;
   CertifiedExpansion cf;
   std::vector<Approximation> convergents, best;
   bool best_truncated = false;

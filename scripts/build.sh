@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages (if missing), configures and builds rotleak in build/ (Release), with
 # the project's warnings on; under CI (CI set in the environment) a warning fails the build.
+# Usage: scripts/build.sh [TARGET ...]: only those targets (the quick start builds `rotleak` and the Python
+# module), else everything (the tool, the Python module, the tests, the benchmarks). Objects go through
+# ccache when it is installed (CMakeLists.txt), so a second clone or a second tree compiles little.
 # ROTLEAK_PREBUILT=DIR uses the build in DIR instead (build/ must be it or a link to it): the docs runner
 # (scripts/run_docs.py) runs the README's commands in a copy of the tree against the suite's own build.
 set -euo pipefail
@@ -13,8 +16,18 @@ if [ -n "${ROTLEAK_PREBUILT:-}" ]; then
   fi
   exit 0
 fi
+# Ninja (Debian's ninja-build): it starts a library's dependants' objects before the library is linked,
+# where make waits; a build/ made by another generator is configured afresh (ccache keeps its objects).
+if [ -f build/CMakeCache.txt ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build/CMakeCache.txt; then
+  echo "build.sh: build/ was made by another generator; configuring it afresh with Ninja" >&2
+  rm -rf build/CMakeCache.txt build/CMakeFiles
+fi
 werror=OFF
 [ -n "${CI:-}" ] && werror=ON
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAK_TESTS=ON -DROTLEAK_BENCH=ON -DROTLEAK_WARNINGS=ON -DROTLEAK_PYTHON_MODULE=ON \
+cmake -G Ninja -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAK_TESTS=ON -DROTLEAK_BENCH=ON -DROTLEAK_WARNINGS=ON -DROTLEAK_PYTHON_MODULE=ON \
   -DROTLEAK_WERROR="$werror" >/dev/null
-cmake --build build -j"$(nproc)"
+if (($#)); then
+  cmake --build build -j"$(nproc)" --target "$@"
+else
+  cmake --build build -j"$(nproc)"
+fi

@@ -2,8 +2,17 @@
 # Installs the Debian packages rotleak builds and runs with. Idempotent and quick when all are present:
 # apt-get is only called for packages that dpkg does not already report as installed.
 set -euo pipefail
+# The Python interpreter rotleak's package, scripts and docs run with, named here and nowhere else: Debian's,
+# for which the packages below install numpy, pandas and matplotlib (a pyenv or conda python3 first on
+# PATH lacks them). `bash scripts/setup.sh --python` prints it: CMake builds the module for it, the
+# scripts run it, and the docs call it by this path.
+python=/usr/bin/python3
+if [ "${1:-}" = --python ]; then
+  echo "$python"
+  exit 0
+fi
 packages=(
-  build-essential cmake pkg-config clang-format git universal-ctags
+  build-essential cmake ninja-build pkg-config ccache clang-format git universal-ctags
   clang libclang-rt-14-dev
   libgmp-dev libmpfr-dev libmpfi-dev libqd-dev libboost-dev libcgal-dev
   libgtest-dev libbenchmark-dev librandom123-dev libsleef-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libxsimd-dev

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/scene_file.hpp"
+#include "paths.hpp"
 
 namespace rotleak::test {
 
@@ -19,7 +20,7 @@ const Size kSizes[] = {{"2", "1", "d2_r1"}, {"1", "1", "d1_r1"}, {"2", "2", "d2_
 inline Scene scene_of(const Size& z, std::vector<std::string> sets) {
   sets.push_back(std::string("stadium.d=") + z.d);
   sets.push_back(std::string("stadium.r=") + z.r);
-  return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml", sets);
+  return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml", sets);
 }
 
 }  // namespace rotleak::test

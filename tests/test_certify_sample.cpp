@@ -12,6 +12,7 @@
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
+#include "paths.hpp"
 #include "sim/model/sampling.hpp"
 #include "verify/certify_checkpoint.hpp"
 #include "verify/certify_sample.hpp"
@@ -22,7 +23,7 @@ using namespace rotleak;
 
 namespace {
 
-Scene quickstart() { return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml", {}); }
+Scene quickstart() { return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/quickstart.toml", {}); }
 
 SampleOptions small(std::uint64_t n, double t_cap) {
   SampleOptions o;

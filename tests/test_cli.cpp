@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "names.hpp"
+#include "paths.hpp"
 #include "scratch.hpp"
 
 namespace fs = std::filesystem;
@@ -43,7 +44,8 @@ std::string slurp(const fs::path& p) {
 
 Outcome run(const std::string& args) {
   const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
-  const std::string cmd = std::string(ROTLEAK_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd =
+      std::string(rotleak::test::rotleak_binary()) + " " + args + " >" + out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   Outcome o;
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -501,7 +503,7 @@ TEST(Cli, ReportsSayWhatTheyMeasured) {
     }
   EXPECT_TRUE(seen) << v.out;
 
-  const std::string quick = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml";
+  const std::string quick = std::string(rotleak::test::source_dir()) + "/data/scenes/quickstart.toml";
   const Outcome sh = run("shadow " + quick + " --particle 3 --tiers double,mpfr:65536 --collisions 40");
   EXPECT_EQ(sh.status, 0) << sh.err;
   std::istringstream rows(sh.out);

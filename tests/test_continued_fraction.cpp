@@ -208,7 +208,7 @@ TEST(Approximation, SmallestDenominatorWithinEps) {
 
 TEST(Approximation, SignedErrorEnclosureContainsTheError) {
   const ExactReal x = ExactReal::parse("ln(19)");
-  const Enclosure e = signed_error(x, Fraction{53, 18}, 8);
+  const DecimalEnclosure e = signed_error(x, Fraction{53, 18}, 8);
   mpfr_t lo, hi, v;
   mpfr_inits2(300, lo, hi, v, static_cast<mpfr_ptr>(nullptr));
   mpfr_set_str(lo, e.lo.c_str(), 10, MPFR_RNDN);

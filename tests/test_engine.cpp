@@ -9,6 +9,7 @@
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "names.hpp"
+#include "paths.hpp"
 #include "same_text.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/kernel/simd_engine.hpp"
@@ -210,7 +211,7 @@ TEST(Plan, AShardsPlanRunsItsIdsOnTheSameStadium) {
 }
 
 TEST(Plan, ASplitRunIsRefusedOutsideTheDoubleTier) {
-  Scene scene = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml",
+  Scene scene = load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml",
                            {"ensemble.sampling=mupo", "run.splitting=true", "ensemble.particles=1000"});
   scene.tier = Tier::long_double;
   EXPECT_THROW(plan_run(scene, RunOptions{}), std::invalid_argument);

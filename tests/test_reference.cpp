@@ -12,13 +12,14 @@
 #include <map>
 
 #include "numeric/input.hpp"
+#include "paths.hpp"
 #include "scratch.hpp"
 #include "verify/reference.hpp"
 
 namespace rotleak {
 namespace {
 
-const std::string kDir = std::string(ROTLEAK_SOURCE_DIR) + "/data/trajectories";
+const std::string kDir = std::string(rotleak::test::source_dir()) + "/data/trajectories";
 
 const ReferenceSet& stored() {
   static const ReferenceSet set = read_reference(kDir);
@@ -175,7 +176,8 @@ TEST(CaseSpecs, BadEntriesNameTheCase) {
     }
     return std::string();
   };
-  const std::string scene = "scene = \"" + std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml\"\n";
+  const std::string scene =
+      "scene = \"" + std::string(rotleak::test::source_dir()) + "/data/scenes/quickstart.toml\"\n";
   EXPECT_NE(attempt("[[case]]\nname = \"a/b\"\n" + scene + "particle = 1\n").find("a/b"), std::string::npos);
   EXPECT_NE(attempt("[[case]]\nname = \"two\"\n" + scene + "particle = 1\nsearch = \"grazing\"\n").find("case two"),
             std::string::npos);

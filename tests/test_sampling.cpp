@@ -10,6 +10,7 @@
 #include "analysis/fits.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/fixed_sum.hpp"
+#include "paths.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/model/sampling.hpp"
 #include "sim/tally/survival.hpp"
@@ -18,7 +19,7 @@ namespace rotleak {
 namespace {
 
 Scene scene_of(const std::string& file, std::vector<std::string> sets) {
-  return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/" + file, sets);
+  return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/" + file, sets);
 }
 
 std::pair<long, std::vector<std::uint64_t>> a_limbs_of(const FixedSum& f) { return {f.base(), f.limbs()}; }

@@ -12,6 +12,7 @@
 
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
+#include "paths.hpp"
 #include "run/pipeline.hpp"
 #include "run/refit.hpp"
 #include "run/regimes_search.hpp"
@@ -113,7 +114,7 @@ std::string read(const fs::path& p) {
 
 ScanRequest request(const fs::path& out, int threads) {
   ScanRequest r;
-  r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  r.scene_path = std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml";
   r.overrides = {"ensemble.particles=30000", "run.t_max=3000"};
   r.axes = {parse_axis("leak.omega=0,2/3"), parse_axis("leak.width=0.01,0.02")};
   r.out = out;
@@ -196,7 +197,7 @@ namespace {
 TEST(Refit, ReproducesSimulateAndFollowsNewFitKeys) {
   const test::ScratchDir scratch("rotleak_refit_test_");
   const fs::path& base = scratch.path;
-  const std::string scene = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  const std::string scene = std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml";
   auto sim = [&](const fs::path& out, std::vector<std::string> sets) {
     SimulateRequest r;
     r.scene_path = scene;
@@ -244,7 +245,7 @@ TEST(Refit, SplitRunRebuildsItsCurveFromItsTallies) {
   const test::ScratchDir scratch("rotleak_refit_split_test_");
   const fs::path& base = scratch.path;
   SimulateRequest r;
-  r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  r.scene_path = std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml";
   r.overrides = {"ensemble.particles=5000", "ensemble.sampling=mupo", "run.splitting=true", "leak.omega=70/71"};
   r.out = base / "a";
   const json original = simulate(r).document;
@@ -283,7 +284,7 @@ TEST(Regimes, BisectsTheLowMidBoundaryAndResumes) {
   const test::ScratchDir scratch("rotleak_regimes_test_");
   const fs::path& base = scratch.path;
   RegimesRequest r;
-  r.scene_path = std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_0.toml";
+  r.scene_path = std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml";
   // 10^5 mupo particles bound a missing tail near 1.2e-4 (6 max_weight / N): a floor of 3e-4 lets them decide
   r.overrides = {"ensemble.particles=100000", "ensemble.sampling=mupo", "run.fast_forward=true", "run.t_max=8000",
                  "fit.tail_floor=3e-4"};
@@ -334,7 +335,7 @@ namespace {
 // that name their rational, never "low" or "mid".
 TEST(Regimes, NearRationalTransientsOfTheStudySceneAreLabelled) {
   for (const auto& [omega, rational] : {std::pair<std::string, std::string>{"1/5+2e-5", "2/5"}, {"2/3+1e-4", "4/3"}}) {
-    const Scene s = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/study/study.toml",
+    const Scene s = load_scene(std::string(rotleak::test::source_dir()) + "/data/study/study.toml",
                                {"ensemble.sampling=mupo", "run.splitting=true", "leak.omega=" + omega,
                                 "run.t_max=10000", "ensemble.particles=100000"});
     RunOptions o;

@@ -13,6 +13,7 @@
 
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
+#include "paths.hpp"
 #include "same_text.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/engine/population.hpp"
@@ -23,7 +24,7 @@ namespace rotleak {
 namespace {
 
 Scene scene_of(const std::string& file, std::vector<std::string> sets) {
-  return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/" + file, sets);
+  return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/" + file, sets);
 }
 
 struct Outcome {

@@ -10,6 +10,7 @@
 #include "analysis/fits.hpp"
 #include "analysis/regimes.hpp"
 #include "io/scene_file.hpp"
+#include "paths.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/tally/survival.hpp"
 
@@ -29,9 +30,10 @@ class StationaryTable : public ::testing::TestWithParam<Row> {};
 // the same allowances hold, so a wrong jump (time, position or a missed leak) shows against the literature,
 // not only against a stepped run that shares the same error.
 void check_row(const Row& row, Engine engine, bool fast_forward = false) {
-  const Scene scene = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/stationary_sL_" + row.s_L + ".toml",
-                                 {"ensemble.particles=" + std::to_string(row.particles),
-                                  std::string("run.fast_forward=") + (fast_forward ? "true" : "false")});
+  const Scene scene =
+      load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_" + row.s_L + ".toml",
+                 {"ensemble.particles=" + std::to_string(row.particles),
+                  std::string("run.fast_forward=") + (fast_forward ? "true" : "false")});
   RunOptions opt;
   opt.engine = engine;
   const RunResult res = run_ensemble(scene, opt);
@@ -79,12 +81,12 @@ INSTANTIATE_TEST_SUITE_P(Spec5, StationaryTable,
 // stationary rows (15%, the fit method is not stated) plus 3 standard errors of our estimate; its tail
 // persists (the high regime).
 TEST(RotatingExample, TheSceneFileGivesThePublishedAlpha) {
-  std::ifstream lit(std::string(ROTLEAK_SOURCE_DIR) + "/data/literature/rotating.csv");
+  std::ifstream lit(std::string(rotleak::test::source_dir()) + "/data/literature/rotating.csv");
   double published = 0;
   for (std::string line; std::getline(lit, line);)
     if (line.rfind("alpha,1,", 0) == 0) published = std::stod(line.substr(8, line.find(',', 8) - 8));
   ASSERT_GT(published, 0) << "no alpha for omega = 1 in data/literature/rotating.csv";
-  const Scene scene = load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/rotating.toml");
+  const Scene scene = load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/rotating.toml");
   ASSERT_EQ(scene.omega.sign(), 1);
   const RunResult res = run_ensemble(scene, RunOptions{});
   const SurvivalCurve c = survival_curve(scene, res.tally);

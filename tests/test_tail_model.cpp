@@ -11,6 +11,7 @@
 #include "analysis/run_summary.hpp"
 #include "analysis/tail_model.hpp"
 #include "io/scene_file.hpp"
+#include "paths.hpp"
 #include "sim/engine/engine.hpp"
 
 using namespace rotleak;
@@ -18,7 +19,7 @@ using namespace rotleak;
 namespace {
 
 Scene study(std::vector<std::string> sets) {
-  return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/study/study.toml", sets);
+  return load_scene(std::string(rotleak::test::source_dir()) + "/data/study/study.toml", sets);
 }
 
 double perimeter(double d, double r) { return 2 * d + 2 * std::numbers::pi * r; }

@@ -7,6 +7,7 @@
 
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
+#include "paths.hpp"
 #include "sim/model/initial.hpp"
 #include "verify/audit.hpp"
 #include "verify/auto_tier.hpp"
@@ -21,7 +22,7 @@ namespace {
 
 constexpr std::uint64_t kShadowParticles = 1000, kTangentCollisions = 2000000;
 
-Scene stationary() { return load_scene(std::string(ROTLEAK_SOURCE_DIR) + "/data/scenes/quickstart.toml"); }
+Scene stationary() { return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/quickstart.toml"); }
 
 }  // namespace
 
