@@ -1,18 +1,15 @@
 #!/usr/bin/env bash
-# The whole test suite: set up, build, then
-#  1. the unit and numeric tests again under AddressSanitizer + UndefinedBehaviorSanitizer
-#     (scripts/sanitize.sh, build-asan/);
-#  2. a short run (10 s each) of the libFuzzer targets of every reader, after their kept regression
-#     inputs (scripts/fuzz.sh, build-fuzz/, clang);
-#  3. every GoogleTest binary through CTest (labels unit, numeric, slow) in build/: its summary is the
-#     last thing printed.
-# ROTLEAK_QUICK_TESTS=1 skips 1 and 2 (a developer's loop; CI runs all three).
+# The README's test command: set up, build everything in build/ (Release: the tool, the Python module, the
+# tests, the benchmarks), then run the Release suite through CTest: every GoogleTest case and every
+# script test (labels unit, numeric, slow: the numerics, the docs' blocks, the Python package, the
+# output schemas, kill-and-resume, MPI, install and package). Its summary is the last thing printed,
+# after each stage's wall time. The sanitizer and fuzz stages are scripts/test_sanitizers.sh, which CI
+# runs after this one. Extra arguments go to ctest (-L unit, -R Pattern, ...).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
-if [ -z "${ROTLEAK_QUICK_TESTS:-}" ]; then
-  bash scripts/sanitize.sh
-  bash scripts/fuzz.sh 10
-fi
+source scripts/stage.sh
+trap stage_summary EXIT
+stage setup bash scripts/setup.sh
+stage "build (Release, everything)" bash scripts/build.sh
 cd build
-ctest -j"$(nproc)" --output-on-failure --timeout 600
+stage "ctest (Release)" ctest -j"$(nproc)" --output-on-failure --timeout 600 "$@"
