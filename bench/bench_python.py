@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """rotleak.simulate in process against the command line, on the same scene and particles: wall time of
 the whole call each way (the command: process start, run, files written; Python: the run and the
 bytes handed over, then parsed into the Run), alternated over several rounds so that drift on a shared

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Work-normalised variance of P(t) for uniform sampling, mupo sampling alone, and mupo with population
 splitting, on a leak with no tail (omega = 100/101 by default: P falls exponentially to 1e-20 by
 t = 10000), at the times where the split run's P first falls below 1e-4, 1e-6, 1e-8 and 1e-12, and where it

@@ -1,11 +1,11 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """What f_c costs on top of a run: the study scene (data/study/study.toml) with importance sampling
 ("mupo") and fast-forward, with and without f_c windows, run in alternating pairs so that both see
 the same load on a shared machine; prints each pair, the medians and their ratio, and the sha256 of
 fc.csv (the same file for every run, and the same as stepping gives: the Simd and fast-forward
 tests check that).
 
-Usage: python3 bench/fc_overhead.py [--binary build/rotleak] [--runs 7] [--particles 1000000]
+Usage: /usr/bin/python3 bench/fc_overhead.py [--binary build/rotleak] [--runs 7] [--particles 1000000]
                                     [--threads 0 (all)]
 """
 import argparse

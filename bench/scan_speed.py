@@ -1,11 +1,11 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Wall time of a 15-point omega scan with population splitting: the stationary scene over 15 omegas from the
 low, mid and high regimes, 10^5 lines a point, importance sampling (mupo) and splitting, every point run by
 `rotleak scan` itself. Several binaries (two builds of the suite, say) are run in alternation, so that each
 sees the same load on a shared machine; prints each scan's wall time, the medians and, for two binaries, the
 ratio of the first's median to the second's, and whether the two scans' table.csv are byte-identical.
 
-Usage: python3 bench/scan_speed.py [--binary build/rotleak ...] [--runs 3] [--particles 100000] [--threads 0 (all)]
+Usage: /usr/bin/python3 bench/scan_speed.py [--binary build/rotleak ...] [--runs 3] [--particles 100000] [--threads 0 (all)]
 """
 import argparse
 import hashlib

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Turn and schedule invariance of population splitting, as the tables of docs/guide/tails.md: omega = 100/101 (no tail, P
 falls to ~1e-16 by t = 8000), mupo + splitting, each setting an independent seed; P +- P_err at
 t = 1000, 1500 and 2000 (P ~ 1e-2, 1e-3, 1e-4: where 2*10^5 lines resolve P; later the allowance for

@@ -1,10 +1,10 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes docs/python-api.md, the Python package's API page, from its docstrings: Sphinx (Debian's
 python3-sphinx; autodoc with napoleon for the NumPy convention) builds docs/api as text against the
 source tree's python/rotleak, and the page wraps that text. --check compares instead of writing and
 exits 1 when the page is stale (the suite's Docs.PythonApiPageIsCurrent). -W: a malformed docstring fails.
 
-Usage: python3 scripts/api_docs.py [--check]"""
+Usage: /usr/bin/python3 scripts/api_docs.py [--check]"""
 import os
 import subprocess
 import sys
@@ -14,9 +14,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PAGE = os.path.join(ROOT, "docs", "python-api.md")
 HEADER = """# The Python API
 
-Generated from the docstrings of `python/rotleak` by `python3 scripts/api_docs.py` (Sphinx's text
+Generated from the docstrings of `python/rotleak` by `/usr/bin/python3 scripts/api_docs.py` (Sphinx's text
 builder over `docs/api`); do not edit by hand, and the suite checks it is current. The guide:
-[Python](guide/python.md). For HTML: `PYTHONPATH=python python3 -m sphinx -b html docs/api runs/api-html`.
+[Python](guide/python.md). For HTML: `PYTHONPATH=python /usr/bin/python3 -m sphinx -b html docs/api runs/api-html`.
 
 <!-- docs: not code: the API reference as Sphinx writes it -->
 ```text
@@ -44,7 +44,7 @@ def main():
     if "--check" in sys.argv[1:]:
         with open(PAGE, encoding="utf-8") as f:
             if f.read() != page:
-                print("docs/python-api.md is stale: run python3 scripts/api_docs.py")
+                print("docs/python-api.md is stale: run /usr/bin/python3 scripts/api_docs.py")
                 return 1
         print("docs/python-api.md is current")
         return 0

@@ -9,6 +9,7 @@
 #   options: --particles N (lines a point), --out DIR (output directory), --only NAME (one set)
 # ROTLEAK (default build/rotleak) names the binary.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 cd "$(dirname "$0")/.."
 rotleak=${ROTLEAK:-build/rotleak}
 particles=100000 out=runs/atlas to_docs=0 only=""
@@ -35,5 +36,5 @@ while IFS=$'\t' read -r name title args; do
     --set run.fast_forward=true --set run.splitting=true --out "$out/$name" >/dev/null
 done <data/atlas/sets.tsv
 seconds=$(($(date +%s) - start))
-/usr/bin/python3 scripts/atlas_report.py "$out" "$docs" "$particles" "$seconds"
+"$py" scripts/atlas_report.py "$out" "$docs" "$particles" "$seconds"
 echo "atlas: report in $docs/README.md ($seconds s)" >&2

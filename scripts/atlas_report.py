@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The omega atlas's report (scripts/atlas.sh): reads each set's scan (OUT/<set>/table.csv with pandas,
 OUT/<set>/scan.json) and writes DOCS/README.md (the table: omega exact, Q, kappa, alpha +- stat +- syst,
 C +- stat +- drift or, where t P is not flat, t P where the tail begins, tail class, regime, tail end and

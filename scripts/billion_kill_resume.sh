@@ -7,6 +7,7 @@
 # Usage: scripts/billion_kill_resume.sh ROTLEAK_BINARY [PARTICLES] [CHECKPOINT_SECONDS] [WORKDIR]
 # Exit 1 when the outputs differ.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 particles=${2:-1000000000}
 every=${3:-30}
@@ -20,7 +21,7 @@ now() { date +%s.%N; }
 # the blocks the checkpoint holds (its JSON header), or nothing when there is none
 checkpointed() {
   [ -f cut.checkpoint ] || return 0
-  python3 - cut.checkpoint <<'PY2'
+  "$py" - cut.checkpoint <<'PY2'
 import json, sys
 raw = open(sys.argv[1], 'rb').read(1 << 20).decode('latin-1')
 h, _ = json.JSONDecoder().raw_decode(raw[raw.index('{'):])
@@ -63,7 +64,7 @@ cmp whole/survival.csv cut/survival.csv
 # summary.json without "execution" (wall time, rate, threads, ranks, kernel width, host, build) and the
 # checkpoint interval
 numbers() {
-  python3 -c 'import json, sys
+  "$py" -c 'import json, sys
 s = json.load(open(sys.argv[1]))
 s.pop("execution")
 s["scene"]["run"].pop("checkpoint_seconds")  # not an input of the numbers

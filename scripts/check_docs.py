@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Checks that the documentation stands alone and names what the code accepts:
 
 - no file of the repository cites the issue tracker ("issue 21") or the shared specification ("SPEC
@@ -7,11 +7,13 @@
   as `key = ...` in its section of the example;
 - every relative link and image of every Markdown file points at a file that exists, and a link's
   #fragment at a heading of that file (GitHub's anchors);
+- the docs, scripts and benchmarks run the Python interpreter scripts/setup.sh names, by its path (no bare
+  python3, no `#!/usr/bin/env python3`): another python3 first on PATH may lack numpy and pandas;
 - every path of the repository a Markdown file names (`src/sim/engine/engine.hpp`, scripts/run_docs.py:
   a path under one of the tracked top-level folders) exists, so that docs/design.md's map and the
   guide cannot point at a room that moved (the generated study reports excepted: they name their runs).
 
-Prints every violation and exits 1 if there is one.   Usage: python3 scripts/check_docs.py [ROOT]"""
+Prints every violation and exits 1 if there is one.   Usage: /usr/bin/python3 scripts/check_docs.py [ROOT]"""
 import functools
 import os
 import re
@@ -90,6 +92,29 @@ def missing_paths(root, files):
     return bad
 
 
+# A python3 run as a command, not as a package name (python3-numpy) nor the path of one (/usr/bin/python3)
+BARE_PYTHON = re.compile(r"(?<![\w/.-])python3(?= -[mcS]\b| scripts/| bench/| -$|$)")
+
+
+def bare_python(root, files):
+    """The docs, the scripts and the benchmarks run the interpreter scripts/setup.sh names, by its path: a bare
+    python3 is whatever comes first on PATH (a pyenv or conda one may lack numpy and pandas)."""
+    python = subprocess.run(["bash", os.path.join(root, "scripts", "setup.sh"), "--python"], check=True,
+                            capture_output=True, text=True).stdout.strip()
+    bad = []
+    for f in files:
+        if not (f.endswith((".md", ".sh", ".py")) and f.startswith(("README", "docs/", "scripts/", "bench/", ".ci/"))):
+            continue
+        with open(os.path.join(root, f), encoding="utf-8", errors="replace") as fh:
+            for no, line in enumerate(fh, 1):
+                if no == 1 and line.startswith("#!") and "python" in line and line.strip() != "#!" + python:
+                    bad.append("%s:1: starts with %s; the interpreter is %s (scripts/setup.sh --python)"
+                               % (f, line.strip(), python))
+                elif BARE_PYTHON.search(line) and not line.lstrip().startswith("#"):
+                    bad.append("%s:%d: runs a bare python3; run %s (scripts/setup.sh --python)" % (f, no, python))
+    return bad
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     bad = []
@@ -122,12 +147,14 @@ def main():
                 bad.append("docs/scenes.md: the loader accepts %s.%s, the example does not show it" % (section, name))
     bad += broken_links(root, tracked(root))
     bad += missing_paths(root, tracked(root))
+    bad += bare_python(root, tracked(root))
     for b in bad:
         print(b)
     if bad:
         return 1
-    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys; every link resolves, every path named exists"
-          % keys)
+    print("docs: no tracker or specification citations; docs/scenes.md shows all %d scene keys; every link resolves, every path named exists; every python runs as %s"
+          % (keys, subprocess.run(["bash", os.path.join(root, "scripts", "setup.sh"), "--python"],
+                                  capture_output=True, text=True).stdout.strip()))
     return 0
 
 

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The vectorised kernel's objects must not define a weak (inline, template) symbol.
 
 The kernel translation units (src/sim/kernel/simd_engine.cpp for AVX2, src/sim/kernel/simd_avx512.cpp for AVX-512) are

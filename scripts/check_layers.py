@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Checks that includes only point down the layers of the design:
 
     numeric <- geometry <- leak <- sim <- analysis <- io <- verify <- run <- cli (and bench, tests)
@@ -14,7 +14,7 @@ too: rotleak.readers <- rotleak (its __init__) <- rotleak.plot, checked on its r
 Prints every violation (file, line, include, the two layers) and exits 1 if there is one; prints a
 one-line summary otherwise. Reads .hpp, .cpp, .h and .ipp files (the kernel's body is an .ipp) and
 the package's .py files. Run from
-anywhere: python3 scripts/check_layers.py [ROOT] (ROOT: the repository, by default the one holding
+anywhere: /usr/bin/python3 scripts/check_layers.py [ROOT] (ROOT: the repository, by default the one holding
 this script; the test runs it on a small tree of its own to see an upward include fail).
 """
 import os

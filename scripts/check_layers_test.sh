@@ -7,6 +7,7 @@
 #  4. a relative import in the Python package from rotleak.readers up to rotleak.plot.
 # Exit 1 when the checker misses one.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 checker=$(realpath "$(dirname "$0")/check_layers.py")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -18,12 +19,12 @@ printf '#include "sim/model/scene.hpp"\n' >"$work/src/sim/engine/engine.hpp"
 printf 'import json\n' >"$work/python/rotleak/readers.py"
 printf 'from .readers import json\n' >"$work/python/rotleak/__init__.py"
 printf 'from ..readers import json\nfrom . import run\n' >"$work/python/rotleak/plot/__init__.py"
-python3 "$checker" "$work" >/dev/null || { echo "a clean tree was refused: $(python3 "$checker" "$work")"; exit 1; }
+"$py" "$checker" "$work" >/dev/null || { echo "a clean tree was refused: $("$py" "$checker" "$work")"; exit 1; }
 refused() {  # refused FILE LINE TEXT WHAT: appending TEXT to FILE fails the check, naming FILE:LINE
   local file=$1 line=$2 text=$3 what=$4 out
   cp "$work/$file" "$work/$file.bak"
   printf '%s\n' "$text" >>"$work/$file"
-  if out=$(python3 "$checker" "$work"); then
+  if out=$("$py" "$checker" "$work"); then
     echo "$what passed: $out"
     exit 1
   fi
@@ -36,5 +37,5 @@ printf '#pragma once\n' >"$work/src/sim/loose.hpp"
 refused src/sim/loose.hpp 2 '#include "sim/model/scene.hpp"' "a file of src/sim outside its folders"
 rm "$work/src/sim/loose.hpp"
 refused python/rotleak/readers.py 2 'from .plot import run' "an import from rotleak.readers up to rotleak.plot"
-python3 "$checker" "$work" >/dev/null || { echo "the tree is not clean again after the cases"; exit 1; }
+"$py" "$checker" "$work" >/dev/null || { echo "the tree is not clean again after the cases"; exit 1; }
 echo "check_layers.py: upward includes (.ipp, across src/sim's folders), a loose src/sim file and an upward Python import are refused and named"

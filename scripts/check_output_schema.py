@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Every file rotleak writes, read back with the readers a user would use (Python's csv and json, and
 pandas), checked against the schemas in docs/output.md: a CSV's header against its documented columns,
 every row's field count, every field's type; a JSON document's top-level keys and their types (for a

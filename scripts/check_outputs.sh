@@ -12,7 +12,7 @@ here=$(dirname "$(realpath "$0")")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 scene="$here/../data/scenes/quickstart.toml"
-py=/usr/bin/python3
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 q=(--no-progress)
 "$bin" simulate "$scene" --particles 20000 --set observe.escapes=true --out "$work/out/run" "${q[@]}" >/dev/null
 "$bin" simulate "$scene" --particles 500 --set run.tier=float --out "$work/out/scalar" "${q[@]}" >/dev/null

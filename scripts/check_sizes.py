@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Checks the sizes the house keeps: no function over 60 lines and no file over 600 lines in src/,
 analysis/ and verify/ (.cpp, .hpp, .ipp).
 
@@ -9,7 +9,7 @@ it off the list, so that it cannot grow back). A function's length runs from its
 (Universal Ctags' C++ parser finds them); lambdas and local classes count toward the function around them.
 
 Prints the longest five functions and every failure; exit 1 on a failure.
-Usage: python3 scripts/check_sizes.py [ROOT] [--list]   (--list: every function over the limit, as the
+Usage: /usr/bin/python3 scripts/check_sizes.py [ROOT] [--list]   (--list: every function over the limit, as the
 allowlist's lines)"""
 import json
 import os

@@ -4,13 +4,14 @@
 # and parses as such, and summary.json's "splitting" holds the fields docs/output.md lists.
 # Usage: scripts/check_split_outputs.sh ROTLEAK_BINARY      Exit 1 on the first violation.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
 "$bin" simulate "$scene" --particles 20000 --set leak.omega=100/101 --set ensemble.sampling=mupo \
   --set run.splitting=true --set run.t_max=8000 --out "$work/run" --no-progress >/dev/null
-/usr/bin/python3 - "$work/run" <<'PY'
+"$py" - "$work/run" <<'PY'
 import csv, json, math, sys
 import pandas as pd
 run = sys.argv[1]

@@ -1,8 +1,8 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Compare two trees of simulate run directories: survival.csv, fc.csv and scene.toml byte for byte,
 summary.json on every field but timing and version. Exit 1 if anything differs.
 
-Usage: python3 scripts/compare_runs.py BEFORE AFTER   (each holds run directories of the same names)
+Usage: /usr/bin/python3 scripts/compare_runs.py BEFORE AFTER   (each holds run directories of the same names)
 """
 import filecmp
 import json

@@ -5,6 +5,7 @@
 # With --install (root only) it also installs the .deb with dpkg -i, runs the quick-start scene from
 # /usr/bin/rotleak and removes the package again.   Usage: scripts/deb_check.sh BUILD_DIR [--install]
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 build=$(realpath "$1")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -25,7 +26,7 @@ fi
 "$r/bin/rotleak" simulate "$scene" --particles 20000 --out "$work/run" --no-progress --plot | tail -2
 test -s "$work/run/survival.png"
 "$r/bin/rotleak" verify --tier double | tail -1
-PYTHONPATH=$r/lib/python3/dist-packages /usr/bin/python3 -c '
+PYTHONPATH=$r/lib/python3/dist-packages "$py" -c '
 import sys, rotleak
 assert rotleak.__file__.startswith(sys.argv[2]), rotleak.__file__
 r = rotleak.simulate(sys.argv[1], particles=10**5)
@@ -35,6 +36,6 @@ if [ "${2:-}" = "--install" ]; then
   trap 'dpkg -r rotleak >/dev/null; rm -rf "$work"' EXIT
   /usr/bin/rotleak simulate /usr/share/rotleak/data/scenes/quickstart.toml --particles 20000 --out "$work/sys" \
     --no-progress | tail -1
-  /usr/bin/python3 -c 'import rotleak; print("python3 finds the installed package:", rotleak.__file__)'
+  "$py" -c 'import rotleak; print("python3 finds the installed package:", rotleak.__file__)'
 fi
 echo "the .deb builds, extracts and runs the quick-start scene"

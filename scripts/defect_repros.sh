@@ -8,6 +8,7 @@
 # test_fits, test_scan, test_reference, tests/python, kill_trials.sh) hold each outcome.
 # Usage: scripts/defect_repros.sh ROTLEAK_BINARY
 set -uo pipefail
+python=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 S=$(realpath "$(dirname "$0")/../data/scenes/quickstart.toml")
 Z=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
@@ -33,22 +34,22 @@ sleep .3
 rc=$(run simulate "$S" --out same --threads 1 --set ensemble.seed=2 --no-progress)
 wait $p1; rc1=$?
 show "two runs, one directory (second)" "$rc" err.txt
-echo "   first run exit $rc1; seed in same/summary.json: $(python3 -c "import json;print(json.load(open('same/summary.json'))['seed'])")"
+echo "   first run exit $rc1; seed in same/summary.json: $("$python" -c "import json;print(json.load(open('same/summary.json'))['seed'])")"
 fresh  # 3
-rc=$(run omega "$(python3 -c "print('('*20000+'1'+')'*20000)")")
+rc=$(run omega "$("$python" -c "print('('*20000+'1'+')'*20000)")")
 show "20000 nested parentheses" "$rc" err.txt
-python3 - <<'PY'  # too long for one command-line argument: a scene file
+"$python" - <<'PY'  # too long for one command-line argument: a scene file
 open("minus.toml", "w").write('[leak]\nomega = "' + "-" * 200000 + '1"\n')
 PY
 rc=$(run simulate minus.toml --out o)
 show "2e5 unary minus (in a scene file)" "$rc" err.txt
-rc=$(run omega "$(python3 -c "print('sqrt('*20000+'2'+')'*20000)")")
+rc=$(run omega "$("$python" -c "print('sqrt('*20000+'2'+')'*20000)")")
 show "2e4 nested sqrt" "$rc" err.txt
 fresh  # 4
 "$bin" simulate "$S" --out o --particles 2000 --json --plot --no-progress >out.txt 2>err.txt
 rc=$?
 show "--json --plot" "$rc" err.txt
-python3 -c "import json;json.load(open('out.txt'))" && echo "   stdout is one JSON document"
+"$python" -c "import json;json.load(open('out.txt'))" && echo "   stdout is one JSON document"
 fresh  # 5
 mkdir -p .o.partial-999999 && touch .o.partial-999999/survival.csv.tmp-1
 rc=$(run simulate "$S" --out o --particles 2000 --no-progress)
@@ -60,7 +61,7 @@ fresh  # 7
 rc=$(run simulate "$S" --out o --particles -5)
 show "--particles -5" "$rc" err.txt; left
 fresh  # 8
-escaped() { python3 -c "import json;d=json.load(open('out.txt'));print(d['escaped'], 'of', d['scene']['ensemble']['particles'])"; }
+escaped() { "$python" -c "import json;d=json.load(open('out.txt'));print(d['escaped'], 'of', d['scene']['ensemble']['particles'])"; }
 rc=$(run simulate "$S" --out o --particles 20000 --set 'leak.start=1e30+1/2' --json --no-progress)
 show "leak.start=1e30+1/2" "$rc" err.txt
 echo "   escaped: $(escaped)"
@@ -108,7 +109,7 @@ rc=$(run omega 2/3 --terms 1e20)
 show "--terms 1e20" "$rc" err.txt
 rc=$(run simulate "$S" --out o --set 'leak.width=½')
 show "a lone non-ASCII character" "$rc" err.txt
-rc=$(run simulate "$S" --out o --set "leak.omega=$(python3 -c "print('1e100000+ln(2)'+'+1'*50000)")")
+rc=$(run simulate "$S" --out o --set "leak.omega=$("$python" -c "print('1e100000+ln(2)'+'+1'*50000)")")
 show "a 100 KB value" "$rc" err.txt
 echo "   longest stderr line: $(awk '{ if (length > m) m = length } END { print m }' err.txt) characters"
 fresh  # 16
@@ -125,7 +126,7 @@ show "Core_Diagnostics after certify" "$rc" /dev/null; left
 
 echo
 echo "== part two: the newcomer's cases"
-py() { PYTHONPATH="$(dirname "$bin")/python" /usr/bin/python3 "$@"; }
+py() { PYTHONPATH="$(dirname "$bin")/python" "$python" "$@"; }
 fresh  # 19
 rc=$(run simulate "$Z" --particles 1000 --set run.splitting=true --set run.t_max=100 --set 'fit.kappa_window=[0,50]' --out X)
 show "split, t_max 100 (was rc 139)" "$rc" err.txt; left

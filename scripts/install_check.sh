@@ -7,6 +7,7 @@
 # rotleak::core. Exit 1 on any failure.   Usage: scripts/install_check.sh BUILD_DIR  (as root, or
 # where unshare --map-root-user works)
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 build=$(realpath "$1")
 src=$(realpath "$(dirname "$0")/..")
 work=$(mktemp -d)
@@ -33,7 +34,7 @@ rotleak plot "\$W/run" >/dev/null
 rotleak verify --tier all | tail -1
 rotleak scan "\$scene" --over leak.omega=0,1,2/3 --set ensemble.particles=5000 --out "\$W/scan" --no-progress | tail -1
 rotleak plot "\$W/scan" | tail -1
-PYTHONPATH=\$P/$(grep -m1 '^ROTLEAK_PYTHON_INSTALL_DIR:' "$build/CMakeCache.txt" | cut -d= -f2) /usr/bin/python3 - "\$scene" "\$W" <<'PY'
+PYTHONPATH=\$P/$(grep -m1 '^ROTLEAK_PYTHON_INSTALL_DIR:' "$build/CMakeCache.txt" | cut -d= -f2) "$py" - "\$scene" "\$W" <<'PY'
 import sys, rotleak
 scene, W = sys.argv[1], sys.argv[2]
 assert rotleak.__file__.startswith("$prefix"), rotleak.__file__

@@ -5,6 +5,7 @@
 # one, never anything else; the next run must clean what the killed one left.
 # Usage: scripts/kill_trials.sh ROTLEAK_BINARY [N]     Exit 1 on the first violation.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 trials=${2:-20}
 scene=$(realpath "$(dirname "$0")/../data/scenes/quickstart.toml")
@@ -16,7 +17,7 @@ common=(--particles 100000 --no-progress --set run.t_max=2000 --set observe.surv
 "$bin" simulate "$scene" --out target "${common[@]}" --set ensemble.seed=1 >/dev/null
 check() {  # the target is a complete run with seed 1 or 2
   [ -f target/summary.json ] || { echo "trial $1: target has no summary.json"; return 1; }
-  python3 - "$1" <<'PY'
+  "$py" - "$1" <<'PY'
 import json, os, sys
 s = json.load(open("target/summary.json"))
 for f in s["files"]:

@@ -7,6 +7,7 @@
 # an audit as 1 process and as `mpirun -np 3`: audit.json identical but for its timing fields.
 # Usage: scripts/mpi_equivalence.sh ROTLEAK_BINARY [MPIRUN]      Exit 1 on the first difference.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 mpirun=${2:-mpirun}
 scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
@@ -24,7 +25,7 @@ for run in two three; do
   for f in survival.csv fc.csv escapes.csv; do
     cmp -s "one/$f" "$run/$f" || { echo "$run ranks: $f differs from the single process's"; exit 1; }
   done
-  python3 - "$run" <<'PY'
+  "$py" - "$run" <<'PY'
 import json, sys
 run = sys.argv[1]
 a, b = json.load(open("one/summary.json")), json.load(open(run + "/summary.json"))
@@ -45,7 +46,7 @@ split=("$scene" --particles 60000 --set leak.omega=2/3 --set ensemble.sampling=m
 for f in survival.csv fc.csv; do
   cmp -s "split1/$f" "split3/$f" || { echo "split run under 3 ranks: $f differs from the single process's"; exit 1; }
 done
-python3 - <<'PY'
+"$py" - <<'PY'
 import json, sys
 a, b = json.load(open("split1/summary.json")), json.load(open("split3/summary.json"))
 if a["splitting"] != b["splitting"] or a["alpha"] != b["alpha"]:
@@ -60,7 +61,7 @@ cmp -s scan1/table.csv scan2/table.csv || { echo "scan under 2 ranks: table.csv 
 for p in scan1/points/*/; do
   q=scan2/points/$(basename "$p")
   cmp -s "$p/survival.csv" "$q/survival.csv" || { echo "scan under 2 ranks: $(basename "$p") survival.csv differs"; exit 1; }
-  python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["execution"]["ranks"] != 2)' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
+  "$py" -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["execution"]["ranks"] != 2)' "$q/summary.json" || { echo "scan under 2 ranks: $(basename "$p") summary.json lacks ranks = 2"; exit 1; }
 done
 echo "scan under 2 ranks: table.csv and the points' survival.csv identical to one process"
 # calibrate: a scan over seeds, then files from the points: the same bytes under 2 ranks
@@ -76,7 +77,7 @@ audit=("$scene" --set leak.omega=2/3 --sample 48 --stats-particles 30000 --strat
   --tiers float,double,dd,mpfr:256)
 "$bin" audit "${audit[@]}" --threads 2 --out audit1 >/dev/null
 "$mpirun" -np 3 --oversubscribe "$bin" audit "${audit[@]}" --threads 1 --out audit3 >/dev/null
-python3 - <<'PY'
+"$py" - <<'PY'
 import json, sys
 a, b = json.load(open("audit1/audit.json")), json.load(open("audit3/audit.json"))
 if b["execution"]["ranks"] != 3 or a["execution"]["ranks"] != 1:

@@ -1,10 +1,10 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Mutation audit: apply deliberate errors one at a time, run the whole suite (ctest) against each, and
 report which tests fail, how long the suite took and the most memory any test process used. Every
 mutant is reverted (also on Ctrl-C or an error) and the build is rebuilt clean at the end.
 
-Usage: python3 scripts/mutation_audit.py [NAME ...]   (default: every mutation below)
-       python3 scripts/mutation_audit.py --list
+Usage: /usr/bin/python3 scripts/mutation_audit.py [NAME ...]   (default: every mutation below)
+       /usr/bin/python3 scripts/mutation_audit.py --list
 Needs a configured build/ (bash scripts/build.sh). Takes about 2 minutes a mutant on 2 cores (a header
 that everything includes: 5). Each mutant's ctest output is kept in build/mutation_audit/NAME.log.
 

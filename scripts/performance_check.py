@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """bench_scale's JSON read back with Python's json, and performance_report.py's table made from it in a copy of
 docs/performance.md: every scene a row whose shares are its share of the ceiling and its ratio over s_L = 0, the rest of
 the document byte for byte as it was, and a second report replacing the first, not adding to it. Small and

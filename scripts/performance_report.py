@@ -1,8 +1,8 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes docs/performance.md's current table from bench_scale's output: the kernel against the plain loop and
 against its own ceiling, for each kernel width this CPU runs, in one run per width.
 
-    python3 scripts/performance_report.py [--build build] [--particles 2000000] [--rounds 3] [--threads 2]
+    /usr/bin/python3 scripts/performance_report.py [--build build] [--particles 2000000] [--rounds 3] [--threads 2]
                                           [--from JSON ...] [--doc docs/performance.md]
 
 bench_scale (bench/bench_scale.cpp) writes its figures as JSON (its fifth argument; docs/output.md, "bench_scale

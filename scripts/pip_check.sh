@@ -7,7 +7,7 @@
 set -euo pipefail
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "$1" && pwd)
-python=${PYTHON:-/usr/bin/python3}
+python=${PYTHON:-$(bash "$(dirname "$0")/setup.sh" --python)}
 work=$(mktemp -d /tmp/rotleak-pip-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 "$python" -m venv --system-site-packages "$work/venv"

@@ -12,6 +12,7 @@
 # (a line: a starting particle and its descendants, run.splitting; docs/model.md "Deep tails")
 # ROTLEAK (default build/rotleak) names the binary.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 cd "$(dirname "$0")/.."
 rotleak=${ROTLEAK:-build/rotleak}
 quick=0 to_docs=0 particles="" out=""
@@ -62,5 +63,5 @@ done <data/study/panels.tsv
 # ln(19) at two deltas
 "$rotleak" covering --omega "ln(19)" --delta 1e-7 1e-9 --out "$out/covering_ln19" --force >/dev/null
 seconds=$(($(date +%s) - start))
-/usr/bin/python3 scripts/study_report.py "$out" "$docs" "$particles" "$seconds"
+"$py" scripts/study_report.py "$out" "$docs" "$particles" "$seconds"
 echo "reproduce_study: report in $docs/README.md" >&2

@@ -1,12 +1,13 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Runs every code block of README.md and docs/ (the executable documentation) and checks what it prints.
 
 Each Markdown file runs in its own scratch copy of the repository's tracked files, its blocks in order
 (a later block may read what an earlier one wrote), with the build's `rotleak` first on PATH,
 PYTHONPATH at the build's Python package and ROTLEAK_BINARY set. What a block is decides what happens:
 
-- ```sh / ```bash: run by `bash -e -o pipefail`; ```python: run by the runner's own interpreter (which
-  is also the blocks' `python3`; the suite uses Debian's, with numpy and pandas). Exit status 0 required.
+- ```sh / ```bash: run by `bash -e -o pipefail`; ```python: run by the runner's own interpreter (the suite
+  runs it with the one scripts/setup.sh names, Debian's, with numpy and pandas; the blocks name it by its
+  path, as a user must). Exit status 0 required.
 - ```toml: a scene; loaded by `rotleak predict` (which validates every key and runs nothing).
 - ```text right after a runnable block (only blank lines or a directive between): that block's output.
   Every shown line must appear in the printed output (stdout and stderr together), in order, with the same words;
@@ -27,7 +28,7 @@ command). Where a block was scaled by s, a `figures` tolerance is widened by 1/s
 error of a figure grows so with fewer particles; the tolerance written is the one at full size.
 
 Every failure is printed; exit status 1 if there is one, 0 when every block holds.
-Usage: python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [FILE.md ...]"""
+Usage: /usr/bin/python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [FILE.md ...]"""
 import argparse
 import math
 import os
@@ -347,7 +348,6 @@ def main():
     bindir = tempfile.mkdtemp(prefix="rotleak-docs-bin-")
     try:
         os.symlink(os.path.join(build, "rotleak"), os.path.join(bindir, "rotleak"))
-        os.symlink(sys.executable, os.path.join(bindir, "python3"))  # blocks' python3 is the runner's (the suite's)
         total, failed, t0 = 0, [], time.time()
         for f in files:
             print("%s" % os.path.relpath(f, ROOT), flush=True)

@@ -5,6 +5,7 @@
 # different thread count).
 # Usage: scripts/scan_kill_trials.sh ROTLEAK_BINARY [N]     Exit 1 on the first violation.
 set -euo pipefail
+py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
 bin=$(realpath "$1")
 trials=${2:-3}
 scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
@@ -26,7 +27,7 @@ for t in $(seq 1 "$trials"); do
   wait "$pid" 2>/dev/null || true
   done_before=$(find cut/points -maxdepth 2 -name summary.json 2>/dev/null | wc -l)
   "$bin" scan "$scene" "${args[@]}" --out cut --json >resumed.json
-  python3 - "$t" "$done_before" <<'PY'
+  "$py" - "$t" "$done_before" <<'PY'
 import json, sys
 t, before = sys.argv[1], int(sys.argv[2])
 d = json.load(open("resumed.json"))

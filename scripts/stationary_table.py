@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Runs the six stationary-leak scenes of the published table (docs/model.md, "Published values") and prints our kappa and alpha beside the
 published ones (data/literature/stationary_leak_table.csv), as a Markdown table: each of ours with its
 statistical error and its window systematic, each difference in percent and in units of our total error

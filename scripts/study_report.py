@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes DOCS/README.md from a reproduce_study.sh output directory: per panel its command, its
 pictures (copied to DOCS/img/) and a table; the published-vs-ours table (data/literature/).
 

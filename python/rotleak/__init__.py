@@ -19,7 +19,7 @@ Exact number theory of the leak's speed and its MUPO covering::
     rotleak.omega("70/71")["convergents"]            # exact, as strings; .fractions() as Fractions
     rotleak.covering("2/3", delta="1e-7")             # f_L(s) of a bouncing-ball crossing
 
-Pictures: ``rotleak.plot.draw(run_or_dir)`` (``python3 -m rotleak.plot DIR``). The schemas of every file
+Pictures: ``rotleak.plot.draw(run_or_dir)`` (``/usr/bin/python3 -m rotleak.plot DIR``). The schemas of every file
 are in docs/output.md; ``rotleak.__version__`` is the version rotleak --version and summary.json report.
 """
 from __future__ import annotations
@@ -33,8 +33,31 @@ from typing import TYPE_CHECKING, Any, Union
 
 try:
     from ._version import __version__  # type: ignore[import]  # written by the build (cmake/version.cmake)
+    from ._version import python as _built_for
 except ImportError:  # the source tree's python/, not a build or an install
     __version__ = "unknown"
+    _built_for = ""
+
+
+def _missing(modules: Sequence[str]) -> list[str]:
+    """The modules of ``modules`` this interpreter cannot import (looked up, not imported)."""
+    import importlib.util
+    return [m for m in modules if importlib.util.find_spec(m) is None]
+
+
+def _require(modules: Sequence[str], what: str) -> None:
+    """An ImportError naming the modules this interpreter lacks, and the interpreter that has them."""
+    missing = _missing(modules)
+    if missing:
+        import sys
+        other = _built_for or "/usr/bin/python3"
+        raise ImportError("%s needs %s, which this Python (%s) cannot import. rotleak is built for %s, for which "
+                          "scripts/setup.sh installs numpy, pandas and matplotlib (Debian's python3-numpy, "
+                          "python3-pandas, python3-matplotlib): run %s, or install %s for this Python"
+                          % (what, " and ".join(missing), sys.executable, other, other, " ".join(missing)))
+
+
+_require(("numpy", "pandas"), "rotleak")
 from .readers import (SCHEMA, Alpha, Amplitude, Calibration, Certification, Kappa, PathLike, RotleakError, Run,
                       Scan, read_calibration, read_certification, read_run, read_scan)
 

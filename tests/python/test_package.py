@@ -621,5 +621,27 @@ class Package(unittest.TestCase):
         self.assertIn("has no rows", r.stderr)
 
 
+class OtherInterpreter(unittest.TestCase):
+    """An interpreter without numpy and pandas (here: the suite's own, with its site packages switched off by
+    -S, as a pyenv or conda python3 first on PATH would be) is told what it lacks and which Python has it."""
+
+    def test_import_names_the_missing_modules_and_the_interpreter_built_for(self):
+        build_python = os.environ["PYTHONPATH"].split(os.pathsep)[0]
+        probe = "import sys; sys.path.insert(0, sys.argv[1]); import rotleak"
+        r = subprocess.run([sys.executable, "-S", "-c", probe, build_python], capture_output=True, text=True)
+        if r.returncode == 0:
+            self.skipTest("this interpreter imports numpy and pandas without its site packages")
+        last = r.stderr.strip().splitlines()[-1]
+        self.assertTrue(last.startswith("ImportError: rotleak needs numpy and pandas, which this Python"), last)
+        from rotleak import _version
+        self.assertIn("rotleak is built for %s" % _version.python, last)
+        self.assertEqual(_version.python, subprocess.run(["bash", os.path.join(SRC, "scripts", "setup.sh"), "--python"],
+                                                         capture_output=True, text=True, check=True).stdout.strip())
+        # a Python with numpy and pandas but no matplotlib (find_spec reports a None entry of sys.modules as absent)
+        r = subprocess.run([sys.executable, "-c", "import sys; sys.modules['matplotlib'] = None; sys.path.insert(0, "
+                            "sys.argv[1]); import rotleak.plot", build_python], capture_output=True, text=True)
+        self.assertIn("rotleak.plot needs matplotlib, which this Python", r.stderr.strip().splitlines()[-1])
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -1,4 +1,4 @@
-"""rotleak's pictures: ``python3 -m rotleak.plot DIR`` (``rotleak plot DIR`` runs it) draws whatever a
+"""rotleak's pictures: ``/usr/bin/python3 -m rotleak.plot DIR`` (``rotleak plot DIR`` runs it) draws whatever a
 rotleak directory holds, beside its files:
 
 - a run (``rotleak simulate``): survival.png (P(t) log-log and semi-log, error band, the kappa fit and
@@ -20,7 +20,10 @@ from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any, Optional, Union
 
-import matplotlib
+from .. import _require
+
+_require(("matplotlib",), "rotleak.plot")
+import matplotlib  # noqa: E402
 
 if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
     # files, not windows, unless the caller (a notebook) chose a backend already
@@ -65,10 +68,10 @@ def exact_text(text: str) -> Optional[float]:
 
 
 def bench_main(name: str, draw_rows: Callable[[Sequence[dict[str, str]]], Any]) -> None:
-    """``python3 -m rotleak.plot.NAME CSV OUT.png`` for a benchmark's CSV: draw_rows(rows) makes the
+    """``/usr/bin/python3 -m rotleak.plot.NAME CSV OUT.png`` for a benchmark's CSV: draw_rows(rows) makes the
     figure from the CSV's rows (csv.DictReader), which is written whole to OUT.png."""
     if len(sys.argv) != 3:
-        sys.exit("usage: python3 -m rotleak.plot.%s CSV OUT.png" % name)
+        sys.exit("usage: /usr/bin/python3 -m rotleak.plot.%s CSV OUT.png" % name)
     with open(sys.argv[1], newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -142,10 +145,10 @@ def draw(what: Drawable) -> list[str]:
 
 
 def main(argv: Optional[list[str]] = None) -> None:
-    """``python3 -m rotleak.plot DIR``: a failure is one line on stderr and exit 1, not a traceback."""
+    """``/usr/bin/python3 -m rotleak.plot DIR``: a failure is one line on stderr and exit 1, not a traceback."""
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 1:
-        sys.exit("usage: python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
+        sys.exit("usage: /usr/bin/python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
     try:
         drew = draw(argv[0])
     except RotleakError as e:  # a damaged directory is bad input: its reason, exit 2 (as rotleak fit)

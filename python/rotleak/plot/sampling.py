@@ -2,7 +2,7 @@
 error bands (one standard error), log-log, each down to the smallest P it resolves (uniform: at least
 one survivor; mupo: at least 10 effective survivors).
 
-Usage: python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
+Usage: /usr/bin/python3 -m rotleak.plot.sampling SAMPLING.csv OUT.png    Needs Debian's python3-matplotlib."""
 from __future__ import annotations
 
 from collections.abc import Sequence

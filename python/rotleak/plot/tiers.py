@@ -1,7 +1,7 @@
 """Draw the speed-accuracy trade from bench_tiers' CSV: cost per collision (ratio to double) against
 the median trust horizon in collisions, one point per tier.
 
-Usage: python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
+Usage: /usr/bin/python3 -m rotleak.plot.tiers TIERS.csv OUT.png    Needs Debian's python3-matplotlib."""
 from __future__ import annotations
 
 import math
