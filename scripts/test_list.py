@@ -16,6 +16,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 from collections import OrderedDict
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -45,7 +46,12 @@ def fenced_shell(path):
 
 
 def ctest_tests(build):
-    out = subprocess.run(["ctest", "--show-only=json-v1"], cwd=build, check=True, capture_output=True, text=True)
+    # from a scratch directory that includes the build's tests: ctest writes Testing/Temporary/LastTest.log
+    # where it runs, and in the build it would overwrite the log of the ctest that runs this check
+    with tempfile.TemporaryDirectory(prefix="rotleak-test-list-") as scratch:
+        with open(os.path.join(scratch, "CTestTestfile.cmake"), "w", encoding="utf-8") as f:
+            f.write('subdirs("%s")\n' % os.path.abspath(build).replace("\\", "/"))
+        out = subprocess.run(["ctest", "--show-only=json-v1"], cwd=scratch, check=True, capture_output=True, text=True)
     info = json.loads(out.stdout)
     nodes = info.get("backtraceGraph", {}).get("nodes", [])
     files = info.get("backtraceGraph", {}).get("files", [])
