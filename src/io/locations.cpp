@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "numeric/input.hpp"
-#include "version.hpp"
 
 #ifndef ROTLEAK_DATA_RELATIVE
 #define ROTLEAK_DATA_RELATIVE "share/rotleak/data"
@@ -53,7 +52,7 @@ fs::path data_dir() {
   const bool build_tree = !bin.empty() && fs::exists(bin / "CMakeCache.txt");
   return locate("ROTLEAK_DATA",
                 {bin.empty() ? fs::path() : bin.parent_path() / ROTLEAK_DATA_RELATIVE,
-                 build_tree ? fs::path(kSourceDir) / "data" : fs::path()},
+                 build_tree ? fs::path(ROTLEAK_BUILD_SOURCE_DIR) / "data" : fs::path()},
                 "scenes", "its data: scenes, study inputs, reference trajectories");
 }
 
