@@ -18,10 +18,7 @@ if [ -n "${ROTLEAK_PREBUILT:-}" ]; then
 fi
 # Ninja (Debian's ninja-build): it starts a library's dependants' objects before the library is linked,
 # where make waits; a build/ made by another generator is configured afresh (ccache keeps its objects).
-if [ -f build/CMakeCache.txt ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build/CMakeCache.txt; then
-  echo "build.sh: build/ was made by another generator; configuring it afresh with Ninja" >&2
-  rm -rf build/CMakeCache.txt build/CMakeFiles
-fi
+bash scripts/ninja_tree.sh build
 werror=OFF
 [ -n "${CI:-}" ] && werror=ON
 cmake -G Ninja -S . -B build -DCMAKE_BUILD_TYPE=Release -DROTLEAK_TESTS=ON -DROTLEAK_BENCH=ON -DROTLEAK_WARNINGS=ON -DROTLEAK_PYTHON_MODULE=ON \

@@ -13,7 +13,7 @@ seconds=${1:-10}
 # FUZZ_TARGETS: a subset, space-separated (two shells can share the machine's cores)
 read -r -a targets <<<"${FUZZ_TARGETS:-fuzz_scene fuzz_tally fuzz_survival_csv fuzz_run_documents fuzz_orbit_code fuzz_orbit_checkpoint fuzz_certify_checkpoint}"
 bash scripts/setup.sh
-[ -f build-fuzz/CMakeCache.txt ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build-fuzz/CMakeCache.txt && rm -rf build-fuzz/CMakeCache.txt build-fuzz/CMakeFiles
+bash scripts/ninja_tree.sh build-fuzz
 cmake -G Ninja -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAK_FUZZ=ON \
   -DROTLEAK_TESTS=OFF -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]}"

@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-[ -f build-asan/CMakeCache.txt ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build-asan/CMakeCache.txt && rm -rf build-asan/CMakeCache.txt build-asan/CMakeFiles
+bash scripts/ninja_tree.sh build-asan
 cmake -G Ninja -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DROTLEAK_SANITIZE=ON -DROTLEAK_TESTS=ON \
   -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null

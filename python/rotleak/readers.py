@@ -136,11 +136,8 @@ class RotleakError(ValueError):
 
 
 def _pandas() -> Any:
-    try:
-        import pandas
-    except ImportError as e:  # pragma: no cover - depends on the interpreter
-        raise ImportError("rotleak's tables are pandas DataFrames: install pandas (Debian: python3-pandas), or "
-                          "use Debian's /usr/bin/python3") from e
+    """pandas, imported when a table is first read (``import rotleak`` has checked it can be imported)."""
+    import pandas
     return pandas
 
 
