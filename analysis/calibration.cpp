@@ -1,6 +1,9 @@
 #include "analysis/calibration.hpp"
 
 #include <algorithm>
+#include <boost/math/distributions/binomial.hpp>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <stdexcept>
 
@@ -49,10 +52,27 @@ SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& 
   return s;
 }
 
+HonestBand honest_band(std::size_t K) {
+  if (K < 2) throw std::invalid_argument("honest_band: needs K >= 2 seeds");
+  namespace bm = boost::math;
+  const double k = static_cast<double>(K), a = kCalibrationFalseAlarm;
+  HonestBand b;
+  const bm::chi_squared chi2(k - 1);
+  b.lo = std::min(kHonestBand[0], std::sqrt(bm::quantile(chi2, a / 2) / (k - 1)));
+  b.hi = std::max(kHonestBand[1], std::sqrt(bm::quantile(bm::complement(chi2, a / 2)) / (k - 1)));
+  b.coverage2_expected = 2 * bm::cdf(bm::normal(), 2 * std::sqrt((k - 1) / k)) - 1;
+  const bm::binomial count(k, b.coverage2_expected);
+  std::size_t c = 0;  // the smallest count whose lower tail P(X <= c) reaches a
+  while (c < K && bm::cdf(count, static_cast<double>(c)) < a) ++c;
+  b.coverage2_floor = std::min(kHonestCoverage2, static_cast<double>(c) / k);
+  return b;
+}
+
 std::string spread_verdict(const SeedSpread& s, double model_share) {
   if (!(s.median_err > 0)) return "no errors reported";
-  if (s.sd_over_err > kHonestBand[1] || s.coverage2 < kHonestCoverage2) return "errors too small";
-  if (s.sd_over_err < kHonestBand[0])
+  const HonestBand b = honest_band(s.n);
+  if (s.sd_over_err > b.hi || s.coverage2 < b.coverage2_floor) return "errors too small";
+  if (s.sd_over_err < b.lo)
     return model_share > 0.5 ? "untested: mostly the allowance for lines not drawn" : "errors too large";
   return "honest";
 }

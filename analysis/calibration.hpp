@@ -31,17 +31,36 @@ struct SeedSpread {
 
 /// What honest errors look like over enough seeds: sd / median error within the band, and at least the
 /// floor's share of the seeds within 2 errors of the others' mean (95% for Gaussian errors; with K = 100
-/// seeds its sampling error is about 2%, and sd / err's about 7%).
+/// seeds its sampling error is about 2%, and sd / err's about 7%). These are the precision a user is
+/// promised; with few seeds the data cannot resolve it, and honest_band widens them to what K seeds can.
 inline constexpr double kHonestBand[2] = {0.7, 1.5};
 inline constexpr double kHonestCoverage2 = 0.9;
+/// The probability with which each of the two tests (sd / err, coverage at 2 errors) calls honest
+/// Gaussian errors dishonest when the fixed band and floor are not the binding ones (small K).
+inline constexpr double kCalibrationFalseAlarm = 0.01;
 
-/// "honest", "errors too small" (sd / err above the band or coverage under the floor), "errors too large"
-/// (sd / err below the band), or "no errors reported" (median error 0). model_share: the share of the seeds
-/// whose value was taken where a split run's allowance for unsplit lines not drawn holds more than a third
-/// of P's variance (past summary.json's unresolved_from). Where that is most of them and sd / err lies below
-/// the band, the verdict says the seeds cannot test the error: its main term stands for lines rarer than
-/// the seeds drew (docs/model.md, "Calibration against seeds"), which only a spread over enough runs to
-/// draw them could show.
+/// The acceptance region for K seeds (docs/model.md, "Calibration against seeds"). sd / err: with honest
+/// Gaussian errors of one size, (K - 1) (sd / err)^2 follows chi-square with K - 1 degrees of freedom; its
+/// central 1 - kCalibrationFalseAlarm interval, joined with kHonestBand. Coverage at 2 errors: a seed's
+/// distance to the others' mean has variance err^2 K / (K - 1), so it lies within 2 errors with
+/// p2 = P(|Z| <= 2 sqrt((K - 1) / K)), and the count of such seeds is Binomial(K, p2) (the seeds' distances
+/// share the mean, a correlation of order 1 / K that the test neglects; tests/test_calibration.cpp
+/// measures the false-alarm rate it leaves); the floor is the smallest count whose lower tail holds at least
+/// kCalibrationFalseAlarm, over K, and never above kHonestCoverage2.
+struct HonestBand {
+  double lo = 0, hi = 0;        ///< sd / err band
+  double coverage2_floor = 0;   ///< the least share of seeds within 2 errors
+  double coverage2_expected = 0;  ///< p2
+};
+HonestBand honest_band(std::size_t K);
+
+/// "honest", "errors too small" (sd / err above the band or coverage under the floor, honest_band(s.n)),
+/// "errors too large" (sd / err below the band), or "no errors reported" (median error 0). model_share: the
+/// share of the seeds whose value was taken where a split run's allowance for unsplit lines not drawn holds
+/// more than a third of P's variance (past summary.json's unresolved_from). Where that is most of them and
+/// sd / err lies below the band, the verdict says the seeds cannot test the error: its main term stands for
+/// lines rarer than the seeds drew (docs/model.md, "Calibration against seeds"), which only a spread over
+/// enough runs to draw them could show.
 std::string spread_verdict(const SeedSpread& s, double model_share = 0);
 
 /// The spread of x (values) against e (their reported errors), both one entry per seed. Needs n >= 2.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "analysis/calibration.hpp"
@@ -55,6 +56,94 @@ TEST(SeedSpread, ErrorsTooLargeWhereTheAllowanceDominatesAreUntested) {
   EXPECT_EQ(spread_verdict(s, 0.4), "errors too large");
   EXPECT_EQ(spread_verdict(s, 0.9), "untested: mostly the allowance for lines not drawn");
   EXPECT_EQ(spread_verdict(seed_spread(x, half), 1.0), "errors too small");
+}
+
+// K = 3 by hand: x = 1, 2, 4 with unit errors. Mean 7/3, squared deviations 42/9, sd = sqrt(42/9 / 2) (the
+// n - 1 of an unbiased variance); the others' means 3, 5/2, 3/2 put the seeds 2, 1/2, 5/2 away: one within 1
+// error, two within 2.
+TEST(SeedSpread, ThreeSeedsByHand) {
+  const SeedSpread s = seed_spread({1, 2, 4}, {1, 1, 1});
+  EXPECT_EQ(s.n, 3u);
+  EXPECT_DOUBLE_EQ(s.pooled, 7.0 / 3);
+  EXPECT_DOUBLE_EQ(s.sd, std::sqrt(7.0 / 3));
+  EXPECT_DOUBLE_EQ(s.pooled_err, std::sqrt(7.0 / 3) / std::sqrt(3.0));
+  EXPECT_DOUBLE_EQ(s.sd_over_err, std::sqrt(7.0 / 3));
+  EXPECT_DOUBLE_EQ(s.chi2_dof, 7.0 / 3);
+  EXPECT_DOUBLE_EQ(s.coverage1, 1.0 / 3);
+  EXPECT_DOUBLE_EQ(s.coverage2, 2.0 / 3);
+  EXPECT_DOUBLE_EQ(s.max_over_median, 2);
+}
+
+// The variance behind sd / err is unbiased at any K: over B batches of K = 3 honest Gaussian errors the mean
+// of (sd / err)^2 is 1, with standard error sqrt(2 / (K - 1) / B) (chi-square with K - 1 degrees of freedom
+// over K - 1). Dividing by K instead gives (K - 1) / K = 2/3, 47 standard errors away at B = 20000.
+TEST(SeedSpread, VarianceIsUnbiasedOverSmallBatches) {
+  const std::size_t K = 3, B = 20000;
+  const std::vector<double> x = gaussian_values(K * B, 11), e(K, 0.1);
+  double sum = 0;
+  for (std::size_t b = 0; b < B; ++b) {
+    const std::vector<double> batch(x.begin() + static_cast<std::ptrdiff_t>(K * b),
+                                    x.begin() + static_cast<std::ptrdiff_t>(K * (b + 1)));
+    const double r = seed_spread(batch, e).sd_over_err;
+    sum += r * r;
+  }
+  const double mean = sum / static_cast<double>(B), se = std::sqrt(2.0 / (K - 1) / static_cast<double>(B));
+  EXPECT_NEAR(mean, 1, 4 * se);
+}
+
+// The verdict's region for K seeds (honest_band): at K = 100 the promised band and floor bind (the chi-square
+// interval, [0.78, 1.21], lies inside [0.7, 1.5]); at K = 16 the data cannot resolve them, and the region
+// widens. The stated rate: honest Gaussian errors are called dishonest with probability at most
+// 2 kCalibrationFalseAlarm (each test at kCalibrationFalseAlarm), measured over M = 20000 calibrations of
+// K = 16 seeds (its binomial standard error at 2% is 0.1%; the test allows 4 of them). Errors reported half
+// as large (sd / err near 2) are caught in most of them. The issue that asked for it: 16 seeds with sd / err
+// 0.94 and 14 within 2 errors were called "errors too small"; they are honest.
+TEST(SeedSpread, VerdictJudgesWithItsSeedCount) {
+  const HonestBand b100 = honest_band(100), b16 = honest_band(16), b3 = honest_band(3);
+  EXPECT_DOUBLE_EQ(b100.lo, kHonestBand[0]);
+  EXPECT_DOUBLE_EQ(b100.hi, kHonestBand[1]);
+  EXPECT_DOUBLE_EQ(b100.coverage2_floor, kHonestCoverage2);
+  EXPECT_LT(b16.lo, kHonestBand[0]);
+  EXPECT_LT(b16.coverage2_floor, kHonestCoverage2);
+  // the floor by hand: the binomial lower tail P(X <= c) summed term by term; the floor's count c is the
+  // first whose tail reaches kCalibrationFalseAlarm
+  {
+    const double p2 = b16.coverage2_expected;
+    double tail = 0, below = 0;
+    std::size_t c = 0;
+    for (; c <= 16; ++c) {
+      below = tail;
+      tail += std::tgamma(17.0) / (std::tgamma(c + 1.0) * std::tgamma(17.0 - c)) * std::pow(p2, c) *
+              std::pow(1 - p2, 16.0 - c);
+      if (tail >= kCalibrationFalseAlarm) break;
+    }
+    EXPECT_LT(below, kCalibrationFalseAlarm);
+    EXPECT_DOUBLE_EQ(b16.coverage2_floor, c / 16.0);
+  }
+  EXPECT_GT(b3.hi, b16.hi);
+  EXPECT_NEAR(b16.coverage2_expected, 0.947, 0.001);  // P(|Z| <= 2 sqrt(15/16))
+  EXPECT_THROW(honest_band(1), std::invalid_argument);
+
+  const std::size_t K = 16, M = 20000;
+  const std::vector<double> x = gaussian_values(K * M, 13), e(K, 0.1), half(K, 0.05);
+  std::size_t false_alarms = 0, caught = 0;
+  for (std::size_t m = 0; m < M; ++m) {
+    const std::vector<double> batch(x.begin() + static_cast<std::ptrdiff_t>(K * m),
+                                    x.begin() + static_cast<std::ptrdiff_t>(K * (m + 1)));
+    false_alarms += spread_verdict(seed_spread(batch, e)) != "honest" ? 1 : 0;
+    caught += spread_verdict(seed_spread(batch, half)) == "errors too small" ? 1 : 0;
+  }
+  const double rate = static_cast<double>(false_alarms) / M, stated = 2 * kCalibrationFalseAlarm;
+  EXPECT_LT(rate, stated + 4 * std::sqrt(stated * (1 - stated) / M)) << false_alarms << " of " << M;
+  std::printf("K = 16: %zu of %zu honest calibrations called dishonest, %zu of %zu with errors half as large caught\n",
+              false_alarms, M, caught, M);
+  EXPECT_GT(static_cast<double>(caught) / M, 0.8) << caught << " of " << M;
+
+  std::vector<double> sixteen = gaussian_values(K, 17);
+  SeedSpread s = seed_spread(sixteen, e);
+  s.sd_over_err = 0.943;
+  s.coverage2 = 14.0 / 16;
+  EXPECT_EQ(spread_verdict(s), "honest");
 }
 
 // Pooling split runs: P the mean, R = K sum R_k P_k^2 / (sum P_k)^2, N the sum: P's error of the pool is

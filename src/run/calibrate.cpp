@@ -94,6 +94,7 @@ json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from,
   double lo = std::numeric_limits<double>::infinity(), hi = 0, worst_cov = 1, t_lo = 0, t_hi = 0, t_cov = 0;
   double first = 0, last = 0;
   std::vector<double> x(K), e(K);
+  const HonestBand band = honest_band(K);
   for (std::size_t i = 0; i < points; ++i) {
     for (std::size_t k = 0; k < K; ++k) {
       x[k] = seeds.curves[k].P(i);
@@ -112,13 +113,15 @@ json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from,
     if (s.sd_over_err < lo) lo = s.sd_over_err, t_lo = t;
     if (s.sd_over_err > hi) hi = s.sd_over_err, t_hi = t;
     if (s.coverage2 < worst_cov) worst_cov = s.coverage2, t_cov = t;
-    outside += s.sd_over_err < kHonestBand[0] || s.sd_over_err > kHonestBand[1] ? 1 : 0;
-    uncovered += s.coverage2 < kHonestCoverage2 ? 1 : 0;
+    outside += s.sd_over_err < band.lo || s.sd_over_err > band.hi ? 1 : 0;
+    uncovered += s.coverage2 < band.coverage2_floor ? 1 : 0;
   }
   json P = {{"resolved_times", resolved},
             {"min_effective", min_eff},
-            {"band", {kHonestBand[0], kHonestBand[1]}},
-            {"coverage2_floor", kHonestCoverage2},
+            {"band", {band.lo, band.hi}},
+            {"coverage2_floor", band.coverage2_floor},
+            {"coverage2_expected", band.coverage2_expected},
+            {"false_alarm", kCalibrationFalseAlarm},
             {"model_from", std::isinf(model_from) ? json(nullptr) : json(model_from)}};
   if (resolved == 0) {
     P["honest"] = nullptr;
@@ -267,8 +270,9 @@ std::string calibration_text(const json& d) {
             P.at("sd_over_err_min").at("value").get<double>(), P.at("sd_over_err_min").at("t").get<double>(),
             P.at("sd_over_err_max").at("value").get<double>(), P.at("sd_over_err_max").at("t").get<double>(),
             100 * P.at("coverage2_min").at("value").get<double>(), P.at("coverage2_min").at("t").get<double>(),
-            P.at("times_outside_band").get<std::size_t>(), kHonestBand[0], kHonestBand[1],
-            P.at("times_under_coverage").get<std::size_t>(), 100 * kHonestCoverage2,
+            P.at("times_outside_band").get<std::size_t>(), P.at("band")[0].get<double>(),
+            P.at("band")[1].get<double>(), P.at("times_under_coverage").get<std::size_t>(),
+            100 * P.at("coverage2_floor").get<double>(),
             P.at("honest").get<bool>() ? "honest" : "NOT honest");
   }
   const json& b = d.at("alpha_bounds");
