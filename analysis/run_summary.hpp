@@ -29,6 +29,9 @@ struct RunSummary {
   std::optional<TailPrediction> prediction;  ///< the covering model's tail (none: the scene lies outside it)
   std::vector<RateJump> rate_jumps;          ///< measured jumps of the decay rate (window 100)
   std::optional<std::string> tier_choice;    ///< why, when the scene asked for run.tier = auto
+  /// Why the audit's rule (verify/audit.hpp, scalar_rejection) does not trust this tier's statistics on this
+  /// scene (the leak phase or the time grid beyond it); none where it does. Set by the run layer.
+  std::optional<std::string> precision_warning;
 
   double collisions_per_second() const {
     return result.wall_seconds > 0 ? static_cast<double>(result.tally.collisions) / result.wall_seconds : 0.0;

@@ -93,7 +93,7 @@ struct ScalarCheck {
 };
 
 struct Verdict {
-  std::string tier, statistic, verdict, reason;  ///< verdict: trusted | trusted as a statistic | not trusted
+  std::string tier, statistic, verdict, reason;  ///< verdict: trusted | trusted as a statistic | untested | not trusted
 };
 
 struct AuditReport {
@@ -123,5 +123,9 @@ AuditReport audit(const Scene& scene, const AuditOptions& options);
 
 /// The checks on the scene's scalars alone (no simulation): phase resolution and omega's representation.
 ScalarCheck scalar_check(const Scene& scene, const std::string& tier);
+/// The one rule on a tier's scalars, which the audit's verdicts, run.tier = auto and simulate's warning all
+/// apply: why the tier cannot be trusted on this scene whatever its ensembles show (a moving leak's phase
+/// not resolved to 1e-3 of its width at t_max, or the time grid finer than 100 ulps of t_max), or nothing.
+std::optional<std::string> scalar_rejection(const Scene& scene, const ScalarCheck& c);
 
 }  // namespace rotleak

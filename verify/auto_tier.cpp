@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "numeric/input.hpp"
 #include "verify/audit.hpp"
 
 namespace rotleak {
@@ -29,26 +30,26 @@ TierChoice choose_from_audit(const Scene& scene, const AuditReport& rep, std::ui
     return -1.0;
   };
   const Tier tiers[] = {Tier::float_, Tier::double_, Tier::long_double};
-  std::string rejected, timings;
+  std::string rejected, rejected_short, timings;
   int best = -1;
   double best_seconds = 0;
   std::string best_verdict;
   for (std::size_t k = 0; k < 3; ++k) {
     const std::string name = to_string(tiers[k]);  // as the audit names its verdicts and ensembles
+    // the audit's one rule: every statistic trusted (an untested one is not chosen), the scalars passing
     bool ok = true;
     std::string why;
     for (const Verdict& v : rep.verdicts)
-      if (v.tier == name && v.statistic != "trajectories" && v.verdict == "not trusted") {
+      if (ok && v.tier == name && v.statistic != "trajectories" && v.verdict != "trusted" &&
+          v.verdict != "trusted as a statistic") {
         ok = false;
-        why = v.statistic + " not trusted: " + v.reason;
+        why = v.statistic + " " + v.verdict + ": " + v.reason;
       }
-    const ScalarCheck& sc = rep.scalars[k];
-    if (ok && !sc.phase_resolved && scene.omega.sign() != 0) ok = false, why = "leak phase: " + sc.note;
-    if (ok && sc.time_ulp_at_tmax > scene.survival_dt / 100)
-      ok = false,
-      why = "time resolution at t_max " + std::to_string(sc.time_ulp_at_tmax) + " is coarse against survival_dt";
+    if (const auto out = scalar_rejection(scene, rep.scalars[k]); ok && out) ok = false, why = *out;
     if (!ok) {
       rejected += (rejected.empty() ? "" : "; ") + name + " (" + why + ")";
+      // the one-line refusal keeps each reason's first clause
+      rejected_short += (rejected_short.empty() ? "" : "; ") + name + ": " + why.substr(0, why.find(';'));
       continue;
     }
     double seconds = seconds_of(name);
@@ -69,8 +70,9 @@ TierChoice choose_from_audit(const Scene& scene, const AuditReport& rep, std::ui
     }
   }
   if (best < 0)
-    return {Tier::long_double,
-            "no ensemble tier passed the audit; ran the most precise one (long_double). Rejected: " + rejected};
+    throw InputError("run.tier", "auto",
+                     "no ensemble tier is trusted on this scene (" + rejected_short +
+                         "); name a tier to run it anyway (simulate then warns), or shorten t_max");
   return {tiers[best], "fastest tier the audit trusts for P(t), kappa and alpha, by wall time on the audit's " +
                            std::to_string(compared) + " particles (" + timings +
                            "; the same ids compared with long double): " + to_string(tiers[best]) + ", " +

@@ -355,6 +355,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["tier"] = to_string(scene.tier);
   if (r.tier_choice)
     s["tier_choice"] = {{"requested", "auto"}, {"chosen", to_string(scene.tier)}, {"reason", *r.tier_choice}};
+  s["precision_warning"] = nullable(r.precision_warning);
   s["particles"] = scene.particles;
   if (r.result.of != 0)  // a shard: ids [first, end) of a run of `of` particles (rotleak merge)
     s["ids"] = {{"first", r.result.first_id}, {"end", r.result.first_id + scene.particles}, {"of", r.result.of}};
@@ -475,6 +476,10 @@ std::string summary_text(const RunSummary& r) {
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
             static_cast<unsigned long long>(r.result.tally.stuck));
+  if (r.tier_choice) out += "tier  : auto chose " + to_string(r.scene.tier) + ": " + *r.tier_choice + "\n";
+  if (r.precision_warning)
+    out += "warning: the audit does not trust P(t), kappa or alpha at the " + to_string(r.scene.tier) +
+           " tier here: " + *r.precision_warning + "\n";
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
+#include "verify/audit.hpp"
 #include "verify/auto_tier.hpp"
 
 namespace rotleak {
@@ -293,6 +294,8 @@ RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note, const D
     s = summarise(scene, std::move(result));
   }
   s.tier_choice = std::move(choice);
+  // the audit's one rule on the tier's scalars: a run it would not trust says so (simulate, scans, ranks)
+  s.precision_warning = scalar_rejection(s.scene, scalar_check(s.scene, to_string(s.scene.tier)));
   return s;
 }
 
