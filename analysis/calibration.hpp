@@ -48,8 +48,8 @@ inline constexpr double kCalibrationFalseAlarm = 0.01;
 /// measures the false-alarm rate it leaves); the floor is the smallest count whose lower tail holds at least
 /// kCalibrationFalseAlarm, over K, and never above kHonestCoverage2.
 struct HonestBand {
-  double lo = 0, hi = 0;        ///< sd / err band
-  double coverage2_floor = 0;   ///< the least share of seeds within 2 errors
+  double lo = 0, hi = 0;          ///< sd / err band
+  double coverage2_floor = 0;     ///< the least share of seeds within 2 errors
   double coverage2_expected = 0;  ///< p2
 };
 HonestBand honest_band(std::size_t K);

@@ -264,8 +264,29 @@ TailClass no_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult&
   return k;
 }
 
+/// A flat 1/t stretch measured (fit_amplitude: P above 100 times the fit, t P flat over a factor 2 in t at
+/// least, C more than 3 of its errors, stat. and drift, above 0): a tail is seen and its weight resolved.
+bool amplitude_resolved(const TailAmplitude* a) {
+  return a && a->value && *a->value > 3 * std::hypot(a->std_error, a->drift);
+}
+
+/// Where alpha is not resolved but C is: the tail's fate from the start of C's stretch (persistent or
+/// transient, with its regime), and the note says its weight is C's.
+TailClass tail_from_amplitude(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
+                              const TailAmplitude& a, double steep) {
+  TailClass k;
+  tail_fate(scene, c, a.from, static_cast<double>(alpha.min_survivors), steep, k);
+  char note[260];
+  std::snprintf(note, sizeof note,
+                "; alpha, P at the first crossing, is not resolved there, but the tail is: t P is flat at C = %.4g +- "
+                "%.2g over [%g, %g] (alpha_C reads its weight)",
+                *a.value, std::hypot(a.std_error, a.drift), a.from, a.to);
+  k.note += note;
+  return k;
+}
+
 TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
-                               const KappaFit* fit) {
+                               const KappaFit* fit, const TailAmplitude* amplitude) {
   const bool rotating = scene.omega.sign() != 0;
   // near a rational other than an integer: a tail that forms and dies is looked for more closely
   std::optional<NearRational> near = rotating ? near_rational(scene) : std::nullopt;
@@ -283,7 +304,11 @@ TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const
       // falls where the uniform share's survivors are too few, the sweep at t ~ 5900 does not)
       TailClass fate;
       tail_fate(scene, c, c.t[seen], static_cast<double>(alpha.min_survivors), steep, fate);
-      if (fate.tail != "transient") return unresolved_tail(c, alpha, *fit, seen, rotating);
+      if (fate.tail != "transient") {
+        // one tail verdict: a resolved C is a tail seen with its weight measured, not "unresolved"
+        if (amplitude_resolved(amplitude)) return with_near(tail_from_amplitude(scene, c, alpha, *amplitude, steep));
+        return unresolved_tail(c, alpha, *fit, seen, rotating);
+      }
       fate.note +=
           "; alpha, P at the first crossing, is not resolved (the tail is seen from t = " + std::to_string(c.t[seen]) +
           ")";
@@ -292,6 +317,8 @@ TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const
   }
   if (!alpha.value && near && fit && fit->ok)
     if (const std::optional<TailClass> bump = near_bump(scene, c, alpha, *fit, steep)) return with_near(*bump);
+  if (!alpha.value && amplitude_resolved(amplitude))
+    return with_near(tail_from_amplitude(scene, c, alpha, *amplitude, steep));
   if (!alpha.value) return no_tail(scene, c, alpha, rotating);
   TailClass k;
   tail_fate(scene, c, alpha.crossing_time, static_cast<double>(alpha.min_survivors), steep, k);
@@ -318,8 +345,9 @@ std::optional<NearRational> near_rational(const Scene& scene) {
   return n;
 }
 
-TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit) {
-  TailClass k = classify_tail_from_P(scene, c, alpha, fit);
+TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha, const KappaFit* fit,
+                        const TailAmplitude* amplitude) {
+  TailClass k = classify_tail_from_P(scene, c, alpha, fit, amplitude);
   if (k.tail == "transient" && k.near) {
     k.regime = "near-rational";
     k.note += "; near a rational: " + near_text(*k.near) + ", the leak pattern drifts off it";

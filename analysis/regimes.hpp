@@ -100,8 +100,12 @@ inline constexpr double kSeeTail = 10;
 /// at or above tail_floor (a tail above the floor could hide below the bound; resolve_particles: about
 /// N bound / tail_floor), and for a persistent tail when the leak's leading edge leaves the lower
 /// straight edge (tau2) only after the last survivor: its removal could not have been seen.
+/// One tail verdict with the amplitude: where alpha is not resolved but `amplitude` is (a flat 1/t stretch
+/// with C more than 3 of its errors, stat. and drift, above 0), the tail is seen and its weight measured, so
+/// the class is its fate from the start of C's stretch (persistent or transient, with that regime), never
+/// `none` or `unresolved` beside a resolved C.
 /// `fit`: the exponential fit alpha was read against (null: an unresolved tail is not looked for).
 TailClass classify_tail(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
-                        const KappaFit* fit = nullptr);
+                        const KappaFit* fit = nullptr, const TailAmplitude* amplitude = nullptr);
 
 }  // namespace rotleak

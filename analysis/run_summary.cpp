@@ -25,7 +25,7 @@ void fit_curve(RunSummary& s) {
   s.tail = fit_tail(s.curve, s.alpha);
   s.amplitude = fit_amplitude(s.curve, s.kappa, scene.min_survivors);
   s.alpha_c = alpha_from_amplitude(s.kappa, s.amplitude, scene.alpha_factor);
-  s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa);
+  s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa, &s.amplitude);
   s.leak_times = leak_times(scene);
   try {
     s.prediction = predict_tail(scene);

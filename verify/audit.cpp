@@ -179,8 +179,8 @@ std::optional<std::string> scalar_rejection(const Scene& scene, const ScalarChec
   if (scene.omega.sign() != 0 && !c.phase_resolved) return "leak phase not resolved at " + c.tier + ": " + c.note;
   if (c.time_ulp_at_tmax > scene.survival_dt / 100) {
     char b[200];
-    std::snprintf(b, sizeof b, "time resolution at t_max %.2g at %s is coarse against survival_dt %g", c.time_ulp_at_tmax,
-                  c.tier.c_str(), scene.survival_dt);
+    std::snprintf(b, sizeof b, "time resolution at t_max %.2g at %s is coarse against survival_dt %g",
+                  c.time_ulp_at_tmax, c.tier.c_str(), scene.survival_dt);
     return std::string(b);
   }
   return std::nullopt;
@@ -285,92 +285,67 @@ const Verdict* verdict_of(const AuditReport& rep, const std::string& tier, const
 
 bool trusts(const Verdict* v) { return v && (v->verdict == "trusted" || v->verdict == "trusted as a statistic"); }
 
-/// Per tier, in the order of opt.tiers (less precise first): its scalars, and a verdict on trajectories,
-/// P(t), kappa and alpha by one rule (docs/guide/trust.md, "One verdict"). A statistic is not trusted where the
-/// tier's scalars fail (scalar_rejection: the leak phase or the time grid beyond it), whatever else agrees;
-/// trusted where every sampled escape is reproduced; else judged by the tier's ensemble against its reference
-/// (long double, for long double double), which counts only where the reference's own scalars pass; a tier
-/// with no ensemble leans on the most precise less precise tier that is trusted, never on one that is not
-/// ("untested" where there is none). The vectorised double engine shares the double tier's verdict, and
-/// adds its own ensemble's comparison where that verdict trusts.
-void verdicts(const Scene& scene, AuditReport& rep) {
-  std::vector<std::pair<std::string, std::optional<std::string>>> rejection;  // per tier, in order
-  for (const TierAudit& ta : rep.tiers) {
-    rep.scalars.push_back(scalar_check(scene, ta.name));
-    rejection.emplace_back(ta.name, scalar_rejection(scene, rep.scalars.back()));
-  }
-  const auto rejected = [&rejection](const std::string& tier) -> std::optional<std::string> {
+using Rejections = std::vector<std::pair<std::string, std::optional<std::string>>>;
+
+/// A statistic's verdict for a tier that passes its scalars and does not reproduce every sampled escape:
+/// its ensemble against its reference (which counts only where the reference's scalars pass), or, with no
+/// ensemble, the most precise less precise tier that has one, only where that tier is trusted.
+Verdict statistic_verdict(const AuditReport& rep, const Rejections& rejection, std::size_t k, const char* stat) {
+  const TierAudit& ta = rep.tiers[k];
+  Verdict v{ta.name, stat, "", ""};
+  if (const StatisticsCheck* st = statistics_of(rep, ta.name)) {
+    const std::string ref = ta.name == "long_double" ? "double" : "long_double";
+    char b[300];
+    std::snprintf(b, sizeof b, "%s (max |z| = %.2f over %zu windows, kappa diff %.2g +- %.1g) against %s",
+                  st->consistent ? "ensemble agrees" : "ensemble differs", st->max_abs_z, st->windows.size(),
+                  st->kappa_diff, st->kappa_diff_error, ref == "double" ? "double" : "long double");
+    const std::string horizon = "; trajectories leave the truth after a median " +
+                                std::to_string(static_cast<long>(ta.horizon_collisions.median)) + " collisions";
+    std::optional<std::string> ref_out;
     for (const auto& [name, why] : rejection)
-      if (name == tier) return why;
-    return std::nullopt;
-  };
-  for (std::size_t k = 0; k < rep.tiers.size(); ++k) {
-    const TierAudit& ta = rep.tiers[k];
-    const std::optional<std::string> own = rejection[k].second;
-    const bool trajectories = ta.escape_time_exact_fraction >= 0.99 && ta.escapes_compared > 0;
-    char why[300];
-    std::snprintf(
-        why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
-        100 * ta.escape_time_exact_fraction, ta.escapes_compared, ta.horizon_collisions.median, ta.horizon_time.median);
-    rep.verdicts.push_back({ta.name, "trajectories", trajectories ? "trusted" : "not trusted", why});
-    const StatisticsCheck* st = statistics_of(rep, ta.name);
-    for (const char* stat : {"P(t)", "kappa", "alpha"}) {
-      Verdict v{ta.name, stat, "", ""};
-      if (own) {
-        v.verdict = "not trusted";
-        v.reason = *own;
-      } else if (trajectories) {
-        v.verdict = "trusted";
-        v.reason = "every sampled escape reproduced exactly";
-      } else if (st) {
-        const std::string ref = ta.name == "long_double" ? "double" : "long_double";
-        char b[300];
-        std::snprintf(b, sizeof b, "%s (max |z| = %.2f over %zu windows, kappa diff %.2g +- %.1g) against %s",
-                      st->consistent ? "ensemble agrees" : "ensemble differs", st->max_abs_z, st->windows.size(),
-                      st->kappa_diff, st->kappa_diff_error, ref == "double" ? "double" : "long double");
-        const std::string horizon = "; trajectories leave the truth after a median " +
-                                    std::to_string(static_cast<long>(ta.horizon_collisions.median)) + " collisions";
-        if (const auto ref_out = rejected(ref); ref_out && st->consistent) {
-          v.verdict = "untested";
-          v.reason = std::string(b) + ", which is itself not trusted here (" + *ref_out + ")" + horizon;
-        } else {
-          v.verdict = st->consistent ? "trusted as a statistic" : "not trusted";
-          v.reason = std::string(b) + horizon;
-        }
-      } else {
-        // the most precise less precise tier with an ensemble, and whether it is trusted
-        const Verdict* base = nullptr;
-        for (std::size_t j = k; j-- > 0;)
-          if (statistics_of(rep, rep.tiers[j].name)) {
-            base = verdict_of(rep, rep.tiers[j].name, stat);
-            break;
-          }
-        if (trusts(base)) {
-          v.verdict = "trusted as a statistic";
-          v.reason = "no ensemble at this tier; more precise than " + base->tier + ", which is " + base->verdict +
-                     " (" + base->reason + ")";
-        } else {
-          v.verdict = "untested";
-          v.reason = base ? "no ensemble at this tier, and " + base->tier +
-                                ", the most precise tier with one, is not trusted here (" + base->reason + ")"
-                          : "no ensemble at this tier, and no less precise tier with one";
-        }
-      }
-      rep.verdicts.push_back(v);
+      if (name == ref) ref_out = why;
+    if (ref_out && st->consistent) {
+      v.verdict = "untested";
+      v.reason = std::string(b) + ", which is itself not trusted here (" + *ref_out + ")" + horizon;
+    } else {
+      v.verdict = st->consistent ? "trusted as a statistic" : "not trusted";
+      v.reason = std::string(b) + horizon;
     }
+    return v;
   }
-  // the vectorised double engine: the double tier's verdict first
+  const Verdict* base = nullptr;
+  for (std::size_t j = k; j-- > 0;)
+    if (statistics_of(rep, rep.tiers[j].name)) {
+      base = verdict_of(rep, rep.tiers[j].name, stat);
+      break;
+    }
+  if (trusts(base)) {
+    v.verdict = "trusted as a statistic";
+    v.reason = "no ensemble at this tier; more precise than " + base->tier + ", which is " + base->verdict + " (" +
+               base->reason + ")";
+  } else {
+    v.verdict = "untested";
+    v.reason = base ? "no ensemble at this tier, and " + base->tier +
+                          ", the most precise tier with one, is not trusted here (" + base->reason + ")"
+                    : "no ensemble at this tier, and no less precise tier with one";
+  }
+  return v;
+}
+
+/// The vectorised double engine: the double tier's verdict first, then its own ensemble's comparison.
+void engine_verdicts(AuditReport& rep) {
   const StatisticsCheck* simd = statistics_of(rep, "double_simd");
   if (!simd) return;
   for (const char* stat : {"P(t)", "kappa", "alpha"}) {
     const Verdict* d = verdict_of(rep, "double", stat);
     Verdict v{"double_simd", stat, "", ""};
     char b[300];
-    std::snprintf(b, sizeof b,
-                  "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max "
-                  "|z| = %.2f)",
-                  simd->identical_to_scalar_double ? "identical to" : "differs from",
-                  simd->consistent ? "agrees with" : "differs from", simd->max_abs_z);
+    std::snprintf(
+        b, sizeof b,
+        "vectorised double engine: survival curve %s the scalar double engine's; ensemble %s long double (max "
+        "|z| = %.2f)",
+        simd->identical_to_scalar_double ? "identical to" : "differs from",
+        simd->consistent ? "agrees with" : "differs from", simd->max_abs_z);
     if (d && !trusts(d)) {
       v.verdict = d->verdict;
       v.reason = "the double tier's verdict: " + d->reason;
@@ -383,6 +358,38 @@ void verdicts(const Scene& scene, AuditReport& rep) {
     }
     rep.verdicts.push_back(v);
   }
+}
+
+/// Per tier, in the order of opt.tiers (less precise first): its scalars, and a verdict on trajectories,
+/// P(t), kappa and alpha by one rule (docs/guide/trust.md, "One verdict"). A statistic is not trusted where the
+/// tier's scalars fail (scalar_rejection: the leak phase or the time grid beyond it), whatever else agrees;
+/// trusted where every sampled escape is reproduced; else statistic_verdict. The vectorised double engine
+/// shares the double tier's verdict (engine_verdicts).
+void verdicts(const Scene& scene, AuditReport& rep) {
+  Rejections rejection;  // per tier, in order
+  for (const TierAudit& ta : rep.tiers) {
+    rep.scalars.push_back(scalar_check(scene, ta.name));
+    rejection.emplace_back(ta.name, scalar_rejection(scene, rep.scalars.back()));
+  }
+  for (std::size_t k = 0; k < rep.tiers.size(); ++k) {
+    const TierAudit& ta = rep.tiers[k];
+    const std::optional<std::string> own = rejection[k].second;
+    const bool trajectories = ta.escape_time_exact_fraction >= 0.99 && ta.escapes_compared > 0;
+    char why[300];
+    std::snprintf(
+        why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
+        100 * ta.escape_time_exact_fraction, ta.escapes_compared, ta.horizon_collisions.median, ta.horizon_time.median);
+    rep.verdicts.push_back({ta.name, "trajectories", trajectories ? "trusted" : "not trusted", why});
+    for (const char* stat : {"P(t)", "kappa", "alpha"}) {
+      if (own)
+        rep.verdicts.push_back({ta.name, stat, "not trusted", *own});
+      else if (trajectories)
+        rep.verdicts.push_back({ta.name, stat, "trusted", "every sampled escape reproduced exactly"});
+      else
+        rep.verdicts.push_back(statistic_verdict(rep, rejection, k, stat));
+    }
+  }
+  engine_verdicts(rep);
 }
 
 }  // namespace

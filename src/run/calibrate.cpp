@@ -270,9 +270,8 @@ std::string calibration_text(const json& d) {
             P.at("sd_over_err_min").at("value").get<double>(), P.at("sd_over_err_min").at("t").get<double>(),
             P.at("sd_over_err_max").at("value").get<double>(), P.at("sd_over_err_max").at("t").get<double>(),
             100 * P.at("coverage2_min").at("value").get<double>(), P.at("coverage2_min").at("t").get<double>(),
-            P.at("times_outside_band").get<std::size_t>(), P.at("band")[0].get<double>(),
-            P.at("band")[1].get<double>(), P.at("times_under_coverage").get<std::size_t>(),
-            100 * P.at("coverage2_floor").get<double>(),
+            P.at("times_outside_band").get<std::size_t>(), P.at("band")[0].get<double>(), P.at("band")[1].get<double>(),
+            P.at("times_under_coverage").get<std::size_t>(), 100 * P.at("coverage2_floor").get<double>(),
             P.at("honest").get<bool>() ? "honest" : "NOT honest");
   }
   const json& b = d.at("alpha_bounds");
