@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A split run's files read back with the readers a user would use: Python's csv and json, and pandas.
 # survival.csv has the documented header and four numeric fields on every row, P reaches below 1e-15
-# and parses as such, and summary.json's "splitting" holds the fields docs/output.md lists.
+# and parses as such, and summary.json's "splitting" holds the fields docs/output.md lists; where P's error is
+# mostly the allowance for lines not drawn, simulate prints P(t_max) as a bound and the lines say `bounded`.
 # Usage: scripts/check_split_outputs.sh ROTLEAK_BINARY      Exit 1 on the first violation.
 set -euo pipefail
 py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
@@ -10,11 +11,14 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 scene=$(realpath "$(dirname "$0")/../data/scenes/stationary_sL_0.toml")
 "$bin" simulate "$scene" --particles 20000 --set leak.omega=100/101 --set ensemble.sampling=mupo \
-  --set run.splitting=true --set run.t_max=8000 --out "$work/run" --no-progress >/dev/null
-"$py" - "$work/run" <<'PY'
+  --set run.splitting=true --set run.t_max=8000 --out "$work/run" --no-progress >"$work/stdout"
+"$py" - "$work/run" "$work/stdout" <<'PY'
 import csv, json, math, sys
 import pandas as pd
 run = sys.argv[1]
+# past unresolved_from P is printed as a bound, not as a value with an error
+printed = open(sys.argv[2]).read()
+assert "P(t_max) < " in printed and "the lines drawn give" in printed, printed
 with open(run + "/survival.csv", newline="") as f:
     reader = csv.reader(f)
     header = next(reader)
@@ -39,9 +43,11 @@ for key in ("rule", "split_every", "split_delta", "split_cap", "levels", "splits
 assert len(sp["lines"]) == 4
 for at in sp["lines"]:
     assert set(at) == {"t", "lines_alive", "members", "P", "P_err", "effective_lines", "unsplit_lines",
-                       "unsplit_P"}, at
+                       "unsplit_P", "bounded"}, at
 ua = sp["unsplit_allowance"]
 assert set(ua) == {"unresolved_from", "groups"} and 0 < ua["unresolved_from"] < 8000, ua
+for at in sp["lines"]:  # P is a bound exactly from unresolved_from on
+    assert at["bounded"] == (at["t"] >= ua["unresolved_from"]), (at, ua["unresolved_from"])
 for k in ua["groups"]:
     assert set(k) == {"weights", "reliable_until", "rate_from", "decay_rate", "typical_weight"}, k
     low, high = k["weights"]  # high is null for the heaviest class

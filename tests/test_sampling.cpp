@@ -295,6 +295,87 @@ TEST(Sampling, WeightsGiveTheUniformMeasureOfRegions) {
   }
 }
 
+// The riding bands (docs/model.md, "Riding orbits") by hand: at omega = 100/101, r = 1, 2X mod 1 = 97/101 and
+// its best approximation 24/25 leaves eta = 97/101 - 24/25 = 1/2525: |p| = L / (4 * 2525) = 1.018e-3, where
+// unsplit runs of 10^8 lines drawn on |p| in [5e-4, 2e-3] found their survivors past t = 3000 (1433 of them, 1273
+// in [9.5e-4, 1.1e-3]); at 82/83, 79/83 and 20/21 leave eta = -1/1743 and |p| = L / (4 * 1743) = 1.47e-3 (the
+// survivors' peak: 80 of 185 in [1.41e-3, 1.62e-3]). A stationary leak and an exact rational 2X (omega = 1/2)
+// have none; the band's half width is L (1/b - lambda) / d, relative.
+TEST(Sampling, RidingBandsByHand) {
+  const double L = 4 + 2 * M_PI;
+  const auto band_of = [](const std::vector<RidingBand>& bands, long long a, long long b) -> const RidingBand* {
+    for (const RidingBand& x : bands)
+      if (x.a == a && x.b == b) return &x;
+    return nullptr;
+  };
+  const auto s101 = riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=100/101"}));
+  const RidingBand* b25 = band_of(s101, 24, 25);
+  ASSERT_NE(b25, nullptr);
+  EXPECT_NEAR(b25->eta, 1.0 / 2525, 1e-15);
+  EXPECT_NEAR(b25->p, L / (4 * 2525), 1e-15);
+  EXPECT_NEAR(b25->hi / b25->p - 1, L * (1.0 / 25 - 0.01) / 2, 1e-12);
+  const auto s83 = riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=82/83"}));
+  const RidingBand* b21 = band_of(s83, 20, 21);
+  ASSERT_NE(b21, nullptr);
+  EXPECT_NEAR(b21->eta, 79.0 / 83 - 20.0 / 21, 1e-15);
+  EXPECT_NEAR(b21->p, L / (4 * 1743), 1e-15);
+  EXPECT_TRUE(riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo"})).empty());
+  EXPECT_TRUE(riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=1/2"})).empty());
+  for (const RidingBand& b : s101) {  // every band: a best approximation with gaps, inside the mupo range
+    EXPECT_LT(static_cast<double>(b.b) * 0.01, 1.0);
+    EXPECT_GE(b.p, 1e-12);
+    EXPECT_LE(b.p, 0.05);
+  }
+}
+
+// With riding bands the weights stay u / q exactly: E_q[w 1_R] = u(R) on a riding band and beside it, and
+// E_q[w] = 1 (error model as above: 5 standard errors). ride = 0 draws the scheme without bands bit for bit.
+TEST(Sampling, RidingBandsKeepTheWeightsExact) {
+  const Scene scene =
+      scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=100/101", "ensemble.sampling_ride=0.5"});
+  const auto sampler = make_sampler(scene);
+  const double d = 2, L = 2 * d + 2 * M_PI;
+  const RidingBand band = riding_bands(scene).at(1);  // 24/25
+  ASSERT_EQ(band.b, 25);
+  struct Region {
+    double lo, hi;
+  };
+  const std::vector<Region> regions = {{band.lo, band.hi}, {band.p, band.hi}, {1e-2, 0.05}, {1e-6, 1e-4}};
+  const std::uint64_t n = 1000000;
+  std::vector<double> sum(regions.size()), sum2(regions.size());
+  double all = 0, all2 = 0;
+  const double j0 = (d / 2) / L, j1 = (d / 2 + M_PI) / L, j2 = (1.5 * d + M_PI) / L;
+  for (std::uint64_t id = 0; id < n; ++id) {
+    const InitialDraw dr = sampler->draw(id);
+    const double w = sampler->weight(dr);
+    all += w;
+    all2 += w * w;
+    const bool inside = dr.s < j0 || dr.s >= 1 - j0 || (dr.s >= j1 && dr.s < j2);
+    for (std::size_t k = 0; k < regions.size(); ++k)
+      if (inside && std::abs(dr.p) >= regions[k].lo && std::abs(dr.p) < regions[k].hi) {
+        sum[k] += w;
+        sum2[k] += w * w;
+      }
+  }
+  const double mean = all / n;
+  EXPECT_NEAR(mean, 1.0, 5 * std::sqrt((all2 / n - mean * mean) / n));
+  for (std::size_t k = 0; k < regions.size(); ++k) {
+    const double m = sum[k] / n, se = std::sqrt((sum2[k] / n - m * m) / n);
+    const double measure = (2 * d / L) * (regions[k].hi - regions[k].lo);
+    EXPECT_NEAR(m, measure, 5 * se) << "region [" << regions[k].lo << ", " << regions[k].hi << ")";
+    EXPECT_LT(se, 0.02 * measure) << "the test must resolve the region";
+  }
+  const auto plain = make_sampler(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=100/101"}));
+  const auto zero = make_sampler(
+      scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=100/101", "ensemble.sampling_ride=0"}));
+  for (std::uint64_t id = 0; id < 1000; ++id) {
+    const InitialDraw a = plain->draw(id), b = zero->draw(id);
+    EXPECT_EQ(a.s, b.s);
+    EXPECT_EQ(a.p, b.p);
+    EXPECT_EQ(plain->weight(a), zero->weight(b));
+  }
+}
+
 TEST(Sampling, WeightIsAFunctionOfSeedAndId) {
   const Scene scene = scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo"});
   const auto a = make_sampler(scene), b = make_sampler(scene);

@@ -13,155 +13,10 @@
 #include "io/scene_file.hpp"
 #include "io/text.hpp"
 #include "numeric/input.hpp"
+#include "sim/model/sampling.hpp"
 #include "version.hpp"
 
 namespace rotleak {
-
-std::string survival_csv(const SurvivalCurve& curve) {
-  std::string out = "t,survivors,P,P_err\n";
-  out.reserve(curve.survivors.size() * 48);
-  for (std::size_t k = 0; k < curve.survivors.size(); ++k) {
-    out += shortest(curve.t[k]);
-    out += ',';
-    out += std::to_string(curve.survivors[k]);
-    out += ',';
-    out += shortest(curve.P(k));
-    out += ',';
-    out += shortest(curve.P_err(k));
-    out += '\n';
-  }
-  return out;
-}
-
-namespace {
-
-/// A decimal field as rotleak writes it: -?digits[.digits][e[+-]digits], or inf, -inf, nan. The Python
-/// reader (python/rotleak/readers.py) checks the same grammar, so both refuse the same damage.
-bool decimal_field(std::string_view f, bool integer) {
-  if (!integer && (f == "inf" || f == "-inf" || f == "nan")) return true;
-  std::size_t i = 0;
-  const auto digits = [&] {
-    const std::size_t from = i;
-    while (i < f.size() && f[i] >= '0' && f[i] <= '9') ++i;
-    return i > from;
-  };
-  if (integer) return digits() && i == f.size();
-  if (i < f.size() && f[i] == '-') ++i;
-  if (!digits()) return false;
-  if (i < f.size() && f[i] == '.') {
-    ++i;
-    if (!digits()) return false;
-  }
-  if (i < f.size() && (f[i] == 'e' || f[i] == 'E')) {
-    ++i;
-    if (i < f.size() && (f[i] == '+' || f[i] == '-')) ++i;
-    if (!digits()) return false;
-  }
-  return i == f.size();
-}
-
-}  // namespace
-
-SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
-  SurvivalCurve c;
-  c.particles = scene.particles;
-  c.lines = scene.splitting.on;
-  c.weighted = scene.sampling.weighted() || c.lines;
-  c.max_weight = scene.sampling.max_weight();
-  const double n = static_cast<double>(scene.particles);
-  const std::string header = "t,survivors,P,P_err\n";
-  if (text.compare(0, header.size(), header) != 0)
-    throw std::runtime_error("survival.csv: expected the header t,survivors,P,P_err");
-  if (text.back() != '\n') throw std::runtime_error("survival.csv: ends inside a row (truncated)");
-  std::size_t line = 1;
-  for (std::size_t pos = header.size(); pos < text.size();) {
-    const std::size_t end = text.find('\n', pos);
-    const std::string_view row(text.data() + pos, end - pos);
-    pos = end + 1;
-    ++line;
-    std::string_view field[4];
-    std::size_t from = 0, count = 0;
-    for (std::size_t i = 0; i <= row.size() && count < 5; ++i)
-      if (i == row.size() || row[i] == ',') {
-        if (count < 4) field[count] = row.substr(from, i - from);
-        ++count;
-        from = i + 1;
-      }
-    double t = 0, P = 0, err = 0;
-    unsigned long long k = 0;
-    const auto number = [](std::string_view f, double& x) {
-      const std::string s(f);  // strtod: inf and nan as written; the grammar was checked first
-      x = std::strtod(s.c_str(), nullptr);
-    };
-    if (count != 4 || !decimal_field(field[0], false) || !decimal_field(field[1], true) ||
-        !decimal_field(field[2], false) || !decimal_field(field[3], false) ||
-        std::from_chars(field[1].data(), field[1].data() + field[1].size(), k).ec != std::errc())
-      throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
-    number(field[0], t);
-    number(field[2], P);
-    number(field[3], err);
-    c.t.push_back(t);
-    c.survivors.push_back(k);
-    if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
-      c.P_w.push_back(P);
-      c.R.push_back(P > 0 ? 1 + n * (err / P) * (err / P) : 0.0);
-      c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));
-      c.lines_alive.push_back(0);
-    } else if (c.weighted) {
-      c.P_w.push_back(P);
-      c.Q.push_back(err * err * n + P * P);  // P_err = sqrt((Q - P^2) / N)
-    }
-  }
-  const std::size_t grid = scene.survival_bins() + 1;
-  if (c.t.size() != grid)
-    throw std::runtime_error("survival.csv: " + std::to_string(c.t.size()) +
-                             " rows where the grid t = k * survival_dt up to t_max has " + std::to_string(grid) +
-                             " (truncated or of another scene)");
-  return c;
-}
-
-std::string density_csv(const Scene& scene, const Tally& tally) {
-  const auto& spec = *scene.collision_density;
-  const std::size_t bins = static_cast<std::size_t>(spec.bins);
-  std::string out = "s";
-  std::vector<std::uint64_t> totals(spec.windows.size(), 0);
-  std::vector<FixedSum> weight_totals(spec.windows.size());
-  for (std::size_t w = 0; w < spec.windows.size(); ++w) {
-    const std::string tag = "[" + shortest(spec.windows[w].from) + ":" + shortest(spec.windows[w].to) + "]";
-    out += ",fc" + tag + ",count" + tag;
-    for (std::size_t b = 0; b < bins; ++b) totals[w] += tally.collision_density[w * bins + b];
-    if (tally.weighted())
-      for (std::size_t b = 0; b < bins; ++b) weight_totals[w].merge(tally.collision_density_w[w * bins + b]);
-  }
-  out += '\n';
-  for (std::size_t b = 0; b < bins; ++b) {
-    out += shortest((static_cast<double>(b) + 0.5) / static_cast<double>(bins));
-    for (std::size_t w = 0; w < spec.windows.size(); ++w) {
-      const std::uint64_t c = tally.collision_density[w * bins + b];
-      // weighted runs: f_c from the weights (the count column stays the raw number of collisions)
-      const double density =
-          tally.weighted() ? (weight_totals[w].value() > 0 ? tally.collision_density_w[w * bins + b].value() *
-                                                                 static_cast<double>(bins) / weight_totals[w].value()
-                                                           : 0.0)
-          : totals[w]      ? static_cast<double>(c) * static_cast<double>(bins) / static_cast<double>(totals[w])
-                           : 0.0;
-      out += ',' + shortest(density) + ',' + std::to_string(c);
-    }
-    out += '\n';
-  }
-  return out;
-}
-
-std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records) {
-  std::string out = "id,fate,t,s,collisions\n";
-  static const char* names[] = {"escaped", "survived", "stuck"};
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    const EscapeRecord& r = records[i];
-    out += std::to_string(first_id + i) + ',' + names[static_cast<int>(r.fate)] + ',' + shortest(r.t) + ',' +
-           (r.fate == Fate::escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions) + '\n';
-  }
-  return out;
-}
 
 namespace {
 
@@ -179,6 +34,15 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   j["eps"] = scene.sampling.eps;
   j["p_range"] = {scene.sampling.p_min, scene.sampling.p_max};
   j["max_weight"] = scene.sampling.max_weight();
+  j["ride"] = scene.sampling.ride;
+  json bands = json::array();
+  if (scene.sampling.ride > 0 && scene.init == InitKind::birkhoff)
+    for (const RidingBand& b : riding_bands(scene))
+      bands.push_back({{"rational", std::to_string(b.a) + "/" + std::to_string(b.b)},
+                       {"eta", b.eta},
+                       {"p", b.p},
+                       {"p_range", {b.lo, b.hi}}});
+  j["riding_bands"] = bands;
   // effective sample size (sum w)^2 / sum w^2 of the survivors at a few times
   json ess = json::array();
   for (std::size_t i : report_points(curve)) {
@@ -213,7 +77,8 @@ json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve&
                   {"P_err", curve.P_err(i)},
                   {"effective_lines", curve.effective(i)},
                   {"unsplit_lines", curve.unsplit_lines.empty() ? json(nullptr) : json(curve.unsplit_lines[i])},
-                  {"unsplit_P", curve.unsplit_P.empty() ? json(nullptr) : json(curve.unsplit_P[i])}});
+                  {"unsplit_P", curve.unsplit_P.empty() ? json(nullptr) : json(curve.unsplit_P[i])},
+                  {"bounded", p_bounded(curve, i)}});
   }
   j["lines"] = at;
   json groups = json::array();
@@ -372,24 +237,44 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
 
 namespace {
 
+/// The riding bands a mupo run draws on (sampling_ride > 0), or nothing.
+void riding_line(std::string& out, const Scene& scene) {
+  if (!(scene.sampling.ride > 0) || scene.init != InitKind::birkhoff) return;
+  const std::vector<RidingBand> bands = riding_bands(scene);
+  if (bands.empty()) {
+    out += "riding: no riding band (2 r omega's pattern rides at rest or outside [p_min, p_max])\n";
+    return;
+  }
+  appendf(out, "riding: %g of the mupo draws on", scene.sampling.ride);
+  for (const RidingBand& b : bands) appendf(out, " |p| in [%.3g, %.3g] (%lld/%lld)", b.lo, b.hi, b.a, b.b);
+  out += "\n";
+}
+
 /// The population line of a split or weighted run (nothing for a uniform one).
 void population_lines(std::string& out, const RunSummary& r) {
   if (r.curve.lines) {
     const std::size_t last = r.curve.t.size() - 1;
     appendf(out,
             "splitting: every %g, turn %g rad, cap %llu; %llu levels, %llu of %llu lines alive and %.3g effective at "
-            "t_max, P(t_max) = %.3g +- %.2g\n",
+            "t_max, ",
             r.scene.splitting.every, r.scene.splitting.delta, static_cast<unsigned long long>(r.scene.splitting.cap),
             static_cast<unsigned long long>(r.result.tally.as<LinesEstimator>().levels),
             static_cast<unsigned long long>(r.curve.lines_alive[last]),
-            static_cast<unsigned long long>(r.scene.particles), r.curve.effective(last), r.curve.P(last),
-            r.curve.P_err(last));
+            static_cast<unsigned long long>(r.scene.particles), r.curve.effective(last));
+    if (p_bounded(r.curve, last))  // the error is mostly the allowance: P is bounded there, not measured
+      appendf(out,
+              "P(t_max) < %.2g (P + 3 errors: from t = %g P's error is mostly the allowance for unsplit lines not "
+              "drawn, docs/model.md; the lines drawn give %.3g)\n",
+              r.curve.P(last) + 3 * r.curve.P_err(last), *r.curve.allowance_unresolved_from, r.curve.P(last));
+    else
+      appendf(out, "P(t_max) = %.3g +- %.2g\n", r.curve.P(last), r.curve.P_err(last));
   } else if (r.curve.weighted)
     appendf(
         out,
         "sampling: mupo, eps = %g, |p| log-uniform in [%g, %g]; %.3g effective survivors at t_max (%llu particles)\n",
         r.scene.sampling.eps, r.scene.sampling.p_min, r.scene.sampling.p_max, r.curve.effective(r.curve.t.size() - 1),
         static_cast<unsigned long long>(r.curve.survivors.back()));
+  riding_line(out, r.scene);
 }
 
 /// kappa's line and alpha's (its value, or its bound and why), with the mupo reach's warning.

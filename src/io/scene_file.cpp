@@ -32,7 +32,8 @@ namespace {
 const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
     {"leak", {"width", "start", "omega"}},
-    {"ensemble", {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p"}},
+    {"ensemble",
+     {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p", "sampling_ride"}},
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
@@ -355,6 +356,14 @@ void read_sampling(const Reader& in, Scene& s) {
     s.sampling.p_max = Reader::as_number("ensemble.sampling_p", *a->get(1));
     if (!(s.sampling.p_min >= 1e-300 && s.sampling.p_min < s.sampling.p_max && s.sampling.p_max < 1))
       throw InputError("ensemble.sampling_p", shown(*n), allowed);
+  }
+  if (const toml::node* n = in.find("ensemble", "sampling_ride")) {
+    if (s.sampling.kind == SamplingKind::uniform)
+      throw InputError("ensemble.sampling_ride", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
+    s.sampling.ride = Reader::as_number("ensemble.sampling_ride", *n);
+    if (!(s.sampling.ride >= 0 && s.sampling.ride <= 0.9))
+      throw InputError("ensemble.sampling_ride", shown(*n),
+                       "must be in [0, 0.9] (the share of the mupo draws on the riding bands)");
   }
 }
 

@@ -19,6 +19,7 @@ json scene_json(const Scene& s) {
     j["ensemble"]["sampling"] = to_string(s.sampling.kind);
     j["ensemble"]["sampling_eps"] = s.sampling.eps;
     j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};
+    if (s.sampling.ride > 0) j["ensemble"]["sampling_ride"] = s.sampling.ride;  // 0: the inputs as before
   }
   j["run"] = {{"t_max", s.t_max},
               {"tier", to_string(s.tier)},

@@ -1,5 +1,9 @@
 #include "sim/model/sampling.hpp"
 
+#include <mpfi.h>
+
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 namespace rotleak {
@@ -58,13 +62,16 @@ class MupoBase : public Sampler {
   double eps_, p_min_, p_max_, log_range_;
 };
 
-/// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, p as above.
+/// Birkhoff starts: u = 1/2 on [0, 1) x (-1, 1); g: s uniform on the straight edges, |p| log-uniform in
+/// [p_min, p_max] with weight 1 - ride, and with weight ride / K log-uniform in each of the K riding bands.
 class MupoBirkhoff final : public MupoBase {
  public:
   MupoBirkhoff(const Scene& scene, const Stadium<double>& st)
       : MupoBase(scene, scene.sampling),
         st_(st),
-        straight_(st.junction(0) + (st.junction(2) - st.junction(1)) + (1 - st.junction(3))) {}
+        straight_(st.junction(0) + (st.junction(2) - st.junction(1)) + (1 - st.junction(3))),
+        bands_(scene.sampling.ride > 0 ? riding_bands(scene) : std::vector<RidingBand>{}),
+        ride_(bands_.empty() ? 0.0 : scene.sampling.ride) {}
 
   InitialDraw draw(std::uint64_t id) const override {
     r123::Philox4x64::ctr_type w;
@@ -77,19 +84,36 @@ class MupoBirkhoff final : public MupoBase {
           : v < top_right + bottom ? st_.junction(1) + (v - top_right)
                                    : st_.junction(3) + (v - top_right - bottom);
     if (!st_.on_straight(d.s)) d.s = 0;  // rounding at a junction: the edge's midpoint instead (measure zero)
-    const double m = magnitude(w[2]);
+    // the component: w[3]'s top 53 bits (its lowest bit is the sign); with ride = 0 never a band, so the
+    // draws are those of the scheme without riding bands, bit for bit
+    const double c = InitialConditions::unit(w[3]);
+    double m = 0;
+    if (c < ride_) {
+      const std::size_t k = std::min(bands_.size() - 1, static_cast<std::size_t>(c / ride_ * bands_.size()));
+      const RidingBand& b = bands_[k];
+      m = b.lo * std::exp(InitialConditions::unit(w[2]) * std::log(b.hi / b.lo));
+      m = m < b.lo ? b.lo : m > b.hi ? b.hi : m;
+    } else {
+      m = magnitude(w[2]);
+    }
     d.p = (w[3] & 1) ? -m : m;
     return d;
   }
 
   double weight(const InitialDraw& d) const override {
-    const double g = st_.on_straight(d.s) ? log_uniform_density(d.p) / straight_ : 0.0;
-    return mixture_weight(0.5, g);
+    if (!st_.on_straight(d.s)) return mixture_weight(0.5, 0.0);
+    double g = (1 - ride_) * log_uniform_density(d.p);
+    const double a = std::abs(d.p);
+    for (const RidingBand& b : bands_)  // in band order: the same sum on every engine
+      if (a >= b.lo && a <= b.hi) g += ride_ / static_cast<double>(bands_.size()) / (2 * a * std::log(b.hi / b.lo));
+    return mixture_weight(0.5, g / straight_);
   }
 
  private:
   Stadium<double> st_;
   double straight_;
+  std::vector<RidingBand> bands_;
+  double ride_;
 };
 
 /// Flow starts: u = 1 / area in (x, y) times 1 in u = angle / 2 pi; g: (x, y) uniform in the
@@ -131,6 +155,46 @@ class MupoFlow final : public MupoBase {
 };
 
 }  // namespace
+
+std::vector<RidingBand> riding_bands(const Scene& scene) {
+  std::vector<RidingBand> out;
+  if (scene.omega.sign() == 0) return out;
+  // 2X = 4 r omega, its fractional part to double precision: an enclosure with bits for the integer part too
+  const ExactReal x2 = ExactReal::parse("4") * scene.r * scene.omega;
+  const double mag = std::abs(x2.to_double());
+  const long bits = 80 + (mag > 1 ? static_cast<long>(std::ceil(std::log2(mag))) : 0);
+  mpfi_t e;
+  mpfi_init2(e, bits);
+  x2.enclose(e, bits);
+  mpfr_t mid, fl;
+  mpfr_inits2(bits, mid, fl, static_cast<mpfr_ptr>(nullptr));
+  mpfi_mid(mid, e);
+  mpfr_floor(fl, mid);
+  mpfr_sub(mid, mid, fl, MPFR_RNDN);
+  const double f = mpfr_get_d(mid, MPFR_RNDN);
+  mpfr_clears(mid, fl, static_cast<mpfr_ptr>(nullptr));
+  mpfi_clear(e);
+  const Stadium<double> st(scene.d, scene.r);
+  const double L = st.perimeter(), r = st.r(), d = 2 * st.half_d(), lambda = scene.width.to_double();
+  const double kappa0 = lambda * L / (std::numbers::pi * st.area());
+  const auto b_max = static_cast<long long>(std::min(1e6, std::floor(1 / lambda)));
+  double best = 2;
+  for (long long b = 1; b <= b_max; ++b) {
+    const long long a = std::llround(f * static_cast<double>(b));
+    const double eta = f - static_cast<double>(a) / static_cast<double>(b);
+    if (!(std::abs(eta) < best)) continue;  // not a best approximation
+    best = std::abs(eta);
+    if (b * lambda >= 1 || eta == 0) continue;
+    RidingBand band{a, b, eta, L * std::abs(eta) / (4 * r), 0, 0};
+    const double h = std::min(0.5, L * (1 / static_cast<double>(b) - lambda) / d);
+    band.lo = band.p * (1 - h);
+    band.hi = std::min(band.p * (1 + h), 0.999);
+    // an orbit rides at most while it crosses the edge, d / p: only bands whose crossing outlasts the chaotic
+    // sea's decay time 1 / kappa0 (kappa0 = lambda L / (pi area)) carry P where the chaotic part cannot
+    if (band.p >= scene.sampling.p_min && band.p <= std::min(scene.sampling.p_max, d * kappa0)) out.push_back(band);
+  }
+  return out;
+}
 
 std::unique_ptr<Sampler> make_sampler(const Scene& scene, const Stadium<double>& st) {
   if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "geometry/stadium.hpp"
 #include "sim/model/initial.hpp"
@@ -34,6 +35,25 @@ class Sampler {
   /// simd::uniform_starts), else null.
   virtual const InitialConditions* uniform_birkhoff() const { return nullptr; }
 };
+
+/// A riding band (docs/model.md, "Riding orbits"): a bouncing-ball orbit whose drift along the straight edges
+/// keeps pace with the leak's pattern. Between two top hits (4 r apart) the leak advances 2X = 4 r omega; near
+/// a rational a/b of 2X mod 1 (offset eta = 2X - a/b) its b spots drift by eta a hit, and an orbit drifting
+/// 4 r |p| / L a hit rides with them: |p| = L |eta| / (4 r), in a gap as long as it stays on the edge. It keeps
+/// within a gap over its crossing (d / (4 r p) hits) while |p - that| / p < L (1/b - lambda) / d: the band.
+struct RidingBand {
+  long long a = 0, b = 1;  ///< the rational of 2X mod 1
+  double eta = 0;          ///< 2X mod 1 - a/b
+  double p = 0;            ///< the riding |p|
+  double lo = 0, hi = 0;   ///< the band of |p| drawn
+};
+/// The riding bands of the scene: one per best approximation a/b of 2X mod 1 (no fraction with a smaller
+/// denominator comes as close) with b lambda < 1 (its spots leave gaps), eta != 0 (an exact rational's
+/// orbits ride at rest: the log-uniform part holds them), and the riding |p| in [p_min, p_max] and below
+/// d kappa0 (its crossing, d / p, outlasts the chaotic decay time 1 / kappa0, kappa0 = lambda L / (pi area),
+/// so that it can carry P where the chaotic part does not). None for a
+/// stationary leak. 2X mod 1 from omega's exact value (an MPFI enclosure wide enough for its integer part).
+std::vector<RidingBand> riding_bands(const Scene& scene);
 
 /// The scheme of scene.sampling, on the scene's stadium in double `st` (a run's plan holds it).
 std::unique_ptr<Sampler> make_sampler(const Scene& scene, const Stadium<double>& st);

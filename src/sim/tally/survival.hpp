@@ -68,6 +68,13 @@ struct SurvivalCurve {
   std::optional<double> allowance_unresolved_from;
 };
 
+/// Split runs: whether P at grid index i is only bounded, not measured: at or past allowance_unresolved_from,
+/// where the allowance for lines not drawn holds a third of P's variance or more. Such a P is printed and
+/// reported as a bound, P + 3 errors (docs/model.md, "Unsplit lines not drawn").
+inline bool p_bounded(const SurvivalCurve& c, std::size_t i) {
+  return c.lines && c.allowance_unresolved_from && c.t[i] >= *c.allowance_unresolved_from;
+}
+
 /// Unsplit lines alive below which their own spread no longer measures their share of P's error.
 inline constexpr std::uint64_t kUnsplitReliable = 10;
 /// P is resolved while the allowances stay below this share of the lines' own variance: the error is
