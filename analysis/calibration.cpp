@@ -77,7 +77,55 @@ std::string spread_verdict(const SeedSpread& s, double model_share) {
   return "honest";
 }
 
-SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves) {
+namespace {
+
+/// pool_curves' split structure: the classes, R before the allowance, then finish_lines_curve.
+void pool_structure(const std::vector<SurvivalCurve>& curves, const Scene& scene, SurvivalCurve& p) {
+  for (const SurvivalCurve& c : curves)
+    if (c.R_lines.size() != p.t.size()) return;  // a curve without its structure: P_err as pooled above
+  const std::size_t points = p.t.size();
+  const double K = static_cast<double>(curves.size());
+  std::vector<int> classes;  // every class any run holds, in class order
+  for (const SurvivalCurve& c : curves)
+    for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes) classes.push_back(k.classes.front());
+  std::sort(classes.begin(), classes.end());
+  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+  p.unsplit_classes.assign(classes.size(), {});
+  for (std::size_t q = 0; q < classes.size(); ++q) {
+    SurvivalCurve::UnsplitGroup& g = p.unsplit_classes[q];
+    g.classes = {classes[q]};
+    g.lines.assign(points, 0);
+    g.P.assign(points, 0.0);
+    g.var.assign(points, 0.0);
+  }
+  p.unsplit_lines.assign(points, 0);
+  p.unsplit_P.assign(points, 0.0);
+  for (std::size_t i = 0; i < points; ++i) {
+    double sp = 0, sq = 0;
+    for (const SurvivalCurve& c : curves) {  // seed order, class order: deterministic
+      sp += c.P_w[i];
+      sq += c.R_lines[i] * c.P_w[i] * c.P_w[i];
+      p.unsplit_lines[i] += c.unsplit_lines[i];
+      p.unsplit_P[i] += c.unsplit_P[i] / K;
+      for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes) {
+        const std::size_t q = static_cast<std::size_t>(
+            std::lower_bound(classes.begin(), classes.end(), k.classes.front()) - classes.begin());
+        p.unsplit_classes[q].lines[i] += k.lines[i];
+        p.unsplit_classes[q].P[i] += k.P[i] / K;
+        p.unsplit_classes[q].var[i] += k.var[i] / (K * K);
+      }
+    }
+    // one curve is its own pool: its R as it is, not R P^2 / P^2 rounded twice
+    p.R[i] = curves.size() == 1 ? curves.front().R_lines[i] : sp > 0 ? K * sq / (sp * sp) : 0.0;
+  }
+  Scene pooled = scene;
+  pooled.particles = p.particles;
+  finish_lines_curve(pooled, p);
+}
+
+}  // namespace
+
+SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene* scene) {
   if (curves.empty()) throw std::invalid_argument("pool_curves: no curves");
   const SurvivalCurve& first = curves.front();
   for (const SurvivalCurve& c : curves)
@@ -116,6 +164,7 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves) {
       p.Q.push_back(sq / K);
     }
   }
+  if (p.lines && scene) pool_structure(curves, *scene, p);
   return p;
 }
 

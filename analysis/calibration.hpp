@@ -70,7 +70,11 @@ SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& 
 /// particles together. P is the mean of the seeds' P; its second moment is pooled the same way (lines:
 /// R = K sum R_k P_k^2 / (sum P_k)^2; weighted: Q the mean of Q_k; counts summed), so the pooled curve's
 /// fits are those of one run of K N particles. Throws std::invalid_argument when the grids differ.
-SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves);
+/// Split runs that keep their structure (unsplit_classes and R_lines, as every run and every curve read with
+/// its lines.csv does) pool it too, given `scene` (its split schedule and grid): each class's lines summed,
+/// its P the mean, its var the mean over K; R before the allowance pooled as R is; then the groups and the
+/// allowance of one run of K N lines (finish_lines_curve). One curve pools to itself, bit for bit.
+SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene* scene = nullptr);
 
 /// Whether P at grid index i is resolved in every seed: P > 0 and at least min_effective effective
 /// survivors (lines, for split runs) in the median seed.

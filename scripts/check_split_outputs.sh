@@ -32,6 +32,18 @@ df = pd.read_csv(run + "/survival.csv")
 assert list(df.columns) == header and len(df) == len(rows)
 assert str(df["P"].dtype) == "float64" and str(df["survivors"].dtype) == "int64"
 assert 0 < df["P"].iloc[-1] < 1e-15, df["P"].iloc[-1]
+# lines.csv: the split curve's structure, read with csv and pandas; its t and P are survival.csv's
+with open(run + "/lines.csv", newline="") as f:
+    lrows = list(csv.reader(f))
+lhead = lrows[0]
+assert lhead[:6] == ["t", "P", "R", "lines_alive", "unsplit_lines", "unsplit_P"], lhead
+assert (len(lhead) - 6) % 3 == 0 and all(h.startswith(p) for h, p in zip(lhead[6:], ["lines_c", "P_c", "var_c"] * 99))
+assert len(lrows) == len(rows) + 1 and all(len(r) == len(lhead) for r in lrows)
+lines = pd.read_csv(run + "/lines.csv")
+assert (lines["t"] == df["t"]).all() and (lines["P"] == df["P"]).all()
+assert str(lines["lines_alive"].dtype) == "int64" and (lines["unsplit_P"] <= lines["P"] * (1 + 1e-12)).all()
+classes = [h[len("lines_c"):] for h in lhead[6:] if h.startswith("lines_c")]
+assert (sum(lines["lines_c" + c] for c in classes) == lines["unsplit_lines"]).all()
 # at 100/101 with 2*10^4 lines P(8000) rests on unsplit lines a run this size rarely draws: its error
 # says so (the allowance for them, docs/model.md), and the summary names when it took over
 assert df["P_err"].iloc[-1] > df["P"].iloc[-1]

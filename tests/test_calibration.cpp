@@ -8,7 +8,10 @@
 #include <random>
 
 #include "analysis/calibration.hpp"
+#include "analysis/run_summary.hpp"
 #include "io/files.hpp"
+#include "io/run_output.hpp"
+#include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
 #include "scratch.hpp"
@@ -272,4 +275,64 @@ TEST(UnsplitAllowance, WeightClassesAreFactorsOfEight) {
   EXPECT_EQ(unsplit_class(1.0 / 32), 1);
   EXPECT_EQ(unsplit_class(0.0312), 2);
   EXPECT_EQ(unsplit_class(1e-300), kUnsplitClasses - 1);
+}
+
+// lines.csv keeps a split run's structure (the unsplit lines class by class, R before the allowance): read back
+// with survival.csv it gives the run's own P_err, G, unresolved_from and tail errors bit for bit, where
+// survival.csv alone (P_err only, no groups) gives other tail errors; one curve pools to itself bit for bit, and
+// the pool of two sums each class's lines.
+TEST(LinesCsv, ARefitGivesTheRunsOwnErrorsBitForBit) {
+  const Scene scene = parse_scene("", {"leak.omega=82/83", "ensemble.sampling=mupo", "run.splitting=true",
+                                       "run.t_max=6000", "ensemble.particles=20000"});
+  RunOptions o;
+  const RunSummary run = summarise(scene, run_ensemble(plan_run(scene, o), o));
+  ASSERT_TRUE(run.curve.allowance_unresolved_from.has_value());
+  SurvivalCurve back = read_survival_csv(survival_csv(run.curve), scene);
+  const SurvivalCurve csv_only = back;
+  read_lines_csv(lines_csv(run.curve), scene, back);
+  std::size_t differ_without = 0;
+  for (std::size_t i = 0; i < run.curve.t.size(); ++i) {
+    ASSERT_EQ(back.P_err(i), run.curve.P_err(i)) << "t = " << run.curve.t[i];
+    ASSERT_EQ(back.G[i], run.curve.G[i]) << "t = " << run.curve.t[i];
+    differ_without += csv_only.P_err(i) != run.curve.P_err(i) || csv_only.G[i] != run.curve.G[i];
+  }
+  EXPECT_EQ(back.allowance_unresolved_from, run.curve.allowance_unresolved_from);
+  EXPECT_FALSE(csv_only.allowance_unresolved_from.has_value());
+  RunSummary a, b, c;
+  a.scene = b.scene = c.scene = scene;
+  a.curve = run.curve;
+  b.curve = back;
+  c.curve = csv_only;
+  fit_curve(a);
+  fit_curve(b);
+  fit_curve(c);
+  EXPECT_EQ(a.amplitude.std_error, b.amplitude.std_error);
+  EXPECT_EQ(a.tail.std_error, b.tail.std_error);
+  EXPECT_EQ(a.alpha.upper_bound, b.alpha.upper_bound);
+  EXPECT_EQ(a.tail_class.tail, b.tail_class.tail);
+
+  std::printf("survival.csv alone: P_err or G differ at %zu of %zu grid times\n", differ_without, run.curve.t.size());
+  EXPECT_GT(differ_without, 0u);
+
+  const SurvivalCurve one = pool_curves({run.curve}, &scene);
+  for (std::size_t i = 0; i < run.curve.t.size(); ++i) ASSERT_EQ(one.P_err(i), run.curve.P_err(i)) << i;
+  EXPECT_EQ(one.allowance_unresolved_from, run.curve.allowance_unresolved_from);
+  const SurvivalCurve two = pool_curves({run.curve, back}, &scene);
+  EXPECT_EQ(two.particles, 2 * run.curve.particles);
+  ASSERT_EQ(two.unsplit_classes.size(), run.curve.unsplit_classes.size());
+  for (std::size_t q = 0; q < two.unsplit_classes.size(); ++q)
+    EXPECT_EQ(two.unsplit_classes[q].lines.front(), 2 * run.curve.unsplit_classes[q].lines.front());
+
+  // damage is a one-line error naming lines.csv
+  const std::string good = lines_csv(run.curve);
+  for (const std::string& bad :
+       {good.substr(0, good.size() / 2), std::string("t,P\n"), good.substr(0, good.find('\n') + 1) + "0,2,1,1,1,1\n"}) {
+    SurvivalCurve x = read_survival_csv(survival_csv(run.curve), scene);
+    try {
+      read_lines_csv(bad, scene, x);
+      ADD_FAILURE() << "read damaged lines.csv";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("lines.csv", 0), 0u) << e.what();
+    }
+  }
 }

@@ -239,7 +239,7 @@ class Run:
         if not os.path.isdir(path):
             raise RotleakError("%s: no such directory" % path)
         files: dict[str, Union[str, bytes]] = {}
-        for name in ("summary.json", "survival.csv", "fc.csv", "escapes.csv", "scene.toml") + tuple(BINARY):
+        for name in ("summary.json", "survival.csv", "lines.csv", "fc.csv", "escapes.csv", "scene.toml") + tuple(BINARY):
             p = os.path.join(path, name)
             if os.path.exists(p):
                 with open(p, "rb") as f:
@@ -258,6 +258,12 @@ class Run:
     def survival(self) -> pandas.DataFrame:
         """t, survivors, P, P_err: P(t) on the grid t = k survival_dt with one standard error."""
         return self._table("survival.csv")
+
+    @property
+    def lines(self) -> Optional[pandas.DataFrame]:
+        """Split runs: t, P, R (before the allowance), lines_alive, unsplit_lines, unsplit_P, then per weight
+        class c lines_c<c>, P_c<c>, var_c<c> (docs/output.md, lines.csv); None for a run without splitting."""
+        return self._table("lines.csv")
 
     @property
     def fc(self) -> Optional[pandas.DataFrame]:

@@ -7,8 +7,10 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "io/files.hpp"
 #include "io/run_output.hpp"
 #include "io/text.hpp"
+#include "sim/tally/estimators.hpp"
 
 namespace rotleak {
 
@@ -156,6 +158,119 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
            (r.fate == Fate::escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions) + '\n';
   }
   return out;
+}
+
+std::string lines_csv(const SurvivalCurve& c) {
+  std::string out = "t,P,R,lines_alive,unsplit_lines,unsplit_P";
+  for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes) {
+    const std::string n = std::to_string(k.classes.front());
+    out += ",lines_c" + n + ",P_c" + n + ",var_c" + n;
+  }
+  out += '\n';
+  for (std::size_t j = 0; j < c.t.size(); ++j) {
+    out += shortest(c.t[j]) + ',' + shortest(c.P_w[j]) + ',' + shortest(c.R_lines[j]) + ',' +
+           std::to_string(c.lines_alive[j]) + ',' + std::to_string(c.unsplit_lines[j]) + ',' + shortest(c.unsplit_P[j]);
+    for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes)
+      out += ',' + std::to_string(k.lines[j]) + ',' + shortest(k.P[j]) + ',' + shortest(k.var[j]);
+    out += '\n';
+  }
+  return out;
+}
+
+namespace {
+
+/// lines.csv's header: the fixed columns, then the classes (distinct, increasing, each lines_c, P_c, var_c).
+std::vector<int> lines_classes(std::string_view header) {
+  const std::string fixed = "t,P,R,lines_alive,unsplit_lines,unsplit_P";
+  if (header.substr(0, fixed.size()) != fixed)
+    throw std::runtime_error("lines.csv: expected the header to begin " + fixed);
+  std::vector<int> classes;
+  std::string_view rest = header.substr(fixed.size());
+  while (!rest.empty()) {
+    int k = -1;
+    const auto col = [&](std::string_view name) {
+      if (rest.substr(0, name.size()) != name) throw std::runtime_error("lines.csv: bad class columns in the header");
+      rest.remove_prefix(name.size());
+      int v = -1;
+      const auto [p, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), v);
+      if (ec != std::errc() || v < 0 || v >= kUnsplitClasses || (k >= 0 && v != k))
+        throw std::runtime_error("lines.csv: bad class columns in the header");
+      rest.remove_prefix(static_cast<std::size_t>(p - rest.data()));
+      k = v;
+    };
+    col(",lines_c");
+    col(",P_c");
+    col(",var_c");
+    if (!classes.empty() && k <= classes.back())
+      throw std::runtime_error("lines.csv: the classes must be distinct and increasing");
+    classes.push_back(k);
+  }
+  return classes;
+}
+
+}  // namespace
+
+void read_lines_csv(const std::string& text, const Scene& scene, SurvivalCurve& c) {
+  if (!c.lines) throw std::runtime_error("lines.csv: the run is not split (run.splitting = false)");
+  const std::size_t eol = text.find('\n');
+  if (eol == std::string::npos || text.back() != '\n') throw std::runtime_error("lines.csv: truncated");
+  const std::vector<int> classes = lines_classes(std::string_view(text).substr(0, eol));
+  const std::size_t fields = 6 + 3 * classes.size(), points = c.t.size();
+  c.unsplit_classes.assign(classes.size(), {});
+  for (std::size_t q = 0; q < classes.size(); ++q) c.unsplit_classes[q].classes = {classes[q]};
+  c.unsplit_lines.clear();
+  c.unsplit_P.clear();
+  std::size_t line = 1, row = 0;
+  std::vector<std::string_view> f(fields);
+  for (std::size_t pos = eol + 1; pos < text.size(); ++row) {
+    const std::size_t end = text.find('\n', pos);
+    const std::string_view r(text.data() + pos, end - pos);
+    pos = end + 1;
+    ++line;
+    const std::string where = "lines.csv line " + std::to_string(line) + ": ";
+    std::size_t from = 0, count = 0;
+    for (std::size_t i = 0; i <= r.size(); ++i)
+      if (i == r.size() || r[i] == ',') {
+        if (count < fields) f[count] = r.substr(from, i - from);
+        ++count;
+        from = i + 1;
+      }
+    if (count != fields || row >= points)
+      throw std::runtime_error(where + "expected " + std::to_string(fields) + " fields on a grid row");
+    const auto number = [&](std::size_t i) {
+      if (!decimal_field(f[i], false))
+        throw std::runtime_error(where + "field " + std::to_string(i + 1) + " is not a number");
+      return std::strtod(std::string(f[i]).c_str(), nullptr);
+    };
+    const auto count_of = [&](std::size_t i) {
+      std::uint64_t k = 0;
+      if (!decimal_field(f[i], true) || std::from_chars(f[i].data(), f[i].data() + f[i].size(), k).ec != std::errc())
+        throw std::runtime_error(where + "field " + std::to_string(i + 1) + " is not a count");
+      return k;
+    };
+    // survival.csv's t and P, written from the same doubles: any difference is another run's file
+    if (number(0) != c.t[row] || number(1) != c.P_w[row])
+      throw std::runtime_error(where + "t or P differs from survival.csv");
+    c.R[row] = number(2);
+    c.lines_alive[row] = count_of(3);
+    c.unsplit_lines.push_back(count_of(4));
+    c.unsplit_P.push_back(number(5));
+    for (std::size_t q = 0; q < classes.size(); ++q) {
+      c.unsplit_classes[q].lines.push_back(count_of(6 + 3 * q));
+      c.unsplit_classes[q].P.push_back(number(7 + 3 * q));
+      c.unsplit_classes[q].var.push_back(number(8 + 3 * q));
+    }
+  }
+  if (row != points)
+    throw std::runtime_error("lines.csv: " + std::to_string(row) + " rows where the grid has " +
+                             std::to_string(points));
+  finish_lines_curve(scene, c);
+}
+
+SurvivalCurve read_run_curve(const std::filesystem::path& dir, const Scene& scene) {
+  SurvivalCurve c = read_survival_csv(read_file(dir / "survival.csv"), scene);
+  if (c.lines && std::filesystem::exists(dir / "lines.csv")) read_lines_csv(read_file(dir / "lines.csv"), scene, c);
+  return c;
 }
 
 }  // namespace rotleak

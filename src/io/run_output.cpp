@@ -380,6 +380,7 @@ void write_directory_summary(RunDirectory& dir, const std::string& command, cons
 RunTexts run_texts(const RunSummary& r, const std::vector<std::string>& written) {
   RunTexts out;
   out.files.emplace_back("survival.csv", survival_csv(r.curve));
+  if (r.curve.lines) out.files.emplace_back("lines.csv", lines_csv(r.curve));
   if (r.scene.collision_density) out.files.emplace_back("fc.csv", density_csv(r.scene, r.result.tally));
   if (r.scene.escape_records) out.files.emplace_back("escapes.csv", escapes_csv(r.result.first_id, r.result.records));
   out.files.emplace_back("scene.toml", scene_to_toml(r.scene));

@@ -27,6 +27,18 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
 /// P_err, Q = N P_err^2 + P^2). Throws std::runtime_error naming the line on a malformed row.
 SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene);
 
+/// lines.csv of a split run: per grid time t, P, R (before the allowance), lines_alive, unsplit_lines,
+/// unsplit_P, then per weight class c that held unsplit lines lines_c<c>, P_c<c>, var_c<c> (docs/output.md).
+std::string lines_csv(const SurvivalCurve& curve);
+/// A split run's curve from survival.csv read back (c, read_survival_csv) and its lines.csv: the parts
+/// finish_lines_curve rebuilds the groups and the allowance from, so that P_err, the tail's covariance and
+/// unresolved_from are the run's own, bit for bit. Throws std::runtime_error naming lines.csv and the line on
+/// damage, or where its P differs from survival.csv's.
+void read_lines_csv(const std::string& text, const Scene& scene, SurvivalCurve& c);
+/// A run directory's curve from its files: survival.csv, and lines.csv where the run is split and has one
+/// (a directory written before lines.csv existed gives P_err from survival.csv, without the groups).
+SurvivalCurve read_run_curve(const std::filesystem::path& dir, const Scene& scene);
+
 /// A run's summary.json text, checked (valid JSON, an object of a simulate run with its scene);
 /// otherwise an InputError (key DIR, value `dir`) with the reason the Python reader (rotleak.read_run)
 /// gives.

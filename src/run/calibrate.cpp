@@ -59,7 +59,7 @@ Seeds read_seeds(const std::vector<fs::path>& point_dirs) {
     const Scene s = saved_scene(d, {});
     out.summaries.push_back(read_run_summary(d, read_file(d / "summary.json")));
     try {
-      out.curves.push_back(read_survival_csv(read_file(d / "survival.csv"), s));
+      out.curves.push_back(read_run_curve(d, s));
     } catch (const std::runtime_error& e) {
       throw InputError("DIR", "\"" + d.string() + "\"", e.what());
     }
@@ -200,7 +200,7 @@ json calibration_document(const std::vector<fs::path>& point_dirs, std::string& 
   const Seeds seeds = read_seeds(point_dirs);
   SurvivalCurve pooled;  // the K runs as one run of K N particles
   try {
-    pooled = pool_curves(seeds.curves);
+    pooled = pool_curves(seeds.curves, &seeds.scene);
   } catch (const std::invalid_argument&) {
     throw InputError("DIR", "\"" + point_dirs.front().parent_path().string() + "\"",
                      "the runs are not one scene with different seeds (grid, sampling or particles differ)");

@@ -36,7 +36,7 @@ InputError not_a_result_directory(const fs::path& dir) {
 SurvivalCurve saved_curve(const fs::path& dir, const Scene& scene, const json& summary) {
   const std::string shown = "\"" + dir.string() + "\"";
   try {
-    if (!fs::exists(dir / "tally.bin")) return read_survival_csv(read_file(dir / "survival.csv"), scene);
+    if (!fs::exists(dir / "tally.bin")) return read_run_curve(dir, scene);
     const TallyFile f = read_tally_file(dir / "tally.bin");
     check_tally_inputs(f, scene, saved_engine(summary), shown);
     if (!f.complete() || f.particles != scene.particles)

@@ -107,21 +107,17 @@ void add_unsplit_allowance(SurvivalCurve& c) {
 
 namespace {
 
-/// The unsplit lines on the grid (SurvivalCurve::unsplit_lines, unsplit_P, unsplit) from the exact tallies,
-/// class by class (the classes a line starts in; the start cells less the cells that left), grouped: each
-/// class whose decay can be measured after the first split time on its own, the others pooled in class
-/// order; then their allowance (add_unsplit_allowance).
-void unsplit_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
+/// The unsplit lines on the grid, class by class (SurvivalCurve::unsplit_classes), from the exact tallies: the
+/// classes a line starts in, the start cells less the cells that left.
+void unsplit_class_curves(const LinesEstimator& e, SurvivalCurve& c, double n) {
   const std::size_t points = c.t.size();
-  const double n = static_cast<double>(scene.particles);
-  std::vector<SurvivalCurve::UnsplitGroup> classes;
   std::vector<UnsplitCell> alive;
-  std::vector<int> slot(kUnsplitClasses, -1);  // a class's place in `classes`
+  std::vector<int> slot(kUnsplitClasses, -1);  // a class's place in c.unsplit_classes
   for (int k = 0; k < kUnsplitClasses; ++k) {
     const UnsplitCell& start = e.unsplit_start[static_cast<std::size_t>(k)];
     if (start.lines == 0) continue;
-    slot[static_cast<std::size_t>(k)] = static_cast<int>(classes.size());
-    classes.emplace_back().classes = {k};
+    slot[static_cast<std::size_t>(k)] = static_cast<int>(c.unsplit_classes.size());
+    c.unsplit_classes.emplace_back().classes = {k};
     alive.push_back(start);
   }
   auto next_cell = e.unsplit_left.begin();
@@ -137,26 +133,68 @@ void unsplit_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c
     }
     std::uint64_t lines = 0;
     FixedSum total;
-    for (std::size_t q = 0; q < classes.size(); ++q) {
-      classes[q].lines.push_back(alive[q].lines);
-      classes[q].P.push_back(alive[q].w.value() / n);
-      classes[q].var.push_back(alive[q].w2.value() / (n * n));
+    for (std::size_t q = 0; q < c.unsplit_classes.size(); ++q) {
+      c.unsplit_classes[q].lines.push_back(alive[q].lines);
+      c.unsplit_classes[q].P.push_back(alive[q].w.value() / n);
+      c.unsplit_classes[q].var.push_back(alive[q].w2.value() / (n * n));
       lines += alive[q].lines;
       total.merge(alive[q].w);
     }
     c.unsplit_lines.push_back(lines);
-    c.unsplit_P.push_back(total.value() / n);
+    c.unsplit_P.push_back(total.value() / n);  // rounded once, from the exact sum
   }
+}
+
+/// Lines: the split run's P, R, G and lines alive from the exact line tallies, then the unsplit lines.
+void build_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
+  c.weighted = c.lines = true;
+  c.max_weight = scene.sampling.max_weight();
+  const double n = static_cast<double>(scene.particles);
+  FixedSum in, out, in2, out2;
+  std::uint64_t ended = 0;
+  for (std::size_t j = 0; j < e.line_in.size(); ++j) {
+    in.merge(e.line_in[j]);
+    out.merge(e.line_out[j]);
+    in2.merge(e.line2_in[j]);
+    out2.merge(e.line2_out[j]);
+    ended += e.lines_ended[j];
+    const FixedSum y = in.minus(out), y2 = in2.minus(out2);  // exact: sum Y_i(t_j), sum Y_i(t_j)^2
+    c.P_w.push_back(y.value() / n);
+    // R = N sum Y^2 / (sum Y)^2 from the scaled sums (sum Y^2 may lie far below the double range)
+    const FixedSum::Scaled s1 = y.scaled(), s2 = y2.scaled();
+    c.R.push_back(s1.m > 0 ? n * std::ldexp(s2.m / (s1.m * s1.m), static_cast<int>(s2.e - 2 * s1.e)) : 0.0);
+    c.lines_alive.push_back(scene.particles - ended);
+  }
+  unsplit_class_curves(e, c, n);
+  finish_lines_curve(scene, c);
+}
+
+}  // namespace
+
+void finish_lines_curve(const Scene& scene, SurvivalCurve& c) {
+  const std::size_t points = c.t.size();
+  const double n = static_cast<double>(c.particles);
+  c.R_lines = c.R;
+  c.G.clear();
+  double g = 0;
+  for (double r : c.R) {
+    if (r > 0) g = std::max(g, (r - 1) / n);
+    c.G.push_back(g);
+  }
+  c.unsplit.clear();
+  c.allowance_unresolved_from.reset();
+  if (points == 0) return;
   c.first_split = std::min(points - 1, static_cast<std::size_t>(scene.splitting.every / scene.survival_dt) + 1);
+  // each class whose decay can be measured after the first split time a group of its own, the others pooled
   SurvivalCurve::UnsplitGroup rest;
   rest.lines.assign(points, 0);
   rest.P.assign(points, 0.0);
   rest.var.assign(points, 0.0);
-  for (SurvivalCurve::UnsplitGroup& k : classes) {
+  for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes) {
     const bool measurable = std::any_of(k.lines.begin() + static_cast<std::ptrdiff_t>(c.first_split), k.lines.end(),
                                         [](std::uint64_t x) { return x >= 2 * kUnsplitReliable; });
     if (measurable) {
-      c.unsplit.push_back(std::move(k));
+      c.unsplit.push_back(k);
       continue;
     }
     rest.classes.push_back(k.classes.front());
@@ -169,6 +207,8 @@ void unsplit_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c
   if (!rest.classes.empty()) c.unsplit.push_back(std::move(rest));
   add_unsplit_allowance(c);
 }
+
+namespace {
 
 /// Each estimator's part of the curve. Counting: the survivors' counts are the whole curve.
 void build_curve(const Scene& /*scene*/, const CountingEstimator& /*e*/, SurvivalCurve& /*c*/) {}
@@ -187,33 +227,6 @@ void build_curve(const Scene& scene, const WeightedEstimator& e, SurvivalCurve& 
     c.P_w.push_back(w.value() / n);
     c.Q.push_back(w2.value() / n);
   }
-}
-
-/// Lines: the split run's P, R, G and lines alive from the exact line tallies, then the unsplit lines.
-void build_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
-  c.weighted = c.lines = true;
-  c.max_weight = scene.sampling.max_weight();
-  const double n = static_cast<double>(scene.particles);
-  FixedSum in, out, in2, out2;
-  std::uint64_t ended = 0;
-  double g = 0;
-  for (std::size_t j = 0; j < e.line_in.size(); ++j) {
-    in.merge(e.line_in[j]);
-    out.merge(e.line_out[j]);
-    in2.merge(e.line2_in[j]);
-    out2.merge(e.line2_out[j]);
-    ended += e.lines_ended[j];
-    const FixedSum y = in.minus(out), y2 = in2.minus(out2);  // exact: sum Y_i(t_j), sum Y_i(t_j)^2
-    c.P_w.push_back(y.value() / n);
-    // R = N sum Y^2 / (sum Y)^2 from the scaled sums (sum Y^2 may lie far below the double range)
-    const FixedSum::Scaled s1 = y.scaled(), s2 = y2.scaled();
-    const double r = s1.m > 0 ? n * std::ldexp(s2.m / (s1.m * s1.m), static_cast<int>(s2.e - 2 * s1.e)) : 0.0;
-    c.R.push_back(r);
-    if (r > 0) g = std::max(g, (r - 1) / n);
-    c.G.push_back(g);
-    c.lines_alive.push_back(scene.particles - ended);
-  }
-  unsplit_curve(scene, e, c);
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ struct SurvivalCurve {
   /// time (at least 2 kUnsplitReliable lines there), and the other classes pooled. A group holds its
   /// count, its share of P and its squared weights' sum over N^2 (its share of P's variance).
   std::vector<std::uint64_t> unsplit_lines;
-  std::vector<double> unsplit_P;
+  std::vector<double> unsplit_P;  ///< rounded once from the exact sum of the classes' weights
   struct UnsplitGroup {
     std::vector<int> classes;  ///< unsplit_class values pooled here
     std::vector<std::uint64_t> lines;
@@ -61,6 +61,12 @@ struct SurvivalCurve {
     double typical_weight = 0;  ///< N sum w^2 / sum w of the group's lines at t_r
   };
   std::vector<UnsplitGroup> unsplit;
+  /// Split runs: the unsplit lines class by class (one class each, in class order), what unsplit is grouped
+  /// from; and R before the allowance. With P_w, lines_alive, unsplit_lines and unsplit_P they are the whole
+  /// split curve: finish_lines_curve rebuilds G, the groups and the allowance from them (lines.csv keeps them,
+  /// so a refit gives a run's own errors bit for bit).
+  std::vector<UnsplitGroup> unsplit_classes;
+  std::vector<double> R_lines;
   std::size_t first_split = 0;  ///< grid index of the first split time (before it every line is unsplit)
   /// The first grid time at which the allowances exceed kAllowanceShare times the lines' own variance
   /// (none: never): from there on a third of P's variance or more is the model's, and P is not claimed
@@ -85,6 +91,11 @@ inline constexpr double kAllowanceShare = 0.5;
 
 /// Adds to a split curve's R the allowance for unsplit lines the run has not drawn (docs/model.md).
 void add_unsplit_allowance(SurvivalCurve& c);
+/// A split curve from its parts (SurvivalCurve::unsplit_classes: c.t, P_w, R holding R before the allowance,
+/// lines_alive, unsplit_lines, unsplit_P, unsplit_classes set): R_lines, G, the groups (each class whose decay
+/// can be measured after the first split time on its own, the others pooled in class order) and the
+/// allowance. The run's curve and a curve read back from lines.csv go through it alike.
+void finish_lines_curve(const Scene& scene, SurvivalCurve& c);
 
 /// Grid times t_k = k dt for k = 0..bins, the last one clamped to t_max.
 std::vector<double> survival_times(const Scene& scene);
