@@ -1,11 +1,12 @@
-// The run directory's CSV files (survival.csv, fc.csv, escapes.csv): written from a run's tallies, and
-// survival.csv read back (refits, calibrate, merge) with the grammar the Python reader checks too.
+// The run directory's CSV files (survival.csv, lines.csv, fc.csv, escapes.csv): written from a run's tallies,
+// and survival.csv and lines.csv read back (refits, calibrate) with the grammar the Python reader checks too.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
 
 #include "io/files.hpp"
 #include "io/run_output.hpp"
@@ -57,6 +58,21 @@ bool decimal_field(std::string_view f, bool integer) {
   return i == f.size();
 }
 
+/// A row's comma-separated fields into f (as many as fit; its size is what a row must have): the count.
+std::size_t split_fields(std::string_view row, std::vector<std::string_view>& f) {
+  std::size_t from = 0, count = 0;
+  for (std::size_t i = 0; i <= row.size() && count <= f.size(); ++i)
+    if (i == row.size() || row[i] == ',') {
+      if (count < f.size()) f[count] = row.substr(from, i - from);
+      ++count;
+      from = i + 1;
+    }
+  return count;
+}
+
+/// A field decimal_field accepted, as a double (strtod: inf and nan as written).
+double field_value(std::string_view f) { return std::strtod(std::string(f).c_str(), nullptr); }
+
 }  // namespace
 
 SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
@@ -76,27 +92,14 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
     const std::string_view row(text.data() + pos, end - pos);
     pos = end + 1;
     ++line;
-    std::string_view field[4];
-    std::size_t from = 0, count = 0;
-    for (std::size_t i = 0; i <= row.size() && count < 5; ++i)
-      if (i == row.size() || row[i] == ',') {
-        if (count < 4) field[count] = row.substr(from, i - from);
-        ++count;
-        from = i + 1;
-      }
-    double t = 0, P = 0, err = 0;
+    std::vector<std::string_view> field(4);
+    const std::size_t count = split_fields(row, field);
     unsigned long long k = 0;
-    const auto number = [](std::string_view f, double& x) {
-      const std::string s(f);  // strtod: inf and nan as written; the grammar was checked first
-      x = std::strtod(s.c_str(), nullptr);
-    };
     if (count != 4 || !decimal_field(field[0], false) || !decimal_field(field[1], true) ||
         !decimal_field(field[2], false) || !decimal_field(field[3], false) ||
         std::from_chars(field[1].data(), field[1].data() + field[1].size(), k).ec != std::errc())
       throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
-    number(field[0], t);
-    number(field[2], P);
-    number(field[3], err);
+    const double t = field_value(field[0]), P = field_value(field[2]), err = field_value(field[3]);
     c.t.push_back(t);
     c.survivors.push_back(k);
     if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
@@ -228,19 +231,12 @@ void read_lines_csv(const std::string& text, const Scene& scene, SurvivalCurve& 
     pos = end + 1;
     ++line;
     const std::string where = "lines.csv line " + std::to_string(line) + ": ";
-    std::size_t from = 0, count = 0;
-    for (std::size_t i = 0; i <= r.size(); ++i)
-      if (i == r.size() || r[i] == ',') {
-        if (count < fields) f[count] = r.substr(from, i - from);
-        ++count;
-        from = i + 1;
-      }
-    if (count != fields || row >= points)
+    if (split_fields(r, f) != fields || row >= points)
       throw std::runtime_error(where + "expected " + std::to_string(fields) + " fields on a grid row");
     const auto number = [&](std::size_t i) {
       if (!decimal_field(f[i], false))
         throw std::runtime_error(where + "field " + std::to_string(i + 1) + " is not a number");
-      return std::strtod(std::string(f[i]).c_str(), nullptr);
+      return field_value(f[i]);
     };
     const auto count_of = [&](std::size_t i) {
       std::uint64_t k = 0;

@@ -338,17 +338,22 @@ void read_ensemble(const Reader& in, Scene& s) {
 void read_sampling(const Reader& in, Scene& s) {
   s.sampling.kind = in.word("ensemble", "sampling", "uniform", {"uniform", "mupo"}) == "mupo" ? SamplingKind::mupo
                                                                                               : SamplingKind::uniform;
-  if (const toml::node* n = in.find("ensemble", "sampling_eps")) {
-    if (s.sampling.kind == SamplingKind::uniform)
-      throw InputError("ensemble.sampling_eps", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
-    s.sampling.eps = Reader::as_number("ensemble.sampling_eps", *n);
-    if (!(s.sampling.eps >= 0.01 && s.sampling.eps <= 1))
-      throw InputError("ensemble.sampling_eps", shown(*n),
-                       "must be in [0.01, 1] (the uniform share; no weight exceeds 1 / eps)");
-  }
-  if (const toml::node* n = in.find("ensemble", "sampling_p")) {
-    if (s.sampling.kind == SamplingKind::uniform)
-      throw InputError("ensemble.sampling_p", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
+  // a mupo parameter, refused with uniform sampling; a number of them within [lo, hi]
+  const auto mupo_param = [&](const std::string& key) -> const toml::node* {
+    const toml::node* n = in.find("ensemble", key);
+    if (n && s.sampling.kind == SamplingKind::uniform)
+      throw InputError("ensemble." + key, shown(*n), "applies to ensemble.sampling = \"mupo\" only");
+    return n;
+  };
+  const auto mupo_number = [&](const std::string& key, double lo, double hi, const std::string& allowed, double& to) {
+    if (const toml::node* n = mupo_param(key)) {
+      to = Reader::as_number("ensemble." + key, *n);
+      if (!(to >= lo && to <= hi)) throw InputError("ensemble." + key, shown(*n), allowed);
+    }
+  };
+  mupo_number("sampling_eps", 0.01, 1, "must be in [0.01, 1] (the uniform share; no weight exceeds 1 / eps)",
+              s.sampling.eps);
+  if (const toml::node* n = mupo_param("sampling_p")) {
     const auto a = n->as_array();
     const std::string allowed = "must be [p_min, p_max] with 1e-300 <= p_min < p_max < 1";
     if (!a || a->size() != 2) throw InputError("ensemble.sampling_p", shown(*n), allowed);
@@ -357,14 +362,8 @@ void read_sampling(const Reader& in, Scene& s) {
     if (!(s.sampling.p_min >= 1e-300 && s.sampling.p_min < s.sampling.p_max && s.sampling.p_max < 1))
       throw InputError("ensemble.sampling_p", shown(*n), allowed);
   }
-  if (const toml::node* n = in.find("ensemble", "sampling_ride")) {
-    if (s.sampling.kind == SamplingKind::uniform)
-      throw InputError("ensemble.sampling_ride", shown(*n), "applies to ensemble.sampling = \"mupo\" only");
-    s.sampling.ride = Reader::as_number("ensemble.sampling_ride", *n);
-    if (!(s.sampling.ride >= 0 && s.sampling.ride <= 0.9))
-      throw InputError("ensemble.sampling_ride", shown(*n),
-                       "must be in [0, 0.9] (the share of the mupo draws on the riding bands)");
-  }
+  mupo_number("sampling_ride", 0, 0.9, "must be in [0, 0.9] (the share of the mupo draws on the riding bands)",
+              s.sampling.ride);
 }
 
 /// The run's tier, fast-forward and checkpoint period.
