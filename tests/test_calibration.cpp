@@ -113,11 +113,11 @@ TEST(SeedSpread, VerdictJudgesWithItsSeedCount) {
   {
     const double p2 = b16.coverage2_expected;
     double tail = 0, below = 0;
-    std::size_t c = 0;
+    double c = 0;
     for (; c <= 16; ++c) {
       below = tail;
-      tail += std::tgamma(17.0) / (std::tgamma(c + 1.0) * std::tgamma(17.0 - c)) * std::pow(p2, c) *
-              std::pow(1 - p2, 16.0 - c);
+      tail +=
+          std::tgamma(17.0) / (std::tgamma(c + 1) * std::tgamma(17 - c)) * std::pow(p2, c) * std::pow(1 - p2, 16 - c);
       if (tail >= kCalibrationFalseAlarm) break;
     }
     EXPECT_LT(below, kCalibrationFalseAlarm);

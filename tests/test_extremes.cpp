@@ -140,15 +140,18 @@ void expect_one_rule(const Scene& scene, const AuditReport& rep) {
     return "";
   };
   const auto trusted = [](const std::string& v) { return v == "trusted" || v == "trusted as a statistic"; };
-  for (const ScalarCheck& sc : rep.scalars)
-    if (scalar_rejection(scene, sc))
-      for (const char* stat : {"P(t)", "kappa", "alpha"})
-        EXPECT_EQ(verdict(sc.tier, stat), "not trusted") << sc.tier << " " << stat;
+  for (const ScalarCheck& sc : rep.scalars) {
+    if (!scalar_rejection(scene, sc)) continue;
+    for (const char* stat : {"P(t)", "kappa", "alpha"})
+      EXPECT_EQ(verdict(sc.tier, stat), "not trusted") << sc.tier << " " << stat;
+  }
   for (const Verdict& v : rep.verdicts) {
     if (v.statistic == "trajectories") continue;
-    for (const char* base : {"float", "double", "long_double"})
-      if (v.reason.find(std::string("more precise than ") + base + ",") != std::string::npos)
+    for (const char* base : {"float", "double", "long_double"}) {
+      if (v.reason.find(std::string("more precise than ") + base + ",") != std::string::npos) {
         EXPECT_TRUE(trusted(verdict(base, v.statistic))) << v.tier << " leans on " << base << ": " << v.reason;
+      }
+    }
     if (v.tier == "double_simd") {
       EXPECT_TRUE(!trusted(v.verdict) || trusted(verdict("double", v.statistic))) << v.reason;
       EXPECT_EQ(trusted(v.verdict), trusted(verdict("double", v.statistic))) << v.reason;
@@ -185,9 +188,11 @@ TEST(Extremes, OneTrustVerdictAtOmega1e15) {
   const Scene slow = scene_with({"leak.omega=2/3", "ensemble.particles=4000", "run.t_max=2000"});
   const AuditReport ok = audit(slow, small_audit());
   expect_one_rule(slow, ok);
-  for (const Verdict& v : ok.verdicts)
-    if (v.statistic == "P(t)" && (v.tier == "double" || v.tier == "double_simd" || v.tier == "long_double"))
+  for (const Verdict& v : ok.verdicts) {
+    if (v.statistic == "P(t)" && (v.tier == "double" || v.tier == "double_simd" || v.tier == "long_double")) {
       EXPECT_NE(v.verdict, "not trusted") << v.tier << ": " << v.reason;
+    }
+  }
 }
 
 // simulate applies the same rule to the tier it runs: at omega = 1e15 it warns (text and summary.json's

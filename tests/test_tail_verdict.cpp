@@ -40,9 +40,12 @@ TEST(TailVerdict, ClassRegimeAndAmplitudeAgreeOnAtlasPoints) {
         EXPECT_TRUE(r.tail_class.tail == "persistent" || r.tail_class.tail == "transient") << at;
         EXPECT_TRUE(r.tail_class.regime != "undecided" || r.tail_class.note.find("tau2") != std::string::npos) << at;
       }
-      if (r.tail_class.tail == "none") EXPECT_FALSE(r.amplitude.value.has_value()) << at;
-      if (r.alpha.upper_bound && r.alpha_c.value)
+      if (r.tail_class.tail == "none") {
+        EXPECT_FALSE(r.amplitude.value.has_value()) << at;
+      }
+      if (r.alpha.upper_bound && r.alpha_c.value) {
         EXPECT_LE(*r.alpha_c.value, *r.alpha.upper_bound + 3 * r.alpha_c.std_error) << at;
+      }
     }
     std::printf("%-9s %s\n", omega, classes.c_str());
   }

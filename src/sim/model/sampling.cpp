@@ -89,7 +89,8 @@ class MupoBirkhoff final : public MupoBase {
     const double c = InitialConditions::unit(w[3]);
     double m = 0;
     if (c < ride_) {
-      const std::size_t k = std::min(bands_.size() - 1, static_cast<std::size_t>(c / ride_ * bands_.size()));
+      const std::size_t k =
+          std::min(bands_.size() - 1, static_cast<std::size_t>(c / ride_ * static_cast<double>(bands_.size())));
       const RidingBand& b = bands_[k];
       m = b.lo * std::exp(InitialConditions::unit(w[2]) * std::log(b.hi / b.lo));
       m = m < b.lo ? b.lo : m > b.hi ? b.hi : m;
@@ -184,7 +185,7 @@ std::vector<RidingBand> riding_bands(const Scene& scene) {
     const double eta = f - static_cast<double>(a) / static_cast<double>(b);
     if (!(std::abs(eta) < best)) continue;  // not a best approximation
     best = std::abs(eta);
-    if (b * lambda >= 1 || eta == 0) continue;
+    if (static_cast<double>(b) * lambda >= 1 || eta == 0) continue;
     RidingBand band{a, b, eta, L * std::abs(eta) / (4 * r), 0, 0};
     const double h = std::min(0.5, L * (1 / static_cast<double>(b) - lambda) / d);
     band.lo = band.p * (1 - h);
