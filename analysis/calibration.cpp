@@ -52,11 +52,13 @@ SeedSpread seed_spread(const std::vector<double>& x, const std::vector<double>& 
   return s;
 }
 
-HonestBand honest_band(std::size_t K) {
+HonestBand honest_band(std::size_t K, std::size_t tests) {
   if (K < 2) throw std::invalid_argument("honest_band: needs K >= 2 seeds");
+  if (tests < 1) throw std::invalid_argument("honest_band: needs tests >= 1");
   namespace bm = boost::math;
-  const double k = static_cast<double>(K), a = kCalibrationFalseAlarm;
+  const double k = static_cast<double>(K), a = kCalibrationFalseAlarm / static_cast<double>(tests);
   HonestBand b;
+  b.false_alarm_each = a;
   const bm::chi_squared chi2(k - 1);
   b.lo = std::min(kHonestBand[0], std::sqrt(bm::quantile(chi2, a / 2) / (k - 1)));
   b.hi = std::max(kHonestBand[1], std::sqrt(bm::quantile(bm::complement(chi2, a / 2)) / (k - 1)));
@@ -66,6 +68,19 @@ HonestBand honest_band(std::size_t K) {
   while (c < K && bm::cdf(count, static_cast<double>(c)) < a) ++c;
   b.coverage2_floor = std::min(kHonestCoverage2, static_cast<double>(c) / k);
   return b;
+}
+
+CurveVerdict curve_verdict(const std::vector<SeedSpread>& times) {
+  CurveVerdict v;
+  v.judged = times.size();
+  if (times.empty()) return v;
+  v.band = honest_band(times.front().n, times.size());
+  for (const SeedSpread& s : times) {
+    if (s.n != times.front().n) throw std::invalid_argument("curve_verdict: every time needs the same seeds");
+    v.outside += s.sd_over_err < v.band.lo || s.sd_over_err > v.band.hi ? 1 : 0;
+    v.uncovered += s.coverage2 < v.band.coverage2_floor ? 1 : 0;
+  }
+  return v;
 }
 
 std::string spread_verdict(const SeedSpread& s, double model_share) {

@@ -47,12 +47,29 @@ inline constexpr double kCalibrationFalseAlarm = 0.01;
 /// share the mean, a correlation of order 1 / K that the test neglects; tests/test_calibration.cpp
 /// measures the false-alarm rate it leaves); the floor is the smallest count whose lower tail holds at least
 /// kCalibrationFalseAlarm, over K, and never above kHonestCoverage2.
+/// `tests`: how many such judgements one verdict makes (a curve's grid times): each then runs at
+/// kCalibrationFalseAlarm / tests (Bonferroni), so that honest errors fail any of them with probability at most
+/// kCalibrationFalseAlarm per test kind, however the times are correlated.
 struct HonestBand {
   double lo = 0, hi = 0;          ///< sd / err band
   double coverage2_floor = 0;     ///< the least share of seeds within 2 errors
   double coverage2_expected = 0;  ///< p2
+  double false_alarm_each = 0;    ///< kCalibrationFalseAlarm / tests: each judgement's own rate
 };
-HonestBand honest_band(std::size_t K);
+HonestBand honest_band(std::size_t K, std::size_t tests = 1);
+
+/// A curve judged at many times as one verdict (docs/model.md, "Calibration against seeds"): honest_band(K,
+/// judged times), so that a long curve with honest errors passes at the stated rate, where a band for one
+/// time would fail it somewhere by chance (its times are many, and correlated in ways the band cannot know).
+struct CurveVerdict {
+  HonestBand band;
+  std::size_t judged = 0;     ///< times judged
+  std::size_t outside = 0;    ///< times with sd / err outside band.lo .. band.hi
+  std::size_t uncovered = 0;  ///< times with coverage at 2 errors under band.coverage2_floor
+  bool honest() const { return judged > 0 && outside == 0 && uncovered == 0; }
+};
+/// The spreads of the times judged, all over the same K seeds (K >= 2). None judged: judged = 0, honest false.
+CurveVerdict curve_verdict(const std::vector<SeedSpread>& times);
 
 /// "honest", "errors too small" (sd / err above the band or coverage under the floor, honest_band(s.n)),
 /// "errors too large" (sd / err below the band), or "no errors reported" (median error 0). model_share: the

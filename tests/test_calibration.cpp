@@ -149,6 +149,56 @@ TEST(SeedSpread, VerdictJudgesWithItsSeedCount) {
   EXPECT_EQ(spread_verdict(s), "honest");
 }
 
+// A curve judged at many correlated times as one verdict (curve_verdict): honest errors fail it at the stated
+// rate. Each of R = 200 calibrations has K = 100 seeds whose values follow random walks over M = 400 times
+// (x_k(i) = sum of i + 1 standard normals, reported error sqrt(i + 1): honest, and correlated between times as a
+// survival curve is). Bonferroni over the M times bounds the rate of honest curves called dishonest by
+// kCalibrationFalseAlarm per test kind, 2% in all; the test allows that plus 4 binomial standard errors over R.
+// A band for one time applied at every time (the verdict before) calls far more of them dishonest, and errors
+// reported half as large are still caught in every calibration (sd / err near 2 lies above either band).
+TEST(SeedSpread, CurveVerdictHoldsItsRateOverManyTimes) {
+  const std::size_t K = 100, M = 400, R = 200;
+  std::mt19937_64 gen(29);
+  std::normal_distribution<double> normal(0, 1);
+  std::size_t family = 0, per_time = 0, caught = 0;
+  const HonestBand one = honest_band(K);
+  std::vector<double> walk(K), e(K), half(K), x(K);
+  for (std::size_t r = 0; r < R; ++r) {
+    std::fill(walk.begin(), walk.end(), 0.0);
+    std::vector<SeedSpread> honest, small;
+    bool fails_one = false;
+    for (std::size_t i = 0; i < M; ++i) {
+      for (std::size_t k = 0; k < K; ++k) walk[k] += normal(gen);
+      std::fill(e.begin(), e.end(), std::sqrt(static_cast<double>(i + 1)));
+      std::fill(half.begin(), half.end(), 0.5 * std::sqrt(static_cast<double>(i + 1)));
+      honest.push_back(seed_spread(walk, e));
+      small.push_back(seed_spread(walk, half));
+      const SeedSpread& s = honest.back();
+      fails_one = fails_one || s.sd_over_err < one.lo || s.sd_over_err > one.hi || s.coverage2 < one.coverage2_floor;
+    }
+    const CurveVerdict v = curve_verdict(honest);
+    EXPECT_EQ(v.judged, M);
+    family += v.honest() ? 0 : 1;
+    per_time += fails_one ? 1 : 0;
+    caught += curve_verdict(small).honest() ? 0 : 1;
+  }
+  const double stated = 2 * kCalibrationFalseAlarm, n = static_cast<double>(R);
+  const double allowed = stated + 4 * std::sqrt(stated * (1 - stated) / n);
+  std::printf(
+      "K = %zu, %zu times: %zu of %zu honest curves called dishonest (one time's band at every time: %zu), "
+      "%zu of %zu with errors half as large caught\n",
+      K, M, family, R, per_time, caught, R);
+  EXPECT_LE(static_cast<double>(family) / n, allowed) << family << " of " << R;
+  EXPECT_GT(static_cast<double>(per_time) / n, allowed) << per_time << " of " << R;
+  EXPECT_EQ(caught, R);
+  const HonestBand many = honest_band(K, M);
+  EXPECT_DOUBLE_EQ(many.false_alarm_each, kCalibrationFalseAlarm / static_cast<double>(M));
+  EXPECT_LT(many.coverage2_floor, one.coverage2_floor);
+  EXPECT_LE(many.lo, one.lo);
+  EXPECT_TRUE(curve_verdict({}).judged == 0 && !curve_verdict({}).honest());
+  EXPECT_THROW(honest_band(K, 0), std::invalid_argument);
+}
+
 // Pooling split runs: P the mean, R = K sum R_k P_k^2 / (sum P_k)^2, N the sum: P's error of the pool is
 // that of one run of all lines.
 TEST(PoolCurves, SplitRunsPoolToOneRunOfAllLines) {

@@ -120,6 +120,16 @@ TEST(Scene, DefaultThatFailsItsCheckIsNamedNotDereferenced) {
   }
 }
 
+// The riding bands are a Birkhoff draw: with flow starts sampling_ride was accepted and ignored.
+TEST(Scene, RidingBandsRefusedWithFlowStarts) {
+  const std::vector<std::string> sets = {"ensemble.sampling=mupo", "ensemble.init=flow", "leak.omega=100/101",
+                                         "ensemble.sampling_ride=0.5"};
+  EXPECT_EQ(error_of("", sets).rfind("ensemble.sampling_ride = 0.5", 0), 0u) << error_of("", sets);
+  EXPECT_NE(error_of("", sets).find("ensemble.init = \"birkhoff\""), std::string::npos) << error_of("", sets);
+  EXPECT_EQ(error_of("", {"ensemble.sampling=mupo", "ensemble.init=flow", "ensemble.sampling_ride=0"}), "");
+  EXPECT_EQ(error_of("", {"ensemble.sampling=mupo", "leak.omega=100/101", "ensemble.sampling_ride=0.5"}), "");
+}
+
 // t_max = 1e12 lies in run.t_max's range but makes 4.6e11 collisions a particle on the default stadium:
 // refused as it should be, but the message blamed stadium.r, which the user never touched.
 TEST(Scene, TooManyCollisionsBlameTheKeyGiven) {

@@ -364,6 +364,10 @@ void read_sampling(const Reader& in, Scene& s) {
   }
   mupo_number("sampling_ride", 0, 0.9, "must be in [0, 0.9] (the share of the mupo draws on the riding bands)",
               s.sampling.ride);
+  if (s.sampling.ride > 0 && s.init == InitKind::flow)  // the bands are drawn in Birkhoff's (s, p) on the edges
+    throw InputError("ensemble.sampling_ride", shown(*in.find("ensemble", "sampling_ride")),
+                     "applies to ensemble.init = \"birkhoff\" only (the riding bands are drawn on the straight "
+                     "edges; flow starts have none), or 0");
 }
 
 /// The run's tier, fast-forward and checkpoint period.

@@ -90,11 +90,10 @@ json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from,
   const std::size_t K = seeds.curves.size(), points = seeds.curves.front().t.size();
   const double min_eff = static_cast<double>(seeds.scene.min_survivors);
   csv = "t,resolved,seeds,P,P_err,P_err_model,sd_over_err,chi2_dof,coverage1,coverage2,max_over_median\n";
-  std::size_t resolved = 0, outside = 0, uncovered = 0;
   double lo = std::numeric_limits<double>::infinity(), hi = 0, worst_cov = 1, t_lo = 0, t_hi = 0, t_cov = 0;
   double first = 0, last = 0;
   std::vector<double> x(K), e(K);
-  const HonestBand band = honest_band(K);
+  std::vector<SeedSpread> judged;  // the times judged, as one verdict over all of them (curve_verdict)
   for (std::size_t i = 0; i < points; ++i) {
     for (std::size_t k = 0; k < K; ++k) {
       x[k] = seeds.curves[k].P(i);
@@ -108,22 +107,24 @@ json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from,
             shortest(s.chi2_dof).c_str(), shortest(s.coverage1).c_str(), shortest(s.coverage2).c_str(),
             shortest(s.max_over_median).c_str());
     if (!ok) continue;
-    if (resolved++ == 0) first = t;
+    if (judged.empty()) first = t;
+    judged.push_back(s);
     last = t;
     if (s.sd_over_err < lo) lo = s.sd_over_err, t_lo = t;
     if (s.sd_over_err > hi) hi = s.sd_over_err, t_hi = t;
     if (s.coverage2 < worst_cov) worst_cov = s.coverage2, t_cov = t;
-    outside += s.sd_over_err < band.lo || s.sd_over_err > band.hi ? 1 : 0;
-    uncovered += s.coverage2 < band.coverage2_floor ? 1 : 0;
   }
-  json P = {{"resolved_times", resolved},
+  const CurveVerdict v = curve_verdict(judged);
+  const HonestBand band = judged.empty() ? honest_band(K) : v.band;
+  json P = {{"resolved_times", judged.size()},
             {"min_effective", min_eff},
             {"band", {band.lo, band.hi}},
             {"coverage2_floor", band.coverage2_floor},
             {"coverage2_expected", band.coverage2_expected},
             {"false_alarm", kCalibrationFalseAlarm},
+            {"false_alarm_each", band.false_alarm_each},
             {"model_from", std::isinf(model_from) ? json(nullptr) : json(model_from)}};
-  if (resolved == 0) {
+  if (judged.empty()) {
     P["honest"] = nullptr;
     return P;
   }
@@ -132,9 +133,9 @@ json judge_P(const Seeds& seeds, const SurvivalCurve& pooled, double model_from,
   P["sd_over_err_min"] = {{"value", lo}, {"t", t_lo}};
   P["sd_over_err_max"] = {{"value", hi}, {"t", t_hi}};
   P["coverage2_min"] = {{"value", worst_cov}, {"t", t_cov}};
-  P["times_outside_band"] = outside;
-  P["times_under_coverage"] = uncovered;
-  P["honest"] = outside == 0 && uncovered == 0;
+  P["times_outside_band"] = v.outside;
+  P["times_under_coverage"] = v.uncovered;
+  P["honest"] = v.honest();
   return P;
 }
 
@@ -265,14 +266,14 @@ std::string calibration_text(const json& d) {
   } else {
     appendf(out,
             "P(t), %zu resolved grid times in [%g, %g]: sd/err from %.3g (t = %g) to %.3g (t = %g), coverage at 2 "
-            "errors >= %.0f%% (t = %g); %zu times outside [%g, %g], %zu under %.0f%%: %s\n",
+            "errors >= %.0f%% (t = %g); %zu times outside [%g, %g], %zu under %.0f%% (each time at %.2g): %s\n",
             P.at("resolved_times").get<std::size_t>(), P.at("from").get<double>(), P.at("to").get<double>(),
             P.at("sd_over_err_min").at("value").get<double>(), P.at("sd_over_err_min").at("t").get<double>(),
             P.at("sd_over_err_max").at("value").get<double>(), P.at("sd_over_err_max").at("t").get<double>(),
             100 * P.at("coverage2_min").at("value").get<double>(), P.at("coverage2_min").at("t").get<double>(),
             P.at("times_outside_band").get<std::size_t>(), P.at("band")[0].get<double>(), P.at("band")[1].get<double>(),
             P.at("times_under_coverage").get<std::size_t>(), 100 * P.at("coverage2_floor").get<double>(),
-            P.at("honest").get<bool>() ? "honest" : "NOT honest");
+            P.at("false_alarm_each").get<double>(), P.at("honest").get<bool>() ? "honest" : "NOT honest");
   }
   const json& b = d.at("alpha_bounds");
   if (b.at("seeds").get<std::size_t>() > 0 && b.at("pooled_alpha").is_number())

@@ -224,25 +224,60 @@ class LinesRun {
     if (next_.size() == first) book.close(e_);
   }
 
-  /// While the line (next_ from `first`) has more than cap members, each is kept with probability 1/2 at
-  /// twice its weight (the line's weight is kept in expectation); then its members are renumbered.
+  /// While the line (next_ from `first`) has more than cap members, its members are thinned in pairs: in
+  /// member order, each member and the next one of its level make a pair, of which one, drawn with
+  /// probability 1/2, goes on at twice its weight. The line's weight is kept exactly (w + w = 2 w), not only
+  /// in expectation, so a line that sits at the cap level after level does not take a multiplicative random
+  /// walk in weight (docs/model.md, "Splitting": that walk made the lines' weights heavy-tailed). A round
+  /// that finds no pair (every member on its own level) keeps each member with probability 1/2 at twice its
+  /// weight instead. Then the members are renumbered.
   void roulette(std::uint64_t line, std::size_t first, std::uint64_t k, double stop) {
     LineBook& book = books_[line - lo_];
     for (std::uint64_t round = 0; next_.size() - first > scene_.splitting.cap; ++round) {
-      std::size_t kept = first;
-      for (std::size_t i = first; i < next_.size(); ++i) {
-        Member& m = next_[i];
-        const auto w = split_words(scene_.seed, line, k + 1, m.index, 1 + round);
-        book.add(m.level, -1);
-        const bool keep = w[0] & 1;
-        e_.roulette(keep, std::ldexp(w0(line), -m.level), bin_of(stop));
-        if (keep) {
-          --m.level;
-          book.add(m.level, 1);
-          next_[kept++] = m;
+      const std::size_t n = next_.size() - first;
+      drop_.assign(n, 0);
+      std::map<int, std::size_t> pending;  // level -> the member waiting for its pair
+      bool paired = false;
+      for (std::size_t i = 0; i < n; ++i) {
+        const int level = next_[first + i].level;
+        const auto it = pending.find(level);
+        if (it == pending.end()) {
+          pending.emplace(level, i);
+          continue;
+        }
+        const std::size_t a = it->second;
+        pending.erase(it);
+        paired = true;
+        const auto w = split_words(scene_.seed, line, k + 1, next_[first + a].index, 1 + round);
+        const std::size_t keep = (w[0] & 1) ? a : i;
+        drop_[keep == a ? i : a] = 1;
+        const double weight = std::ldexp(w0(line), -level);
+        e_.roulette(false, weight, bin_of(stop));
+        e_.roulette(true, weight, bin_of(stop));
+        book.add(level, -2);
+        book.add(level - 1, 1);
+        --next_[first + keep].level;
+      }
+      if (!paired) {
+        for (std::size_t i = 0; i < n; ++i) {
+          Member& m = next_[first + i];
+          const auto w = split_words(scene_.seed, line, k + 1, m.index, 1 + round);
+          book.add(m.level, -1);
+          const bool keep = w[0] & 1;
+          e_.roulette(keep, std::ldexp(w0(line), -m.level), bin_of(stop));
+          if (keep) {
+            --m.level;
+            book.add(m.level, 1);
+          } else {
+            drop_[i] = 1;
+          }
         }
       }
+      std::size_t kept = first;
+      for (std::size_t i = 0; i < n; ++i)
+        if (!drop_[i]) next_[kept++] = next_[first + i];
       next_.resize(kept);
+      for (std::size_t i = first; i < next_.size(); ++i) next_[i].index = i - first;
     }
     for (std::size_t i = first; i < next_.size(); ++i) next_[i].index = i - first;
   }
@@ -261,6 +296,7 @@ class LinesRun {
   std::vector<double> weights_;
   std::vector<ParticleEnd> ends_;
   std::vector<std::size_t> order_;
+  std::vector<char> drop_;  ///< the roulette's removals in one round, by member position
 };
 
 }  // namespace

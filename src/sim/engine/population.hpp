@@ -2,7 +2,8 @@
 // block start one line each; every split_every time units each member of a line that the split rule
 // picks becomes two of half its weight, the copy's direction turned by an angle in [-delta, delta]
 // drawn from (seed, line, level, member index). Weight is conserved at every split, and the roulette
-// that caps a line's members conserves it in expectation, so P(t) = (1/N) sum_i Y_i(t) stays unbiased,
+// that caps a line's members (in pairs: one of two goes on at twice its weight) conserves it too, so
+// P(t) = (1/N) sum_i Y_i(t) stays unbiased,
 // with Y_i(t) the living weight of line i; the lines are independent, and the spread of the Y_i is
 // P's error.
 //
