@@ -158,8 +158,6 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
   for (const SurvivalCurve& c : curves)
     for (std::size_t i = 0; i < points; ++i) p.survivors[i] += c.survivors[i];
   if (!p.weighted) return p;
-  const double n_total = static_cast<double>(p.particles);
-  double g = 0;
   for (std::size_t i = 0; i < points; ++i) {
     double sp = 0, sq = 0;  // seed order: the pooled curve does not depend on how the seeds were run
     for (const SurvivalCurve& c : curves) {
@@ -168,10 +166,7 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
     }
     p.P_w.push_back(sp / K);
     if (p.lines) {
-      const double r = sp > 0 ? K * sq / (sp * sp) : 0.0;
-      p.R.push_back(r);
-      if (r > 0) g = std::max(g, (r - 1) / n_total);
-      p.G.push_back(g);
+      p.R.push_back(sp > 0 ? K * sq / (sp * sp) : 0.0);
       std::uint64_t alive = 0;
       for (const SurvivalCurve& c : curves) alive += c.lines_alive[i];
       p.lines_alive.push_back(alive);
@@ -179,7 +174,8 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
       p.Q.push_back(sq / K);
     }
   }
-  if (p.lines && scene) pool_structure(curves, *scene, p);
+  if (p.lines) running_lines_variance(p);                   // P_err of the pooled lines
+  if (p.lines && scene) pool_structure(curves, *scene, p);  // and their structure, where every curve keeps it
   return p;
 }
 

@@ -93,13 +93,21 @@ void add_unsplit_allowance(SurvivalCurve& c) {
     first = std::min(first, r + 1);
   }
   if (first == points) return;
-  double g = first > 0 ? c.G[first - 1] : 0.0;
   for (std::size_t j = first; j < points; ++j) {
     if (c.P_w[j] > 0 && extra[j] > 0) {
       const double own = c.P_w[j] * c.P_w[j] * std::max(0.0, c.R[j] - 1) / n;
       if (extra[j] > kAllowanceShare * own && !c.allowance_unresolved_from) c.allowance_unresolved_from = c.t[j];
       c.R[j] += n * extra[j] / (c.P_w[j] * c.P_w[j]);
     }
+  }
+  running_lines_variance(c);
+}
+
+void running_lines_variance(SurvivalCurve& c) {
+  const double n = static_cast<double>(c.particles);
+  c.G.resize(c.R.size());
+  double g = 0;
+  for (std::size_t j = 0; j < c.R.size(); ++j) {
     if (c.R[j] > 0) g = std::max(g, (c.R[j] - 1) / n);
     c.G[j] = g;
   }
@@ -173,14 +181,8 @@ void build_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) 
 
 void finish_lines_curve(const Scene& scene, SurvivalCurve& c) {
   const std::size_t points = c.t.size();
-  const double n = static_cast<double>(c.particles);
   c.R_lines = c.R;
-  c.G.clear();
-  double g = 0;
-  for (double r : c.R) {
-    if (r > 0) g = std::max(g, (r - 1) / n);
-    c.G.push_back(g);
-  }
+  running_lines_variance(c);
   c.unsplit.clear();
   c.allowance_unresolved_from.reset();
   if (points == 0) return;

@@ -91,6 +91,9 @@ inline constexpr double kAllowanceShare = 0.5;
 
 /// Adds to a split curve's R the allowance for unsplit lines the run has not drawn (docs/model.md).
 void add_unsplit_allowance(SurvivalCurve& c);
+/// Split runs: G from R, the running maximum over the grid of (R - 1) / N (SurvivalCurve::G; where P = 0, R = 0
+/// leaves it as it was). Every split curve's G is built here: a run's, a pooled one, one read back.
+void running_lines_variance(SurvivalCurve& c);
 /// A split curve from its parts (SurvivalCurve::unsplit_classes: c.t, P_w, R holding R before the allowance,
 /// lines_alive, unsplit_lines, unsplit_P, unsplit_classes set): R_lines, G, the groups (each class whose decay
 /// can be measured after the first split time on its own, the others pooled in class order) and the
