@@ -188,7 +188,7 @@ TEST(Splitting, TheScheduleDoesNotMoveP) {
 // line held at the cap level after level does not take a multiplicative random walk in weight. The roulette
 // that kept each member with probability 1/2 did take it: at d = 1 with splitting every 8 time units (the
 // cap binding at every level), its lines' weights grew heavy-tailed, 2 of 5*10^4 lines carried P(800), and
-// a typical run read P(500) 13% low, 5 of its errors (docs/model.md, "Splitting"). Exact (the sums), then
+// a typical run read P(500) 13% low, 3.5 to 6 of its errors (docs/model.md, "Splitting"). Exact (the sums), then
 // the same scene against a plain uniform run at t = 300 and 500: 2*10^4 lines, 10^6 particles,
 // independent seeds, 2 comparisons at 4 combined standard errors (a correct engine fails with
 // probability <= 1.3e-4).
