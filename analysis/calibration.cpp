@@ -94,10 +94,11 @@ std::string spread_verdict(const SeedSpread& s, double model_share) {
 
 namespace {
 
-/// pool_curves' split structure: the classes, R before the allowance, then finish_lines_curve.
-void pool_structure(const std::vector<SurvivalCurve>& curves, const Scene& scene, SurvivalCurve& p) {
+/// pool_curves' split structure: the classes, R before the allowance, then finish_lines_curve. False (p untouched)
+/// where a curve lacks its structure.
+bool pool_structure(const std::vector<SurvivalCurve>& curves, const Scene& scene, SurvivalCurve& p) {
   for (const SurvivalCurve& c : curves)
-    if (c.R_lines.size() != p.t.size()) return;  // a curve without its structure: P_err as pooled above
+    if (c.R_lines.size() != p.t.size()) return false;
   const std::size_t points = p.t.size();
   const double K = static_cast<double>(curves.size());
   std::vector<int> classes;  // every class any run holds, in class order
@@ -136,6 +137,7 @@ void pool_structure(const std::vector<SurvivalCurve>& curves, const Scene& scene
   Scene pooled = scene;
   pooled.particles = p.particles;
   finish_lines_curve(pooled, p);
+  return true;
 }
 
 }  // namespace
@@ -174,8 +176,8 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
       p.Q.push_back(sq / K);
     }
   }
-  if (p.lines) running_lines_variance(p);                   // P_err of the pooled lines
-  if (p.lines && scene) pool_structure(curves, *scene, p);  // and their structure, where every curve keeps it
+  // the structure where every curve keeps it (finish_lines_curve builds G with it), else G from the pooled R alone
+  if (p.lines && !(scene && pool_structure(curves, *scene, p))) running_lines_variance(p);
   return p;
 }
 

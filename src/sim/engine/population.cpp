@@ -230,7 +230,7 @@ class LinesRun {
   /// in expectation, so a line that sits at the cap level after level does not take a multiplicative random
   /// walk in weight (docs/model.md, "Splitting": that walk made the lines' weights heavy-tailed). A round
   /// that finds no pair (every member on its own level) keeps each member with probability 1/2 at twice its
-  /// weight instead. Then the members are renumbered.
+  /// weight instead. After each round the members are renumbered (next_level numbered them in order already).
   void roulette(std::uint64_t line, std::size_t first, std::uint64_t k, double stop) {
     LineBook& book = books_[line - lo_];
     for (std::uint64_t round = 0; next_.size() - first > scene_.splitting.cap; ++round) {
@@ -279,7 +279,6 @@ class LinesRun {
       next_.resize(kept);
       for (std::size_t i = first; i < next_.size(); ++i) next_[i].index = i - first;
     }
-    for (std::size_t i = first; i < next_.size(); ++i) next_[i].index = i - first;
   }
 
   const Scene& scene_;

@@ -92,7 +92,8 @@ inline constexpr double kAllowanceShare = 0.5;
 /// Adds to a split curve's R the allowance for unsplit lines the run has not drawn (docs/model.md).
 void add_unsplit_allowance(SurvivalCurve& c);
 /// Split runs: G from R, the running maximum over the grid of (R - 1) / N (SurvivalCurve::G; where P = 0, R = 0
-/// leaves it as it was). Every split curve's G is built here: a run's, a pooled one, one read back.
+/// leaves it as it was): a run's G, a pooled curve's, one read back with its lines.csv. (A split curve read from
+/// survival.csv alone builds its G from P_err row by row, read_survival_csv.)
 void running_lines_variance(SurvivalCurve& c);
 /// A split curve from its parts (SurvivalCurve::unsplit_classes: c.t, P_w, R holding R before the allowance,
 /// lines_alive, unsplit_lines, unsplit_P, unsplit_classes set): R_lines, G, the groups (each class whose decay
