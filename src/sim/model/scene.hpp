@@ -28,8 +28,8 @@ enum class SamplingKind { uniform, mupo };
 
 struct SamplingSpec {
   SamplingKind kind = SamplingKind::uniform;
-  double eps =
-      0.7;  ///< weight of the uniform component: no particle weighs more than 1 / eps (docs/model.md, "Small samples")
+  /// Weight of the uniform component: no particle weighs more than 1 / eps (docs/model.md, "Small samples").
+  double eps = 0.7;
   double p_min = 1e-12, p_max = 0.05;
   /// Share of g drawn on the riding bands of a moving leak (docs/model.md, "Riding orbits"; riding_bands in
   /// sim/model/sampling.hpp): bouncing-ball orbits whose drift keeps pace with the leak's pattern. 0: none.
