@@ -34,6 +34,33 @@ SampleOptions small(std::uint64_t n, double t_cap) {
   return o;
 }
 
+/// Escape times of the scene's first n particles by the core in MPFR at `bits` (+inf: alive at t_cap).
+std::vector<double> mpfr_escape_times(const Scene& scene, std::uint64_t n, double t_cap, long bits) {
+  Scene capped = scene;
+  capped.t_max = t_cap;
+  std::vector<double> truth(n, std::numeric_limits<double>::infinity());
+  MpfrPrecision guard(bits);
+  const Model<Mpfr> model = model_of<Mpfr>(capped);
+  const auto sampler = make_sampler(capped);
+  for (std::uint64_t id = 0; id < n; ++id)
+    trace(model, sampler->draw(id), std::numeric_limits<std::size_t>::max(), [&](const TraceStep<Mpfr>& s) {
+      if (s.in_leak) truth[id] = num_traits<Mpfr>::to_double(s.t);
+      return !s.in_leak;
+    });
+  return truth;
+}
+
+/// The bracket holds the curve of these escape times at every grid point.
+void expect_bracket_holds(const SampleBracket& b, const std::vector<double>& truth) {
+  for (std::size_t i = 0; i < b.t.size(); ++i) {
+    const double p =
+        static_cast<double>(std::count_if(truth.begin(), truth.end(), [&](double x) { return x > b.t[i]; })) /
+        static_cast<double>(truth.size());
+    ASSERT_LE(b.lower[i], p) << "t = " << b.t[i];
+    ASSERT_GE(b.upper[i], p) << "t = " << b.t[i];
+  }
+}
+
 }  // namespace
 
 // The bracket holds the curve of the same particles followed by the core in MPFR at 1024 bits (error model:
@@ -52,19 +79,7 @@ TEST(CertifySample, TheBracketHoldsTheSamplesHighPrecisionCurve) {
   }
   const SampleOptions opt = small(particles, t_cap);
   const SampleCertificate c = certify_sample(scene, opt);
-  Scene capped = scene;
-  capped.t_max = t_cap;
-  std::vector<double> truth(opt.sample, std::numeric_limits<double>::infinity());
-  {
-    MpfrPrecision bits(truth_bits);
-    const Model<Mpfr> model = model_of<Mpfr>(capped);
-    const auto sampler = make_sampler(capped);
-    for (std::uint64_t id = 0; id < opt.sample; ++id)
-      trace(model, sampler->draw(id), std::numeric_limits<std::size_t>::max(), [&](const TraceStep<Mpfr>& s) {
-        if (s.in_leak) truth[id] = num_traits<Mpfr>::to_double(s.t);
-        return !s.in_leak;
-      });
-  }
+  const std::vector<double> truth = mpfr_escape_times(scene, opt.sample, t_cap, truth_bits);
   std::size_t proven = 0;
   for (const ParticleEscape& e : c.particles) {
     if (e.status == EscapeStatus::undecided) continue;
@@ -78,14 +93,63 @@ TEST(CertifySample, TheBracketHoldsTheSamplesHighPrecisionCurve) {
     }
   }
   EXPECT_GE(proven, opt.sample - 1);
-  const SampleBracket b = bracket_of(c, 0.5);
+  expect_bracket_holds(bracket_of(c, 0.5), truth);
+}
+
+// The bracket of a hand-built certificate, counted by hand on the grid t = 0, 5, ..., 100 (cap 100): five
+// particles, an escape proven in [10, 10.5], one in [30, 30 + 1e-6], one proven alive past the cap, one
+// undecided after t = 40 (alive until then, proven) and one undecided from its start. lower(t) counts the
+// particles proven alive at t, upper(t) those not proven escaped by t: an undecided particle is in upper at
+// every t from its last proven time on, the cap included (it may live past the cap), and never in lower there.
+TEST(CertifySample, TheBracketOfUndecidedParticlesByHand) {
+  SampleCertificate c;
+  c.t_cap = 100;
+  const auto add = [&](EscapeStatus st, double lo, double hi) {
+    ParticleEscape e;
+    e.id = c.particles.size();
+    e.status = st;
+    e.t_lo = lo, e.t_hi = hi;
+    c.particles.push_back(e);
+  };
+  add(EscapeStatus::proven, 10, 10.5);
+  add(EscapeStatus::proven, 30, 30 + 1e-6);
+  add(EscapeStatus::survives, 100, 100);
+  add(EscapeStatus::undecided, 40, 100);
+  add(EscapeStatus::undecided, 0, 100);
+  const SampleBracket b = bracket_of(c, 5);
+  ASSERT_EQ(b.t.size(), 21u);
   for (std::size_t i = 0; i < b.t.size(); ++i) {
-    const double p =
-        static_cast<double>(std::count_if(truth.begin(), truth.end(), [&](double x) { return x > b.t[i]; })) /
-        static_cast<double>(opt.sample);
-    ASSERT_LE(b.lower[i], p) << "t = " << b.t[i];
-    ASSERT_GE(b.upper[i], p) << "t = " << b.t[i];
+    const double t = b.t[i];
+    // by hand: (proven alive, not proven escaped) at t
+    const std::pair<int, int> want = t == 0    ? std::pair{4, 5}
+                                     : t < 10  ? std::pair{4, 5}
+                                     : t == 10 ? std::pair{3, 5}
+                                     : t < 30  ? std::pair{3, 4}
+                                     : t == 30 ? std::pair{2, 4}
+                                     : t < 40  ? std::pair{2, 3}
+                                               : std::pair{1, 3};
+    EXPECT_EQ(b.lower[i], want.first / 5.0) << "t = " << t;
+    EXPECT_EQ(b.upper[i], want.second / 5.0) << "t = " << t;
   }
+  const SampleTotals tot = totals_of(c, b);
+  EXPECT_EQ(tot.proven, 2u);
+  EXPECT_EQ(tot.survives, 1u);
+  EXPECT_EQ(tot.undecided, 2u);
+}
+
+// A sample certified with too few bits to decide most escapes (64 bits, no doubling: the set widens ~1.5 bits
+// a collision, so decisions give out after a few dozen collisions): undecided particles, and the bracket still
+// holds the MPFR curve of the same particles; it is wide where they are.
+TEST(CertifySample, TooFewBitsLeaveParticlesUndecidedAndTheBracketHolds) {
+  const Scene scene = quickstart();
+  SampleOptions opt = small(40, 400);
+  opt.start_bits = opt.max_bits = 64;
+  const SampleCertificate c = certify_sample(scene, opt);
+  const SampleBracket b = bracket_of(c, 0.5);
+  const SampleTotals tot = totals_of(c, b);
+  EXPECT_GE(tot.undecided, 5u) << "64 bits decide most of these particles' escapes: the refusal is not exercised";
+  EXPECT_GT(tot.bracket_width_max, 0.1);
+  expect_bracket_holds(b, mpfr_escape_times(scene, opt.sample, 400, 1024));
 }
 
 // Particle 1 of the quick-start scene escapes at collision 127 (proven); the same enclosure with its velocity

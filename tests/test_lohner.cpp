@@ -2,10 +2,13 @@
 // derivatives, the set holds the high-precision truth at every collision, it widens at about the Lyapunov
 // rate where plain intervals widen at about 4 bits a collision, and a certificate it gives is re-proven
 // inside itself at twice the bits.
+#include <gmpxx.h>
 #include <gtest/gtest.h>
+#include <mpfi.h>
 
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "geometry/formulas.hpp"
 #include "io/scene_file.hpp"
@@ -142,4 +145,98 @@ TEST(Lohner, ACertifiedEscapeIsReprovenInsideItselfAtTwiceTheBits) {
     EXPECT_GE(plain.back().escape_time_hi, first.escape_time_lo);
   }
   EXPECT_GE(proven, 10);
+}
+
+namespace {
+
+using DMat4 = std::array<std::array<double, 4>, 4>;
+
+// The exact inverse of a matrix of doubles, by Gauss-Jordan over the rationals (GMP): no rounding anywhere.
+std::array<std::array<mpq_class, 4>, 4> exact_inverse(const DMat4& q) {
+  std::array<std::array<mpq_class, 8>, 4> m;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 8; ++j) m[i][j] = j < 4 ? mpq_class(q[i][j]) : mpq_class(j - 4 == i ? 1 : 0);
+  for (int c = 0; c < 4; ++c) {
+    int piv = c;
+    while (m[piv][c] == 0) ++piv;  // the matrices here are invertible
+    std::swap(m[piv], m[c]);
+    const mpq_class d = m[c][c];
+    for (int j = 0; j < 8; ++j) m[c][j] /= d;
+    for (int i = 0; i < 4; ++i)
+      if (i != c && m[i][c] != 0) {
+        const mpq_class f = m[i][c];
+        for (int j = 0; j < 8; ++j) m[i][j] -= f * m[c][j];
+      }
+  }
+  std::array<std::array<mpq_class, 4>, 4> inv;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) inv[i][j] = m[i][j + 4];
+  return inv;
+}
+
+bool holds(const std::array<std::array<Mpfi, 4>, 4>& box, const std::array<std::array<mpq_class, 4>, 4>& x) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!mpfi_is_inside_q(x[i][j].get_mpq_t(), box[i][j].data())) return false;
+  return true;
+}
+
+// A rotation in doubles: the product of three Givens rotations by the given angles (orthogonal up to rounding).
+DMat4 rotation(double a, double b, double c) {
+  DMat4 q{};
+  for (int i = 0; i < 4; ++i) q[i][i] = 1;
+  const auto givens = [&](int i, int j, double t) {
+    for (int r = 0; r < 4; ++r) {
+      const double x = q[r][i], y = q[r][j];
+      q[r][i] = std::cos(t) * x - std::sin(t) * y;
+      q[r][j] = std::sin(t) * x + std::cos(t) * y;
+    }
+  };
+  givens(0, 1, a), givens(1, 2, b), givens(2, 3, c);
+  return q;
+}
+
+}  // namespace
+
+// The inverse enclosure holds the exact inverse (rational Gauss-Jordan) of matrices that are orthogonal only up
+// to a perturbation from 1e-12 to 1e-3 of their entries, where q^T alone (the enclosure without its error term)
+// misses it by about the perturbation: 40 random rotations, each entry moved by a random relative amount.
+TEST(LohnerInverse, HoldsTheExactInverseOfNearlyOrthogonalMatrices) {
+  MpfrPrecision bits(128);
+  std::mt19937_64 gen(5);
+  std::uniform_real_distribution<double> angle(-3, 3), unit(-1, 1);
+  int missed_by_transpose = 0;
+  for (int n = 0; n < 40; ++n) {
+    DMat4 q = rotation(angle(gen), angle(gen), angle(gen));
+    const double size = std::pow(10.0, -12 + 9 * (n % 10) / 9.0);
+    for (auto& row : q)
+      for (double& v : row) v *= 1 + size * unit(gen);
+    const auto inv = lohner_detail::inverse_enclosure(q);
+    const auto exact = exact_inverse(q);
+    EXPECT_TRUE(holds(inv, exact)) << "matrix " << n << ", perturbation " << size;
+    std::array<std::array<Mpfi, 4>, 4> transpose;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) transpose[i][j] = Mpfi(q[j][i]);
+    missed_by_transpose += !holds(transpose, exact);
+  }
+  EXPECT_EQ(missed_by_transpose, 40) << "q^T alone must miss a non-orthogonal q's inverse, or the test shows nothing";
+}
+
+// It refuses a matrix too far from orthogonal for its bound (||I - q^T q|| >= 1/2), and its claim is exact where
+// q is: the identity's enclosure is the identity's points, which do not hold the inverse of the identity with one
+// entry one ulp above 1 (1 / (1 + 2^-52)), while that matrix's own enclosure does.
+TEST(LohnerInverse, RefusesAFarFromOrthogonalMatrixAndSeesOneUlp) {
+  MpfrPrecision bits(128);
+  DMat4 far{};
+  for (int i = 0; i < 4; ++i) far[i][i] = 1.5;
+  EXPECT_THROW(lohner_detail::inverse_enclosure(far), UncertainDecision);
+  DMat4 id{};
+  for (int i = 0; i < 4; ++i) id[i][i] = 1;
+  DMat4 ulp = id;
+  ulp[0][0] = std::nextafter(1.0, 2.0);
+  const auto of_id = lohner_detail::inverse_enclosure(id);
+  EXPECT_TRUE(holds(of_id, exact_inverse(id)));
+  EXPECT_FALSE(holds(of_id, exact_inverse(ulp)))
+      << "the identity's enclosure must not hold a one-ulp neighbour's inverse";
+  EXPECT_TRUE(holds(lohner_detail::inverse_enclosure(ulp), exact_inverse(ulp)));
 }

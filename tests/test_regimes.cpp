@@ -323,6 +323,14 @@ TEST(ClassifyTail, TailsThatDieNearARationalAreNearRationalTransients) {
   EXPECT_EQ(near.regime, "near-rational") << near.note;
   ASSERT_TRUE(near.near.has_value());
   EXPECT_NE(near.note.find("2/5 + 4e-05"), std::string::npos) << near.note;
+  // q = 2, the smallest denominator that counts as a rational pattern (2 r omega = 1/2 + 2e-5; q = 1 is a
+  // single creeping spot, a slow leak): the same near-rational transient
+  const TailClass half = classify(gradual, "1/4+1e-5");
+  EXPECT_EQ(half.tail, "transient") << half.note;
+  EXPECT_EQ(half.regime, "near-rational") << half.note;
+  ASSERT_TRUE(half.near.has_value());
+  EXPECT_EQ(half.near->q, 2);
+  EXPECT_NE(half.note.find("1/2 + 2e-05"), std::string::npos) << half.note;
   const TailClass exact = classify(gradual, "1/5");
   EXPECT_EQ(exact.tail, "persistent") << exact.note;
   EXPECT_EQ(exact.regime, "high");

@@ -220,8 +220,9 @@ SampleBracket bracket_of(const SampleCertificate& c, double dt) {
     for (const ParticleEscape& e : c.particles) {
       if (e.t_lo > t)
         ++alive;  // proven alive at t: the escape (or the doubt) comes later
-      else if (e.t_hi > t)
-        ++maybe;  // its escape time's enclosure (or its undecided stretch) holds t
+      else if (e.t_hi > t || e.status == EscapeStatus::undecided)
+        ++maybe;  // its escape time's enclosure holds t, or it is undecided from t_lo on (the cap included:
+                  // it may live past it)
       else if (e.status == EscapeStatus::survives)
         ++alive;
     }

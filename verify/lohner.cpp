@@ -68,8 +68,10 @@ DMat orthogonal_factor(DMat m) {
   return q;
 }
 
-/// An enclosure of q^-1 for an orthogonal q held in doubles: b = q^T, e = I - b q, and q^-1 = (I - e)^-1 b,
-/// so |q^-1 - b| <= ||e|| / (1 - ||e||) ||b|| entrywise (infinity norms).
+}  // namespace
+
+namespace lohner_detail {
+
 Mat4 inverse_enclosure(const DMat& q) {
   Mat4 e, inv;
   Mpfi e_norm(0), b_norm(0);
@@ -91,7 +93,9 @@ Mat4 inverse_enclosure(const DMat& q) {
   return inv;
 }
 
-}  // namespace
+}  // namespace lohner_detail
+
+using lohner_detail::inverse_enclosure;
 
 LohnerEnclosure::LohnerEnclosure(const Model<Mpfi>& model, const InitialDraw& draw) : model_(model) {
   const ParticleState<Mpfi> ps = initial_state(model.stadium, draw);

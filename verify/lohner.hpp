@@ -59,6 +59,14 @@ class LohnerEnclosure {
   std::size_t k_ = 0;
 };
 
+namespace lohner_detail {
+/// An enclosure of q^-1 for a q held in doubles that is orthogonal up to rounding (the new A of a step): b =
+/// q^T, e = I - b q, and q^-1 = (I - e)^-1 b, so |q^-1 - b| <= ||e|| / (1 - ||e||) ||b|| entrywise (infinity
+/// norms, enclosed in MPFI). Throws UncertainDecision where ||e|| >= 1/2 (q too far from orthogonal for the
+/// bound). Exposed for the tests.
+std::array<std::array<Mpfi, 4>, 4> inverse_enclosure(const std::array<std::array<double, 4>, 4>& q);
+}  // namespace lohner_detail
+
 /// How a trajectory is enclosed: the mean-value set above, or plain MPFI (the core run in intervals).
 enum class Enclosure { lohner, interval };
 
