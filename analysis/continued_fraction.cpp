@@ -61,10 +61,15 @@ std::vector<Fraction> best_second_kind(const std::vector<mpz_class>& terms, cons
 
 namespace {
 
-// Euclid on both ends of an enclosure in lockstep; a quotient is certified when both ends have it
-// and neither expansion ends there (a rational whose expansion ends at a_k is an end of the
-// cylinder interval of a_0..a_k, not inside it).
-std::vector<mpz_class> common_prefix(const mpq_class& lo, const mpq_class& hi, std::size_t want) {
+mpq_class to_q(mpfr_srcptr x) {
+  mpq_class q;
+  mpfr_get_q(q.get_mpq_t(), x);
+  return q;
+}
+
+}  // namespace
+
+std::vector<mpz_class> cf_common_prefix(const mpq_class& lo, const mpq_class& hi, std::size_t want) {
   std::vector<mpz_class> out;
   mpz_class p1 = lo.get_num(), d1 = lo.get_den(), p2 = hi.get_num(), d2 = hi.get_den(), a1, a2, r1, r2;
   while (out.size() < want && d1 != 0 && d2 != 0) {
@@ -79,14 +84,6 @@ std::vector<mpz_class> common_prefix(const mpq_class& lo, const mpq_class& hi, s
   }
   return out;
 }
-
-mpq_class to_q(mpfr_srcptr x) {
-  mpq_class q;
-  mpfr_get_q(q.get_mpq_t(), x);
-  return q;
-}
-
-}  // namespace
 
 CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms, long min_bits) {
   CertifiedExpansion out;
@@ -108,7 +105,7 @@ CertifiedExpansion certified_cf(const ExactReal& x, std::size_t terms, long min_
     const mpq_class lo = to_q(end);
     mpfi_get_right(end, box);
     const mpq_class hi = to_q(end);
-    out.terms = common_prefix(lo, hi, terms);
+    out.terms = cf_common_prefix(lo, hi, terms);
     if (out.terms.size() >= terms) {
       out.precision_bits = prec;
       break;

@@ -26,6 +26,12 @@ struct CertifiedExpansion {
   long precision_bits = 0;       ///< working precision that certified them (0 for rationals)
 };
 
+/// The partial quotients certified by the enclosure [lo, hi] (at most `want`): Euclid on both ends in lockstep; a
+/// quotient is certified when both ends have it and neither expansion ends there (a rational whose expansion
+/// ends at a_k is an end of the cylinder interval of a_0..a_k, not inside it). certified_cf's step, exposed for
+/// the tests (enclosures it must refuse to go on in).
+std::vector<mpz_class> cf_common_prefix(const mpq_class& lo, const mpq_class& hi, std::size_t want);
+
 /// At least `terms` certified partial quotients of x (fewer only when x is a rational whose whole
 /// expansion is shorter). The working precision starts near what the terms need and doubles until
 /// enough are certified; throws std::domain_error beyond 2^22 bits. `min_bits` forces a higher start.

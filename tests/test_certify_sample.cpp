@@ -216,3 +216,30 @@ TEST(CertifySample, AResumedRunWritesWhatOneRunWrites) {
   EXPECT_THROW(certify_sample(scene, other), std::runtime_error);
   std::filesystem::remove_all(dir);
 }
+
+// A single particle's escape decision, in both enclosures: refused (not certified, alive only until a proven
+// time before the escape) when the bits cannot carry it, and moved by a one-ulp change of the starting s: the
+// proof for s does not hold for its neighbour (escape at another collision, or an escape-time enclosure
+// disjoint from the first).
+TEST(CertifyEscape, RefusedWithTooFewBitsAndMovedByOneUlpOfTheStart) {
+  const Scene scene = quickstart();
+  const InitialDraw draw = make_sampler(scene)->draw(1);
+  InitialDraw moved = draw;
+  moved.s = std::nextafter(draw.s, 1.0);
+  for (const Enclosure method : {Enclosure::lohner, Enclosure::interval}) {
+    const char* name = method == Enclosure::lohner ? "lohner" : "interval";
+    const Certificate few = certify(scene, draw, 48, 64, 100000, method).back();
+    EXPECT_FALSE(few.escape_certified) << name;
+    EXPECT_FALSE(few.survived) << name;
+    const Certificate a = certify(scene, draw, 128, 8192, 100000, method).back();
+    const Certificate b = certify(scene, moved, 128, 8192, 100000, method).back();
+    ASSERT_TRUE(a.escape_certified && b.escape_certified) << name;
+    EXPECT_EQ(a.escape_collision, 127u) << name;
+    EXPECT_LT(few.certified_collisions, a.escape_collision) << name;
+    EXPECT_LE(few.last_time_lo, a.escape_time_lo) << name;
+    EXPECT_TRUE(b.escape_collision != a.escape_collision || b.escape_time_lo > a.escape_time_hi ||
+                b.escape_time_hi < a.escape_time_lo)
+        << name << ": escape " << a.escape_collision << " [" << a.escape_time_lo << ", " << a.escape_time_hi
+        << "], one ulp away " << b.escape_collision << " [" << b.escape_time_lo << ", " << b.escape_time_hi << "]";
+  }
+}

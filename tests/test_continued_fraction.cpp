@@ -3,6 +3,9 @@
 
 #include <gmpxx.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "analysis/continued_fraction.hpp"
 
 using namespace rotleak;
@@ -218,4 +221,37 @@ TEST(Approximation, SignedErrorEnclosureContainsTheError) {
   EXPECT_GE(mpfr_cmp(hi, v), 0);
   EXPECT_LT(mpfr_get_d(hi, MPFR_RNDN), 0);  // ln(19) < 53/18
   mpfr_clears(lo, hi, v, static_cast<mpfr_ptr>(nullptr));
+}
+
+// Certification refuses to go on where an enclosure does not decide a quotient: around 22/7 = [3; 7], which sits
+// on the boundary of the cylinders [3; 7, ...] and [3; 6, 1, ...], only a0 = 3 is certified, also when an end is
+// 22/7 itself (its expansion ends at a1: an end of the cylinder, not inside it); just below it both ends share
+// [3; 7] and differ after.
+TEST(ContinuedFraction, AnEnclosureCertifiesOnlyWhatBothEndsShare) {
+  const mpq_class x(22, 7), tiny(1, mpz_class("1000000000000000000000000000000"));
+  EXPECT_EQ(as_longs(cf_common_prefix(x - tiny, x + tiny, 10)), std::vector<long>{3});
+  EXPECT_EQ(as_longs(cf_common_prefix(x - tiny, x, 10)), std::vector<long>{3});
+  EXPECT_EQ(as_longs(cf_common_prefix(x, x + tiny, 10)), std::vector<long>{3});
+  EXPECT_EQ(as_longs(cf_common_prefix(x - tiny, x - tiny / 2, 10)), (std::vector<long>{3, 7}));
+  EXPECT_EQ(as_longs(cf_common_prefix(x, x, 10)), std::vector<long>{3}) << "22/7 ends the cylinder of [3; 7]";
+}
+
+// One ulp decides: the two doubles around sqrt 7 = [2; 1, 1, 1, 4, 1, 1, 1, 4, ...] certify only the quotients
+// their ends share (a prefix of sqrt 7's certified ones, far fewer than 40), and the double just above sqrt 7,
+// an exact rational one ulp off, has an expansion that leaves sqrt 7's within the 40 certified quotients: the
+// claim "these are the quotients" fails for the neighbour.
+TEST(ContinuedFraction, OneUlpAwayTheCertifiedQuotientsAreNotTheValues) {
+  const CertifiedExpansion cf = certified_cf(ExactReal::parse("sqrt(7)"), 40);
+  ASSERT_GE(cf.terms.size(), 40u);
+  const double s = std::sqrt(7.0);
+  const double below = std::nextafter(s, 0.0), above = std::nextafter(s, 4.0);
+  const std::vector<mpz_class> both = cf_common_prefix(mpq_class(below), mpq_class(above), 40);
+  EXPECT_GT(both.size(), 10u);
+  EXPECT_LT(both.size(), 30u);
+  for (std::size_t k = 0; k < both.size(); ++k) EXPECT_EQ(both[k], cf.terms[k]) << k;
+  const std::vector<mpz_class> off = cf_of_rational(mpq_class(above), 40);
+  std::size_t same = 0;
+  while (same < std::min(off.size(), cf.terms.size()) && off[same] == cf.terms[same]) ++same;
+  EXPECT_LT(same, 40u) << "the neighbour's expansion must leave sqrt 7's within the certified quotients";
+  EXPECT_GE(same, both.size());
 }

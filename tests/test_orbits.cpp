@@ -13,6 +13,7 @@
 #include "analysis/cycle_expansion.hpp"
 #include "io/files.hpp"
 #include "numeric/input.hpp"
+#include "paths.hpp"
 #include "scratch.hpp"
 #include "verify/orbit_checkpoint.hpp"
 #include "verify/orbit_replay.hpp"
@@ -94,6 +95,79 @@ TEST(Orbits, ReprovenAtTwiceTheBitsLiesInTheFirstBox) {
       EXPECT_LT(second.box_width, first.box_width * 1e-20) << text;
     }
   }
+}
+
+// The Krawczyk test must refuse what it cannot prove: a box around a proven orbit's point is proven at the
+// proof's radius 2^-(bits/2) and refused when too wide for the Hessian to be near its midpoint value (radius
+// 1/4, 1/16); a small box around a point 1e-3 from the orbit (no zero in it) is refused; a box around two zeros
+// of one code (RRL's two mirror orbits, centred between them) is refused, since it cannot hold exactly one.
+// Checking the Hessian at the midpoint only (not over the box) would "prove" the wide boxes.
+TEST(Krawczyk, RefusesBoxesThatCannotContract) {
+  OrbitOptions opt;
+  for (const char* text : {"TRL", "RRL", "TRBL", "RRLRLLB"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), opt);
+    ASSERT_FALSE(got.orbits.empty()) << text;
+    const ProvenOrbit& o = got.orbits[0];
+    const MpfrPrecision guard(opt.bits);
+    const std::vector<Mpfr> m = box_midpoint(o.box);
+    EXPECT_TRUE(krawczyk_contracts(kD, kR, o.code, m, opt.bits / 2)) << text;
+    for (long wide : {2L, 4L})
+      EXPECT_FALSE(krawczyk_contracts(kD, kR, o.code, m, wide)) << text << " radius 2^-" << wide;
+    std::vector<Mpfr> off = m;
+    off[0] += Mpfr(1e-3);
+    EXPECT_FALSE(krawczyk_contracts(kD, kR, o.code, off, opt.bits / 2)) << text << ": a box with no zero";
+  }
+  const CodeOrbits two = code_orbits(kD, kR, parse_orbit_code("RRL"), opt);
+  ASSERT_EQ(two.orbits.size(), 2u);
+  const MpfrPrecision guard(opt.bits);
+  const std::vector<Mpfr> a = box_midpoint(two.orbits[0].box), b = box_midpoint(two.orbits[1].box);
+  std::vector<Mpfr> mid;
+  double half = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    mid.push_back((a[i] + b[i]) / Mpfr(2));
+    half = std::max(half, std::abs(num_traits<Mpfr>::to_double(a[i] - b[i])) / 2);
+  }
+  const long shift = static_cast<long>(std::floor(-std::log2(half))) - 1;  // 2^-shift > half: both zeros inside
+  ASSERT_GT(std::ldexp(1.0, static_cast<int>(-shift)), half);
+  EXPECT_FALSE(krawczyk_contracts(kD, kR, two.orbits[0].code, mid, shift)) << "a box around two zeros";
+}
+
+// The claim fails one ulp away: an orbit's proof box for d = 2 holds no zero of the stadium whose d is one ulp
+// of double above 2 (the orbit moves by ~1e-16, the box is 2^-80 wide): its Krawczyk test there is refused,
+// while that stadium's own orbits are proven. The diamond TRBL is the control: its bounces sit at the pieces'
+// midpoints whatever d (u = 0 each), so its claim rightly holds on both stadiums.
+TEST(Krawczyk, TheProofFailsForAStadiumOneUlpAway) {
+  OrbitOptions opt;
+  const ExactReal d_ulp = ExactReal::parse("2.000000000000000444089209850062616169452667236328125");  // 2 + 2^-51
+  for (const char* text : {"TRBL", "TRL", "RRLRLLB", "TRRBLLTRBL"}) {
+    const CodeOrbits got = code_orbits(kD, kR, parse_orbit_code(text), opt);
+    ASSERT_FALSE(got.orbits.empty()) << text;
+    const MpfrPrecision guard(opt.bits);
+    const std::vector<Mpfr> m = box_midpoint(got.orbits[0].box);
+    EXPECT_TRUE(krawczyk_contracts(kD, kR, got.orbits[0].code, m, opt.bits / 2)) << text;
+    EXPECT_EQ(krawczyk_contracts(d_ulp, kR, got.orbits[0].code, m, opt.bits / 2), std::string(text) == "TRBL") << text;
+    const CodeOrbits moved = code_orbits(d_ulp, kR, parse_orbit_code(text), opt);
+    EXPECT_EQ(moved.orbits.size(), got.orbits.size()) << text;
+  }
+}
+
+// The stored orbits (data/orbits, periods 2 to 11) regenerated to period 6 (125 rows): the same bytes, row for
+// row, as the stored file's first rows; a proof that changed would change a box width or a digit.
+TEST(Orbits, RegeneratedToPeriodSixAreTheStoredRows) {
+  const test::ScratchDir dir("rotleak_orbits_regen_");
+  const OrbitSearch s = find_orbits(kD, kR, 6, OrbitOptions{}, 0);
+  write_orbits(dir.path, kD, kR, s, OrbitOptions{});
+  const std::string fresh = read_file(dir.path / "orbits.csv");
+  const std::string stored = read_file(std::filesystem::path(test::source_dir()) / "data" / "orbits" / "orbits.csv");
+  std::size_t rows = 0;
+  for (char ch : fresh) rows += ch == '\n';
+  EXPECT_EQ(rows, 126u) << "header and 125 orbits to period 6";
+  ASSERT_LE(fresh.size(), stored.size());
+  EXPECT_EQ(stored.substr(0, fresh.size()), fresh);
+  const std::size_t next = stored.find('\n', fresh.size());
+  ASSERT_NE(next, std::string::npos);
+  const std::string after = stored.substr(fresh.size(), next - fresh.size());
+  EXPECT_NE(after.find(",7,"), std::string::npos) << "the stored rows after period 6 start period 7: " << after;
 }
 
 // orbit_codes(n): one code per class under rotation and reversal, against a brute-force count of the

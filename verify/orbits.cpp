@@ -220,18 +220,24 @@ void describe(const ExactReal& d, const ExactReal& r, const periodic::Shape<Mpfi
   out.p0 = point_interval(p0);
 }
 
+/// The operator's point data at m: m, g(m) enclosed and C = H(m)^-1 (false where H(m) is singular).
+bool krawczyk_at(const ExactReal& d, const ExactReal& r, const std::vector<Mpfr>& m, Krawczyk& kr) {
+  std::vector<Mpfr> c;
+  if (!inverse(periodic::equations(periodic::Shape<Mpfr>::of(d, r), kr.code, m).hessian(), kr.code.size(), c))
+    return false;
+  for (const Mpfr& v : m) kr.m.push_back(point_interval(v));
+  kr.gm = periodic::equations(kr.si, kr.code, kr.m).g;
+  for (const Mpfr& v : c) kr.c.push_back(point_interval(v));
+  return true;
+}
+
 /// The Krawczyk proof around m, a point already refined (prove_orbit refines first; settle has).
 bool prove_refined(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& m, long bits,
                    ProvenOrbit& out) {
   const std::size_t n = code.size();
-  const auto sf = periodic::Shape<Mpfr>::of(d, r);
   const auto si = periodic::Shape<Mpfi>::of(d, r);
-  std::vector<Mpfr> c;
-  if (!inverse(periodic::equations(sf, code, m).hessian(), n, c)) return false;
   Krawczyk kr{si, code, {}, {}, {}};
-  for (const Mpfr& v : m) kr.m.push_back(point_interval(v));
-  kr.gm = periodic::equations(si, code, kr.m).g;
-  for (const Mpfr& v : c) kr.c.push_back(point_interval(v));
+  if (!krawczyk_at(d, r, m, kr)) return false;
   // uniqueness in a wide box (radius 2^-(bits/4): two zeros closer than that are one orbit), then the zero
   // enclosed tightly in a small box inside it
   std::vector<Mpfi> x, k;
@@ -257,6 +263,15 @@ bool prove_refined(const ExactReal& d, const ExactReal& r, const OrbitCode& code
 }
 
 }  // namespace
+
+bool krawczyk_contracts(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& m,
+                        long shift) {
+  const auto si = periodic::Shape<Mpfi>::of(d, r);
+  Krawczyk kr{si, code, {}, {}, {}};
+  if (!krawczyk_at(d, r, m, kr)) return false;
+  std::vector<Mpfi> x, k;
+  return kr.image(shift, x, k);
+}
 
 bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& u, long bits,
                  ProvenOrbit& out) {

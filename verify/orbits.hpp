@@ -66,6 +66,12 @@ CodeOrbits code_orbits(const ExactReal& d, const ExactReal& r, const OrbitCode& 
 bool prove_orbit(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& u, long bits,
                  ProvenOrbit& out);
 
+/// The Krawczyk test alone, at the point m as given (not refined) at the current MPFR precision: whether the
+/// image of X = m + [-2^-shift, 2^-shift]^n lies strictly inside X (then X holds exactly one zero of the
+/// gradient); false also where the Hessian at m is singular. Exposed for the tests (boxes it must refuse).
+bool krawczyk_contracts(const ExactReal& d, const ExactReal& r, const OrbitCode& code, const std::vector<Mpfr>& m,
+                        long shift);
+
 /// Each orbit of codes[i] (got[i]) mirrored in x, in y and in both: an image that its code's search missed is
 /// proven and added (the stadium's symmetry closes the set; `codes` are one period's, all of them).
 void close_under_symmetry(const ExactReal& d, const ExactReal& r, const std::vector<OrbitCode>& codes,
