@@ -1,15 +1,20 @@
 #!/usr/bin/python3
-"""Mutation audit: apply deliberate errors one at a time, run the whole suite (ctest) against each, and
-report which tests fail, how long the suite took and the most memory any test process used. Every
-mutant is reverted (also on Ctrl-C or an error) and the build is rebuilt clean at the end.
+"""Mutation audit: deliberate errors, kept as small patches under tests/mutants/, applied one at a time; each is
+built incrementally and run against the tests named to catch it (or the whole suite), then reverted. It reports
+which tests fail -- "caught" -- or that none does -- "survived". A tool, not a CI stage (docs/testing.md holds its
+last report); the test MutationAudit.PatchesStillApply keeps every patch applicable to the code as it is.
 
-Usage: /usr/bin/python3 scripts/mutation_audit.py [NAME ...]   (default: every mutation below)
-       /usr/bin/python3 scripts/mutation_audit.py --list
-Needs a configured build/ (bash scripts/build.sh). Takes about 2 minutes a mutant on 2 cores (a header
-that everything includes: 5). Each mutant's ctest output is kept in build/mutation_audit/NAME.log.
+Usage: /usr/bin/python3 scripts/mutation_audit.py [NAME ...]       targeted: the mutant's own `catch` tests
+       /usr/bin/python3 scripts/mutation_audit.py --whole [NAME ...] the whole suite (ctest) against each
+       /usr/bin/python3 scripts/mutation_audit.py --list | --check
+Needs a configured build/ (bash scripts/build.sh). Targeted, a mutant takes 20 s to 2 minutes on 2 cores (a
+header everything includes: longer); --whole about 8 minutes each. Each mutant's test output is kept in
+build/mutation_audit/NAME.log. Every mutant is reverted, also on Ctrl-C or an error, and the build rebuilt.
 
-A mutation is a (file, old text, new text) replacement: `old` must occur exactly once, so the audit
-refuses to run on code that has moved away from what a mutation was written against.
+A mutant file, tests/mutants/NAME.patch: header lines, then a unified diff (`git diff` of one small change):
+  # what: one line saying what the error is
+  # catch: TEST_BINARY GTEST_FILTER      (one line per test binary that should catch it)
+  # note: why it survives, where it is known to (optional, shown in the report)
 """
 import os
 import re
@@ -19,152 +24,151 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.path.join(ROOT, "build")
-LOGS = os.path.join(BUILD, "mutation_audit")  # each mutant's ctest output (--output-on-failure)
+MUTANTS = os.path.join(ROOT, "tests", "mutants")
+LOGS = os.path.join(BUILD, "mutation_audit")
 
-MUTATIONS = [
-    {
-        "name": "late-crossing",
-        "what": "a tail whose crossing comes after t = 3000 is never called transient (persistent instead)",
-        "file": "analysis/regimes.cpp",
-        "edits": [
-            ("  if (zero < c.t.size() && c.t[zero] < scene.t_max) {",
-             "  if (zero < c.t.size() && c.t[zero] < scene.t_max && tc <= 3000) {"),
-            ("  if (z - 6 > 3 * z_se && a < e) {", "  if (z - 6 > 3 * z_se && a < e && tc <= 3000) {"),
-        ],
-    },
-    {
-        "name": "fixedsum-low-word",
-        "what": "FixedSum drops the lowest 64-bit word of every term it adds",
-        "file": "src/numeric/fixed_sum.hpp",
-        "edits": [
-            ("      part[0] = lo, part[1] = hi, part[2] = 0;", "      part[0] = 0, part[1] = hi, part[2] = 0;"),
-            ("      part[0] = lo << bit;", "      part[0] = 0;"),
-        ],
-    },
-    {
-        "name": "kappa-window-start",
-        "what": "the kappa fit starts 50 time units after fit.kappa_window's start",
-        "file": "analysis/run_summary.cpp",
-        "edits": [
-            ("fit_kappa(s.curve, scene.kappa_window.from, scene.kappa_window.to)",
-             "fit_kappa(s.curve, scene.kappa_window.from + 50, scene.kappa_window.to)"),
-        ],
-    },
-    {
-        "name": "resume-skips-a-block",
-        "what": "a resumed run counts the first block still to do as done without running it",
-        "file": "src/run/pipeline.cpp",
-        "edits": [
-            ("  const IntervalSet todo = saved.done.complement_in(share_lo, share_hi);",
-             "  if (!saved.done.empty()) {\n"
-             "    const IntervalSet rest = saved.done.complement_in(share_lo, share_hi);\n"
-             "    if (!rest.empty()) saved.done.insert(IntervalSet::range(rest.nth(0), rest.nth(0) + 1));\n"
-             "  }\n"
-             "  const IntervalSet todo = saved.done.complement_in(share_lo, share_hi);"),
-        ],
-    },
-    {
-        "name": "fast-forward-one-edge",
-        "what": "the fast-forward looks for the stationary leak on one of the two straight edges only",
-        "file": "src/sim/model/particle.hpp",
-        "edits": [("        for (int parity = 1; parity <= 2; ++parity) {", "        for (int parity = 1; parity <= 1; ++parity) {")],
-    },
-    {
-        "name": "kernel-window-edge",
-        "what": "the vectorised kernel's top-edge leak window reaches 1e-4 further than the core's "
-                "(a bit-identity failure: it must be reported in a line, in seconds, in bounded memory)",
-        "file": "src/sim/kernel/simd_kernel.ipp",
-        "edits": [("formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w]))",
-                   "formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w] + 1e-4))")],
-    },
-]
-
-# Run a command and print the peak resident memory of it and all its descendants (RUSAGE_CHILDREN).
 RSS_WRAPPER = ("import resource, subprocess, sys\n"
                "r = subprocess.run(sys.argv[1:])\n"
                "print('MAXRSS_KB', resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, file=sys.stderr)\n"
                "sys.exit(r.returncode)\n")
 
 
-def build():
-    r = subprocess.run(["cmake", "--build", BUILD, "-j", str(os.cpu_count() or 2)], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.stderr.write(r.stdout[-4000:] + r.stderr[-4000:])
-        raise SystemExit("build failed")
+class Mutant:
+    def __init__(self, path):
+        self.name = os.path.basename(path)[:-len(".patch")]
+        self.what, self.note, self.catch = "", "", []
+        diff = []
+        with open(path) as f:
+            for line in f:
+                if not diff and line.startswith("# "):
+                    key, _, value = line[2:].partition(":")
+                    value = value.strip()
+                    if key == "what":
+                        self.what = value
+                    elif key == "note":
+                        self.note = value
+                    elif key == "catch":
+                        parts = value.split()
+                        if len(parts) != 2:
+                            raise SystemExit(f"{path}: '# catch:' needs a test binary and a gtest filter: {value!r}")
+                        self.catch.append((parts[0], parts[1]))
+                    else:
+                        raise SystemExit(f"{path}: unknown header key {key!r} (what, catch, note)")
+                else:
+                    diff.append(line)
+        self.diff = "".join(diff)
+        if not self.what or not self.catch or "\n+++ " not in "\n" + self.diff:
+            raise SystemExit(f"{path}: needs '# what:', at least one '# catch:' and a unified diff")
+        self.files = re.findall(r"^\+\+\+ b/(\S+)", self.diff, re.M)
+
+    def git_apply(self, *flags):
+        return subprocess.run(["git", "apply", *flags, "-"], cwd=ROOT, input=self.diff, text=True,
+                              capture_output=True)
 
 
-def run_suite(log_name):
-    t0 = time.time()
+def load(names):
+    paths = sorted(p for p in os.listdir(MUTANTS) if p.endswith(".patch"))
+    mutants = [Mutant(os.path.join(MUTANTS, p)) for p in paths]
+    unknown = set(names) - {m.name for m in mutants}
+    if unknown:
+        raise SystemExit("unknown mutant(s): " + ", ".join(sorted(unknown)) + "; --list names them")
+    return [m for m in mutants if not names or m.name in names]
+
+
+def build(targets=None):
+    cmd = ["cmake", "--build", BUILD, "-j", str(os.cpu_count() or 2)]
+    if targets:
+        cmd += ["--target", *targets]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    return r.returncode == 0, (r.stdout + r.stderr)[-3000:]
+
+
+def test_binary(name):
+    for d in ("tests", "."):
+        p = os.path.join(BUILD, d, name)
+        if os.path.isfile(p):
+            return p
+    raise SystemExit(f"no test binary {name} in {BUILD}/tests")
+
+
+def run_targeted(m, log):
+    failed = []
+    for binary, filt in m.catch:
+        r = subprocess.run([test_binary(binary), f"--gtest_filter={filt}"], cwd=BUILD, capture_output=True,
+                           text=True, timeout=1200)
+        log.write(f"$ {binary} --gtest_filter={filt}\n{r.stdout}{r.stderr}\n")
+        names = re.findall(r"^\[  FAILED  \] (\S+) \(", r.stdout, re.M)
+        if r.returncode != 0 and not names:
+            names = [f"{binary} (exit {r.returncode})"]
+        failed += names
+    return failed
+
+
+def run_whole(log):
     r = subprocess.run([sys.executable, "-c", RSS_WRAPPER, "ctest", "-j", str(os.cpu_count() or 2), "--timeout", "600",
                         "--output-on-failure"], cwd=BUILD, capture_output=True, text=True)
-    seconds = time.time() - t0
-    os.makedirs(LOGS, exist_ok=True)
-    with open(os.path.join(LOGS, log_name + ".log"), "w") as f:
-        f.write(r.stdout + r.stderr)
-    # "  221 - Leaks/FastForward.X/0_0_0  # GetParam() = (...) (Failed)": the name, then the verdict last
-    failed = re.findall(r"^\s*\d+ - (\S+).*\((Failed|Timeout|SEGFAULT|Subprocess aborted|Exception|Not Run)\)\s*$",
-                        r.stdout, re.M)
-    times = {m.group(1): float(m.group(2)) for m in re.finditer(r"Test\s+#\d+: (\S+).*?\s([\d.]+) sec\s*$", r.stdout, re.M)}
-    rss = re.search(r"MAXRSS_KB (\d+)", r.stderr)
-    total = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
-    if total and int(total.group(1)) != len(failed):
-        print(f"  (ctest counts {total.group(1)} failures, {len(failed)} parsed: see {LOGS})", flush=True)
-    return {
-        "failed": [(name, why, times.get(name)) for name, why in failed],
-        "seconds": seconds,
-        "max_rss_mb": int(rss.group(1)) / 1024 if rss else None,
-        "count": int(total.group(2)) if total else None,
-    }
-
-
-def apply(m):
-    path = os.path.join(ROOT, m["file"])
-    with open(path) as f:
-        original = f.read()
-    text = original
-    for old, new in m["edits"]:
-        n = text.count(old)
-        if n != 1:
-            raise SystemExit(f"{m['name']}: {m['file']} holds the text to mutate {n} times (expected once): {old!r}")
-        text = text.replace(old, new)
-    with open(path, "w") as f:
-        f.write(text)
-    return path, original
+    log.write(r.stdout + r.stderr)
+    return re.findall(r"^\s*\d+ - (\S+).*\((?:Failed|Timeout|SEGFAULT|Subprocess aborted|Exception|Not Run)\)\s*$",
+                      r.stdout, re.M)
 
 
 def main(argv):
+    whole = "--whole" in argv
+    names = [a for a in argv if not a.startswith("--")]
+    mutants = load(names)
     if "--list" in argv:
-        for m in MUTATIONS:
-            print(f"{m['name']}: {m['what']} ({m['file']})")
+        for m in mutants:
+            print(f"{m.name}: {m.what} ({', '.join(m.files)}; caught by {' '.join(f for _, f in m.catch)})")
         return 0
-    chosen = [m for m in MUTATIONS if not argv or m["name"] in argv]
-    unknown = set(argv) - {m["name"] for m in MUTATIONS}
-    if unknown:
-        raise SystemExit("unknown mutation(s): " + ", ".join(sorted(unknown)) + "; --list names them")
+    if "--check" in argv:  # every patch applies to the tree as it is (nothing is changed)
+        bad = [m.name for m in mutants if m.git_apply("--check").returncode != 0]
+        for m in mutants:
+            if m.name in bad:
+                print(f"{m.name}: does not apply: {m.git_apply('--check').stderr.strip()}")
+        print(f"{len(mutants) - len(bad)} of {len(mutants)} mutants apply")
+        return 1 if bad else 0
     if not os.path.isdir(BUILD):
         raise SystemExit("no build/: run bash scripts/build.sh first")
-    rows = []
+    os.makedirs(LOGS, exist_ok=True)
+    rows, targets = [], set()
     try:
-        for m in chosen:
-            path, original = apply(m)
+        for m in mutants:
+            r = m.git_apply()
+            if r.returncode != 0:
+                raise SystemExit(f"{m.name}: the patch does not apply: {r.stderr.strip()}")
+            t0 = time.time()
             try:
-                print(f"[mutation_audit] {m['name']}: {m['what']}", flush=True)
-                build()
-                res = run_suite(m["name"])
+                print(f"[mutation_audit] {m.name}: {m.what}", flush=True)
+                mine = sorted({b for b, _ in m.catch})
+                targets.update(mine)
+                ok, out = build(None if whole else mine)
+                with open(os.path.join(LOGS, m.name + ".log"), "w") as log:
+                    if not ok:  # a mutant that does not compile is not a test's catch: report it as such
+                        log.write(out)
+                        failed = None
+                    else:
+                        failed = run_whole(log) if whole else run_targeted(m, log)
             finally:
-                with open(path, "w") as f:
-                    f.write(original)
-            rows.append((m, res))
-            names = ", ".join(n for n, _, _ in res["failed"]) or "NONE (the mutant survived)"
-            print(f"  {len(res['failed'])} of {res['count']} tests fail; suite {res['seconds']:.0f} s, "
-                  f"max RSS {res['max_rss_mb']:.0f} MB: {names}", flush=True)
+                m.git_apply("-R")
+            seconds = time.time() - t0
+            rows.append((m, failed, seconds))
+            verdict = ("DOES NOT BUILD" if failed is None else
+                       f"caught by {len(failed)}: {', '.join(failed)}" if failed else "SURVIVED")
+            print(f"  {verdict} ({seconds:.0f} s)", flush=True)
     finally:
-        build()  # the code as it is, again
-    print("\n| mutation | what | tests that fail (time) | suite | max RSS |\n|---|---|---|---|---|")
-    for m, res in rows:
-        fails = "; ".join(f"{n} ({t:.1f} s)" if t is not None else n for n, _, t in res["failed"]) or "**none: survived**"
-        print(f"| {m['name']} | {m['what']} | {fails} | {res['seconds']:.0f} s | {res['max_rss_mb']:.0f} MB |")
-    return 1 if any(not res["failed"] for _, res in rows) else 0
+        build(None if whole else sorted(targets))  # the code as it is, again
+    caught = sum(1 for _, f, _ in rows if f)
+    print(f"\n{caught} of {len(rows)} mutants caught ({'whole suite' if whole else 'targeted tests'})\n")
+    print("| mutant | what | tests that fail | time |\n|---|---|---|---|")
+    for m, failed, seconds in rows:
+        if failed is None:
+            cell = "**does not build**"
+        elif failed:
+            cell = ", ".join(f"`{n}`" for n in failed[:4]) + (f", ... ({len(failed)})" if len(failed) > 4 else "")
+        else:
+            cell = "**survived**" + (f": {m.note}" if m.note else "")
+        print(f"| {m.name} | {m.what} | {cell} | {seconds:.0f} s |")
+    return 0 if caught == len(rows) else 1
 
 
 if __name__ == "__main__":
