@@ -66,6 +66,27 @@ class Mutant:
                               capture_output=True)
 
 
+def missing_tests(m):
+    """What in the mutant's catch lines names no test: a binary without its tests/NAME.cpp, or a filter pattern
+    whose suite no TEST/TEST_F/TEST_P/INSTANTIATE in that file defines."""
+    out = []
+    for binary, filt in m.catch:
+        src = os.path.join(ROOT, "tests", binary + ".cpp")
+        if not os.path.isfile(src):
+            out.append(f"catch names {binary}, but there is no tests/{binary}.cpp")
+            continue
+        with open(src) as f:
+            text = f.read()
+        for pattern in filt.split(":"):
+            suite, _, test = pattern.partition(".")
+            if not re.search(r"\b(TEST|TEST_F|TEST_P)\(\s*" + re.escape(suite) + r"\s*,", text):
+                out.append(f"catch filter {pattern!r}: no suite {suite} in tests/{binary}.cpp")
+            elif test and test != "*" and not test.endswith("*") and not re.search(
+                    r"\(\s*" + re.escape(suite) + r"\s*,\s*" + re.escape(test) + r"\s*\)", text):
+                out.append(f"catch filter {pattern!r}: no test {test} in suite {suite}")
+    return out
+
+
 def load(names):
     paths = sorted(p for p in os.listdir(MUTANTS) if p.endswith(".patch"))
     mutants = [Mutant(os.path.join(MUTANTS, p)) for p in paths]
@@ -120,12 +141,17 @@ def main(argv):
         for m in mutants:
             print(f"{m.name}: {m.what} ({', '.join(m.files)}; caught by {' '.join(f for _, f in m.catch)})")
         return 0
-    if "--check" in argv:  # every patch applies to the tree as it is (nothing is changed)
-        bad = [m.name for m in mutants if m.git_apply("--check").returncode != 0]
+    if "--check" in argv:  # every patch applies to the tree as it is and names tests that exist (nothing changed)
+        bad = 0
         for m in mutants:
-            if m.name in bad:
-                print(f"{m.name}: does not apply: {m.git_apply('--check').stderr.strip()}")
-        print(f"{len(mutants) - len(bad)} of {len(mutants)} mutants apply")
+            r = m.git_apply("--check")
+            if r.returncode != 0:
+                print(f"{m.name}: does not apply: {r.stderr.strip()}")
+                bad += 1
+            for why in missing_tests(m):
+                print(f"{m.name}: {why}")
+                bad += 1
+        print(f"{len(mutants)} mutants, {bad} problem(s)")
         return 1 if bad else 0
     if not os.path.isdir(BUILD):
         raise SystemExit("no build/: run bash scripts/build.sh first")

@@ -634,3 +634,32 @@ TEST(AlphaFromAmplitude, ErrorIsTheHandPropagationWithTheDrift) {
   no_drift.drift = 0;
   EXPECT_LT(alpha_from_amplitude(k, no_drift, f).std_error, 0.9 * hand);
 }
+
+// The crossing of 10x the fit counts only where P stands sigma = 3 standard errors above the fit (binomial,
+// sqrt(P (1 - P) / N), the fit taken as exact here). A curve that falls as N exp(-kappa t) onto a plateau of s
+// survivors (N = 10^6): at its first point above 10x the fit, P - fit ~ 0.9 s / N against an error sqrt(s) / N,
+// 2.0 errors for s = 5 -- not significant: a bound, no alpha -- and 4.0 errors for s = 20 -- alpha, P there.
+TEST(FindAlpha, ACrossingCountsOnlyThreeErrorsAboveTheFit) {
+  const auto plateau = [](std::uint64_t s) {
+    SurvivalCurve c;
+    c.particles = 1000000;
+    for (int t = 0; t <= 6000; t += 10) {
+      c.t.push_back(t);
+      c.survivors.push_back(std::max<std::uint64_t>(s, std::llround(1e6 * std::exp(-kKappa * t))));
+    }
+    return c;
+  };
+  KappaFit k;
+  k.ok = true;
+  k.value = kKappa;
+  k.log_amplitude = 0;
+  k.from = 0, k.to = 300;
+  const AlphaResult weak = find_alpha(plateau(5), k, 10, 3, 1);
+  EXPECT_FALSE(weak.value.has_value()) << weak.note;
+  EXPECT_TRUE(weak.crossing_not_significant);
+  ASSERT_TRUE(weak.upper_bound.has_value());
+  EXPECT_NEAR(*weak.upper_bound, 5e-6 + 3 * std::sqrt(5e-6 * (1 - 5e-6) / 1e6), 1e-12);
+  const AlphaResult strong = find_alpha(plateau(20), k, 10, 3, 1);
+  ASSERT_TRUE(strong.value.has_value()) << strong.note;
+  EXPECT_FALSE(strong.crossing_not_significant);
+}
