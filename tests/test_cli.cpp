@@ -145,6 +145,19 @@ TEST(Cli, MessagesQuoteInputAsWritten) {
   EXPECT_EQ(nlohmann::json::parse(terms.out)["omega"]["certified_terms"], 20000);
 }
 
+// certify's precision options each blame themselves (--max-bits 100000000 once blamed --bits), in one line, rc 2.
+TEST(Cli, CertifyBitsBlameTheirOwnOption) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  for (const auto& [args, key] :
+       {std::pair{"--max-bits 100000000", "--max-bits = 100000000"}, std::pair{"--max-bits 8", "--max-bits = 8"},
+        std::pair{"--bits 10", "--bits = 10"}, std::pair{"--bits 4096 --max-bits 1024", "--bits = 4096"}}) {
+    const Outcome o = run("certify " + scene.string() + " --particle 1 " + args);
+    EXPECT_EQ(o.status, 2) << args << ": " << o.err;
+    EXPECT_NE(o.err.find(key), std::string::npos) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+  }
+}
+
 // A plot of a damaged directory is one line on stderr and exit 2 (bad input, as rotleak fit says it), no
 // traceback, no half picture.
 TEST(Cli, PlotFailureIsOneLine) {

@@ -663,3 +663,38 @@ TEST(FindAlpha, ACrossingCountsOnlyThreeErrorsAboveTheFit) {
   ASSERT_TRUE(strong.value.has_value()) << strong.note;
   EXPECT_FALSE(strong.crossing_not_significant);
 }
+
+// ln P's covariance of an unweighted curve by hand (Greenwood): the survivors at t_b are a binomial thinning of
+// those at t_a, so ln P has independent increments and Cov(ln P(t_a), ln P(t_b)) = Var ln P(t_a) = (1 - P_a) /
+// (N P_a) for t_a <= t_b -- the earlier time's, whichever order the two are asked in. 10^4 particles, 5000 and
+// 500 alive at two times.
+TEST(SurvivalCurveCovariance, GreenwoodIsTheEarlierTimesVariance) {
+  SurvivalCurve c;
+  c.particles = 10000;
+  c.t = {0, 100, 200};
+  c.survivors = {10000, 5000, 500};
+  const double var1 = (1 - 0.5) / (1e4 * 0.5), var2 = (1 - 0.05) / (1e4 * 0.05);
+  EXPECT_DOUBLE_EQ(c.log_cov(1, 1), var1);
+  EXPECT_DOUBLE_EQ(c.log_cov(1, 2), var1);
+  EXPECT_DOUBLE_EQ(c.log_cov(2, 1), var1);
+  EXPECT_DOUBLE_EQ(c.log_cov(2, 2), var2);
+  EXPECT_DOUBLE_EQ(c.log_cov(0, 2), 0.0);  // P(0) = 1: ln P(0) has no variance
+}
+
+// A weighted run's P error by hand: P = (1/N) sum w_i 1{alive}, so Var P = (E[Y^2] - P^2) / N with Q = (1/N) sum
+// w_i^2 1{alive} -- the spread of the weights about P, not their second moment. Four particles of weights 0.5,
+// 1.5, 1 and 1, all alive at t = 0 (P = 1, Q = 1.125: error sqrt(0.125 / 4)), the first two alive at t = 100
+// (P = 0.5, Q = 0.625: error sqrt(0.375 / 4)).
+TEST(SurvivalCurveCovariance, AWeightedErrorIsTheWeightsSpreadAboutP) {
+  SurvivalCurve c;
+  c.particles = 4;
+  c.t = {0, 100};
+  c.survivors = {4, 2};
+  c.weighted = true;
+  c.max_weight = 2;
+  c.P_w = {1.0, 0.5};
+  c.Q = {(0.25 + 2.25 + 1 + 1) / 4, (0.25 + 2.25) / 4};
+  EXPECT_DOUBLE_EQ(c.P_err(0), std::sqrt(0.125 / 4));
+  EXPECT_DOUBLE_EQ(c.P_err(1), std::sqrt(0.375 / 4));
+  EXPECT_DOUBLE_EQ(c.effective(1), 4 * 0.25 / 0.625);  // (sum w)^2 / sum w^2 of the living
+}

@@ -132,6 +132,36 @@ TEST(Krawczyk, RefusesBoxesThatCannotContract) {
   EXPECT_FALSE(krawczyk_contracts(kD, kR, two.orbits[0].code, mid, shift)) << "a box around two zeros";
 }
 
+// Admissibility: the equations continue each piece past its ends (an edge's line, an arc's circle), so Newton
+// from starts outside the pieces can reach zeros that are no orbit of the stadium; the proof must refuse them.
+// Starts on a grid reaching 0.9 past each piece's bound (|u| < d/2 on an edge, pi/2 on an arc): every orbit
+// proven from them bounces strictly inside its pieces (with the bound loosened by 1, TRRL's starts prove zeros
+// whose second bounce lies past its arc).
+TEST(Orbits, ZerosOutsideThePiecesAreRefused) {
+  OrbitOptions opt;
+  const MpfrPrecision guard(opt.bits);
+  int proven = 0;
+  for (const char* text : {"TRL", "RRL", "TRB", "TRRL", "RRLB"}) {
+    const OrbitCode code = parse_orbit_code(text);
+    const std::size_t n = code.size();
+    std::vector<double> bound(n);
+    for (std::size_t i = 0; i < n; ++i) bound[i] = code[i] == Piece::top || code[i] == Piece::bottom ? 1.0 : M_PI / 2;
+    for (int k = 0; k < 200; ++k) {
+      std::vector<Mpfr> u;
+      for (std::size_t i = 0; i < n; ++i) {  // a deterministic spread of starts over (bound + 0.9) in each u
+        const double f = std::fmod(0.6180339887498949 * (k + 1) * static_cast<double>(i + 1) + 0.1 * k, 1.0);
+        u.emplace_back((2 * f - 1) * (bound[i] + 0.9));
+      }
+      ProvenOrbit o;
+      if (!prove_orbit(kD, kR, code, u, opt.bits, o)) continue;
+      ++proven;
+      for (std::size_t i = 0; i < n; ++i)
+        EXPECT_LT(std::abs(num_traits<Mpfi>::to_double(o.box[i])), bound[i]) << text << " bounce " << i;
+    }
+  }
+  EXPECT_GT(proven, 0);
+}
+
 // The claim fails one ulp away: an orbit's proof box for d = 2 holds no zero of the stadium whose d is one ulp
 // of double above 2 (the orbit moves by ~1e-16, the box is 2^-80 wide): its Krawczyk test there is refused,
 // while that stadium's own orbits are proven. The diamond TRBL is the control: its bounces sit at the pieces'

@@ -116,6 +116,27 @@ TEST(ClassifyTail, AnAlgebraicTailIsPersistent) {
   EXPECT_EQ(classify(sample_curve(100000, 20000, Mixture{5e-4}, gen)).tail, "none");
 }
 
+// The steep end that marks a removal is a local exponent above 6 by 3 errors, not merely a fast algebraic decay:
+// a tail P_tail = (3000 / t)^5.5 past t = 3000 (w = 5e-3 of 4*10^6 particles, the curve ending at t = 12000 with
+// survivors left, so no zero decides it) has exponent 5.5 over its last resolved stretch (1000 effective
+// survivors at its end: an error of ~0.08) and is persistent; a threshold of 4 would call it removed.
+TEST(ClassifyTail, ASteepAlgebraicEndIsNotARemoval) {
+  std::mt19937_64 gen(31);
+  const auto life = [](std::mt19937_64& g) {
+    std::uniform_real_distribution<double> u(0, 1);
+    if (u(g) >= 5e-3) return std::exponential_distribution<double>(kKappa)(g);
+    return 3000 * std::pow(1 - u(g), -1 / 5.5);
+  };
+  const SurvivalCurve c = sample_curve(4000000, 12000, life, gen);
+  ASSERT_GT(c.survivors.back(), 0u);
+  const KappaFit k = fit_kappa(c, 0, 300);
+  const AlphaResult a = find_alpha(c, k, 10, 3, 1000);
+  ASSERT_TRUE(a.value.has_value()) << a.note;
+  const TailClass t = classify_tail(scene("0"), c, a, &k);
+  EXPECT_EQ(t.tail, "persistent") << t.note;
+  EXPECT_NEAR(t.end_exponent, 5.5, 0.3) << t.note;
+}
+
 TEST(ClassifyTail, ATailRemovedAtAKnownTimeIsTransient) {
   std::mt19937_64 gen(3);
   const TailClass k = classify(sample_curve(1000000, 20000, Mixture{5e-4, 6000}, gen));

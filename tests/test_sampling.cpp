@@ -321,6 +321,12 @@ TEST(Sampling, RidingBandsByHand) {
   EXPECT_NEAR(b21->p, L / (4 * 1743), 1e-15);
   EXPECT_TRUE(riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo"})).empty());
   EXPECT_TRUE(riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=1/2"})).empty());
+  // 2X mod 1 = 1/100 + 1e-7 with lambda = 1/100: the best approximation 1/100 has b lambda = 1 exactly -- its
+  // spots cover the edge, no gap to ride in (the band's width L (1/b - lambda) / d would be 0) -- so no band
+  const auto edge =
+      riding_bands(scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "leak.omega=0.002500025"}));
+  EXPECT_EQ(band_of(edge, 1, 100), nullptr);
+  for (const RidingBand& b : edge) EXPECT_LT(static_cast<double>(b.b) * 0.01, 1.0) << b.a << "/" << b.b;
   for (const RidingBand& b : s101) {  // every band: a best approximation with gaps, inside the mupo range
     EXPECT_LT(static_cast<double>(b.b) * 0.01, 1.0);
     EXPECT_GE(b.p, 1e-12);

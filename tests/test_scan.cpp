@@ -62,6 +62,16 @@ TEST(ScanValues, BadRangesNameTheText) {
                           "linspace(1,2,0)", "linspace(1,2,3.5)", "(1", "1)", "linspace(1,2,10001)", ""})
     expect_refused(bad);
   for (const char* bad : {"omega", "=1", "leak.omega=", "omega=1"}) EXPECT_THROW(parse_axis(bad), InputError) << bad;
+  // a value twice once ran its point twice: refused, also spelt differently (1 and 1.0, 2/3 and 4/6)
+  for (const char* twice : {"leak.omega=1,1", "leak.omega=1,2/3,1.0", "leak.omega=4/6,2/3", "run.t_max=100,100"}) {
+    try {
+      parse_axis(twice);
+      ADD_FAILURE() << "accepted " << twice;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("twice"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(parse_axis("leak.omega=1,2/3,3/4").values.size(), 3u);
   const ScanAxis a = parse_axis("leak.omega=1,2/3");
   EXPECT_EQ(a.key, "leak.omega");
   EXPECT_EQ(a.values, (V{"1", "2/3"}));

@@ -93,6 +93,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"", "stadium.d=pi-pi", "stadium.d"}, BadCase{"", "leak.start=1e100000+ln(2)", "leak.start"},
         // exact and positive, but 0 in double: d = 1e-400 ran as a circle
         BadCase{"", "stadium.d=1e-400", "stadium.d"}, BadCase{"", "leak.width=1e-400", "leak.width"},
+        // sizes the doubles cannot resolve ran to a complete run with P = 1 (every flight of zero length) or as
+        // a circle
+        BadCase{"", "stadium.r=1e160", "stadium.r"}, BadCase{"", "stadium.r=1e300", "stadium.r"},
+        BadCase{"", "stadium.d=1e-30", "stadium.d"},
+        BadCase{"[stadium]\nd = \"1e101\"\nr = \"1e101\"\n", "", "stadium.d"},
         // an array was quoted over four lines
         BadCase{"", "fit.kappa_window=[0,1e300]", "fit.kappa_window = [0, 1e+300]"},
         // a section that is a value, then --set into it: a null dereference (fuzz_scene's first find)

@@ -88,9 +88,14 @@ int run_sample(const CertifyArgs& a, const Scene& scene) {
 
 int run_certify(const CertifyArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  if (a.bits < Tier::kMinBits || a.bits > a.max_bits || a.max_bits > (1L << 22))
-    throw InputError("--bits", std::to_string(a.bits),
-                     "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits], and --max-bits <= 2^22");
+  // each bound blames its own option (--max-bits 100000000 once blamed --bits)
+  if (a.max_bits < Tier::kMinBits || a.max_bits > (1L << 22))
+    throw InputError("--max-bits", std::to_string(a.max_bits),
+                     "must be in [" + std::to_string(Tier::kMinBits) + ", 4194304 = 2^22]");
+  if (a.bits < Tier::kMinBits || a.bits > a.max_bits)
+    throw InputError(
+        "--bits", std::to_string(a.bits),
+        "must be in [" + std::to_string(Tier::kMinBits) + ", --max-bits = " + std::to_string(a.max_bits) + "]");
   if (a.sample != 0) return run_sample(a, scene);
   if (current_team().size() > 1)
     throw InputError("mpirun -np", std::to_string(current_team().size()),

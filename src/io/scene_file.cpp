@@ -319,6 +319,18 @@ void read_geometry(const Reader& in, Scene& s) {
       throw InputError(key, "\"" + *text + "\"",
                        "rounds to " + shortest(value->to_double()) +
                            " in double, which the tiers run: give a value of at least 2.3e-308");
+  // sizes the double tiers can resolve: r = 1e160 once ran with every flight of zero length (its squares
+  // overflow) and d = 1e-30 as a circle (its straight edges below r's rounding), both complete with P = 1
+  const double d = s.d.to_double(), r = s.r.to_double();
+  const bool d_worse = std::abs(std::log10(d)) >= std::abs(std::log10(r));
+  const std::string key = d_worse ? "stadium.d" : "stadium.r";
+  const std::string& text = d_worse ? s.d_text : s.r_text;
+  if (!(std::max(d, r) <= 1e100 && std::min(d, r) >= 1e-100) || !(std::min(d, r) >= 1e-12 * std::max(d, r)))
+    throw InputError(key, "\"" + text + "\"",
+                     "stadium.d and stadium.r must lie in [1e-100, 1e100] (their squares stay finite in double) and "
+                     "within a factor 1e12 of each other (doubles resolve both the straight edges and the arcs); "
+                     "here d = " +
+                         s.d_text + ", r = " + s.r_text);
 }
 
 /// The ensemble's size, seed and initial conditions, and the run's length.

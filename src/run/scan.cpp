@@ -3,6 +3,7 @@
 #include <mpfr.h>
 
 #include <gmpxx.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -170,6 +171,18 @@ ScanAxis parse_axis(const std::string& text) {
   axis.key = trim(text.substr(0, eq));
   if (axis.key.find('.') == std::string::npos) throw InputError("--over", text, allowed);
   axis.values = expand_values("--over " + axis.key, text.substr(eq + 1));
+  // each point once: a value listed twice (1,1, or 1 and 1.0 of an exact key) once ran its point twice
+  std::vector<std::string> seen;
+  for (const std::string& v : axis.values) {
+    std::string same = v;
+    try {
+      same = ExactReal::parse(v).text();  // the value's canonical spelling, where it is an exact value
+    } catch (const std::exception&) {
+    }
+    if (std::find(seen.begin(), seen.end(), same) != seen.end())
+      throw InputError("--over", text, "gives " + axis.key + " = " + v + " twice: list each value once");
+    seen.push_back(same);
+  }
   return axis;
 }
 
