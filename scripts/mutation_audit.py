@@ -120,7 +120,9 @@ def run_targeted(m, log):
         r = subprocess.run([test_binary(binary), f"--gtest_filter={filt}"], cwd=BUILD, capture_output=True,
                            text=True, timeout=1200)
         log.write(f"$ {binary} --gtest_filter={filt}\n{r.stdout}{r.stderr}\n")
-        names = re.findall(r"^\[  FAILED  \] (\S+) \(", r.stdout, re.M)
+        # "[  FAILED  ] Suite.Name (12 ms)", or "Prefix/Suite.Name/0, where GetParam() = ..." (parameterised);
+        # each failing test is listed again in the summary: once each
+        names = list(dict.fromkeys(re.findall(r"^\[  FAILED  \] ([A-Za-z_][\w/.]*)(?:, where| \(|$)", r.stdout, re.M)))
         if r.returncode != 0 and not names:
             names = [f"{binary} (exit {r.returncode})"]
         failed += names

@@ -145,6 +145,23 @@ TEST(Cli, MessagesQuoteInputAsWritten) {
   EXPECT_EQ(nlohmann::json::parse(terms.out)["omega"]["certified_terms"], 20000);
 }
 
+// A scene path that is not UTF-8 once simulated 4.3 s, then failed in the JSON writer with a raw exception (rc 1,
+// nothing kept): refused before any work, rc 2, one line showing the odd byte.
+TEST(Cli, ANonUtf8PathIsRefusedBeforeAnyWork) {
+  const fs::path dir = scratch() / std::string(
+                                       "bad\xff"
+                                       "name");
+  fs::create_directories(dir);
+  fs::copy_file(write_scene("small.toml", kSmall), dir / "s.toml", fs::copy_options::overwrite_existing);
+  const fs::path outdir = scratch() / "non_utf8_run";
+  const Outcome o = run("simulate \"" + (dir / "s.toml").string() + "\" --out " + outdir.string());
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_NE(o.err.find("bad\\xffname"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("not valid UTF-8"), std::string::npos) << o.err;
+  EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+  EXPECT_FALSE(fs::exists(outdir));
+}
+
 // certify's precision options each blame themselves (--max-bits 100000000 once blamed --bits), in one line, rc 2.
 TEST(Cli, CertifyBitsBlameTheirOwnOption) {
   const fs::path scene = write_scene("small.toml", kSmall);
