@@ -139,16 +139,17 @@ TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   EXPECT_EQ(whole.points, 4u);
   EXPECT_EQ(whole.ran, 4u);
   const std::string table = read(base / "whole" / "table.csv");
-  EXPECT_EQ(table.substr(0, table.find('\n')),
-            "leak.omega,leak.width,kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,"
-            "tail_amplitude,tail_amplitude_err,tail_amplitude_syst,predicted_tail,predicted_amplitude,"
-            "predicted_tail_end,tau1,tau2,omega_sweep,cf_2r_omega,best_approximation,best_error,covering_zero_measure,"
-            "covering_max_zero_gap,"
-            "particles,collisions")
+  EXPECT_EQ(
+      table.substr(0, table.find('\n')),
+      "leak.omega,leak.width,omega_value,kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,"
+      "tail_amplitude,tail_amplitude_err,tail_amplitude_syst,predicted_tail,predicted_amplitude,"
+      "predicted_tail_end,tau1,tau2,omega_sweep,cf_2r_omega,best_approximation,best_error,covering_zero_measure,"
+      "covering_max_zero_gap,"
+      "particles,collisions")
       << "every column a row has, named";
   // every row has as many fields as the header names (no comma inside these values)
   for (std::size_t at = 0, end; (end = table.find('\n', at)) != std::string::npos; at = end + 1)
-    EXPECT_EQ(std::count(table.begin() + static_cast<long>(at), table.begin() + static_cast<long>(end), ','), 26)
+    EXPECT_EQ(std::count(table.begin() + static_cast<long>(at), table.begin() + static_cast<long>(end), ','), 27)
         << table.substr(at, end - at);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
 

@@ -322,13 +322,13 @@ class Covering:
         """s, then f_L of each covering averaged over each bin (f_L.csv)."""
         from .readers import _pandas
 
-        return _pandas().read_csv(io.StringIO(self._profile))
+        return _pandas().read_csv(io.StringIO(self._profile), float_precision="round_trip")
 
     def segments(self, k: int = 0) -> pandas.DataFrame:
         """The exact breakpoints of the k-th covering: from, to, f_L."""
         from .readers import _pandas
 
-        return _pandas().read_csv(io.StringIO(self._segments[k]))
+        return _pandas().read_csv(io.StringIO(self._segments[k]), float_precision="round_trip")
 
     def __repr__(self) -> str:
         cov = self.summary["covering"]

@@ -145,7 +145,9 @@ def _read_table(source: Union[str, io.StringIO], name: str, where: str, **kw: An
     """A CSV table rotleak wrote, read by pandas; a RotleakError naming where and name when pandas cannot."""
     pd = _pandas()
     try:
-        table: pandas.DataFrame = pd.read_csv(source, **kw)
+        # round_trip: each number as the double rotleak wrote (pandas' default parser can miss by an ulp:
+        # 0.41421356237309503 once read as 0.414213562373095)
+        table: pandas.DataFrame = pd.read_csv(source, float_precision="round_trip", **kw)
     except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
         raise RotleakError("%s: %s: not a table rotleak wrote (%s)" % (where, name, str(e).splitlines()[0])) from None
     return table
@@ -389,7 +391,7 @@ def read_summary_and_table(path: PathLike, table: str) -> tuple[dict[str, Any], 
     directory = os.fspath(path)
     with open(os.path.join(directory, "summary.json"), encoding="utf-8") as f:
         summary = json_document(f.read(), "summary.json", directory)
-    return summary, _pandas().read_csv(os.path.join(directory, table))
+    return summary, _pandas().read_csv(os.path.join(directory, table), float_precision="round_trip")
 
 
 class Scan:
@@ -424,7 +426,7 @@ class Scan:
                                                                    "tail_amplitude", "tail_amplitude_err",
                                                                    "tail_amplitude_syst", "predicted_amplitude",
                                                                    "predicted_tail_end", "tau1", "tau2",
-                                                                   "best_error"]})
+                                                                   "best_error", "omega_value"]})
             if list(self._table.columns[:len(self.keys)]) != self.keys or len(self._table) != len(self.point_names):
                 raise RotleakError("%s: table.csv: not the table of scan.json (other columns or rows)" % self.path)
         return self._table

@@ -128,6 +128,7 @@ json omega_number_theory(const Scene& scene) {
   for (std::size_t i = 0; i < cf.terms.size() && i < kScanPartialQuotients; ++i)
     terms += (i ? " " : "") + cf.terms[i].get_str();
   out["cf_2r_omega"] = terms;
+  out["omega_value"] = scene.omega.to_double();  // the exact omega rounded once (MPFR, to nearest): a number to plot
   const BestApproximations best = best_approximations(x, mpz_class(static_cast<unsigned long>(kScanMaxDen)));
   if (!best.list.empty()) {
     out["best_approximation"] = best.list.back().text();
@@ -212,12 +213,16 @@ std::string scan_table_csv(const std::vector<ScanAxis>& axes, const std::vector<
   std::string out;
   for (const ScanAxis& a : axes) out += csv_field(a.key) + ",";
   out +=
-      "kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tail_amplitude,tail_amplitude_err,"
+      "omega_value,kappa,kappa_err,alpha,alpha_err,alpha_syst,alpha_bound,tail,regime,tail_end,tail_amplitude,tail_"
+      "amplitude_err,"
       "tail_amplitude_syst,predicted_tail,predicted_amplitude,predicted_tail_end,tau1,tau2,omega_sweep,cf_2r_omega,"
       "best_approximation,best_error,covering_zero_measure,covering_max_zero_gap,particles,collisions\n";
   for (const json& s : summaries) {
     const json& swept = s.at("scan_values");
     for (const ScanAxis& a : axes) out += csv_field(swept.at(a.key).get<std::string>()) + ",";
+    // the point's omega as a number (empty where its number theory was saved before omega_value existed)
+    const json& theory = s.at("number_theory");
+    out += (theory.contains("omega_value") ? csv_number(theory.at("omega_value")) : std::string()) + ",";
     const json& k = s.at("kappa");
     const json& al = s.at("alpha");
     out += csv_number(k.at("value")) + "," + (k.at("value").is_null() ? "" : csv_number(k.at("error"))) + ",";
@@ -439,6 +444,17 @@ json run_point(const ScanRequest& req, const ScanPoint& p, const fs::path& pdir,
 /// The row scan.json keeps of a point, from its summary.
 json scan_row(const ScanPoint& p, const json& s) {
   json row = {{"point", p.slug}, {"values", p.values}};
+  if (p.number_theory.contains("omega_value")) row["omega_value"] = p.number_theory.at("omega_value");
+  // each swept value that is a number or an exact expression ("2/3+1e-4", "golden - 1"), evaluated exactly and
+  // rounded once: what a plot puts on its axis (a word, such as a sampling scheme, has none)
+  json numbers = json::object();
+  for (const auto& [key, v] : p.values.items()) {
+    try {
+      numbers[key] = ExactReal::parse(v.get<std::string>()).to_double();
+    } catch (const std::exception&) {
+    }
+  }
+  row["numbers"] = numbers;
   for (const char* key : {"kappa", "alpha", "tail", "predicted", "rate_jumps"}) row[key] = s.at(key);
   row["number_theory"] = p.number_theory;
   row["particles"] = s.at("particles");

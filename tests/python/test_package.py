@@ -326,7 +326,7 @@ class Package(unittest.TestCase):
         scan = rotleak.read_scan(self.scan_dir)
         t = scan.table
         self.assertEqual(t["leak.omega"].tolist(), ["0", "1", "2/3"])
-        self.assertEqual(t.shape, (3, 26))  # the swept key, then the 25 columns docs/output.md lists
+        self.assertEqual(t.shape, (3, 27))  # the swept key, then the 26 columns docs/output.md lists
         self.assertTrue(pd.api.types.is_float_dtype(t["kappa"]))
         self.assertEqual(t["particles"].tolist(), [4000] * 3)
         self.assertEqual(sorted(scan.points), sorted(scan.point_names))
@@ -513,6 +513,38 @@ class Package(unittest.TestCase):
         self.assertIn("delta = 1e-9, N = %d" % n[1], texts[1])
         for t in texts:  # delta once; the omega's own label carried it a second time
             self.assertEqual(t.count("delta"), 1, t)
+
+    def test_a_scan_over_expressions_plots_every_point_in_omega_order(self):
+        # the scan a user drew once showed 4 of its 7 points (an expression had no value) joined in scan order;
+        # table.csv and scan.json carry the exact omega rounded once, and the plot puts every point at it, sorted
+        import decimal
+        from fractions import Fraction
+
+        from rotleak.plot import scan as scan_plot
+
+        seven = "1/2,2/3,3/5,3/4,golden-1,2/3+1e-4,sqrt(2)-1"
+        decimal.getcontext().prec = 60  # the irrationals to 60 digits, then rounded once (float() of a Decimal)
+        exact = [Fraction(1, 2), Fraction(2, 3), Fraction(3, 5), Fraction(3, 4), (decimal.Decimal(5).sqrt() - 1) / 2,
+                 Fraction(2, 3) + Fraction(1, 10000), decimal.Decimal(2).sqrt() - 1]
+        d = os.path.join(self.tmp, "seven")
+        cli("scan", QUICK, "--over", "leak.omega=" + seven, "--set", "ensemble.particles=2000", "--out", d)
+        sc = rotleak.read_scan(d)
+        want = [float(x) for x in exact]
+        self.assertEqual(list(sc.table["omega_value"]), want)
+        self.assertEqual([p["omega_value"] for p in sc.document["points"]], want)
+        self.assertEqual([p["numbers"]["leak.omega"] for p in sc.document["points"]], want)
+        seen = {}
+        saved = scan_plot.save
+        try:
+            scan_plot.save = lambda fig, path: seen.__setitem__(os.path.basename(path), fig)
+            scan_plot.against_key(d, sc.document, "leak.omega")
+        finally:
+            scan_plot.save = saved
+        fig = seen["scan_leak_omega.png"]
+        strip = [o[0] for c in fig.axes[2].collections for o in c.get_offsets()]
+        self.assertEqual(strip, sorted(want), "every point in the regime strip, in omega order")
+        kappa = [float(x) for x in fig.axes[0].lines[0].get_xdata()]
+        self.assertEqual(kappa, sorted(want), "the kappa line joins the points in omega order")
 
     def test_pictures_keep_labels_clear_of_the_data_and_of_each_other(self):
         # each once failed as a user saw it: the regimes' legend covered scan_<key>'s x label, f_L's labels sat

@@ -20,7 +20,8 @@ REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "
 
 
 def value_of(text: str) -> Optional[float]:
-    """A swept value as a float for drawing ("2/3", "1e-4"); irrationals by name are None."""
+    """A swept value as a float for drawing ("2/3", "1e-4") where scan.json has no number for it (a scan written
+    before it recorded them); an expression is None there."""
     v = exact_text(text)
     if v is None:
         try:
@@ -61,14 +62,23 @@ def curves(scan: Scan) -> str:
     return path
 
 
+def points_along(doc: dict[str, Any], key: str) -> list[tuple[float, dict[str, Any]]]:
+    """The points with a number for `key`, in increasing order of it: scan.json's `numbers` (each value, an
+    expression too, evaluated exactly and rounded once), else the value read as a plain number."""
+    pts: list[tuple[float, dict[str, Any]]] = []
+    for point in doc["points"]:
+        x = point.get("numbers", {}).get(key)
+        if x is None:
+            x = value_of(point["values"][key])
+        if x is not None:
+            pts.append((float(x), point))
+    return sorted(pts, key=lambda xp: xp[0])
+
+
 def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
     """scan_<key>.png: kappa, alpha (or its bound) and the regime against one swept key; None where the key
     has no value to draw."""
-    pts: list[tuple[float, dict[str, Any]]] = []
-    for point in doc["points"]:
-        x = value_of(point["values"][key])
-        if x is not None:
-            pts.append((x, point))
+    pts = points_along(doc, key)
     if not pts:
         return None
     xs = [x for x, _ in pts]
@@ -88,7 +98,8 @@ def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
         ax_a.errorbar([x for x, _ in val], [a["value"] for _, a in val], yerr=[a["error"] for _, a in val], fmt="o",
                       ms=4, label="alpha")
     if bnd:
-        ax_a.scatter([x for x, _ in bnd], [a["upper_bound"] for _, a in bnd], marker="v", color="C1",
+        # black: a colour of its own (orange is the near-rational regime below)
+        ax_a.scatter([x for x, _ in bnd], [a["upper_bound"] for _, a in bnd], marker="v", color="k",
                      label="upper bound (no tail resolved)")
     ax_a.set_yscale("log")
     ax_a.set_ylabel("alpha")
@@ -143,7 +154,7 @@ def against_covering(scan_dir: str, doc: dict[str, Any]) -> Optional[str]:
         if p["alpha"]["value"] is not None:
             ax.errorbar([x], [y], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
         else:
-            ax.scatter([x], [y], marker="v", color="C1")
+            ax.scatter([x], [y], marker="v", color="k")
         annotate_clear(ax, placed, label, (x, y), lambda q, p: abs(q[0] - p[0]) < 0.05 and
                        abs(math.log10(q[1] / p[1])) < 0.15, fontsize=7)
     ax.set_yscale("log")
