@@ -132,6 +132,40 @@ ScanRequest request(const fs::path& out, int threads) {
   return r;
 }
 
+// A scan into a finished scan's directory that leaves some of its points out once rewrote the table with its own
+// points alone, the others left on disk out of it: refused, naming them, before anything runs; the same values
+// and a new one extend the scan (the finished points kept); --force removes the points left out.
+TEST(Scan, PointsLeftOutOfAFinishedScanAreRefusedOrRemovedUnderForce) {
+  const test::ScratchDir scratch("rotleak_scan_left_");
+  const fs::path dir = scratch.path / "s";
+  const auto over = [&](const std::string& values, bool force) {
+    ScanRequest r;
+    r.scene_path = std::string(rotleak::test::source_dir()) + "/data/scenes/quickstart.toml";
+    r.overrides = {"ensemble.particles=500"};
+    r.axes = {parse_axis("leak.omega=" + values)};
+    r.out = dir;
+    r.force = force;
+    return scan(r);
+  };
+  EXPECT_EQ(over("1,2/3", false).ran, 2u);
+  try {
+    over("1/5", false);
+    ADD_FAILURE() << "a scan leaving two finished points out of its table was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("p0_omega-1, p1_omega-2o3"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "points" / "p0_omega-1o5")) << "refused before anything ran";
+  const ScanOutcome extended = over("1,2/3,1/5", false);
+  EXPECT_EQ(extended.skipped, 2u);
+  EXPECT_EQ(extended.ran, 1u);
+  over("1/5", true);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir / "points")) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"p0_omega-1o5"});
+  const std::string table = read(dir / "table.csv");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 2) << table;
+}
+
 TEST(Scan, ResumesOnlyWhatIsMissingAndTheTableIsByteIdentical) {
   const test::ScratchDir scratch("rotleak_scan_test_");
   const fs::path& base = scratch.path;

@@ -393,6 +393,9 @@ class ScanManifest {
     doc_[p.slug] = p.inputs;
     if (write) write_file_atomic(path_, doc_.dump(1) + "\n");
   }
+  void forget(const std::string& slug, bool write) {
+    if (doc_.erase(slug) && write) write_file_atomic(path_, doc_.dump(1) + "\n");
+  }
 
  private:
   fs::path path_;
@@ -413,6 +416,38 @@ void refuse_other_inputs(const ScanRequest& req, const std::vector<ScanPoint>& p
                          (before ? inputs_difference(*before, p.inputs) + ", there vs here"
                                  : std::string("not recorded in points.json")) +
                          "); pass --force to replace it, or choose another --out");
+  }
+}
+
+/// Finished points in the directory that this scan does not list would stay on disk, out of its table (a scan
+/// of omega = 1/5 into a scan of 1, 2/3, 3/4 once rewrote the table with its own point alone): refused, naming
+/// them, before anything runs; under --force they are removed, so the directory holds this scan only.
+void refuse_points_left_out(const ScanRequest& req, const std::vector<ScanPoint>& points, ScanManifest& manifest,
+                            const fs::path& points_dir, bool lead) {
+  std::vector<std::string> listed, left;
+  for (const ScanPoint& p : points) listed.push_back(p.slug);
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(points_dir, ec)) {
+    const std::string slug = e.path().filename().string();
+    if (e.is_directory() && fs::exists(e.path() / "summary.json") &&
+        std::find(listed.begin(), listed.end(), slug) == listed.end())
+      left.push_back(slug);
+  }
+  if (left.empty()) return;
+  std::sort(left.begin(), left.end());
+  if (!req.force) {
+    std::string names;
+    for (std::size_t i = 0; i < left.size() && i < 4; ++i) names += (i ? ", " : "") + left[i];
+    if (left.size() > 4) names += ", ... (" + std::to_string(left.size()) + ")";
+    throw InputError("--out", "\"" + req.out.string() + "\"",
+                     "holds finished points this scan does not list (" + names +
+                         "): give their values too, in their order, to extend that scan (finished points are "
+                         "kept), pass --force to remove them, or choose another --out");
+  }
+  if (!lead) return;
+  for (const std::string& slug : left) {
+    fs::remove_all(points_dir / slug, ec);
+    manifest.forget(slug, true);
   }
 }
 
@@ -493,6 +528,8 @@ ScanOutcome scan(const ScanRequest& req) {
   team.all(true);  // the directory is there before any rank looks
   ScanManifest manifest(dir / "points.json");
   refuse_other_inputs(req, points, manifest, points_dir);
+  refuse_points_left_out(req, points, manifest, points_dir, lead);
+  team.all(true);  // the points left out are gone before any rank runs
   ScanOutcome out;
   out.dir = dir;
   out.points = points.size();
