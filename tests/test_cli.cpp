@@ -162,6 +162,23 @@ TEST(Cli, ANonUtf8PathIsRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(outdir));
 }
 
+// rotleak fit printed three of the lines simulate prints of its fits (no window systematic, z, C, model line):
+// a refit under the same keys prints simulate's fit lines, word for word.
+TEST(Cli, FitPrintsTheFitsAsSimulateDoes) {
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path dir = scratch() / "fit_text";
+  fs::remove_all(dir);
+  const Outcome sim =
+      run("simulate " + scene.string() + " --set leak.omega=2/3 --out " + dir.string() + " --no-progress");
+  ASSERT_EQ(sim.status, 0) << sim.err;
+  const Outcome fit = run("fit " + dir.string());
+  ASSERT_EQ(fit.status, 0) << fit.err;
+  const std::size_t from = sim.out.find("kappa = "), to = sim.out.find("wrote ");
+  ASSERT_NE(from, std::string::npos) << sim.out;
+  ASSERT_NE(to, std::string::npos) << sim.out;
+  EXPECT_EQ(fit.out.substr(0, fit.out.find("rewrote ")), sim.out.substr(from, to - from));
+}
+
 // certify's precision options each blame themselves (--max-bits 100000000 once blamed --bits), in one line, rc 2.
 TEST(Cli, CertifyBitsBlameTheirOwnOption) {
   const fs::path scene = write_scene("small.toml", kSmall);

@@ -349,15 +349,21 @@ void tail_class_lines(std::string& out, const RunSummary& r) {
 
 }  // namespace
 
+std::string fit_text(const RunSummary& r) {
+  std::string out;
+  kappa_alpha_lines(out, r.kappa, r.alpha);
+  tail_fit_lines(out, r);
+  tail_class_lines(out, r);
+  return out;
+}
+
 std::string summary_text(const RunSummary& r) {
   std::string out;
   appendf(out, "%s: %llu particles, %s tier, %d threads, %.2f s, %.3g collisions/s\n", r.scene.source.c_str(),
           static_cast<unsigned long long>(r.scene.particles), to_string(r.scene.tier).c_str(), r.result.threads,
           r.result.wall_seconds, r.collisions_per_second());
   population_lines(out, r);
-  kappa_alpha_lines(out, r.kappa, r.alpha);
-  tail_fit_lines(out, r);
-  tail_class_lines(out, r);
+  out += fit_text(r);
   if (r.result.tally.stuck)
     appendf(out, "warning: %llu particles stuck (zero-length flights); counted as not escaped\n",
             static_cast<unsigned long long>(r.result.tally.stuck));

@@ -57,6 +57,9 @@ json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve&
 json summary_json(const RunSummary& s, const std::vector<std::string>& files);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);
+/// The fits' lines of summary_text (kappa, alpha, alpha_C, z, C, the tail's class and the model's verdict): what
+/// `rotleak fit` prints of a refitted run, as simulate prints them.
+std::string fit_text(const RunSummary& s);
 
 /// summary.json's "execution" (audit.json's too): everything that says how a run went, not what it
 /// found: the build (`rotleak.version`, `rotleak.git`), the host, then `fields` (threads, ranks,

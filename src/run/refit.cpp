@@ -59,13 +59,14 @@ Scene saved_scene(const fs::path& dir, const std::vector<std::string>& overrides
   return scene;
 }
 
-json refit_run(const fs::path& dir, const Scene& scene) {
+json refit_run(const fs::path& dir, const Scene& scene, std::string* text) {
   const std::string old_text = read_file(dir / "summary.json");
   json s = read_run_summary(dir, old_text);
   RunSummary r;
   r.scene = scene;
   r.curve = saved_curve(dir, scene, s);
   fit_curve(r);
+  if (text) *text = fit_text(r);
   s["scene"] = scene_json(scene);
   put_fits(s, r);
   write_file_atomic(dir / "summary.prev.json", old_text);
@@ -82,7 +83,7 @@ RefitOutcome refit(const fs::path& dir, const std::vector<std::string>& override
   const DirectoryLock lock(dir, "DIR", "\"" + dir.string() + "\"");
   RefitOutcome out;
   if (!fs::exists(dir / "scan.json")) {
-    out.document = refit_run(dir, saved_scene(dir, overrides));
+    out.document = refit_run(dir, saved_scene(dir, overrides), &out.text);
     out.runs = 1;
     return out;
   }

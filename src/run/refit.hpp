@@ -19,7 +19,7 @@ void check_fit_overrides(const std::vector<std::string>& overrides);
 
 /// The saved run in `dir` refitted under `scene` (its own scene with new fit keys); returns the new
 /// summary.json, written as above.
-json refit_run(const std::filesystem::path& dir, const Scene& scene);
+json refit_run(const std::filesystem::path& dir, const Scene& scene, std::string* text = nullptr);
 
 /// The scene a run directory was made from, with `overrides` applied (its source kept).
 Scene saved_scene(const std::filesystem::path& dir, const std::vector<std::string>& overrides);
@@ -27,7 +27,8 @@ Scene saved_scene(const std::filesystem::path& dir, const std::vector<std::strin
 struct RefitOutcome {
   bool scan = false;
   std::size_t runs = 0;
-  json document;  ///< summary.json of the run, or scan.json of the scan
+  json document;     ///< summary.json of the run, or scan.json of the scan
+  std::string text;  ///< a run's fits as simulate prints them (io/run_output.hpp, fit_text); empty for a scan
 };
 
 /// A run directory or a scan directory (scan.json), refitted with `overrides` (fit.* keys).
