@@ -19,7 +19,9 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=se
 args=("$scene" --particles 200000 --set leak.omega=2/3 --set ensemble.sampling=mupo --set run.t_max=4000
   --set 'observe.collision_density={bins=100}' --set observe.escapes=true --no-progress)
 "$bin" simulate "${args[@]}" --threads 2 --out one >/dev/null
-"$mpirun" -np 2 "$bin" simulate "${args[@]}" --threads 1 --out two >/dev/null
+"$mpirun" -np 2 "$bin" simulate "${args[@]}" --threads 1 --out two >two.txt
+# the header says the ranks and each one's threads (it once said "1 threads" and never the ranks)
+grep -q " 2 ranks x 1 threads, " two.txt || { echo "2 ranks: the header does not say so: $(head -1 two.txt)"; exit 1; }
 "$mpirun" -np 3 --oversubscribe "$bin" simulate "${args[@]}" --threads 1 --out three >/dev/null
 for run in two three; do
   for f in survival.csv fc.csv escapes.csv; do

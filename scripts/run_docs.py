@@ -12,7 +12,8 @@ PYTHONPATH at the build's Python package and ROTLEAK_BINARY set. What a block is
 - ```text right after a runnable block (only blank lines or a directive between): that block's output.
   Every shown line must appear in the printed output (stdout and stderr together), in order, with the same words;
   its numbers are not compared unless the directive says so (timings and rates differ between runs):
-  `exact` compares every number; `figures NAME=TOL ...` compares the number right after NAME (at the
+  `exact` compares every number and shows every printed line (a block that leaves lines out says so with a
+  line of its own, `...`; python.md's once left out a line its snippet printed); `figures NAME=TOL ...` compares the number right after NAME (at the
   start of a shown line, or, for a quoted name of two characters or more, "t P =", anywhere in it; only
   blanks, =, : or < between) with the printed one, within a relative TOL (5%) or an absolute one (0.002). A shown line may use `...` for
   text left out.
@@ -182,15 +183,17 @@ def check_output(block, printed, widen):
     m = re.search(r"figures\s+(.*)$", out.directive)
     figures = re.findall(r'("[^"]+"|[^\s=]+)=(\S+)', m.group(1)) if m else []
     lines = printed.split("\n")
-    at, errors = 0, []
-    for shown in out.text.rstrip("\n").split("\n"):
-        if not shown.strip():
-            continue
+    at, errors, matched = 0, [], set()
+    shown_lines = [x for x in out.text.rstrip("\n").split("\n") if x.strip()]
+    for shown in shown_lines:
+        if exact and shown.strip() == "...":
+            continue  # printed lines left out here, said so
         pattern = shown.strip()
         found = next((k for k in range(at, len(lines)) if line_matches(pattern, lines[k].strip(), exact)), None)
         if found is None:
             errors.append("shown line not printed (in order%s): %r" % (", numbers equal" if exact else "", shown))
             continue
+        matched.add(found)
         at = found + 1
         got = lines[found].strip()
         for name, tol in figures:
@@ -207,6 +210,10 @@ def check_output(block, printed, widen):
             if abs(x - y) > allowed:
                 errors.append("%s: shown %g, printed %g, allowed +-%g (%s%s)" %
                               (name, x, y, allowed, tol, " widened %.3gx by the scale" % widen if widen != 1 else ""))
+    if exact and not errors and not any(x.strip() == "..." for x in shown_lines):
+        left = [line for k, line in enumerate(lines) if line.strip() and k not in matched]
+        if left:
+            errors.append("an exact block leaves out a printed line (show it, or a line '...'): %r" % left[0])
     return errors
 
 
