@@ -360,9 +360,9 @@ std::string fit_text(const RunSummary& r) {
 std::string summary_text(const RunSummary& r) {
   std::string out;
   // under MPI the ranks and each one's threads (the header once said "1 threads" and never the ranks)
-  const std::string workers = r.result.ranks > 1 ? std::to_string(r.result.ranks) + " ranks x " +
-                                                       std::to_string(r.result.threads) + " threads"
-                                                 : std::to_string(r.result.threads) + " threads";
+  const std::string workers =
+      r.result.ranks > 1 ? std::to_string(r.result.ranks) + " ranks x " + std::to_string(r.result.threads) + " threads"
+                         : std::to_string(r.result.threads) + " threads";
   appendf(out, "%s: %llu particles, %s tier, %s, %.2f s, %.3g collisions/s\n", r.scene.source.c_str(),
           static_cast<unsigned long long>(r.scene.particles), to_string(r.scene.tier).c_str(), workers.c_str(),
           r.result.wall_seconds, r.collisions_per_second());
