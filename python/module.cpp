@@ -80,10 +80,24 @@ std::optional<Result> run_released(Work&& work) {
 }
 
 /// (name, bytes) of every file of the run, as the run directory would hold them.
+/// Where a Python Scene's runs say they came from (summary.json's scene.source, the header line).
+constexpr const char* kPythonSource = "rotleak.Scene";
+
+/// A scene file with overrides, or (is_text) a Python Scene's TOML text with them: one reader for both.
+rotleak::Scene scene_of(const std::string& scene, bool is_text, const std::vector<std::string>& overrides) {
+  return is_text ? rotleak::parse_scene(scene, overrides, kPythonSource) : rotleak::load_scene(scene, overrides);
+}
+
+/// A scene's TOML text with overrides, read and checked by the file's reader (its one-line errors), written back
+/// as rotleak writes scene.toml: what rotleak.Scene holds.
+std::string scene_toml(const std::string& text, const std::vector<std::string>& overrides) {
+  return rotleak::scene_to_toml(rotleak::parse_scene(text, overrides, kPythonSource));
+}
+
 py::list simulate(const std::string& scene_path, const std::vector<std::string>& overrides, int threads,
-                  const std::optional<py::function>& progress) {
+                  const std::optional<py::function>& progress, bool scene_is_text) {
   if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
-  rotleak::Scene scene = rotleak::load_scene(scene_path, overrides);
+  rotleak::Scene scene = scene_of(scene_path, scene_is_text, overrides);
   rotleak::RunOptions opt;
   opt.threads = threads;
   std::atomic<bool> stop{false};
@@ -154,8 +168,8 @@ std::string omega(const std::string& value, long long terms, const std::string& 
 
 /// summary.json's document, f_L.csv at `resolution` bins, and each covering's segments csv.
 /// `rotleak predict --json`'s document for a scene file with overrides (milliseconds: the GIL is kept).
-std::string predict(const std::string& scene, const std::vector<std::string>& overrides) {
-  const rotleak::Scene sc = rotleak::load_scene(scene, overrides);
+std::string predict(const std::string& scene, const std::vector<std::string>& overrides, bool scene_is_text) {
+  const rotleak::Scene sc = scene_of(scene, scene_is_text, overrides);
   return rotleak::prediction_document(sc, rotleak::predict_tail(sc)).dump(2);
 }
 
@@ -196,13 +210,17 @@ PYBIND11_MODULE(_rotleak, m) {
     }
   });
   m.def("simulate", &simulate, py::arg("scene"), py::arg("overrides"), py::arg("threads"), py::arg("progress"),
-        "Runs a scene in process; returns [(file name, bytes)] as `rotleak simulate` would write them.");
+        py::arg("scene_is_text") = false,
+        "Runs a scene (a file, or TOML text) in process; returns [(file name, bytes)] as `rotleak simulate` would "
+        "write them.");
+  m.def("scene_toml", &scene_toml, py::arg("text"), py::arg("overrides"),
+        "A scene's TOML text with overrides, checked by rotleak's reader and written as scene.toml is.");
   m.def("calibrate", &calibrate, py::arg("scene"), py::arg("overrides"), py::arg("seeds"), py::arg("first_seed"),
         py::arg("out"), py::arg("threads"), py::arg("force"),
         "Runs `rotleak calibrate` into a directory; returns calibration.json's text.");
   m.def("omega", &omega, py::arg("value"), py::arg("terms"), py::arg("max_den"), py::arg("eps"), py::arg("digits"),
         py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
-  m.def("predict", &predict, py::arg("scene"), py::arg("overrides"),
+  m.def("predict", &predict, py::arg("scene"), py::arg("overrides"), py::arg("scene_is_text") = false,
         "The covering model's tail for a scene: rotleak predict --json's document");
   m.def("covering", &covering, py::arg("omegas"), py::arg("deltas"), py::arg("lam"), py::arg("d"), py::arg("r"),
         py::arg("resolution"), "(summary.json text, f_L.csv text, [segments csv]) of `rotleak covering`.");

@@ -65,7 +65,7 @@ if TYPE_CHECKING:
     import pandas
 
 __all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "Certification", "Kappa", "Alpha",
-           "Amplitude", "read_run", "read_scan", "read_calibration", "read_certification", "simulate", "calibrate", "predict", "omega", "covering",
+           "Amplitude", "read_run", "read_scan", "read_calibration", "read_certification", "Scene", "simulate", "calibrate", "predict", "omega", "covering",
            "Omega", "Covering", "Value", "Progress", "PathLike"]
 
 #: A scene value as Python gives it: exact keys take str, int or Fraction (never float); a list or a dict
@@ -116,14 +116,104 @@ def _override(key: object, value: Value) -> str:
     return "%s=%s" % (key, _text(value))
 
 
-def simulate(scene: PathLike, particles: int | str | None = None, *, overrides: Mapping[str, Value] | None = None,
-             threads: int = 0, progress: Progress | None = None) -> Run:
+class Scene:
+    """A scene built in Python (docs/scenes.md), checked by rotleak's own reader and held as the TOML rotleak writes.
+
+    ``Scene({"leak.omega": "2/3", "ensemble.particles": 10000})`` takes dotted keys;
+    ``Scene(leak={"omega": "2/3"}, ensemble={"particles": 10000})`` takes sections as keywords;
+    ``Scene.read(path)`` a scene file and ``Scene.from_toml(text)`` its text, each with the same keys on top. Keys
+    left out keep their defaults. Exact keys (stadium.d, stadium.r, leak.width, leak.start, leak.omega) take str,
+    int or Fraction, never float. A bad key or value raises ValueError with the one line ``rotleak`` prints for it.
+    :meth:`to_toml` is the scene exactly (every key, exact values as their text); :meth:`save` writes it, and
+    ``rotleak simulate`` of that file runs what :func:`simulate` of this Scene runs, bit for bit.
+    """
+
+    def __init__(self, keys: Mapping[str, Value] | None = None, **sections: Mapping[str, Value]) -> None:
+        self._toml = Scene._checked("", keys, sections)
+
+    @staticmethod
+    def _checked(base: str, keys: Mapping[str, Value] | None, sections: Mapping[str, Mapping[str, Value]]) -> str:
+        if keys is not None and not isinstance(keys, Mapping):
+            raise ValueError("keys = %r: must be a dict of scene keys, e.g. {\"leak.omega\": \"2/3\"}" % (keys,))
+        texts = [_override(k, v) for k, v in (keys or {}).items()]
+        for section, table in sections.items():
+            if section not in _SECTIONS or not isinstance(table, Mapping):
+                raise ValueError("%s = %r: a section is one of %s, given as a dict of its keys, e.g. "
+                                 "leak={\"omega\": \"2/3\"}" % (section, table, ", ".join(_SECTIONS)))
+            texts += [_override("%s.%s" % (section, name), v) for name, v in table.items()]
+        text: str = _module().scene_toml(base, texts)
+        return text
+
+    @classmethod
+    def from_toml(cls, text: str, keys: Mapping[str, Value] | None = None,
+                  **sections: Mapping[str, Value]) -> "Scene":
+        """A scene from TOML text (a scene file's contents), with keys on top."""
+        if not isinstance(text, str):
+            raise ValueError("text = %r: must be a scene's TOML text (a str)" % (text,))
+        scene = cls.__new__(cls)
+        scene._toml = Scene._checked(text, keys, sections)
+        return scene
+
+    @classmethod
+    def read(cls, path: PathLike, keys: Mapping[str, Value] | None = None,
+             **sections: Mapping[str, Value]) -> "Scene":
+        """A scene file (TOML), with keys on top."""
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except (OSError, UnicodeDecodeError) as e:
+            raise ValueError("scene = %s: cannot be read as a TOML scene file (%s)" % (os.fspath(path), e)) from None
+        return cls.from_toml(text, keys, **sections)
+
+    def replace(self, keys: Mapping[str, Value] | None = None, **sections: Mapping[str, Value]) -> "Scene":
+        """A copy with these keys changed."""
+        return Scene.from_toml(self._toml, keys, **sections)
+
+    def to_toml(self) -> str:
+        """The scene as TOML: every key, exact values as their text (what ``rotleak`` writes as scene.toml)."""
+        return self._toml
+
+    def save(self, path: PathLike) -> None:
+        """Writes the scene's TOML to path (a temporary name, then renamed: never half a file)."""
+        path = os.fspath(path)
+        tmp = "%s.tmp-%d" % (path, os.getpid())
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(self._toml)
+        os.replace(tmp, path)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Scene) and other._toml == self._toml
+
+    def __hash__(self) -> int:
+        return hash(self._toml)
+
+    def __repr__(self) -> str:
+        return "rotleak.Scene.from_toml(%r)" % self._toml
+
+
+def _scene_source(scene: PathLike | Scene | Mapping[str, Value]) -> tuple[str, bool]:
+    """(a path or a Scene's TOML text, whether it is text) for the module; a dict becomes a Scene."""
+    if isinstance(scene, Mapping):
+        scene = Scene(scene)
+    if isinstance(scene, Scene):
+        return scene.to_toml(), True
+    if not isinstance(scene, (str, bytes, os.PathLike)):
+        raise ValueError("scene = %r: must be a scene file's path, a rotleak.Scene or a dict of scene keys" % (scene,))
+    if not os.path.exists(scene):
+        raise ValueError("scene = %s: no such file (TOML text is a scene through rotleak.Scene.from_toml(text))"
+                         % os.fspath(scene))
+    return os.fspath(scene), False
+
+
+def simulate(scene: PathLike | Scene | Mapping[str, Value], particles: int | str | None = None, *,
+             overrides: Mapping[str, Value] | None = None, threads: int = 0,
+             progress: Progress | None = None) -> Run:
     """Run a scene in process: the files ``rotleak simulate`` writes, byte for byte, without the disk.
 
     Parameters
     ----------
-    scene : str or path
-        A scene file (TOML; docs/scenes.md).
+    scene : str or path, Scene, or dict
+        A scene file (TOML; docs/scenes.md), a :class:`Scene`, or a dict of dotted scene keys (made a Scene).
     particles : int or str, optional
         ``ensemble.particles``: an int, or a text such as ``"1e6"`` that is an exact integer >= 1.
     overrides : mapping of str to value, optional
@@ -149,8 +239,9 @@ def simulate(scene: PathLike, particles: int | str | None = None, *, overrides: 
     if progress is not None and not callable(progress):
         raise ValueError("progress = %r: must be None or a function progress(done, total, collisions, final)"
                          % (progress,))
-    texts = _scene_arguments(scene, particles, threads, overrides)
-    files = _module().simulate(os.fspath(scene), texts, int(threads), progress)
+    source, is_text = _scene_source(scene)
+    texts = _scene_arguments(particles, threads, overrides)
+    files = _module().simulate(source, texts, int(threads), progress, is_text)
     return Run(dict(files))
 
 
@@ -180,19 +271,24 @@ def calibrate(scene: PathLike, seeds: int, out: PathLike, particles: int | str |
         calibration.csv and calibration.json read back; "are my error bars honest here?" is
         ``.P["honest"]`` and ``.statistics``.
     """
-    texts = _scene_arguments(scene, particles, threads, overrides)
-    _module().calibrate(os.fspath(scene), texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
+    if isinstance(scene, (Scene, Mapping)):
+        raise ValueError("scene: calibrate reads a scene file (its seeds' runs record it); write the Scene with "
+                         "Scene.save(path) and pass the path")
+    source, _ = _scene_source(scene)
+    texts = _scene_arguments(particles, threads, overrides)
+    _module().calibrate(source, texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
                         os.fspath(out), int(threads), bool(force))
     return read_calibration(out)
 
 
-def predict(scene: PathLike, *, overrides: Mapping[str, Value] | None = None) -> dict[str, Any]:
+def predict(scene: PathLike | Scene | Mapping[str, Value], *,
+            overrides: Mapping[str, Value] | None = None) -> dict[str, Any]:
     """The covering model's tail for a scene, without running it (milliseconds).
 
     Parameters
     ----------
-    scene : str or path
-        A scene file (TOML).
+    scene : str or path, Scene, or dict
+        A scene file (TOML), a :class:`Scene`, or a dict of dotted scene keys.
     overrides : mapping of str to value, optional
         As for :func:`simulate`: ``{"leak.omega": "2/5+1e-5"}``.
 
@@ -203,13 +299,13 @@ def predict(scene: PathLike, *, overrides: Mapping[str, Value] | None = None) ->
         ``amplitude_error``, ``end``, ``rational``, ``Q``, ``eps``, ``regime``, ``note``, ``candidates``
         (docs/output.md).
     """
-    texts = _scene_arguments(scene, None, 0, overrides)
-    doc: dict[str, Any] = json.loads(_module().predict(os.fspath(scene), texts))
+    source, is_text = _scene_source(scene)
+    texts = _scene_arguments(None, 0, overrides)
+    doc: dict[str, Any] = json.loads(_module().predict(source, texts, is_text))
     return doc
 
 
-def _scene_arguments(scene: PathLike, particles: int | str | None, threads: int,
-                     overrides: Mapping[str, Value] | None) -> list[str]:
+def _scene_arguments(particles: int | str | None, threads: int, overrides: Mapping[str, Value] | None) -> list[str]:
     """The scene's override texts from simulate's and calibrate's arguments, each checked by name."""
     if overrides is None:
         overrides = {}
@@ -220,8 +316,6 @@ def _scene_arguments(scene: PathLike, particles: int | str | None, threads: int,
     texts = [_override(k, v) for k, v in overrides.items()]
     if particles is not None:
         texts.append("ensemble.particles=%d" % _particle_count(particles))
-    if not os.path.exists(scene):
-        raise ValueError("scene = %s: no such file" % os.fspath(scene))
     return texts
 
 
@@ -361,3 +455,8 @@ def covering(omega: Value | Sequence[Value], delta: Value | Sequence[Value] = "1
     doc, profile, segments = _module().covering([_text(o) for o in omegas], [_text(x) for x in deltas], _text(lam),
                                                 _text(d), _text(r), int(resolution))
     return Covering(json.loads(doc), profile, segments)
+
+
+def __dir__() -> list[str]:
+    """What the package offers (its ``__all__``), not the modules it imports (os, json, typing)."""
+    return sorted(__all__)

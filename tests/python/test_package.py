@@ -122,6 +122,47 @@ class Package(unittest.TestCase):
         out = r.write(os.path.join(self.tmp, "written"))
         self.assertEqual(rotleak.read_run(out).text("survival.csv"), d.text("survival.csv"))
 
+    def test_a_scene_built_in_python_is_the_file_the_command_runs(self):
+        # a dict once gave a raw TypeError and a TOML string "no such file": a Scene is built from keys or
+        # sections, checked by rotleak's reader (its one-line messages), saved as TOML exactly, and runs bit
+        # for bit as the command runs the saved file
+        by_keys = rotleak.Scene({"leak.omega": "2/3", "ensemble.particles": 3000, "run.t_max": 2000,
+                                 "fit.kappa_window": [0, 300]})
+        by_sections = rotleak.Scene(leak={"omega": Fraction(2, 3)}, ensemble={"particles": 3000},
+                                    run={"t_max": 2000}, fit={"kappa_window": [0, 300]})
+        self.assertEqual(by_keys, by_sections)
+        self.assertIn('omega = "2/3"', by_keys.to_toml())
+        self.assertEqual(rotleak.Scene.from_toml(by_keys.to_toml()), by_keys)
+        path = os.path.join(self.tmp, "built.toml")
+        by_keys.save(path)
+        self.assertEqual(rotleak.Scene.read(path), by_keys)
+        self.assertEqual(by_keys.replace(leak={"omega": "3/4"}), rotleak.Scene.read(path, {"leak.omega": "3/4"}))
+        r = rotleak.simulate(by_keys, threads=2)
+        cmd = os.path.join(self.tmp, "built_cmd")
+        subprocess.run([BIN, "simulate", path, "--threads", "2", "--no-progress", "--out", cmd], check=True,
+                       capture_output=True)
+        for name in ("survival.csv", "scene.toml"):
+            self.assertEqual(r.text(name), rotleak.read_run(cmd).text(name), name)
+        self.assertEqual(rotleak.simulate({"leak.omega": "2/3", "ensemble.particles": 3000, "run.t_max": 2000,
+                                           "fit.kappa_window": [0, 300]}, threads=2).text("survival.csv"),
+                         r.text("survival.csv"), "a dict is a Scene")
+        self.assertEqual(rotleak.predict(by_keys)["amplitude"], rotleak.predict(path)["amplitude"])
+        # bad input: the command line's one line for the key, or the argument named
+        cli_err = subprocess.run([BIN, "simulate", path, "--set", "leak.width=1", "--out", os.path.join(self.tmp, "x")],
+                                 capture_output=True, text=True).stderr.strip()
+        with self.assertRaises(ValueError) as e:
+            rotleak.Scene({"leak.width": "1"})
+        self.assertEqual("rotleak: error: " + str(e.exception), cli_err)
+        for bad in ({"leak.omega": 0.5}, {"omega": "2/3"}):
+            with self.assertRaises(ValueError):
+                rotleak.Scene(bad)
+        with self.assertRaisesRegex(ValueError, "leak = '2/3'"):
+            rotleak.Scene(leak="2/3")  # type: ignore[arg-type]
+        with self.assertRaisesRegex(ValueError, "Scene.from_toml"):
+            rotleak.simulate("[leak]\nomega = \"2/3\"\n")
+        self.assertEqual([n for n in dir(rotleak) if not n.startswith("_") and n not in rotleak.__all__], [],
+                         "dir(rotleak) shows what the package offers, not its imports")
+
     def test_a_split_run_keeps_its_tallies_in_process_and_on_disk(self):
         """A split run's tally.bin (its exact tallies, from which rotleak fit rebuilds its curve): the same bytes
         in process and from the command; read_run keeps it, write() writes it back, rotleak fit reads it."""
