@@ -179,6 +179,35 @@ TEST(Cli, FitPrintsTheFitsAsSimulateDoes) {
   EXPECT_EQ(fit.out.substr(0, fit.out.find("rewrote ")), sim.out.substr(from, to - from));
 }
 
+// --force over a read-only earlier run printed "wrote", rc 0, and left the old run as .NAME.partial-N: now it is
+// refused before any work, naming the directory it cannot write, and nothing changes. Root writes anywhere, so the
+// second run is made as the user nobody (setpriv, util-linux), over a run nobody owns and cannot write.
+TEST(Cli, ForceOverAReadOnlyRunIsRefusedBeforeAnyWork) {
+  if (::geteuid() != 0 || std::system("command -v setpriv >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "needs root and setpriv to run as another user";
+  const fs::path scene = write_scene("small.toml", kSmall);
+  const fs::path dir = scratch() / "read_only_run";
+  fs::remove_all(dir);
+  ASSERT_EQ(run("simulate " + scene.string() + " --out " + dir.string() + " --no-progress").status, 0);
+  const std::string before = slurp(dir / "survival.csv");
+  fs::permissions(scratch(), fs::perms::all);  // nobody may make its lock and staging beside the run
+  ASSERT_EQ(std::system(("chown -R 65534 " + dir.string() + " && chmod -R a-w " + dir.string()).c_str()), 0);
+  const fs::path err = scratch() / "ro_err.txt";
+  const std::string cmd = "setpriv --reuid=65534 --regid=65534 --clear-groups " +
+                          std::string(rotleak::test::rotleak_binary()) + " simulate " + scene.string() +
+                          " --set ensemble.seed=2 --force --no-progress --out " + dir.string() + " >/dev/null 2>" +
+                          err.string();
+  const int raw = std::system(cmd.c_str());
+  const std::string e = slurp(err);
+  EXPECT_EQ(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, 2) << e;
+  EXPECT_NE(e.find("is not writable"), std::string::npos) << e;
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << e;
+  EXPECT_EQ(slurp(dir / "survival.csv"), before);
+  for (const auto& entry : fs::directory_iterator(scratch()))
+    EXPECT_EQ(entry.path().filename().string().find(".read_only_run.partial-"), std::string::npos) << entry.path();
+  std::system(("chmod -R u+w " + dir.string()).c_str());  // the scratch folder is removed whole after the tests
+}
+
 // certify's precision options each blame themselves (--max-bits 100000000 once blamed --bits), in one line, rc 2.
 TEST(Cli, CertifyBitsBlameTheirOwnOption) {
   const fs::path scene = write_scene("small.toml", kSmall);
