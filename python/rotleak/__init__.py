@@ -104,6 +104,15 @@ def _text(value: Value) -> str:
     return str(value) if not isinstance(value, float) else repr(value)
 
 
+def _overrides(name: str, keys: Mapping[str, Value] | None) -> list[str]:
+    """The ``section.key=value`` texts of a dict of scene keys (None: none), each checked by _override."""
+    if keys is None:
+        return []
+    if not isinstance(keys, Mapping):
+        raise ValueError("%s = %r: must be a dict of scene keys, e.g. {\"leak.omega\": \"2/3\"}" % (name, keys))
+    return [_override(k, v) for k, v in keys.items()]
+
+
 def _override(key: object, value: Value) -> str:
     """One override as the command line's ``section.key=value`` text, its key and exactness checked."""
     section, dot, name = key.partition(".") if isinstance(key, str) else ("", "", "")
@@ -133,9 +142,7 @@ class Scene:
 
     @staticmethod
     def _checked(base: str, keys: Mapping[str, Value] | None, sections: Mapping[str, Mapping[str, Value]]) -> str:
-        if keys is not None and not isinstance(keys, Mapping):
-            raise ValueError("keys = %r: must be a dict of scene keys, e.g. {\"leak.omega\": \"2/3\"}" % (keys,))
-        texts = [_override(k, v) for k, v in (keys or {}).items()]
+        texts = _overrides("keys", keys)
         for section, table in sections.items():
             if section not in _SECTIONS or not isinstance(table, Mapping):
                 raise ValueError("%s = %r: a section is one of %s, given as a dict of its keys, e.g. "
@@ -307,13 +314,9 @@ def predict(scene: PathLike | Scene | Mapping[str, Value], *,
 
 def _scene_arguments(particles: int | str | None, threads: int, overrides: Mapping[str, Value] | None) -> list[str]:
     """The scene's override texts from simulate's and calibrate's arguments, each checked by name."""
-    if overrides is None:
-        overrides = {}
-    if not isinstance(overrides, Mapping):
-        raise ValueError("overrides = %r: must be a dict of scene keys, e.g. {\"leak.omega\": \"2/3\"}" % (overrides,))
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
         raise ValueError("threads = %r: must be an integer >= 0 (0: all cores)" % (threads,))
-    texts = [_override(k, v) for k, v in overrides.items()]
+    texts = _overrides("overrides", overrides)
     if particles is not None:
         texts.append("ensemble.particles=%d" % _particle_count(particles))
     return texts

@@ -77,14 +77,10 @@ int report_failure(const std::exception& e, rotleak::Team& team) {
   return 1;
 }
 
-}  // namespace
-
-namespace {
-
-/// The first argument that is not valid UTF-8 (a file name in another encoding), shown with its odd bytes as \xNN,
-/// or empty. Every command writes its arguments and paths into JSON files, which are UTF-8: such an argument
-/// once simulated 4.3 s and then failed in the writer with a raw JSON exception, keeping nothing.
-std::string non_utf8_argument(int argc, char** argv) {
+/// Refuses an argument that is not valid UTF-8 (a file name in another encoding), its odd bytes shown as \xNN.
+/// Every command writes its arguments and paths into JSON files, which are UTF-8: such an argument once
+/// simulated 4.3 s and then failed in the writer with a raw JSON exception, keeping nothing.
+void check_utf8_arguments(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     try {
       (void)nlohmann::json(std::string(argv[i])).dump();
@@ -96,10 +92,11 @@ std::string non_utf8_argument(int argc, char** argv) {
         std::snprintf(hex, sizeof hex, "\\x%02x", b);
         shown += b < 0x80 ? std::string(1, *c) : std::string(hex);
       }
-      return shown;
+      throw rotleak::InputError("argument", "\"" + shown + "\"",
+                                "is not valid UTF-8; rotleak writes its arguments and paths into JSON files, which "
+                                "must be UTF-8: rename the file or directory");
     }
   }
-  return {};
 }
 
 }  // namespace
@@ -111,13 +108,6 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", version_line());
   const std::vector<rotleak::cli::Command> commands = add_commands(app);
-  if (const std::string bad = non_utf8_argument(argc, argv); !bad.empty()) {
-    if (team->rank() == 0)  // every rank reads the same arguments: rank 0 speaks for them
-      std::cerr << "rotleak: error: argument \"" << bad
-                << "\": is not valid UTF-8; rotleak writes its arguments and paths into JSON files, which must be "
-                   "UTF-8: rename the file or directory\n";
-    return rotleak::cli::kExitBadInput;
-  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -127,6 +117,7 @@ int main(int argc, char** argv) {
     return rotleak::cli::kExitBadInput;
   }
   try {
+    check_utf8_arguments(argc, argv);
     return run_parsed(commands, *team);
   } catch (const rotleak::QuietExit& e) {
     return e.code;

@@ -95,15 +95,16 @@ RunDirectory::RunDirectory(fs::path final, bool force)
     if (!force) throw InputError("--out", shown_, "already exists; pass --force to replace it");
     // the earlier run goes after the new one is in place: a directory of it we cannot write would stay behind
     // (a read-only run was once "replaced" with rc 0, the old one left as .NAME.partial-N without a word)
-    std::vector<fs::path> dirs = {final_};
-    for (auto it = fs::recursive_directory_iterator(final_, ec); !ec && it != fs::recursive_directory_iterator();
-         it.increment(ec))
-      if (it->is_directory()) dirs.push_back(it->path());
-    for (const fs::path& d : dirs)
+    const auto require_writable = [&](const fs::path& d) {
       if (::access(d.c_str(), W_OK | X_OK) != 0)
         throw InputError("--out", shown_,
                          "holds a run --force cannot replace: " + d.string() + " is not writable (" +
                              std::strerror(errno) + "); make it writable (chmod -R u+w) or choose another --out");
+    };
+    require_writable(final_);
+    for (auto it = fs::recursive_directory_iterator(final_, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->is_directory()) require_writable(it->path());
   }
   // parents: remember the ones this run creates, to remove them if it fails
   fs::path parent = final_.parent_path();
@@ -191,24 +192,34 @@ void RunDirectory::release() {
   created_parents_.clear();
 }
 
+namespace {
+
+/// Removes the run a --force commit replaced (moved to `old`). The constructor checked it writable; where that
+/// changed since, the new run stands and the old one is said, not left without a word.
+void remove_replaced(const fs::path& old) {
+  std::error_code ec;
+  fs::remove_all(old, ec);
+  if (ec)
+    std::fprintf(stderr, "rotleak: warning: the replaced run, now %s, could not be removed (%s): remove it by hand\n",
+                 old.c_str(), ec.message().c_str());
+}
+
+}  // namespace
+
 void RunDirectory::commit() {
   std::error_code ec;
   if (fs::exists(final_, ec)) {
     // atomic swap: the target holds the new run, the staging name the old one, which then goes
     if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, final_.c_str(), RENAME_EXCHANGE) == 0) {
       committed_ = true;
-      fs::remove_all(staging_, ec);
-      if (ec)  // checked writable before the run; changed since: the new run stands, the old one is said
-        std::fprintf(stderr,
-                     "rotleak: warning: the replaced run, now %s, could not be removed (%s): remove it by hand\n",
-                     staging_.c_str(), ec.message().c_str());
+      remove_replaced(staging_);
       return;
     }
     // a file system without RENAME_EXCHANGE: move the old run aside first, never delete it first
     const fs::path old = staging_.string() + "-old";
     fs::rename(final_, old);
     fs::rename(staging_, final_);
-    fs::remove_all(old, ec);
+    remove_replaced(old);
   } else {
     fs::rename(staging_, final_);
   }

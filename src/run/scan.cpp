@@ -110,6 +110,16 @@ std::string csv_number(const json& v) {
   return shortest(v.get<double>());
 }
 
+/// A swept value as an exact value, where it is one ("2/3+1e-4", "golden - 1", "1e4"); a word such as a sampling
+/// scheme is none.
+std::optional<ExactReal> exact_value(const std::string& text) {
+  try {
+    return ExactReal::parse(text);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 /// A CSV field: quoted when it holds a comma or a quote.
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"") == std::string::npos) return s;
@@ -175,11 +185,8 @@ ScanAxis parse_axis(const std::string& text) {
   // each point once: a value listed twice (1,1, or 1 and 1.0 of an exact key) once ran its point twice
   std::vector<std::string> seen;
   for (const std::string& v : axis.values) {
-    std::string same = v;
-    try {
-      same = ExactReal::parse(v).text();  // the value's canonical spelling, where it is an exact value
-    } catch (const std::exception&) {
-    }
+    const std::optional<ExactReal> x = exact_value(v);
+    const std::string same = x ? x->text() : v;  // the value's canonical spelling, where it is an exact value
     if (std::find(seen.begin(), seen.end(), same) != seen.end())
       throw InputError("--over", text, "gives " + axis.key + " = " + v + " twice: list each value once");
     seen.push_back(same);
@@ -483,12 +490,8 @@ json scan_row(const ScanPoint& p, const json& s) {
   // each swept value that is a number or an exact expression ("2/3+1e-4", "golden - 1"), evaluated exactly and
   // rounded once: what a plot puts on its axis (a word, such as a sampling scheme, has none)
   json numbers = json::object();
-  for (const auto& [key, v] : p.values.items()) {
-    try {
-      numbers[key] = ExactReal::parse(v.get<std::string>()).to_double();
-    } catch (const std::exception&) {
-    }
-  }
+  for (const auto& [key, v] : p.values.items())
+    if (const std::optional<ExactReal> x = exact_value(v.get<std::string>())) numbers[key] = x->to_double();
   row["numbers"] = numbers;
   for (const char* key : {"kappa", "alpha", "tail", "predicted", "rate_jumps"}) row[key] = s.at(key);
   row["number_theory"] = p.number_theory;
