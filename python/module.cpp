@@ -21,6 +21,9 @@
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
 #include "run/pipeline.hpp"
+#include "run/refit.hpp"
+#include "run/regimes_search.hpp"
+#include "run/scan.hpp"
 #include "version.hpp"
 
 namespace py = pybind11;
@@ -125,28 +128,100 @@ py::list simulate(const std::string& scene_path, const std::vector<std::string>&
   return out;
 }
 
+/// The run options of a command that runs many scenes (calibrate, scan, regimes) from Python: threads checked,
+/// Ctrl-C noted between blocks (g_interrupt sets `stop`), and `note` (may be None) called with each status line.
+rotleak::RunOptions looped_run(int threads, std::atomic<bool>& stop) {
+  if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  rotleak::RunOptions run;
+  run.threads = threads;
+  run.stop = &stop;
+  run.progress = [&stop](std::uint64_t, std::uint64_t, std::uint64_t, bool) {
+    if (g_interrupt.load()) stop.store(true);
+  };
+  return run;
+}
+
+/// A Python callable (or None) as the library's Note: each line handed over under the GIL.
+rotleak::Note python_note(const std::optional<py::function>& note) {
+  if (!note) return {};
+  return [note](const std::string& line) {
+    py::gil_scoped_acquire gil;
+    (*note)(line);
+  };
+}
+
 /// `rotleak calibrate` into `out`: the seeds' runs (those complete skipped), calibration.csv and
 /// calibration.json; returns calibration.json's text. Ctrl-C stops it between blocks (its points are kept).
-std::string calibrate(const std::string& scene_path, const std::vector<std::string>& overrides, std::uint64_t seeds,
-                      std::uint64_t first_seed, const std::string& out, int threads, bool force) {
-  if (threads < 0) throw rotleak::InputError("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+std::string calibrate(const std::string& scene, const std::vector<std::string>& overrides, std::uint64_t seeds,
+                      std::uint64_t first_seed, const std::string& out, int threads, bool force, bool scene_is_text) {
+  std::atomic<bool> stop{false};
   rotleak::CalibrateRequest req;
-  req.scene_path = scene_path;
+  req.run = looped_run(threads, stop);
+  req.scene_path = scene_is_text ? kPythonSource : scene;
+  if (scene_is_text) req.scene_text = scene;
   req.overrides = overrides;
   req.seeds = seeds;
   req.first_seed = first_seed;
   req.out = out;
   req.force = force;
-  req.run.threads = threads;
-  std::atomic<bool> stop{false};
-  req.run.stop = &stop;
-  req.run.progress = [&](std::uint64_t, std::uint64_t, std::uint64_t, bool) {
-    if (g_interrupt.load()) stop.store(true);
-  };
   const std::optional<rotleak::CalibrateOutcome> outcome =
       run_released<rotleak::CalibrateOutcome>([&] { return rotleak::calibrate(req); });
   if (!outcome) raise_keyboard_interrupt("rotleak.calibrate interrupted: the seeds done so far are kept");
   return outcome->document.dump();
+}
+
+/// `rotleak scan` into `out`, the axes as --over's KEY=VALUES texts; returns scan.json's text. Points complete
+/// there are kept; Ctrl-C stops it between blocks (the points done are kept, the one running resumes).
+std::string scan(const std::string& scene, const std::vector<std::string>& overrides,
+                 const std::vector<std::string>& over, const std::string& out, int threads, bool force,
+                 bool scene_is_text, const std::optional<py::function>& note) {
+  std::atomic<bool> stop{false};
+  rotleak::ScanRequest req;
+  req.run = looped_run(threads, stop);
+  req.scene_path = scene_is_text ? kPythonSource : scene;
+  if (scene_is_text) req.scene_text = scene;
+  req.overrides = overrides;
+  for (const std::string& o : over) req.axes.push_back(rotleak::parse_axis(o));
+  req.out = out;
+  req.force = force;
+  req.note = python_note(note);
+  const std::optional<rotleak::ScanOutcome> outcome =
+      run_released<rotleak::ScanOutcome>([&] { return rotleak::scan(req); });
+  if (!outcome) raise_keyboard_interrupt("rotleak.scan interrupted: the points done so far are kept");
+  return outcome->document.dump();
+}
+
+/// `rotleak regimes` into `out`; returns regimes.json's text.
+std::string regimes(const std::string& scene, const std::vector<std::string>& overrides, const std::string& coarse,
+                    int steps, const std::string& out, int threads, bool scene_is_text,
+                    const std::optional<py::function>& note) {
+  if (steps < 0 || steps > 30) throw rotleak::InputError("steps", std::to_string(steps), "must be in [0, 30]");
+  std::atomic<bool> stop{false};
+  rotleak::RegimesRequest req;
+  req.run = looped_run(threads, stop);
+  req.scene_path = scene_is_text ? kPythonSource : scene;
+  if (scene_is_text) req.scene_text = scene;
+  req.overrides = overrides;
+  req.coarse = coarse;
+  req.steps = steps;
+  req.out = out;
+  req.note = python_note(note);
+  const std::optional<rotleak::json> doc = run_released<rotleak::json>([&] { return rotleak::find_regimes(req); });
+  if (!doc) raise_keyboard_interrupt("rotleak.regimes interrupted: the probes done so far are kept");
+  return doc->dump();
+}
+
+/// `rotleak fit DIR`: a run or a scan refitted under fit.* overrides; returns (is a scan, the new summary.json or
+/// scan.json text, a run's fit lines as simulate prints them).
+py::tuple fit(const std::string& dir, const std::vector<std::string>& overrides,
+              const std::optional<py::function>& note) {
+  const rotleak::Note n = python_note(note);
+  rotleak::RefitOutcome out;
+  {
+    py::gil_scoped_release released;
+    out = rotleak::refit(dir, overrides, n);
+  }
+  return py::make_tuple(out.scan, out.document.dump(), out.text);
 }
 
 std::string omega(const std::string& value, long long terms, const std::string& max_den, const std::string& eps,
@@ -216,8 +291,16 @@ PYBIND11_MODULE(_rotleak, m) {
   m.def("scene_toml", &scene_toml, py::arg("text"), py::arg("overrides"),
         "A scene's TOML text with overrides, checked by rotleak's reader and written as scene.toml is.");
   m.def("calibrate", &calibrate, py::arg("scene"), py::arg("overrides"), py::arg("seeds"), py::arg("first_seed"),
-        py::arg("out"), py::arg("threads"), py::arg("force"),
+        py::arg("out"), py::arg("threads"), py::arg("force"), py::arg("scene_is_text") = false,
         "Runs `rotleak calibrate` into a directory; returns calibration.json's text.");
+  m.def("scan", &scan, py::arg("scene"), py::arg("overrides"), py::arg("over"), py::arg("out"), py::arg("threads"),
+        py::arg("force"), py::arg("scene_is_text") = false, py::arg("note") = py::none(),
+        "Runs `rotleak scan` into a directory; returns scan.json's text.");
+  m.def("regimes", &regimes, py::arg("scene"), py::arg("overrides"), py::arg("coarse"), py::arg("steps"),
+        py::arg("out"), py::arg("threads"), py::arg("scene_is_text") = false, py::arg("note") = py::none(),
+        "Runs `rotleak regimes` into a directory; returns regimes.json's text.");
+  m.def("fit", &fit, py::arg("dir"), py::arg("overrides"), py::arg("note") = py::none(),
+        "`rotleak fit DIR`: (is a scan, the new summary.json or scan.json text, a run's fit lines).");
   m.def("omega", &omega, py::arg("value"), py::arg("terms"), py::arg("max_den"), py::arg("eps"), py::arg("digits"),
         py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
   m.def("predict", &predict, py::arg("scene"), py::arg("overrides"), py::arg("scene_is_text") = false,

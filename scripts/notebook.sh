@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Executes the example notebook docs/notebooks/tour.ipynb against a build (Debian's jupyter-nbconvert and
+# Executes the example notebook docs/notebooks/tour.ipynb (a small study: a Scene built in Python, a 4-point scan, a refit, figures) against a build (Debian's jupyter-nbconvert and
 # python3-ipykernel) and keeps the executed notebook and its figure: OUT_DIR/tour.ipynb and
 # OUT_DIR/notebook_tour.png. The package and the binary come from BUILD_DIR by absolute paths, so it
 # runs from any directory. ROTLEAK_NOTEBOOK_PARTICLES sets the particles a run (default 10^5).

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Executes docs/notebooks/tour.ipynb with scripts/notebook.sh (the README's command) against a build: 10^5 particles a run, everything written to a temporary directory
-# (removed after), and checks that the notebook ran through and drew its figure.
+# (removed after), and checks that the notebook ran through, drew its figure, and made its study: a Scene saved, a
+# 4-point scan refitted, its figures as PNG and PDF.
 # Usage: scripts/notebook_check.sh BUILD_DIR
 set -euo pipefail
 py=$(bash "$(dirname "$0")/setup.sh" --python)  # the interpreter setup.sh names
@@ -19,4 +20,20 @@ ran = sum(1 for c in nb["cells"] if c["cell_type"] == "code" and c.get("executio
 if errors or ran == 0:
     sys.exit("notebook: %d errors, %d cells run" % (len(errors), ran))
 print("notebook: %d code cells executed, no errors, figure drawn" % ran)
+PY
+# the study it makes: a Scene saved, a 4-point scan refitted (each point's previous summary kept), figures as PNG and PDF
+"$py" - "$work/out" <<'PY'
+import json, os, sys
+out = sys.argv[1]
+scan = json.load(open(os.path.join(out, "study_scan", "scan.json")))
+points = [os.path.join(out, "study_scan", "points", p["point"]) for p in scan["points"]]
+checks = {"the scene saved": os.path.exists(os.path.join(out, "study.toml")),
+          "4 points from a Python Scene": len(points) == 4 and scan["scene"] == "rotleak.Scene",
+          "refitted": all(os.path.exists(os.path.join(p, "summary.prev.json")) for p in points),
+          "PNG and PDF": all(open(os.path.join(out, "study_scan", "scan_%s.%s" % (n, f)), "rb").read(4) in (b"%PDF", b"\x89PNG")
+                             for n in ("survival", "leak_omega") for f in ("png", "pdf"))}
+failed = [k for k, ok in checks.items() if not ok]
+if failed:
+    sys.exit("notebook: its study lacks " + ", ".join(failed))
+print("notebook: a Scene, a 4-point scan, a refit, figures as PNG and PDF")
 PY

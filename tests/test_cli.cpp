@@ -405,7 +405,8 @@ TEST(Cli, CountsTakeExponentNotation) {
 }
 
 // rotleak plot draws every kind of directory rotleak writes: a run, a scan, a shadow, a covering (two
-// deltas: one panel each) and a regimes search; anything else is one line and exit 1.
+// deltas: one panel each) and a regimes search, as PNG and PDF with a caption line each; anything else is one line
+// and exit 2, and so is a format it does not write.
 TEST(Cli, PlotDrawsEveryKindOfDirectory) {
   const fs::path scene = write_scene("small.toml", kSmall);
   const fs::path base = scratch() / "plots";
@@ -423,10 +424,18 @@ TEST(Cli, PlotDrawsEveryKindOfDirectory) {
                                      {"covering", "f_L.png"},
                                      {"regimes", "regimes.png"}}) {
     fs::remove(base / dir / picture);
-    const Outcome o = run("plot " + (base / dir).string());
+    const Outcome o = run("plot " + (base / dir).string() + " --format png,pdf");
     EXPECT_EQ(o.status, 0) << dir << ": " << o.err;
     EXPECT_TRUE(fs::exists(base / dir / picture)) << dir;
+    const fs::path pdf = (base / dir / picture).replace_extension(".pdf");
+    EXPECT_EQ(slurp(pdf).rfind("%PDF-", 0), 0u) << pdf;
+    // one line per picture: its files, then its caption
+    EXPECT_NE(o.out.find("drew " + (base / dir / picture).string() + ", " + pdf.string() + ": "), std::string::npos)
+        << o.out;
   }
+  const Outcome tiff = run("plot " + (base / "run").string() + " --format png,tiff");
+  EXPECT_EQ(tiff.status, 2);
+  EXPECT_EQ(tiff.err, "rotleak.plot: --format = tiff: must be a comma list of png, pdf, svg\n");
   const Outcome none = run("plot " + scratch().string());
   EXPECT_EQ(none.status, 2);  // not a directory rotleak wrote: bad input, one line, no exception's type name
   EXPECT_NE(none.err.find("not a complete rotleak directory"), std::string::npos) << none.err;

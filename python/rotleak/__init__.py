@@ -65,8 +65,9 @@ if TYPE_CHECKING:
     import pandas
 
 __all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration", "Certification", "Kappa", "Alpha",
-           "Amplitude", "read_run", "read_scan", "read_calibration", "read_certification", "Scene", "simulate", "calibrate", "predict", "omega", "covering",
-           "Omega", "Covering", "Value", "Progress", "PathLike"]
+           "Amplitude", "read_run", "read_scan", "read_calibration", "read_certification", "Scene", "simulate", "scan",
+           "fit", "regimes", "calibrate", "predict", "omega", "covering", "Omega", "Covering", "Value", "Progress",
+           "PathLike"]
 
 #: A scene value as Python gives it: exact keys take str, int or Fraction (never float); a list or a dict
 #: becomes a TOML array or inline table ({"bins": 10} -> { bins = 10 }).
@@ -252,15 +253,16 @@ def simulate(scene: PathLike | Scene | Mapping[str, Value], particles: int | str
     return Run(dict(files))
 
 
-def calibrate(scene: PathLike, seeds: int, out: PathLike, particles: int | str | None = None, *,
-              first_seed: int = 1, overrides: Mapping[str, Value] | None = None, threads: int = 0,
-              force: bool = False) -> Calibration:
+def calibrate(scene: PathLike | Scene | Mapping[str, Value], seeds: int, out: PathLike,
+              particles: int | str | None = None, *, first_seed: int = 1, overrides: Mapping[str, Value] | None = None,
+              threads: int = 0, force: bool = False) -> Calibration:
     """Run ``rotleak calibrate`` in process: the scene under ``seeds`` seeds, then the calibration.
 
     Parameters
     ----------
-    scene : str or path
-        A scene file (TOML).
+    scene : str or path, Scene, or dict
+        A scene file (TOML), a :class:`Scene`, or a dict of dotted scene keys (each seed's run keeps it as
+        scene.toml).
     seeds : int
         Number of seeds (>= 2): ``ensemble.seed = first_seed .. first_seed + seeds - 1``.
     out : str or path
@@ -278,14 +280,129 @@ def calibrate(scene: PathLike, seeds: int, out: PathLike, particles: int | str |
         calibration.csv and calibration.json read back; "are my error bars honest here?" is
         ``.P["honest"]`` and ``.statistics``.
     """
-    if isinstance(scene, (Scene, Mapping)):
-        raise ValueError("scene: calibrate reads a scene file (its seeds' runs record it); write the Scene with "
-                         "Scene.save(path) and pass the path")
-    source, _ = _scene_source(scene)
+    source, is_text = _scene_source(scene)
     texts = _scene_arguments(particles, threads, overrides)
     _module().calibrate(source, texts, _count("seeds", seeds, 2), _count("first_seed", first_seed, 1),
-                        os.fspath(out), int(threads), bool(force))
+                        os.fspath(out), int(threads), bool(force), is_text)
     return read_calibration(out)
+
+
+def _axis(key: object, values: Value) -> str:
+    """One swept key as ``rotleak scan --over``'s KEY=VALUES: a list of exact values, or the text of a set
+    ("logspace(1e-4,1e-1,4)", "rationals(qmax=5)")."""
+    if isinstance(values, str):
+        text = _override(key, values).partition("=")[2]  # the key's name checked as --set checks it
+    elif isinstance(values, (list, tuple)) and values:
+        text = ",".join(_override(key, v).partition("=")[2] for v in values)  # each checked as a value of key
+    else:
+        raise ValueError("over[%r] = %r: the values of a swept key are a non-empty list ([\"1/2\", \"2/3\"]) or "
+                         "the text of a set (\"logspace(1e-4,1e-1,4)\")" % (key, values))
+    return "%s=%s" % (key, text)
+
+
+def scan(scene: PathLike | Scene | Mapping[str, Value], over: Mapping[str, Value], out: PathLike,
+         particles: int | str | None = None, *, overrides: Mapping[str, Value] | None = None, threads: int = 0,
+         force: bool = False, note: Callable[[str], None] | None = None) -> Scan:
+    """Run ``rotleak scan`` in process: one run directory per point of the product of the swept values.
+
+    Parameters
+    ----------
+    scene : str or path, Scene, or dict
+        A scene file (TOML), a :class:`Scene`, or a dict of dotted scene keys.
+    over : mapping of str to values
+        Swept keys, in order (the last varies fastest): a list of exact values (``{"leak.omega": ["1/2", "2/3",
+        Fraction(3, 5)]}``) or the text of a set as ``--over`` takes it (``"logspace(1e-4,1e-1,4)"``,
+        ``"rationals(qmax=5)"``, ``"near(2/3,1e-4)"``).
+    out : str or path
+        The scan's directory; points already complete there are kept (a point whose inputs changed is run again).
+    particles, overrides, threads
+        As for :func:`simulate` (``overrides`` apply to every point, before the swept keys).
+    force : bool, default False
+        Redo every point.
+    note : callable, optional
+        Called with each status line (points done, the time left).
+
+    Returns
+    -------
+    Scan
+        The scan read back (:func:`read_scan`): ``.table`` and each point's :class:`Run`.
+    """
+    if not isinstance(over, Mapping) or not over:
+        raise ValueError("over = %r: must be a dict of swept keys, e.g. {\"leak.omega\": [\"1/2\", \"2/3\"]}" % (over,))
+    if note is not None and not callable(note):
+        raise ValueError("note = %r: must be None or a function note(line)" % (note,))
+    source, is_text = _scene_source(scene)
+    texts = _scene_arguments(particles, threads, overrides)
+    _module().scan(source, texts, [_axis(k, v) for k, v in over.items()], os.fspath(out), int(threads), bool(force),
+                   is_text, note)
+    return read_scan(out)
+
+
+def regimes(scene: PathLike | Scene | Mapping[str, Value], out: PathLike, particles: int | str | None = None, *,
+            coarse: str = "logspace(1e-5,1e-1,9)", steps: int = 4, overrides: Mapping[str, Value] | None = None,
+            threads: int = 0, note: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Run ``rotleak regimes`` in process: where the tail's regime changes with omega (a coarse scan, then
+    bisection of each boundary; resumable).
+
+    Parameters
+    ----------
+    scene : str or path, Scene, or dict
+        A scene file, a :class:`Scene` or a dict of dotted keys; its leak size is the one studied.
+    out : str or path
+        The directory of the probes (scan directories) and regimes.json.
+    particles, overrides, threads
+        As for :func:`simulate`.
+    coarse : str, default "logspace(1e-5,1e-1,9)"
+        The coarse omega values, as ``--coarse`` takes them.
+    steps : int, default 4
+        Bisection steps per boundary (0-30).
+    note : callable, optional
+        Called with each status line.
+
+    Returns
+    -------
+    dict
+        regimes.json (docs/output.md): ``boundaries`` (``low_mid``, ``mid_high``), ``reasons``, ``predicted``.
+    """
+    if note is not None and not callable(note):
+        raise ValueError("note = %r: must be None or a function note(line)" % (note,))
+    if not isinstance(coarse, str):
+        raise ValueError("coarse = %r: must be the text of omega values (\"logspace(1e-5,1e-1,9)\", \"1e-4,1e-3\")"
+                         % (coarse,))
+    source, is_text = _scene_source(scene)
+    texts = _scene_arguments(particles, threads, overrides)
+    doc: dict[str, Any] = json.loads(_module().regimes(source, texts, coarse, _count("steps", steps, 0),
+                                                       os.fspath(out), int(threads), is_text, note))
+    return doc
+
+
+def fit(what: Run | Scan | PathLike, keys: Mapping[str, Value] | None = None, *,
+        note: Callable[[str], None] | None = None, **fit_keys: Value) -> Run | Scan:
+    """Refit a saved run or scan under new fit keys, without simulating (``rotleak fit DIR --set fit.KEY=V``).
+
+    Parameters
+    ----------
+    what : Run, Scan, or a directory
+        A run or scan with a directory (a run made in process: :meth:`Run.write` it first).
+    keys : mapping, optional
+        Dotted fit keys, ``{"fit.kappa_window": [300, 1500]}``.
+    **fit_keys
+        The same without the section: ``fit(run, kappa_window=[300, 1500], alpha_factor=10)``.
+    note : callable, optional
+        Called with each status line.
+
+    Returns
+    -------
+    Run or Scan
+        The refitted directory read back; its previous summary.json is kept as summary.prev.json (each point's, for a
+        scan). Pictures drawn of the previous fit are not redrawn: ``rotleak.plot.draw`` them again.
+    """
+    path = what.path if isinstance(what, (Run, Scan)) else what
+    if path is None:
+        raise ValueError("what: a run made in process has no directory to refit; write it first (run.write(DIR))")
+    texts = _overrides("keys", keys) + [_override("fit." + k, v) for k, v in fit_keys.items()]
+    is_scan, _, _ = _module().fit(os.fspath(path), texts, note)
+    return read_scan(path) if is_scan else read_run(path)
 
 
 def predict(scene: PathLike | Scene | Mapping[str, Value], *,

@@ -40,8 +40,8 @@ inline constexpr int kExitBadInput = 2;
 /// `python3 -m rotleak.plot DIR` (Debian's python3, matplotlib) with the installed or built package
 /// first on PYTHONPATH (io/locations.hpp): it draws whatever DIR holds (a run, a scan, a shadow, a
 /// covering, a regimes search). Returns its exit status. With quiet_stdout its stdout goes to stderr
-/// (stdout then carries one JSON document only).
-int run_plotter(const std::string& dir, bool quiet_stdout = false);
+/// (stdout then carries one JSON document only). `formats`: png, pdf, svg or a comma list (the plotter checks it).
+int run_plotter(const std::string& dir, bool quiet_stdout = false, const std::string& formats = "png");
 /// The plots after a completed command: stdout flushed first, a failure reported (exit 1), the output kept.
 int plot_after_run(const std::string& dir, bool quiet_stdout = false);
 

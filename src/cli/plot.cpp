@@ -18,7 +18,7 @@ extern char** environ;
 
 namespace rotleak::cli {
 
-int run_plotter(const std::string& dir, bool quiet_stdout) {
+int run_plotter(const std::string& dir, bool quiet_stdout, const std::string& formats) {
   namespace fs = std::filesystem;
   // Debian's interpreter has python3-matplotlib; another python3 first on PATH may not.
   std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
@@ -34,7 +34,7 @@ int run_plotter(const std::string& dir, bool quiet_stdout) {
   std::vector<char*> envp;
   for (auto& e : env_s) envp.push_back(e.data());
   envp.push_back(nullptr);
-  std::vector<std::string> argv_s{python, "-m", "rotleak.plot", dir};
+  std::vector<std::string> argv_s{python, "-m", "rotleak.plot", dir, "--format", formats};
   std::vector<char*> argv;
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -68,13 +68,18 @@ int plot_after_run(const std::string& dir, bool quiet_stdout) {
 
 Command add_plot(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
-  CLI::App* sub = app.add_subcommand(
-      "plot", "Draw a run (P(t) with the fit, f_c), a scan, a shadow, a covering or a regimes search as PNG");
-  sub->add_option("dir", *dir, "A directory rotleak wrote (simulate, scan, shadow, covering, regimes)")->required();
-  return {sub, [dir] {
+  auto formats = std::make_shared<std::string>("png");
+  CLI::App* sub = app.add_subcommand("plot",
+                                     "Draw a run (P(t) with the fit, f_c), a scan, a shadow, a covering, a regimes "
+                                     "search, a calibration or a certified sample: PNG, PDF or SVG, with captions");
+  sub->add_option("dir", *dir,
+                  "A directory rotleak wrote (simulate, scan, shadow, covering, regimes, calibrate, certify)")
+      ->required();
+  sub->add_option("--format", *formats, "png, pdf, svg or a comma list of them (png,pdf); default png");
+  return {sub, [dir, formats] {
             if (!std::filesystem::is_directory(*dir))
               throw InputError("DIR", "\"" + *dir + "\"", "must be a directory rotleak wrote");
-            return run_plotter(*dir);
+            return run_plotter(*dir, false, *formats);
           }};
 }
 

@@ -298,6 +298,7 @@ CalibrateOutcome calibrate(const CalibrateRequest& req) {
       throw InputError("--set", o, "calibrate chooses the seeds (--first-seed, --seeds), not --set");
   ScanRequest sr;
   sr.scene_path = req.scene_path;
+  sr.scene_text = req.scene_text;
   sr.overrides = req.overrides;
   ScanAxis seeds{"ensemble.seed", {}};
   for (std::uint64_t k = 0; k < req.seeds; ++k) seeds.values.push_back(std::to_string(req.first_seed + k));

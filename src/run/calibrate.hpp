@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,9 @@ namespace rotleak {
 
 struct CalibrateRequest {
   std::string scene_path;
-  std::vector<std::string> overrides;  ///< --set, for every seed
-  std::uint64_t seeds = 0;             ///< K >= 2
+  std::optional<std::string> scene_text;  ///< the scene itself (a Python Scene's TOML); scene_path then names it
+  std::vector<std::string> overrides;     ///< --set, for every seed
+  std::uint64_t seeds = 0;                ///< K >= 2
   std::uint64_t first_seed = 1;
   std::filesystem::path out;
   bool force = false;  ///< redo every seed's run

@@ -299,15 +299,16 @@ RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note, const D
   return s;
 }
 
-RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run) {
+RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run,
+                     const std::optional<std::string>& text) {
   // load_scene's InputError names the key and value; plan_run's the option or the key asking for most
   // memory; both before any directory is made
-  return plan_run(load_scene(path, overrides), run);
+  return plan_run(text ? parse_scene(*text, overrides, path) : load_scene(path, overrides), run);
 }
 
 SimulateOutcome simulate(const SimulateRequest& req) {
   const Team& team = req.team ? *req.team : current_team();
-  const RunPlan plan = req.plan ? *req.plan : checked_plan(req.scene_path, req.overrides, req.run);
+  const RunPlan plan = req.plan ? *req.plan : checked_plan(req.scene_path, req.overrides, req.run, req.scene_text);
   const Scene& scene = plan.scene();
   if (req.ids && !(req.ids->first < req.ids->second && req.ids->second <= scene.particles))
     throw InputError("--ids", std::to_string(req.ids->first) + ":" + std::to_string(req.ids->second),

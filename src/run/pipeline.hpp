@@ -84,11 +84,14 @@ RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note = {}, co
 /// The plan of the scene of path and overrides for a run with `run`'s threads and engine (plan_run):
 /// its keys (load_scene), the memory it needs, its tier and the engine against it (a tier of auto is
 /// checked once chosen), validated once. Every InputError names the key or option.
-RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run);
+/// With `text` (a Python rotleak.Scene's TOML) the scene is that text and `path` only names where it came from.
+RunPlan checked_plan(const std::string& path, const std::vector<std::string>& overrides, const RunOptions& run,
+                     const std::optional<std::string>& text = std::nullopt);
 
 struct SimulateRequest {
   std::string scene_path;
-  std::vector<std::string> overrides;  ///< "section.key=value", on top of the file
+  std::optional<std::string> scene_text;  ///< the scene itself (a Python Scene's TOML); scene_path then names it
+  std::vector<std::string> overrides;     ///< "section.key=value", on top of the file
   /// The plan already made from scene_path and overrides by checked_plan (a scan's point, validated
   /// once when the scan enumerated its points); empty: simulate loads and checks it.
   std::optional<RunPlan> plan;

@@ -82,6 +82,7 @@ namespace {
 ScanOutcome scan_omegas(const RegimesRequest& req, const fs::path& out, const std::vector<std::string>& values) {
   ScanRequest s;
   s.scene_path = req.scene_path;
+  s.scene_text = req.scene_text;
   s.overrides = req.overrides;
   s.axes = {ScanAxis{"leak.omega", values}};
   s.out = out;

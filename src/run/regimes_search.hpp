@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,8 @@ namespace rotleak {
 
 struct RegimesRequest {
   std::string scene_path;
-  std::vector<std::string> overrides;  ///< --set, for every probe
+  std::optional<std::string> scene_text;  ///< the scene itself (a Python Scene's TOML); scene_path then names it
+  std::vector<std::string> overrides;     ///< --set, for every probe
   std::string coarse = "logspace(1e-5,1e-1,9)";
   int steps = 4;  ///< bisection steps per boundary (each halves the interval in log omega)
   std::filesystem::path out;

@@ -353,7 +353,7 @@ std::vector<ScanPoint> scan_points(const ScanRequest& req) {
       p.values[req.axes[a].key] = req.axes[a].values[choice[a]];
     }
     p.slug = point_slug(i, count, req.axes, choice);
-    p.plan = checked_plan(req.scene_path, p.overrides, req.run);
+    p.plan = checked_plan(req.scene_path, p.overrides, req.run, req.scene_text);
     const Scene& scene = p.plan->scene();
     p.inputs = simulation_inputs(scene, to_string(req.run.engine));
     p.fit = scene_json(scene).at("fit");
@@ -471,6 +471,7 @@ json saved_point(const ScanPoint& p, const fs::path& pdir, bool& refitted) {
 json run_point(const ScanRequest& req, const ScanPoint& p, const fs::path& pdir, const Team& team, const Note& note) {
   SimulateRequest sr;
   sr.scene_path = req.scene_path;
+  sr.scene_text = req.scene_text;
   sr.overrides = p.overrides;
   sr.plan = p.plan;
   sr.out = pdir;

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,8 @@ struct ScanOutcome;
 
 struct ScanRequest {
   std::string scene_path;
-  std::vector<std::string> overrides;  ///< --set, applied before the swept keys
+  std::optional<std::string> scene_text;  ///< the scene itself (a Python Scene's TOML); scene_path then names it
+  std::vector<std::string> overrides;     ///< --set, applied before the swept keys
   std::vector<ScanAxis> axes;
   std::filesystem::path out;
   bool force = false;  ///< redo every point

@@ -445,6 +445,47 @@ class Package(unittest.TestCase):
         with self.assertRaises(ValueError):
             rotleak.calibrate(scene, 1, os.path.join(self.tmp, "calibration3"))
 
+    def test_scan_fit_regimes_and_calibrate_take_a_scene_and_write_what_the_commands_write(self):
+        # Python once drove commands only: no scan, fit, regimes in process, and calibrate refused a Scene
+        scene = rotleak.Scene(stadium={"d": 1}, leak={"width": "0.02", "start": "1/4"},
+                              ensemble={"particles": 3000}, run={"t_max": 1500})
+        path = os.path.join(self.tmp, "py_scene.toml")
+        scene.save(path)
+        over = {"leak.omega": ["1/2", Fraction(2, 3), "golden-1", "1e-3"]}
+        ours = rotleak.scan(scene, over, os.path.join(self.tmp, "py_scan"))
+        theirs = os.path.join(self.tmp, "cli_scan")
+        cli("scan", path, "--over", "leak.omega=1/2,2/3,golden-1,1e-3", "--out", theirs)
+        self.assertEqual(ours.document["scene"], "rotleak.Scene")
+        self.assertEqual(len(ours.point_names), 4)
+        for name in ours.point_names:  # every point's files byte for byte (scene.toml names its source)
+            for f in ("survival.csv", "fc.csv"):
+                if os.path.exists(os.path.join(theirs, "points", name, f)):
+                    with open(os.path.join(ours.path, "points", name, f)) as a, \
+                            open(os.path.join(theirs, "points", name, f)) as b:
+                        self.assertEqual(a.read(), b.read(), (name, f))
+        pd.testing.assert_frame_equal(ours.table, rotleak.read_scan(theirs).table)
+        refit = rotleak.fit(ours, kappa_window=[100, 600])
+        cli("fit", theirs, "--set", "fit.kappa_window=[100, 600]")
+        self.assertIsInstance(refit, rotleak.Scan)
+        pd.testing.assert_frame_equal(refit.table, rotleak.read_scan(theirs).table)
+        self.assertNotEqual(refit.table["kappa"].tolist(), ours.table["kappa"].tolist())
+        run = rotleak.fit(os.path.join(ours.path, "points", ours.point_names[0]), {"fit.alpha_factor": 5})
+        self.assertEqual(run.summary["alpha"]["factor"], 5)
+        with self.assertRaisesRegex(ValueError, "write it first"):
+            rotleak.fit(rotleak.simulate(scene))
+        with self.assertRaisesRegex(ValueError, "fit.kappa_window"):
+            rotleak.fit(ours, kappa_window=[600, 100])
+        with self.assertRaisesRegex(ValueError, r"leak\.omega.*exact"):
+            rotleak.scan(scene, {"leak.omega": [0.5]}, os.path.join(self.tmp, "never"))
+        with self.assertRaisesRegex(ValueError, "^over = "):
+            rotleak.scan(scene, {}, os.path.join(self.tmp, "never"))
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "never")))
+        found = rotleak.regimes(scene, os.path.join(self.tmp, "py_regimes"), coarse="1e-3,1e-1", steps=0)
+        self.assertEqual(set(found["boundaries"]), {"low_mid", "mid_high"})
+        self.assertEqual(found["scene"], "rotleak.Scene")
+        cal = rotleak.calibrate(scene, 2, os.path.join(self.tmp, "py_calibration"), overrides={"run.t_max": 300})
+        self.assertEqual(cal.document["seeds"], [1, 2])
+
     def test_progress_reaches_the_end_and_its_exception_stops_the_run(self):
         calls = []
         rotleak.simulate(QUICK, particles=20000, progress=lambda *a: calls.append(a))
@@ -536,17 +577,8 @@ class Package(unittest.TestCase):
 
         out = os.path.join(self.tmp, "cov2")
         cli("covering", "--omega", "2/3", "--delta", "1e-7", "1e-9", "--resolution", "100", "--out", out)
-        texts, save = [], picture.save
-
-        def capture(fig, path):
-            texts.extend(ax.get_title(loc="left") for ax in fig.axes)  # above each panel: it hides no data
-            save(fig, path)
-
-        picture.save = capture
-        try:
-            picture.draw(out)
-        finally:
-            picture.save = save
+        (drawing,) = picture.figures(out)
+        texts = [ax.get_title(loc="left") for ax in drawing.figure.axes]  # above each panel: it hides no data
         with open(os.path.join(out, "summary.json")) as f:
             n = [c["N"] for c in json.load(f)["covering"]]
         self.assertNotEqual(n[0], n[1])
@@ -574,14 +606,10 @@ class Package(unittest.TestCase):
         self.assertEqual(list(sc.table["omega_value"]), want)
         self.assertEqual([p["omega_value"] for p in sc.document["points"]], want)
         self.assertEqual([p["numbers"]["leak.omega"] for p in sc.document["points"]], want)
-        seen = {}
-        saved = scan_plot.save
-        try:
-            scan_plot.save = lambda fig, path: seen.__setitem__(os.path.basename(path), fig)
-            scan_plot.against_key(d, sc.document, "leak.omega")
-        finally:
-            scan_plot.save = saved
-        fig = seen["scan_leak_omega.png"]
+        fig = scan_plot.against_key(sc.document, "leak.omega").figure
+        curves = scan_plot.curves(sc).figure.axes[0]  # every point's P(t), coloured in omega order
+        self.assertEqual([line.get_label() for line in curves.lines],
+                         ["omega = " + v for _, v in sorted(zip(want, seven.split(",")))])
         strip = [o[0] for c in fig.axes[2].collections for o in c.get_offsets()]
         self.assertEqual(strip, sorted(want), "every point in the regime strip, in omega order")
         kappa = [float(x) for x in fig.axes[0].lines[0].get_xdata()]
@@ -592,7 +620,7 @@ class Package(unittest.TestCase):
         # on the data, fc's legend covered a spike, tick labels overlapped (0 beside 1e-4; minor log labels),
         # regimes.png had one y tick, scan plots had no title, the sampling title ran off the figure
         from rotleak import plot
-        from rotleak.plot import covering, regimes, run, sampling, scan, tiers
+        from rotleak.plot import sampling, tiers
 
         seen = {}  # picture name -> its figure, drawn as it would be saved
 
@@ -605,29 +633,36 @@ class Package(unittest.TestCase):
         def disjoint(extents):
             return all(not boxes_overlap(a, b) for i, a in enumerate(extents) for b in extents[i + 1:])
 
-        modules = (scan, run, covering, regimes)
-        saved = {m: m.save for m in modules}
+        def look(what):  # every picture a column or a page wide, its text 8 pt or more there, with a caption
+            import matplotlib.text
+            for d in plot.figures(what):
+                d.figure.canvas.draw()
+                seen[os.path.basename(d.name) + ".png"] = d.figure
+                self.assertIn(d.figure.get_size_inches()[0], (plot.ONE_COLUMN, plot.TWO_COLUMN), d.name)
+                small = [(t.get_text(), t.get_fontsize()) for t in d.figure.findobj(matplotlib.text.Text)
+                         if t.get_visible() and t.get_text() and t.get_fontsize() < 8]
+                self.assertEqual(small, [], d.name)
+                self.assertTrue(d.caption.endswith("."), d.name)
+
         try:
-            for m in modules:
-                m.save = lambda fig, path: (fig.canvas.draw(), seen.__setitem__(os.path.basename(path), fig))
             wide = os.path.join(self.tmp, "wide_scan")
             cli("scan", QUICK, "--over", "leak.omega=0,1e-4,1", "--set", "ensemble.particles=2000", "--out", wide)
-            plot.draw(wide)
+            look(wide)
             fig = seen["scan_leak_omega.png"]
             r = fig.canvas.get_renderer()
-            self.assertTrue(fig._suptitle and fig._suptitle.get_text())
+            self.assertTrue(fig.axes[0].get_title())
             bottom = fig.axes[-1]
             legend = fig.legends[0].get_window_extent(r)
             self.assertFalse(boxes_overlap(legend, bottom.xaxis.label.get_window_extent(r)))
             self.assertTrue(disjoint(labels(bottom.get_xticklabels(), r)), [t.get_text() for t in bottom.get_xticklabels()])
-            self.assertTrue(seen["scan_survival.png"]._suptitle.get_text())
+            self.assertTrue(seen["scan_survival.png"].axes[0].get_title())
             fig = seen["scan_alpha_covering.png"]
             r = fig.canvas.get_renderer()
             ax = fig.axes[0]
             self.assertTrue(disjoint(labels(ax.get_yticklabels(which="both"), r)))
             self.assertTrue(disjoint(labels(ax.texts, r)), [t.get_text() for t in ax.texts])
 
-            plot.draw(self.run_dir)
+            look(self.run_dir)
             fig = seen["fc.png"]
             r = fig.canvas.get_renderer()
             ax = fig.axes[0]
@@ -635,7 +670,7 @@ class Package(unittest.TestCase):
 
             cov = os.path.join(self.tmp, "cov_layout")
             cli("covering", "--omega", "1e-4", "--delta", "1e-12", "--resolution", "200", "--out", cov)
-            plot.draw(cov)
+            look(cov)
             fig = seen["f_L.png"]
             for ax in fig.axes:
                 self.assertEqual(len(ax.texts), 0)  # the panel's label is its title, above the data
@@ -646,7 +681,7 @@ class Package(unittest.TestCase):
             shutil.copytree(wide, os.path.join(reg, "coarse"))
             with open(os.path.join(reg, "regimes.json"), "w") as f:
                 json.dump({"boundaries": {"low_mid": None, "mid_high": None}, "predicted": {"omega_sweep": 0.005}}, f)
-            plot.draw(reg)
+            look(reg)
             ax = seen["regimes.png"].axes[0]
             lo, hi = ax.get_ylim()
             self.assertGreaterEqual(len([y for y in ax.get_yticks() if lo <= y <= hi]), 2)
@@ -665,8 +700,6 @@ class Package(unittest.TestCase):
             self.assertGreaterEqual(title.x0, 0)
             self.assertLessEqual(title.x1, fig.bbox.x1)
         finally:
-            for m, f in saved.items():
-                m.save = f
             import matplotlib.pyplot as plt
             plt.close("all")
 

@@ -14,11 +14,13 @@ tables are read by the package's readers, by column name. Needs matplotlib (Debi
 from __future__ import annotations
 
 import csv
+import functools
+import math
 import os
 import sys
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import Any, Optional, Union
+from typing import Any, NamedTuple, Optional, Union
 
 from .. import _require
 
@@ -33,30 +35,145 @@ import matplotlib.pyplot as plt  # noqa: E402
 from ..readers import Calibration, Certification, PathLike, RotleakError, Run, Scan, json_document  # noqa: E402
 
 Drawable = Union[Run, Scan, Calibration, Certification, PathLike]
-Point = tuple[float, float]
+
+#: Figure widths in inches: a journal's single column (86 mm) and its full page width (178 mm). Every picture is
+#: drawn at one of them, so that its fonts (STYLE) are their stated size when printed at that width.
+ONE_COLUMN, TWO_COLUMN = 3.4, 7.0
+#: The formats ``draw`` writes (``--format``): PNG at 300 dpi, and the vector formats a journal takes.
+FORMATS = ("png", "pdf", "svg")
+#: One style for every picture: 8 pt text (9 pt titles) at print size, thin lines, fonts kept as text in PDF/SVG.
+STYLE = {
+    "font.size": 8, "axes.titlesize": 9, "axes.labelsize": 8, "xtick.labelsize": 8, "ytick.labelsize": 8,
+    "legend.fontsize": 8, "figure.titlesize": 9, "legend.title_fontsize": 8, "lines.linewidth": 1.0,
+    "lines.markersize": 3.5, "axes.linewidth": 0.6, "grid.linewidth": 0.4, "grid.alpha": 0.3,
+    "xtick.major.width": 0.6, "ytick.major.width": 0.6, "legend.frameon": False, "legend.handlelength": 1.6,
+    "figure.dpi": 100, "savefig.dpi": 300, "pdf.fonttype": 42, "svg.fonttype": "none",
+}
+#: Colours that mean one thing in every picture: a measurement, its fit, the model, a bound, the leak, and what is
+#: not resolved (masked).
+MEASURED, FIT, MODEL, BOUND, LEAK, MASKED = "C0", "C1", "C2", "k", "C3", "0.85"
 
 
-def save(fig: Any, path: str) -> None:
-    """Writes a figure whole or not at all (a temporary name, then renamed)."""
-    tmp = path + ".tmp.png"
+class Drawing(NamedTuple):
+    """One picture: its file name without the suffix, the matplotlib Figure, and its caption (what the short title
+    leaves out: the scene, the sample, the fits; ``rotleak plot`` prints it beside the file)."""
+    name: str
+    figure: Any
+    caption: str
+
+
+def styled(make: Callable[..., Any]) -> Callable[..., Any]:
+    """Runs a function that builds figures under STYLE (fonts and lines are fixed when an artist is made)."""
+    @functools.wraps(make)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        with plt.rc_context(STYLE):
+            return make(*args, **kwargs)
+    return wrapper
+
+
+def legend_below(fig: Any, axes: Sequence[Any], width: float = 1.4) -> None:
+    """One legend for every panel (each label once), below them in as many rows of entries `width` inches wide as
+    the figure needs, in space kept for it, and the panels laid out."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, h)
+    fig_width, height = fig.get_size_inches()
+    ncol = max(1, min(len(handles), int(fig_width / width)))
+    rows = -(-len(handles) // ncol)
+    if handles:
+        fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0))
+    fig.tight_layout(pad=0.3, rect=(0, (0.17 * rows + 0.05) / height if handles else 0, 1, 1))
+
+
+def decades(ax: Any, ys: Sequence[float]) -> None:
+    """A log axis over whole decades around ys, at least two, so that it has ticks to read (one had one)."""
+    ys = [y for y in ys if y > 0]
+    if not ys:
+        return
+    lo, hi = 10 ** math.floor(math.log10(min(ys))), 10 ** math.ceil(math.log10(max(ys)))
+    if hi / lo < 100:  # one decade or none: a decade more below, and above too when there was none
+        hi = hi * 10 if hi == lo else hi
+        lo = lo / 10
+    ax.set_ylim(lo, hi)
+
+
+def mask_unresolved(ax: Any, start: Optional[float], end: float, label: str = "not resolved") -> None:
+    """Greys the range t >= start of an axis (P there is a bound, not a measurement); nothing when start is None."""
+    if start is not None and start < end:
+        ax.axvspan(start, end, color=MASKED, lw=0, zorder=0, label=label)
+
+
+def save(fig: Any, path: str, close: bool = True) -> None:
+    """Writes a figure whole or not at all (a temporary name, then renamed), in the format its suffix names; closes
+    it unless another format of it follows (close=False)."""
+    stem, _, fmt = path.rpartition(".")
+    tmp = "%s.tmp-%d.%s" % (stem, os.getpid(), fmt)
+    done = False
     try:
-        fig.savefig(tmp, dpi=120)
+        with plt.rc_context(STYLE):
+            fig.savefig(tmp, format=fmt, metadata=_metadata(fmt))
         os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)  # a full disk leaves no half picture behind
-        raise
+        done = True
     finally:
-        plt.close(fig)
+        if not done and os.path.exists(tmp):
+            os.remove(tmp)  # a full disk leaves no half picture behind
+        if close or not done:
+            plt.close(fig)
 
 
-def annotate_clear(ax: Any, placed: list[Point], label: str, xy: Point, near: Callable[[Point, Point], bool],
-                   offset: tuple[float, float] = (4, 2), step: float = 9, **kw: Any) -> None:
-    """Annotates `xy` with `label`, stepped down `step` points for each earlier label in `placed` that
-    `near(earlier_xy, xy)` calls close, so that neighbours' labels do not overlap; records `xy` in `placed`."""
-    crowd = sum(1 for q in placed if near(q, xy))
-    placed.append(xy)
-    ax.annotate(label, xy, textcoords="offset points", xytext=(offset[0], offset[1] - step * crowd), **kw)
+def _metadata(fmt: str) -> Optional[dict[str, Any]]:
+    """No creation date in PDF/SVG (the same run draws the same bytes again); PNG has none to drop."""
+    if fmt == "pdf":
+        return {"CreationDate": None, "Creator": "rotleak"}
+    if fmt == "svg":
+        return {"Date": None, "Creator": "rotleak"}
+    return None
+
+
+def formats_of(text: Union[str, Sequence[str]]) -> tuple[str, ...]:
+    """``"png,pdf"`` or a list of formats, each one of FORMATS; ValueError naming the one not allowed."""
+    items = [f.strip().lower() for f in (text.split(",") if isinstance(text, str) else text)]
+    for f in items:
+        if f not in FORMATS:
+            raise ValueError("--format = %s: must be a comma list of %s" % (f, ", ".join(FORMATS)))
+    if not items:
+        raise ValueError("--format is empty: must be a comma list of %s" % ", ".join(FORMATS))
+    return tuple(dict.fromkeys(items))
+
+
+def write(drawings: Sequence[Drawing], directory: PathLike, formats: Sequence[str] = ("png",)) -> list[str]:
+    """Saves each drawing in each format into directory (NAME.png, NAME.pdf, ...); returns the paths, in order."""
+    paths = []
+    for d in drawings:
+        for fmt in formats:
+            path = os.path.join(os.fspath(directory), "%s.%s" % (d.name, fmt))
+            save(d.figure, path, close=fmt == formats[-1])
+            paths.append(path)
+    return paths
+
+
+def label_points(ax: Any, items: Sequence[tuple[float, float, str]]) -> None:
+    """Labels each point (x, y, text) beside it, once the axes' limits are set: from the highest point down, a label
+    that would overlap an earlier one steps down a line, and one that would leave the axes on the right goes to the
+    left of its point. Font size is STYLE's."""
+    fig = ax.figure
+    per_point = 72.0 / fig.dpi  # display pixels to points
+    size = float(plt.rcParams["font.size"])
+    right = ax.get_window_extent().x1 * per_point
+    boxes: list[tuple[float, float, float, float]] = []  # placed labels, in points: x0, y0, x1, y1
+    placed = sorted(((ax.transData.transform((x, y)) * per_point, x, y, text) for x, y, text in items),
+                    key=lambda q: -q[0][1])
+    for (px, py), x, y, text in placed:
+        width = 0.6 * size * len(text)
+        left = px + 4 + width > right
+        x0 = px - 4 - width if left else px + 4
+        y0 = py - size / 2
+        while any(x0 < b[2] and b[0] < x0 + width and y0 < b[3] and b[1] < y0 + size for b in boxes):
+            y0 -= size + 1
+        boxes.append((x0, y0, x0 + width, y0 + size))
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=(x0 - px + (width if left else 0), y0 - py),
+                    ha="right" if left else "left", va="bottom")
 
 
 def exact_text(text: str) -> Optional[float]:
@@ -108,52 +225,87 @@ def kind_of(directory: PathLike) -> Optional[str]:
     return None
 
 
-def draw(what: Drawable) -> list[str]:
-    """Draw what rotleak wrote, beside its files.
+def _drawer(what: Drawable) -> tuple[Callable[[Any], list[Drawing]], Any, str]:
+    """(the figures function of what's kind, what to hand it, the directory its pictures go to)."""
+    from . import calibration, certify, covering, regimes, run, scan, shadow
+
+    if isinstance(what, (Run, Scan, Calibration, Certification)):
+        module = {Run: run, Scan: scan, Calibration: calibration, Certification: certify}[type(what)]
+        return module.figures, what, os.fspath(what.path) if what.path is not None else ""
+    kinds: dict[str, Any] = {"run": run, "scan": scan, "shadow": shadow, "covering": covering, "regimes": regimes,
+                             "calibration": calibration, "certification": certify}
+    kind = kind_of(what)
+    if kind is None:
+        raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
+                           "no scan.json, no regimes.json, no calibration.json)" % os.fspath(what))
+    return kinds[kind].figures, what, os.fspath(what)
+
+
+def figures(what: Drawable) -> list[Drawing]:
+    """The pictures of what rotleak wrote, as matplotlib Figures (nothing saved).
 
     Parameters
     ----------
     what : Run, Scan, Calibration, Certification, or a directory
-        A run, scan, calibration or certified sample (a run made in process needs ``rotleak.plot.run.draw(run,
-        out=DIR)``), or any directory a rotleak command wrote: a run, scan, calibration, shadow, covering,
-        regimes search or certified sample.
+        A run (one made in process too), scan, calibration or certified sample, or any directory a rotleak command
+        wrote: a run, scan, calibration, shadow, covering, regimes search or certified sample.
+
+    Returns
+    -------
+    list of Drawing
+        ``(name, figure, caption)`` for each picture: ``survival`` and ``fc`` of a run; ``scan_survival``,
+        ``scan_<key>`` and ``scan_alpha_covering`` of a scan; and so on (docs/output.md).
+    """
+    make, arg, _ = _drawer(what)
+    return make(arg)
+
+
+def draw(what: Drawable, formats: Union[str, Sequence[str]] = ("png",), out: Optional[PathLike] = None) -> list[str]:
+    """Draw what rotleak wrote and save the pictures beside its files (or in ``out``).
+
+    Parameters
+    ----------
+    what : Run, Scan, Calibration, Certification, or a directory
+        As for :func:`figures`.
+    formats : str or list of str, default ("png",)
+        Any of png (300 dpi), pdf, svg: ``"png,pdf"`` or ``["pdf"]``.
+    out : directory, optional
+        Where the pictures go; by default what's own directory (required for a run made in process).
 
     Returns
     -------
     list of str
-        The paths of the pictures drawn.
+        The paths written, each picture in each format.
     """
-    from . import calibration, certify, covering, regimes, run, scan, shadow
-
-    if isinstance(what, Run):
-        return run.draw(what)
-    if isinstance(what, Scan):
-        return scan.draw(what)
-    if isinstance(what, Calibration):
-        return calibration.draw(what)
-    if isinstance(what, Certification):
-        return certify.draw(what)
-    directory = what
-    kind = kind_of(directory)
-    drawers: dict[str, Callable[[PathLike], list[str]]] = {
-        "run": run.draw, "scan": scan.draw, "shadow": shadow.draw, "covering": covering.draw,
-        "regimes": regimes.draw, "calibration": calibration.draw, "certification": certify.draw}
-    if kind is None:
-        raise RotleakError("%s is not a complete rotleak directory (no summary.json of a run, shadow or covering, "
-                           "no scan.json, no regimes.json, no calibration.json)" % os.fspath(directory))
-    return drawers[kind](directory)
+    fmts = formats_of(formats)
+    make, arg, directory = _drawer(what)
+    target = os.fspath(out) if out is not None else directory
+    if not target:
+        raise ValueError("out = None: a run made in process has no directory; give out=DIR for its pictures")
+    return write(make(arg), target, fmts)
 
 
 def main(argv: Optional[list[str]] = None) -> None:
-    """``/usr/bin/python3 -m rotleak.plot DIR``: a failure is one line on stderr and exit 1, not a traceback."""
+    """``/usr/bin/python3 -m rotleak.plot DIR [--format png,pdf]``: one line per picture, its path and caption; a
+    failure is one line on stderr (exit 2 for a damaged directory or a bad --format, 1 otherwise)."""
     argv = sys.argv[1:] if argv is None else argv
-    if len(argv) != 1:
-        sys.exit("usage: /usr/bin/python3 -m rotleak.plot DIR   (a run, scan, shadow, covering or regimes directory)")
+    usage = ("usage: /usr/bin/python3 -m rotleak.plot DIR [--format png,pdf,svg]   (a directory rotleak wrote: run, "
+             "scan, shadow, covering, regimes, calibration, certified sample)")
+    fmt = "png"
+    if len(argv) == 3 and argv[1] == "--format":
+        fmt = argv[2]
+    elif len(argv) != 1:
+        sys.exit(usage)
     try:
-        drew = draw(argv[0])
-    except RotleakError as e:  # a damaged directory is bad input: its reason, exit 2 (as rotleak fit)
-        print("rotleak.plot: cannot draw %s" % e, file=sys.stderr)
+        fmts = formats_of(fmt)
+        make, arg, directory = _drawer(argv[0])
+        drawings = make(arg)
+        paths = write(drawings, directory, fmts)
+    except (RotleakError, ValueError) as e:  # a damaged directory or a bad format is bad input: exit 2
+        print("rotleak.plot: cannot draw %s" % e if isinstance(e, RotleakError) else "rotleak.plot: %s" % e,
+              file=sys.stderr)
         sys.exit(2)
     except Exception as e:  # noqa: BLE001 -- every failure of a plot is reported the same way
         sys.exit("rotleak.plot: cannot draw %s: %s: %s" % (argv[0], type(e).__name__, e))
-    print("drew " + ", ".join(drew))
+    for k, d in enumerate(drawings):
+        print("drew %s: %s" % (", ".join(paths[k * len(fmts):(k + 1) * len(fmts)]), d.caption))

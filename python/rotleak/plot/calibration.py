@@ -2,51 +2,52 @@
 report, and the share of seeds within 2 errors, against t; the honest band shaded."""
 from __future__ import annotations
 
-import os
 from typing import Union
 
 from ..readers import Calibration, PathLike, read_calibration
-from . import plt, save
+from . import ONE_COLUMN, Drawing, legend_below, mask_unresolved, plt, styled
+from . import draw as _draw
 
 
-def draw(calibration: Union[Calibration, PathLike]) -> list[str]:
-    """Draw a calibration's calibration.png beside its files.
+def draw(calibration: Union[Calibration, PathLike], formats: object = ("png",)) -> list[str]:
+    """Draw a calibration's calibration picture beside its files, in each format; returns the paths."""
+    return _draw(calibration if isinstance(calibration, Calibration) else read_calibration(calibration),
+                 formats)  # type: ignore[arg-type]
 
-    Parameters
-    ----------
-    calibration : Calibration or a calibration directory
-        ``rotleak calibrate --out DIR`` (a damaged one is refused: RotleakError).
 
-    Returns
-    -------
-    list of str
-        The path drawn.
-    """
+@styled
+def figures(calibration: Union[Calibration, PathLike]) -> list[Drawing]:
+    """calibration: sd / err of P and the coverage against t (a damaged directory is refused: RotleakError)."""
     if not isinstance(calibration, Calibration):
         calibration = read_calibration(calibration)
-    doc, directory = calibration.document, calibration.path
+    doc = calibration.document
     table = calibration.table
     band, floor = doc["P"]["band"], doc["P"]["coverage2_floor"]
     ok = table[(table["resolved"] == 1) & (table["sd_over_err"] > 0)]
     t = ok["t"].astype(float).tolist()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6), sharex=True)
-    top.axhspan(band[0], band[1], color="C2", alpha=0.15, label="honest: sd / err in [%g, %g]" % tuple(band))
-    top.semilogy(t, ok["sd_over_err"].astype(float).tolist(), color="C0", lw=1, label="sd of P / median P_err")
-    top.axhline(1, color="k", lw=0.5)
-    top.set_ylabel("sd / err")
-    top.legend(loc="upper left", fontsize=8)
-    top.set_title("%d seeds of %s particles: are the error bars honest? (resolved times only)"
-                  % (len(doc["seeds"]), format(doc["particles"], ",")), fontsize=10)
-    bottom.axhspan(floor, 1, color="C2", alpha=0.15, label="at least %g%%" % (100 * floor))
-    bottom.plot(t, ok["coverage2"].astype(float).tolist(), color="C1", lw=1, label="seeds within 2 errors")
-    bottom.plot(t, ok["coverage1"].astype(float).tolist(), color="C3", lw=0.8, alpha=0.7, label="within 1 error")
-    bottom.set_ylim(0, 1.02)
-    bottom.set_xlabel("t")
-    bottom.set_ylabel("coverage")
-    bottom.legend(loc="lower left", fontsize=8)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(ONE_COLUMN, 3.8), sharex=True)
+    cut = doc["P"].get("model_from")  # the median seed's unresolved_from: P a bound from there
+    t_end = float(table["t"].iloc[-1])
     for ax in (top, bottom):
-        ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    path = os.path.join(directory, "calibration.png")
-    save(fig, path)
-    return [path]
+        mask_unresolved(ax, cut, t_end, "P a bound")
+    top.axhspan(band[0], band[1], color="C2", alpha=0.15, label="honest")
+    top.semilogy(t, ok["sd_over_err"].astype(float).tolist(), color="C0", label="sd / err")
+    top.axhline(1, color="k", lw=0.5)
+    top.set_ylabel("sd of P / median error")
+    top.set_title("are the error bars honest?")
+    bottom.axhspan(floor, 1, color="C2", alpha=0.15)
+    bottom.plot(t, ok["coverage2"].astype(float).tolist(), color="C1", label="within 2 errors")
+    bottom.plot(t, ok["coverage1"].astype(float).tolist(), color="C4", lw=0.8, label="within 1 error")
+    bottom.set_ylim(0, 1.02)
+    bottom.set_xlim(0, t_end)
+    bottom.set_xlabel("t")
+    bottom.set_ylabel("share of seeds")
+    for ax in (top, bottom):
+        ax.grid(True, which="major")
+    legend_below(fig, (top, bottom), width=1.1)
+    caption = ("%d seeds of %s particles: the seeds' spread of P over the median error the runs report (top; green: "
+               "sd / err in [%g, %g]) and the share of seeds within 1 and 2 errors of the pooled P (bottom; green: at "
+               "least %g%%), at the times every seed resolves%s." % (
+                   len(doc["seeds"]), format(doc["particles"], ","), band[0], band[1], 100 * floor,
+                   "; grey: t >= %g, where a seed's P is a bound" % cut if cut is not None else ""))
+    return [Drawing("calibration", fig, caption)]

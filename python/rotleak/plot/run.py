@@ -1,139 +1,205 @@
-"""A run directory (``rotleak simulate``): survival.png (P(t) log-log and semi-log with the error
-band, the kappa fit and the alpha crossing, and t P(t) with the tail amplitude C) and, when fc.csv exists, fc.png (collision density per
-time window)."""
+"""A run directory (``rotleak simulate``): survival (P(t) log-log and semi-log with the error band, the kappa fit and
+the alpha crossing, and t P(t) with the tail amplitude C; the range past ``unresolved_from`` greyed and the axes
+clipped to what is resolved) and, when fc.csv exists, fc (the collision density per time window, the table's
+straight edges and arcs marked)."""
 from __future__ import annotations
 
 import math
-import os
-import textwrap
 from typing import Any, Optional, Union
 
 import matplotlib.pyplot as plt
 
 from ..readers import PathLike, Run, read_run
-from . import exact_text, save
+from . import FIT, LEAK, MEASURED, MODEL, TWO_COLUMN, Drawing, exact_text, legend_below, mask_unresolved, styled
+from . import draw as _draw
 
 
-def survival(run: Run, out: str) -> str:
-    """Draws OUT/survival.png from the run's survival curve and fits; returns its path."""
+def unresolved_from(summary: dict[str, Any]) -> Optional[float]:
+    """The first time P is a bound, not a measurement (a split run's allowance for lines not drawn); None when every
+    time is resolved."""
+    allowance = (summary.get("splitting") or {}).get("unsplit_allowance") or {}
+    t = allowance.get("unresolved_from")
+    return float(t) if t is not None else None
+
+
+def scene_text(summary: dict[str, Any]) -> str:
+    """The scene in a caption: the stadium, the leak and the sample."""
+    sc = summary["scene"]
+    leak, stadium = sc["leak"], sc["stadium"]
+    split = summary.get("splitting")
+    scheme = summary.get("sampling", {}).get("scheme", "uniform")
+    return ("stadium d = %s, r = %s; leak at s_L = %s, width %s, omega = %s; %s %s (%s%s), %s tier"
+            % (stadium["d"], stadium["r"], leak["start"], leak["width"], leak["omega"], format(summary["particles"], ","),
+               "lines" if split else "particles", scheme, ", split every %g" % split["split_every"] if split else "",
+               summary["tier"]))
+
+
+def fits_text(summary: dict[str, Any]) -> str:
+    """kappa, alpha and C as a caption says them."""
+    kappa, alpha = summary["kappa"], summary["alpha"]
+    parts = []
+    if kappa["value"] is not None:
+        parts.append("kappa = %.5g +- %.2g on t in [%g, %g] (dashed)" % (kappa["value"], kappa["error"],
+                                                                         *kappa["window"]))
+    if alpha["value"] is not None:
+        parts.append("alpha = %.3g where P is %g x the fit (dot, t = %.4g)" % (alpha["value"], alpha.get("factor", 10),
+                                                                              alpha["crossing_time"]))
+    elif alpha.get("upper_bound") is not None:
+        parts.append("alpha < %.3g (no tail resolved)" % alpha["upper_bound"])
+    amp = summary["tail"].get("amplitude") or {}
+    if amp.get("value") is not None:
+        parts.append("C = %.3g +- %.2g +- %.2g (syst.) on t in [%g, %g]" % (amp["value"], amp["error"],
+                                                                          amp["systematic"], amp["from"], amp["to"]))
+    return "; ".join(parts)
+
+
+@styled
+def survival_figure(run: Run) -> Drawing:
+    """survival: (a) P(t) log-log, (b) semi-log with the fits, (c) t P(t) with C and the covering model's C."""
     summary = run.summary
-    alive = run.survival[run.survival["survivors"] > 0]
+    alive = run.survival[(run.survival["survivors"] > 0) & (run.survival["P"] > 0)]
+    alive = alive[alive["t"] <= min(float(run.survival["t"].iloc[-1]), 1.25 * (unresolved_from(summary) or math.inf))]
     t, P = alive["t"].astype(float).tolist(), alive["P"].astype(float).tolist()
     err: Optional[list[float]] = alive["P_err"].astype(float).tolist() if "P_err" in alive else None
+    cut = unresolved_from(summary)
+    # the axes end a little past where P stops being resolved: the grey strip shows where, not a page of grey
+    t_end = min(float(run.survival["t"].iloc[-1]), 1.25 * cut if cut is not None else math.inf)
+    kept = [i for i, x in enumerate(t) if cut is None or x < cut]  # resolved: what sets the axes
     kappa, alpha = summary["kappa"], summary["alpha"]
-    scheme = summary.get("sampling", {}).get("scheme", "uniform")
-    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(17, 4.5))
-    for ax, loglog in ((ax1, True), (ax2, False)):
-        split = summary.get("splitting")
-        what = (", %s, split every %.4g" % (scheme, split["split_every"]) if split else
-                "" if scheme == "uniform" else ", " + scheme)
-        ax.plot(t, P, lw=1.2, label="P(t), N = %g%s%s" % (summary["particles"], " lines" if split else "", what))
+    fig, axes = plt.subplots(1, 3, figsize=(TWO_COLUMN, 2.5))
+    ax1, ax2, ax3 = axes
+    floor = min(P[i] for i in kept) / 3 if kept else None
+    for ax in (ax1, ax2):
+        mask_unresolved(ax, cut, t_end)
+        ax.plot(t, P, color=MEASURED, label="P(t)")
         if err is not None:  # one standard error either side, where it stays below P
-            lo = [max(p - e, p * 1e-3) for p, e in zip(P, err)]
-            ax.fill_between(t, lo, [p + e for p, e in zip(P, err)], alpha=0.25, lw=0, color="C0")
+            ax.fill_between(t, [max(p - e, p * 1e-3) for p, e in zip(P, err)], [p + e for p, e in zip(P, err)],
+                            alpha=0.25, lw=0, color=MEASURED)
         if kappa["value"] is not None:
-            # the fit and alpha's factor x the fit over the whole range (down to the smallest P drawn)
             k, lna = kappa["value"], kappa["log_amplitude"]
-            floor = min(P) / 10 if P else 0
-            factor = alpha.get("factor", 10)
-            tt = [x for x in t if math.exp(lna - k * x) * factor >= floor]
-            ax.plot(tt, [math.exp(lna - k * x) for x in tt], "--", lw=1, color="C1",
-                    label="exp fit: kappa = %.4g +- %.1g on [%g, %g]" % (k, kappa["error"], *kappa["window"]))
-            ax.plot(tt, [factor * math.exp(lna - k * x) for x in tt], ":", lw=1, color="C1",
-                    label="%g x the fit (alpha's line)" % factor)
+            lowest = floor if floor is not None else min(P)
+            tt = [x for x in t if math.exp(lna - k * x) * alpha.get("factor", 10) >= lowest]
+            ax.plot(tt, [math.exp(lna - k * x) for x in tt], "--", color=FIT, lw=0.8, label="exp. fit")
         if alpha["value"] is not None:
-            ax.plot([alpha["crossing_time"]], [alpha["value"]], "o", color="C3",
-                    label="alpha = %.3g (t = %g)" % (alpha["value"], alpha["crossing_time"]))
+            ax.plot([alpha["crossing_time"]], [alpha["value"]], "o", color=FIT, label="alpha")
         ax.set_yscale("log")
-        if loglog:
-            ax.set_xscale("log")
-            ax.set_xlim(left=1)
+        if floor is not None:
+            ax.set_ylim(bottom=floor, top=1.5)
         ax.set_xlabel("t")
-        ax.set_ylabel("P(t)")
-        ax.grid(True, which="both", alpha=0.3)
-    ax1.set_title("log-log")
-    ax2.set_title("semi-log")
-    # t P(t): flat where P ~ C / t; the amplitude C and its error over the stretch it was measured on
-    ax3.plot(t, [x * p for x, p in zip(t, P)], lw=1.2, color="C0", label="t P(t)")
+        ax.grid(True, which="major")
+    ax1.set_xscale("log")
+    ax1.set_xlim(left=1, right=t_end)
+    ax2.set_xlim(0, t_end)
+    ax1.set_ylabel("P(t)")
+    ax1.set_title("(a) P(t)")
+    ax2.set_title("(b) semi-log")
+    # t P(t): flat where P ~ C / t; the amplitude C over the stretch it was measured on
+    mask_unresolved(ax3, cut, t_end)
+    ax3.plot(t, [x * p for x, p in zip(t, P)], color=MEASURED)
     if err is not None:
         ax3.fill_between(t, [x * max(p - e, p * 1e-3) for x, p, e in zip(t, P, err)],
-                         [x * (p + e) for x, p, e in zip(t, P, err)], alpha=0.25, lw=0, color="C0")
+                         [x * (p + e) for x, p, e in zip(t, P, err)], alpha=0.25, lw=0, color=MEASURED)
     amp: dict[str, Any] = summary["tail"].get("amplitude") or {}
     if amp.get("value") is not None:
         c, e = amp["value"], math.hypot(amp["error"], amp["systematic"])
-        ax3.plot([amp["from"], amp["to"]], [c, c], color="C3", lw=1.5,
-                 label="C = %.3g +- %.2g +- %.2g on [%g, %g]" % (c, amp["error"], amp["systematic"], amp["from"],
-                                                                 amp["to"]))
-        ax3.fill_between([amp["from"], amp["to"]], [c - e] * 2, [c + e] * 2, color="C3", alpha=0.2, lw=0)
-    else:
-        ax3.set_title("t P(t): no amplitude\n" + textwrap.fill(amp.get("note", "not measured"), 70), fontsize=7)
-    # the covering model's C (docs/model.md "Predicting the tail from omega") from where it crosses the chaotic
-    # part, with its stated error, and its end off a rational
+        ax3.plot([amp["from"], amp["to"]], [c, c], color=FIT, lw=1.2, label="C")
+        ax3.fill_between([amp["from"], amp["to"]], [c - e] * 2, [c + e] * 2, color=FIT, alpha=0.25, lw=0)
     model = (summary.get("predicted") or {}).get("tail")
-    if model and model.get("forms") and model.get("crossing"):
+    if model and model.get("forms") and model.get("crossing"):  # docs/model.md "Predicting the tail from omega"
         c, e = model["amplitude"], model["amplitude_error"]
-        curve = model.get("curve") or [[model["crossing"], c], [t[-1], c]]  # off a rational: its sweep
-        ct, cy = [x for x, _ in curve if x <= t[-1]], [y for x, y in curve if x <= t[-1]]
-        ax3.plot(ct, cy, color="C2", lw=1.2, ls="--",
-                 label="model: C = %.3g +- %.2g (2 r omega = %s)" % (c, e, model["rational"]))
-        ax3.fill_between(ct, [y * (1 - e / c) for y in cy], [y * (1 + e / c) for y in cy], color="C2", alpha=0.12,
+        curve = model.get("curve") or [[model["crossing"], c], [t_end, c]]  # off a rational: its sweep
+        ct, cy = [x for x, _ in curve if x <= t_end], [y for x, y in curve if x <= t_end]
+        ax3.plot(ct, cy, color=MODEL, lw=1, ls="-.", label="model C")
+        ax3.fill_between(ct, [y * (1 - e / c) for y in cy], [y * (1 + e / c) for y in cy], color=MODEL, alpha=0.12,
                          lw=0)
-        if model.get("end") is not None and model["end"] < t[-1]:
-            ax3.axvline(model["end"], color="C2", lw=0.8, ls=":", label="model: tail gone by t ~ %.3g" % model["end"])
+        if model.get("end") is not None and model["end"] < t_end:
+            ax3.axvline(model["end"], color=MODEL, lw=0.8, ls=":")
     ax3.set_xscale("log")
     ax3.set_yscale("log")
-    tp = [x * p for x, p in zip(t, P) if x >= 10 and p > 0]
+    tp = [t[i] * P[i] for i in kept if t[i] >= 10]
     if tp:  # four decades below the highest t P: a tail's plateau, not the collapse after it
         ax3.set_ylim(bottom=max(tp) * 1e-4, top=max(tp) * 3)
-    ax3.set_xlim(left=1)
+    ax3.set_xlim(left=1, right=t_end)
     ax3.set_xlabel("t")
     ax3.set_ylabel("t P(t)")
-    ax3.grid(True, which="both", alpha=0.3)
-    ax3.legend(fontsize=8)
-    if amp.get("value") is not None:
-        ax3.set_title("t P(t): the tail amplitude")
-    ax2.legend(fontsize=8)
-    leak = summary["scene"]["leak"]
-    fig.suptitle("survival: s_L = %s, width = %s, omega = %s (%s tier)" %
-                 (leak["start"], leak["width"], leak["omega"], summary["tier"]))
-    fig.tight_layout()
-    path = os.path.join(out, "survival.png")
-    save(fig, path)
-    return path
+    ax3.set_title("(c) t P(t)")
+    ax3.grid(True, which="major")
+    legend_below(fig, axes)
+    caption = "P(t) of %s. %s." % (scene_text(summary), fits_text(summary) or "no fit")
+    if cut is not None:
+        caption += " Grey: t >= %g, where P is a bound (allowance for lines not drawn), not a measurement." % cut
+    if model and model.get("forms") and model.get("crossing"):
+        caption += " Dash-dot: the covering model's C = %.3g +- %.2g (2 r omega near %s)." % (
+            model["amplitude"], model["amplitude_error"], model["rational"])
+    return Drawing("survival", fig, caption)
 
 
-def density(run: Run, out: str) -> Optional[str]:
-    """Draws OUT/fc.png from the run's fc.csv (one curve per time window); None when the run has no f_c."""
+def pieces(stadium: dict[str, Any]) -> Optional[list[tuple[float, float, str]]]:
+    """The stadium's pieces in s (docs/model.md "The billiard"): (from, to, "straight" or "arc") from the top edge's
+    midpoint clockwise; None when d or r has no rational value to draw with."""
+    d, r = exact_text(stadium["d"]), exact_text(stadium["r"])
+    if d is None or r is None:
+        return None
+    length = 2 * d + 2 * math.pi * r
+    j = [d / 2 / length]
+    for step in (math.pi * r, d, math.pi * r):
+        j.append(j[-1] + step / length)
+    return [(0.0, j[0], "straight"), (j[0], j[1], "arc"), (j[1], j[2], "straight"), (j[2], j[3], "arc"),
+            (j[3], 1.0, "straight")]
+
+
+@styled
+def density_figure(run: Run) -> Optional[Drawing]:
+    """fc: f_c(s) per time window, the stadium's arcs shaded and the leak marked where it stands still."""
     fc = run.fc
     if fc is None:
         return None
     summary = run.summary
     s = fc["s"].astype(float).tolist()
-    fig, ax = plt.subplots(figsize=(10, 4))
-    for column in (c for c in fc.columns if c.startswith("fc")):  # fc[from,to]; count[from,to] beside each
-        ax.plot(s, fc[column].astype(float).tolist(), lw=1, label=column.replace("fc", "t in "))
+    fig, ax = plt.subplots(figsize=(TWO_COLUMN, 2.4))
+    parts = pieces(summary["scene"]["stadium"]) or []
+    for piece in parts:
+        if piece[2] == "arc":
+            ax.axvspan(piece[0], piece[1], color="0.93", lw=0, zorder=0)
+    if parts:  # the pieces named along the top: top edge (both ends of s), right arc, bottom edge, left arc
+        top = ax.secondary_xaxis("top")
+        top.set_xticks([(a + b) / 2 for a, b, _ in parts[1:4]] + [0.0, 1.0],
+                       ["right arc", "bottom edge", "left arc", "top edge", "top edge"])
+        top.tick_params(length=0)
+    ax.plot([], [], color="0.85", lw=6, label="arcs")
+    columns = [c for c in fc.columns if c.startswith("fc")]  # fc[from,to]; count[from,to] beside each
+    for k, column in enumerate(columns):
+        ax.plot(s, fc[column].astype(float).tolist(), lw=0.8, color="C%d" % ((k + 4) % 10) if k else "C0",
+                label=column.replace("fc", "t in "))
     leak = summary["scene"]["leak"]
     start, width = exact_text(leak["start"]), exact_text(leak["width"])
-    if leak["omega"] == "0" and start is not None and width is not None:
+    stationary = leak["omega"] == "0" and start is not None and width is not None
+    if start is not None and width is not None and stationary:
         for shift in (-1, 0, 1):  # the leak on the circle s mod 1
-            ax.axvspan(start - width / 2 + shift, start + width / 2 + shift, color="C3", alpha=0.25)
-        ax.set_xlim(0, 1)
-        ax.plot([], [], color="C3", alpha=0.4, lw=6, label="leak")
+            ax.axvspan(start - width / 2 + shift, start + width / 2 + shift, color=LEAK, alpha=0.3, lw=0)
+        ax.plot([], [], color=LEAK, alpha=0.4, lw=6, label="leak")
+    ax.set_xlim(0, 1)
     ax.set_xlabel("s")
     ax.set_ylabel("f_c(s)")
-    ax.set_title("collision density f_c(s): s_L = %s, width = %s, omega = %s, N = %d"
-                 % (leak["start"], leak["width"], leak["omega"], summary["particles"]), fontsize=10)
-    # the legend beside the axes, where it covers no spike (it once hid one)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    path = os.path.join(out, "fc.png")
-    save(fig, path)
-    return path
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0)  # beside the axes: it hides no spike
+    ax.grid(True)
+    fig.tight_layout(pad=0.3)
+    caption = ("f_c(s), the collisions per unit s in each time window, of %s. Shaded: the arcs (the rest is the "
+               "straight edges)%s." % (scene_text(summary), "; red: the leak" if stationary else
+                                       "; the leak moves, so it is not drawn"))
+    return Drawing("fc", fig, caption)
 
 
-def draw(run: Union[Run, PathLike], out: Optional[PathLike] = None) -> list[str]:
-    """Draw a run's survival.png and, where it has f_c, fc.png.
+def figures(run: Union[Run, PathLike]) -> list[Drawing]:
+    """survival and, where the run has f_c, fc (a directory is read first: a damaged one is RotleakError)."""
+    if not isinstance(run, Run):
+        run = read_run(run)
+    drew = [survival_figure(run), density_figure(run)]
+    return [d for d in drew if d is not None]
+
+
+def draw(run: Union[Run, PathLike], out: Optional[PathLike] = None, formats: Any = ("png",)) -> list[str]:
+    """Draw a run's survival and, where it has f_c, fc, saved in each format.
 
     Parameters
     ----------
@@ -142,17 +208,13 @@ def draw(run: Union[Run, PathLike], out: Optional[PathLike] = None) -> list[str]
         RotleakError).
     out : directory, optional
         Where the pictures go; by default the run's own directory (required for a run made in process).
+    formats : str or list of str, default ("png",)
+        png, pdf, svg.
 
     Returns
     -------
     list of str
         The paths drawn.
     """
-    if not isinstance(run, Run):
-        run = read_run(run)
-    where = out if out is not None else run.path
-    if where is None:
-        raise ValueError("out = None: a run made in process has no directory; give out=DIR for its pictures")
-    target = os.fspath(where)
-    drew = [survival(run, target), density(run, target)]
-    return [d for d in drew if d is not None]
+    return _draw(run if isinstance(run, Run) else read_run(run), formats, out)
+

@@ -10,12 +10,14 @@ from typing import Any
 
 import matplotlib.pyplot as plt
 
-from . import bench_main
+from . import ONE_COLUMN, bench_main, legend_below, styled
 
 
+@styled
 def draw(rows: Sequence[dict[str, str]]) -> Any:
-    """The figure of the benchmark's rows."""
-    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    """The figure of the benchmark's rows: P(t) of the uniform and the mupo runs of the s_L = 0 stationary scene with
+    one standard error either side, each to the smallest P it resolves."""
+    fig, ax = plt.subplots(figsize=(ONE_COLUMN, 2.8))
     for scheme, ok, color in (
         ("uniform", lambda r: int(r["survivors_uniform"]) >= 1, "C0"),
         ("mupo", lambda r: float(r["effective_mupo"]) >= 10, "C3"),
@@ -26,15 +28,13 @@ def draw(rows: Sequence[dict[str, str]]) -> Any:
         e = [float(r["err_" + scheme]) for r in pts]
         lo = [max(p - s, p * 1e-3) for p, s in zip(P, e)]
         hi = [p + s for p, s in zip(P, e)]
-        ax.loglog(t, P, color=color, lw=1, label=f"{scheme} (down to P = {min(P):.2g})")
+        ax.loglog(t, P, color=color, label=f"{scheme} (to {min(P):.2g})")
         ax.fill_between(t, lo, hi, color=color, alpha=0.25, lw=0)
     ax.set_xlabel("t")
     ax.set_ylabel("P(t)")
-    ax.set_title("s_L = 0, stationary: uniform vs importance-sampled starts\n(bands: one standard error)",
-                 fontsize=10)  # two lines: one was cut at the figure's edge
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
+    ax.set_title("uniform and mupo starts")
+    ax.grid(True, which="major")
+    legend_below(fig, (ax,), width=1.5)
     return fig
 
 

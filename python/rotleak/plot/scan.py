@@ -1,22 +1,26 @@
-"""A scan directory: scan_survival.png (every point's P(t), log-log and semi-log, error bands where the
-run has them), and per swept key scan_<key>.png (kappa and alpha against the key, bounds drawn as
-downward arrows, log axes where the key spans decades) with the regime of each point as a coloured
-strip along the key, and the predicted omega_sweep marked when the key is leak.omega;
-scan_alpha_covering.png: alpha against the zero measure of each point's MUPO covering f_L."""
+"""A scan directory: scan_survival (every point's P(t), log-log and semi-log, each to where it is resolved, coloured in
+the order of the swept values), and per swept key scan_<key> (kappa and alpha against the key at its exact value
+rounded once, every point in order, bounds drawn as black triangles, log axes where the key spans decades) with the
+regime of each point as a coloured strip along the key, and the predicted omega_sweep marked when the key is
+leak.omega; scan_alpha_covering: alpha against the zero measure of each point's MUPO covering f_L."""
 from __future__ import annotations
 
 import math
-import os
 from typing import Any, Optional, Union
 
 import matplotlib.pyplot as plt
 from matplotlib import ticker
 
 from ..readers import PathLike, Scan, read_scan
-from . import Point, annotate_clear, exact_text, save
+from . import (BOUND, MEASURED, ONE_COLUMN, TWO_COLUMN, Drawing, decades, exact_text, label_points, legend_below,
+               styled)
+from . import draw as _draw
+from .run import unresolved_from
 
-REGIME_COLOURS = {"stationary": "0.5", "low": "C0", "mid": "C2", "high": "C3", "undecided": "C4",
-                  "near-rational": "C1"}
+#: The regimes' own colours, none of them a colour that means something else in these pictures (blue: measured,
+#: black: a bound).
+REGIME_COLOURS = {"stationary": "0.6", "low": "C9", "mid": "C8", "high": "C6", "undecided": "C4",
+                  "near-rational": "C5"}
 
 
 def value_of(text: str) -> Optional[float]:
@@ -31,35 +35,56 @@ def value_of(text: str) -> Optional[float]:
     return v
 
 
-def curves(scan: Scan) -> str:
-    """scan_survival.png: every point's P(t) with its error band; returns its path."""
+def point_label(point: dict[str, Any]) -> str:
+    """A point's swept values, short: "omega = 2/3, width = 0.01"."""
+    return ", ".join("%s = %s" % (key.split(".")[-1], v) for key, v in point["values"].items())
+
+
+@styled
+def curves(scan: Scan) -> Drawing:
+    """scan_survival: every point's P(t), each drawn to where it is resolved, in the order of the first swept key."""
     doc = scan.document
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5))
-    for k, point in enumerate(doc["points"]):
-        curve = scan.point(point["point"]).survival
-        curve = curve[(curve["survivors"] > 0) & (curve["t"] > 0)]
+    key = doc["axes"][0]["key"]
+    ordered = [p for _, p in points_along(doc, key)]
+    ordered += [p for p in doc["points"] if p not in ordered]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(TWO_COLUMN, 2.6))
+    colours = plt.get_cmap("viridis")
+    floor = math.inf
+    t_end = 0.0
+    cut_any = False
+    for k, point in enumerate(ordered):
+        run = scan.point(point["point"])
+        cut = unresolved_from(run.summary)
+        cut_any = cut_any or cut is not None
+        curve = run.survival[(run.survival["survivors"] > 0) & (run.survival["t"] > 0) & (run.survival["P"] > 0)]
+        if cut is not None:
+            curve = curve[curve["t"] < cut]  # a bound past it: not drawn
         t, P = curve["t"].astype(float).tolist(), curve["P"].astype(float).tolist()
-        label = ", ".join("%s = %s" % (key.split(".")[-1], v) for key, v in point["values"].items())
+        if not P:
+            continue
+        floor, t_end = min(floor, min(P)), max(t_end, t[-1])
+        colour = colours(k / max(len(ordered) - 1, 1) * 0.9)
         for ax in (ax1, ax2):
-            ax.plot(t, P, lw=1, color="C%d" % (k % 10), label=label)
-            if "P_err" in curve:
-                e = curve["P_err"].astype(float).tolist()
-                ax.fill_between(t, [max(p - s, p * 1e-3) for p, s in zip(P, e)], [p + s for p, s in zip(P, e)],
-                                color="C%d" % (k % 10), alpha=0.2, lw=0)
-    for ax, title in ((ax1, "log-log"), (ax2, "semi-log")):
+            ax.plot(t, P, lw=0.9, color=colour, label=point_label(point))
+    for ax, title in ((ax1, "(a) P(t)"), (ax2, "(b) semi-log")):
         ax.set_yscale("log")
         ax.set_xlabel("t")
-        ax.set_ylabel("P(t)")
         ax.set_title(title)
-        ax.grid(True, which="both", alpha=0.3)
+        ax.grid(True, which="major")
+        if floor < math.inf:
+            ax.set_ylim(bottom=floor / 3, top=1.5)
+    ax1.set_ylabel("P(t)")
     ax1.set_xscale("log")
-    ax2.legend(fontsize=7, ncol=2)
+    ax1.set_xlim(left=1)
+    if t_end:
+        ax2.set_xlim(0, t_end)
+    legend_below(fig, (ax1,), width=1.7)
     keys = ", ".join(a["key"] for a in doc["axes"])
-    fig.suptitle("P(t) of every point of the scan over %s (%d points)" % (keys, len(doc["points"])))
-    fig.tight_layout()
-    path = os.path.join(scan.path, "scan_survival.png")
-    save(fig, path)
-    return path
+    caption = ("P(t) of the %d points of the scan over %s (particles a point: %s), coloured in the order of %s; "
+               "each drawn while it has survivors%s." % (
+                   len(doc["points"]), keys, "/".join(sorted({format(p["particles"], ",") for p in doc["points"]})),
+                   key, ", up to where a split run's P becomes a bound" if cut_any else ""))
+    return Drawing("scan_survival", fig, caption)
 
 
 def points_along(doc: dict[str, Any], key: str) -> list[tuple[float, dict[str, Any]]]:
@@ -75,9 +100,10 @@ def points_along(doc: dict[str, Any], key: str) -> list[tuple[float, dict[str, A
     return sorted(pts, key=lambda xp: xp[0])
 
 
-def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
-    """scan_<key>.png: kappa, alpha (or its bound) and the regime against one swept key; None where the key
-    has no value to draw."""
+@styled
+def against_key(doc: dict[str, Any], key: str) -> Optional[Drawing]:
+    """scan_<key>: kappa, alpha (or its bound) and the regime against one swept key, every point at its exact value
+    rounded once, in order; None where the key has no value to draw."""
     pts = points_along(doc, key)
     if not pts:
         return None
@@ -86,37 +112,37 @@ def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
     # log where the values span decades; a 0 among them (a stationary point) stays on the axis through a
     # linear stretch below the smallest positive value (symlog)
     logx = bool(positive) and min(xs) >= 0 and max(positive) / min(positive) >= 30
-    fig, (ax_k, ax_a, ax_r) = plt.subplots(3, 1, figsize=(8, 8), sharex=True,
-                                           gridspec_kw={"height_ratios": [3, 3, 0.6]})
+    fig, (ax_k, ax_a, ax_r) = plt.subplots(3, 1, figsize=(ONE_COLUMN, 4.4), sharex=True,
+                                           gridspec_kw={"height_ratios": [3, 3, 0.7]})
     kx = [(x, p["kappa"]) for x, p in pts if p["kappa"]["value"] is not None]
-    ax_k.errorbar([x for x, _ in kx], [k["value"] for _, k in kx], yerr=[k["error"] for _, k in kx], fmt="o-", ms=4)
+    ax_k.errorbar([x for x, _ in kx], [k["value"] for _, k in kx], yerr=[k["error"] for _, k in kx], fmt="o-",
+                  color=MEASURED, lw=0.8)
     ax_k.set_ylabel("kappa")
-    ax_k.grid(True, which="both", alpha=0.3)
+    ax_k.grid(True, which="major")
     val = [(x, p["alpha"]) for x, p in pts if p["alpha"]["value"] is not None]
     bnd = [(x, p["alpha"]) for x, p in pts if p["alpha"]["value"] is None and p["alpha"]["upper_bound"] is not None]
     if val:
         ax_a.errorbar([x for x, _ in val], [a["value"] for _, a in val], yerr=[a["error"] for _, a in val], fmt="o",
-                      ms=4, label="alpha")
+                      color=MEASURED, label="alpha")
     if bnd:
-        # black: a colour of its own (orange is the near-rational regime below)
-        ax_a.scatter([x for x, _ in bnd], [a["upper_bound"] for _, a in bnd], marker="v", color="k",
-                     label="upper bound (no tail resolved)")
+        ax_a.scatter([x for x, _ in bnd], [a["upper_bound"] for _, a in bnd], marker="v", s=14, color=BOUND,
+                     label="upper bound")
     ax_a.set_yscale("log")
     ax_a.set_ylabel("alpha")
-    ax_a.grid(True, which="both", alpha=0.3)
-    ax_a.legend(fontsize=8)
+    ax_a.grid(True, which="major")
     for x, p in pts:  # the regime strip
-        ax_r.scatter([x], [0], marker="s", s=120, color=REGIME_COLOURS.get(p["tail"]["regime"], "k"))
+        ax_r.scatter([x], [0], marker="s", s=40, color=REGIME_COLOURS.get(p["tail"]["regime"], "k"))
+    seen = {p["tail"]["regime"] for _, p in pts}
     for name, colour in REGIME_COLOURS.items():
-        ax_r.scatter([], [], marker="s", color=colour, label=name)
+        if name in seen:  # the key lists the regimes this scan has
+            ax_r.scatter([], [], marker="s", color=colour, label=name)
     ax_r.set_yticks([])
-    ax_r.set_ylabel("regime", rotation=0, ha="right", va="center", fontsize=8)
-    handles, labels = ax_r.get_legend_handles_labels()
+    ax_r.set_ylabel("regime", rotation=0, ha="right", va="center")
     sweep = doc["points"][0]["predicted"]["omega_sweep"]
-    if key == "leak.omega" and min(xs) / 2 <= sweep <= max(xs) * 2:  # only where it is on the axis
+    marked = key == "leak.omega" and min(xs) / 2 <= sweep <= max(xs) * 2  # only where it is on the axis
+    if marked:
         for ax in (ax_k, ax_a, ax_r):
-            ax.axvline(sweep, color="k", ls=":", lw=1)
-        ax_a.text(sweep, ax_a.get_ylim()[1], " omega_sweep", fontsize=7, va="top")
+            ax.axvline(sweep, color="k", ls=":", lw=0.8, label="omega_sweep" if ax is ax_r else None)
     if logx and min(xs) > 0:
         ax_r.set_xscale("log")
     elif logx:
@@ -127,24 +153,27 @@ def against_key(scan_dir: str, doc: dict[str, Any], key: str) -> Optional[str]:
                                                           math.floor(math.log10(max(positive)) + 1e-9) + 1)])
         ax_r.xaxis.set_minor_locator(ticker.NullLocator())
     ax_r.set_xlabel(key)
+    ax_k.set_title("against %s" % key.split(".")[-1])
+    decades(ax_a, [a["value"] for _, a in val] + [a["upper_bound"] for _, a in bnd])
+    legend_below(fig, (ax_a, ax_r), width=1.1)
     particles = sorted({p["particles"] for _, p in pts})
-    fig.suptitle("kappa, alpha and regime against %s (%s particles a point)"
-                 % (key, "/".join("%g" % n for n in particles)))
-    # the regimes' key below the x label, in space kept for it (it once covered the label)
-    fig.legend(handles, labels, fontsize=7, ncol=len(labels), loc="lower center", frameon=False)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    name = "scan_%s.png" % key.replace(".", "_")
-    save(fig, os.path.join(scan_dir, name))
-    return name
+    caption = ("kappa (top), alpha (middle; black triangles: upper bounds where no tail is resolved) and the tail's "
+               "regime (bottom) of the %d points against %s, each at its exact value rounded once; %s particles a "
+               "point%s." % (len(pts), key, "/".join(format(n, ",") for n in particles),
+                             "; dotted: omega_sweep = lambda / 2r = %.3g" % sweep if marked else ""))
+    return Drawing("scan_%s" % key.replace(".", "_"), fig, caption)
 
 
-def against_covering(scan_dir: str, doc: dict[str, Any]) -> Optional[str]:
-    """alpha (values and bounds) against the MUPO covering's zero measure of each point's omega."""
+@styled
+def against_covering(doc: dict[str, Any]) -> Optional[Drawing]:
+    """scan_alpha_covering: alpha (values and bounds) against the MUPO covering's zero measure of each point's
+    omega; None where the points' coverings do not differ."""
     pts = [p for p in doc["points"] if p.get("number_theory")]
     if len({p["number_theory"]["covering_zero_measure"] for p in pts}) < 2:
         return None
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    placed: list[Point] = []  # points labelled so far: a neighbour's label steps aside (annotate_clear)
+    fig, ax = plt.subplots(figsize=(ONE_COLUMN, 2.8))
+    labels: list[tuple[float, float, str]] = []
+    ys: list[float] = []
     for p in sorted(pts, key=lambda q: q["number_theory"]["covering_zero_measure"]):
         x = p["number_theory"]["covering_zero_measure"]
         label = ", ".join(p["values"].values())
@@ -152,46 +181,37 @@ def against_covering(scan_dir: str, doc: dict[str, Any]) -> Optional[str]:
         if y is None:
             continue
         if p["alpha"]["value"] is not None:
-            ax.errorbar([x], [y], yerr=[p["alpha"]["error"]], fmt="o", color="C0", ms=4)
+            ax.errorbar([x], [y], yerr=[p["alpha"]["error"]], fmt="o", color=MEASURED)
         else:
-            ax.scatter([x], [y], marker="v", color="k")
-        annotate_clear(ax, placed, label, (x, y), lambda q, p: abs(q[0] - p[0]) < 0.05 and
-                       abs(math.log10(q[1] / p[1])) < 0.15, fontsize=7)
+            ax.scatter([x], [y], marker="v", s=14, color=BOUND)
+        labels.append((x, y, label))
+        ys.append(y)
     ax.set_yscale("log")
-    ax.yaxis.set_major_locator(ticker.LogLocator(numticks=8))
+    decades(ax, ys)
+    ax.set_xlim(-0.05, 1.05)
     ax.yaxis.set_minor_formatter(ticker.NullFormatter())  # minor labels overlapped on short log axes
-    ax.set_xlabel("zero measure of f_L (delta = %s)" % pts[0]["number_theory"]["covering_delta"])
-    ax.set_ylabel("alpha (triangles: upper bounds)")
-    ax.set_title("tail weight against the MUPO covering")
-    ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    save(fig, os.path.join(scan_dir, "scan_alpha_covering.png"))
-    return "scan_alpha_covering.png"
+    ax.set_xlabel("zero measure of f_L")
+    ax.set_ylabel("alpha")
+    ax.set_title("alpha against the covering")
+    ax.grid(True, which="major")
+    fig.tight_layout(pad=0.3)
+    label_points(ax, labels)  # placed once the layout is final
+    caption = ("alpha (black triangles: upper bounds) of each point against the zero measure of its omega's MUPO "
+               "covering f_L at delta = %s." % pts[0]["number_theory"]["covering_delta"])
+    return Drawing("scan_alpha_covering", fig, caption)
 
 
-def draw(scan: Union[Scan, PathLike]) -> list[str]:
-    """Draw a scan's pictures beside its files.
-
-    Parameters
-    ----------
-    scan : Scan or a scan directory
-        A directory is read first (a damaged scan is refused: RotleakError).
-
-    Returns
-    -------
-    list of str
-        The paths drawn: scan_survival.png, scan_<key>.png per swept key, scan_alpha_covering.png.
-    """
+def figures(scan: Union[Scan, PathLike]) -> list[Drawing]:
+    """scan_survival, scan_<key> for each swept key, scan_alpha_covering (a directory is read first; a damaged scan
+    is refused: RotleakError)."""
     if not isinstance(scan, Scan):
         scan = read_scan(scan)
     scan.table  # noqa: B018 -- read and checked against scan.json before anything is drawn
-    doc, scan_dir = scan.document, scan.path
-    drew = [os.path.basename(curves(scan))]
-    for axis in doc["axes"]:
-        name = against_key(scan_dir, doc, axis["key"])
-        if name:
-            drew.append(name)
-    name = against_covering(scan_dir, doc)
-    if name:
-        drew.append(name)
-    return [os.path.join(scan_dir, d) for d in drew]
+    doc = scan.document
+    drew = [curves(scan)] + [against_key(doc, axis["key"]) for axis in doc["axes"]] + [against_covering(doc)]
+    return [d for d in drew if d is not None]
+
+
+def draw(scan: Union[Scan, PathLike], formats: Any = ("png",)) -> list[str]:
+    """Draw a scan's pictures beside its files, in each format (png, pdf, svg); returns the paths."""
+    return _draw(scan if isinstance(scan, Scan) else read_scan(scan), formats)
