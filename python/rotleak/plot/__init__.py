@@ -71,19 +71,32 @@ def styled(make: Callable[..., Any]) -> Callable[..., Any]:
     return wrapper
 
 
-def legend_below(fig: Any, axes: Sequence[Any], width: float = 1.4) -> None:
-    """One legend for every panel (each label once), below them in as many rows of entries `width` inches wide as
-    the figure needs, in space kept for it, and the panels laid out."""
+def legend_below(fig: Any, axes: Sequence[Any]) -> None:
+    """One legend for every panel (each label once), below them in as many columns as fit the figure's width, in
+    space kept for it, and the panels laid out above it."""
     handles: dict[str, Any] = {}
     for ax in axes:
         for h, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, h)
-    fig_width, height = fig.get_size_inches()
-    ncol = max(1, min(len(handles), int(fig_width / width)))
-    rows = -(-len(handles) // ncol)
-    if handles:
-        fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0))
-    fig.tight_layout(pad=0.3, rect=(0, (0.17 * rows + 0.05) / height if handles else 0, 1, 1))
+    if not handles:
+        fig.tight_layout(pad=0.3)
+        return
+    renderer = fig.canvas.get_renderer()
+    for ncol in range(len(handles), 0, -1):  # the most columns whose legend fits the figure's width
+        legend = fig.legend(handles.values(), handles.keys(), loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, 0),
+                            borderaxespad=0.2, columnspacing=1.2)
+        box = legend.get_window_extent(renderer)
+        if box.width <= 0.98 * fig.bbox.width or ncol == 1:
+            break
+        legend.remove()
+    fig.tight_layout(pad=0.3, rect=(0, (box.height + 4) / fig.bbox.height, 1, 1))
+
+
+def plain_log_labels(ax: Any) -> None:
+    """A log y axis that spans less than a decade or two labelled 0.6, not 6 x 10^-1 (minor labels dropped)."""
+    from matplotlib import ticker
+    ax.yaxis.set_major_formatter(ticker.ScalarFormatter())
+    ax.yaxis.set_minor_formatter(ticker.NullFormatter())
 
 
 def decades(ax: Any, ys: Sequence[float]) -> None:

@@ -2,10 +2,11 @@
 report, and the share of seeds within 2 errors, against t; the honest band shaded."""
 from __future__ import annotations
 
+import math
 from typing import Union
 
 from ..readers import Calibration, PathLike, read_calibration
-from . import ONE_COLUMN, Drawing, legend_below, mask_unresolved, plt, styled
+from . import ONE_COLUMN, Drawing, legend_below, mask_unresolved, plain_log_labels, plt, styled
 from . import draw as _draw
 
 
@@ -27,13 +28,15 @@ def figures(calibration: Union[Calibration, PathLike]) -> list[Drawing]:
     t = ok["t"].astype(float).tolist()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(ONE_COLUMN, 3.8), sharex=True)
     cut = doc["P"].get("model_from")  # the median seed's unresolved_from: P a bound from there
-    t_end = float(table["t"].iloc[-1])
+    # the axes end a little past the last time every seed resolves (a plain run's survivors run out there)
+    t_end = min(float(table["t"].iloc[-1]), 1.1 * max(t) if t else math.inf)
     for ax in (top, bottom):
         mask_unresolved(ax, cut, t_end, "P a bound")
     top.axhspan(band[0], band[1], color="C2", alpha=0.15, label="honest")
     top.semilogy(t, ok["sd_over_err"].astype(float).tolist(), color="C0", label="sd / err")
     top.axhline(1, color="k", lw=0.5)
     top.set_ylabel("sd of P / median error")
+    plain_log_labels(top)
     top.set_title("are the error bars honest?")
     bottom.axhspan(floor, 1, color="C2", alpha=0.15)
     bottom.plot(t, ok["coverage2"].astype(float).tolist(), color="C1", label="within 2 errors")
@@ -44,7 +47,7 @@ def figures(calibration: Union[Calibration, PathLike]) -> list[Drawing]:
     bottom.set_ylabel("share of seeds")
     for ax in (top, bottom):
         ax.grid(True, which="major")
-    legend_below(fig, (top, bottom), width=1.1)
+    legend_below(fig, (top, bottom))
     caption = ("%d seeds of %s particles: the seeds' spread of P over the median error the runs report (top; green: "
                "sd / err in [%g, %g]) and the share of seeds within 1 and 2 errors of the pooled P (bottom; green: at "
                "least %g%%), at the times every seed resolves%s." % (

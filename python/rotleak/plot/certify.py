@@ -7,7 +7,7 @@ import math
 from typing import Optional, Union
 
 from ..readers import Certification, PathLike, read_certification
-from . import ONE_COLUMN, Drawing, legend_below, plt, styled
+from . import ONE_COLUMN, Drawing, legend_below, plain_log_labels, plt, styled
 from . import draw as _draw
 
 
@@ -49,13 +49,15 @@ def figures(certification: Union[Certification, PathLike]) -> list[Drawing]:
         worst.append("%s %.2g" % (tier, max((abs(x) for x in z), default=0.0)))
     top.set_yscale("log")
     top.set_ylabel("P(t) of the sample")
+    if min(upper) > 0.05:  # less than two decades: 0.6, not 6 x 10^-1
+        plain_log_labels(top)
     top.set_title("the sample against its proof")
     bottom.axhspan(-3, 3, color="C2", alpha=0.15, label="within 3 errors")
     bottom.set_ylabel("outside (errors)")
     bottom.set_xlabel("t")
     for ax in (top, bottom):
         ax.grid(True, which="major")
-    legend_below(fig, (top, bottom), width=1.1)
+    legend_below(fig, (top, bottom))
     caption = ("P(t) of %d particles certified to t = %g (%.4g%% of their escapes proven): the proven bracket (grey) "
                "and each tier's curve of the same particle ids (top); each tier's distance outside the bracket in "
                "standard errors of the difference of two proportions (bottom; largest: %s)." % (

@@ -71,7 +71,7 @@ def probes_figure(directory: str, doc: dict[str, Any]) -> Drawing:
     ax.set_ylabel("alpha")
     ax.set_title("regimes against omega")
     ax.grid(True, which="major")
-    legend_below(fig, (ax,), width=1.1)
+    legend_below(fig, (ax,))
     caption = ("alpha of every probe against omega (circles: measured; triangles: upper bounds; large: the coarse "
                "scan, small: bisection), coloured by the tail's regime; grey: the boundaries found%s%s." % (
                    " (" + "; ".join(notes) + ")" if notes else " (none)",

@@ -8,6 +8,7 @@ import math
 from typing import Any, Optional, Union
 
 import matplotlib.pyplot as plt
+from matplotlib import ticker
 
 from ..readers import PathLike, Run, read_run
 from . import FIT, LEAK, MEASURED, MODEL, TWO_COLUMN, Drawing, exact_text, legend_below, mask_unresolved, styled
@@ -90,6 +91,7 @@ def survival_figure(run: Run) -> Drawing:
     ax1.set_xscale("log")
     ax1.set_xlim(left=1, right=t_end)
     ax2.set_xlim(0, t_end)
+    ax2.xaxis.set_major_locator(ticker.MaxNLocator(4))  # five-digit times: few ticks, or their labels run together
     ax1.set_ylabel("P(t)")
     ax1.set_title("(a) P(t)")
     ax2.set_title("(b) semi-log")

@@ -20,7 +20,7 @@ def draw(rows: Sequence[dict[str, str]]) -> Any:
     fig, ax = plt.subplots(figsize=(ONE_COLUMN, 2.8))
     for scheme, ok, color in (
         ("uniform", lambda r: int(r["survivors_uniform"]) >= 1, "C0"),
-        ("mupo", lambda r: float(r["effective_mupo"]) >= 10, "C3"),
+        ("mupo", lambda r: float(r["effective_mupo"]) >= 10, "C4"),
     ):
         pts = [r for r in rows if float(r["t"]) > 0 and ok(r)]
         t = [float(r["t"]) for r in pts]
@@ -34,7 +34,7 @@ def draw(rows: Sequence[dict[str, str]]) -> Any:
     ax.set_ylabel("P(t)")
     ax.set_title("uniform and mupo starts")
     ax.grid(True, which="major")
-    legend_below(fig, (ax,), width=1.5)
+    legend_below(fig, (ax,))
     return fig
 
 

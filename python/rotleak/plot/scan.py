@@ -78,7 +78,8 @@ def curves(scan: Scan) -> Drawing:
     ax1.set_xlim(left=1)
     if t_end:
         ax2.set_xlim(0, t_end)
-    legend_below(fig, (ax1,), width=1.7)
+    ax2.xaxis.set_major_locator(ticker.MaxNLocator(4))  # five-digit times: few ticks, or their labels run together
+    legend_below(fig, (ax1,))
     keys = ", ".join(a["key"] for a in doc["axes"])
     caption = ("P(t) of the %d points of the scan over %s (particles a point: %s), coloured in the order of %s; "
                "each drawn while it has survivors%s." % (
@@ -155,7 +156,7 @@ def against_key(doc: dict[str, Any], key: str) -> Optional[Drawing]:
     ax_r.set_xlabel(key)
     ax_k.set_title("against %s" % key.split(".")[-1])
     decades(ax_a, [a["value"] for _, a in val] + [a["upper_bound"] for _, a in bnd])
-    legend_below(fig, (ax_a, ax_r), width=1.1)
+    legend_below(fig, (ax_a, ax_r))
     particles = sorted({p["particles"] for _, p in pts})
     caption = ("kappa (top), alpha (middle; black triangles: upper bounds where no tail is resolved) and the tail's "
                "regime (bottom) of the %d points against %s, each at its exact value rounded once; %s particles a "

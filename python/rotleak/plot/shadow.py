@@ -37,7 +37,7 @@ def figures(directory: PathLike) -> list[Drawing]:
     ax.set_ylabel("divergence from the truth")
     ax.set_title("particle %d" % summary["particle"])
     ax.grid(True, which="major")
-    legend_below(fig, (ax,), width=1.1)
+    legend_below(fig, (ax,))
     caption = ("Divergence of particle %d's trajectory in each tier from the truth (MPFR, %d bits) per collision: the "
                "largest of |dt|, |dq|, |dv|; grey: MUPO phases; dashed: the tolerance %g. The horizon (the first "
                "collision past it): %s." % (summary["particle"], summary["truth"]["bits"], summary["tolerance"],
