@@ -16,7 +16,6 @@ Usage: bench/bench_splitting.py [ROTLEAK] [PARTICLES_PLAIN] [LINES_SPLIT] [OMEGA
 Writes splitting_fom.png into OUT_DIR when given (matplotlib, Debian's python3-matplotlib)."""
 import csv
 import json
-import math
 import os
 import shutil
 import subprocess
@@ -93,27 +92,29 @@ def main():
             else:
                 gain = "only splitting measures it"
             print("| %.2g | %g | %s | %s |" % (p, rows[i][0], " | ".join(cells), gain))
-        if keep:
-            import matplotlib
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-            fig, ax = plt.subplots(figsize=(7, 4.5))
-            for name, (s, rows) in results.items():
-                pts = [(r[2], 1 / ((r[3] / r[2]) ** 2 * s["collisions"])) for r in rows[::25]
-                       if r[2] > 0 and r[3] > 0 and r[1] > 0 and (r[2] / r[3]) ** 2 >= 10]
-                if pts:
-                    ax.loglog([x for x, _ in pts], [y for _, y in pts], ".", ms=3, label=name)
-            ax.invert_xaxis()
-            ax.set_xlabel("P(t)")
-            ax.set_ylabel("1 / (relative variance x collisions)")
-            ax.set_title("work-normalised precision, omega = %s" % omega)
-            ax.grid(alpha=0.3)
-            ax.legend()
+        if keep:  # drawn in rotleak.plot's style (a column wide, 8 pt text), the package beside the binary's build
+            sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(rotleak)), "python"))
+            from rotleak import plot
+            with plot.plt.rc_context(plot.STYLE):
+                fig, ax = plot.plt.subplots(figsize=(plot.ONE_COLUMN, 2.8))
+                colours = {"uniform": "C0", "mupo": "C4", "mupo + splitting": "C9"}  # as in the sampling picture
+                for name, (s, rows) in results.items():
+                    pts = [(r[2], 1 / ((r[3] / r[2]) ** 2 * s["collisions"])) for r in rows[::25]
+                           if r[2] > 0 and r[3] > 0 and r[1] > 0 and (r[2] / r[3]) ** 2 >= 10]
+                    if pts:
+                        ax.loglog([x for x, _ in pts], [y for _, y in pts], ".", ms=3, label=name,
+                                  color=colours[name])
+                ax.invert_xaxis()
+                ax.set_xlabel("P(t)")
+                ax.set_ylabel("1 / (rel. variance x collisions)")
+                ax.set_title("work-normalised precision")
+                ax.grid(True, which="major")
+                plot.legend_below(fig, (ax,))
             os.makedirs(keep, exist_ok=True)
-            tmp = os.path.join(keep, "splitting_fom.tmp.png")
-            fig.savefig(tmp, dpi=110)
-            os.replace(tmp, os.path.join(keep, "splitting_fom.png"))
-            print("\nwrote " + os.path.join(keep, "splitting_fom.png"))
+            plot.save(fig, os.path.join(keep, "splitting_fom.png"))
+            print("\nwrote %s: the work-normalised precision 1 / (relative variance x collisions) of P against P, "
+                  "omega = %s, for uniform, mupo and mupo with splitting" % (os.path.join(keep, "splitting_fom.png"),
+                                                                             omega))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
