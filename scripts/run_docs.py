@@ -29,7 +29,10 @@ command). Where a block was scaled by s, a `figures` tolerance is widened by 1/s
 error of a figure grows so with fewer particles; the tolerance written is the one at full size.
 
 Every failure is printed; exit status 1 if there is one, 0 when every block holds.
-Usage: /usr/bin/python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [FILE.md ...]"""
+`--stale` lists every figure of a full-size block that is not what this build prints (to the digits shown), within
+its tolerance or not: the README once showed kappa 0.0043876 to builds that printed 0.0043865.
+
+Usage: /usr/bin/python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [--stale] [FILE.md ...]"""
 import argparse
 import math
 import os
@@ -176,6 +179,17 @@ def figure_after(name, line):
     return float(m.group(1)) if m else None
 
 
+def shown_digits(name, line):
+    """The significant digits of the figure right after `name` in a shown line (0.0043865: 5)."""
+    k = line.find(name)
+    m = re.match(r"[\s=:<]*(%s)" % NUMBER.pattern, line[k + len(name):]) if k >= 0 else None
+    mantissa = re.sub(r"[eE].*$", "", m.group(1)).lstrip("-+").replace(".", "").lstrip("0") if m else ""
+    return max(1, len(mantissa))
+
+
+STALE = []  # with --stale: (where, name, shown, printed) of every figure that differs at all from this build's
+
+
 def check_output(block, printed, widen):
     """every shown line in the printed output, in order; the figures the directive names within tolerance"""
     out = block.output
@@ -206,6 +220,9 @@ def check_output(block, printed, widen):
             if y is None:
                 errors.append("no figure after %r in %r / %r" % (name, shown, got))
                 continue
+            digits = shown_digits(name, pattern)
+            if widen == 1 and float("%.*g" % (digits, y)) != x:  # printed to the digits shown, not the shown figure
+                STALE.append((block.output.where(), name, x, y))
             allowed = (float(tol[:-1]) / 100 * abs(x) if tol.endswith("%") else float(tol)) * widen
             if abs(x - y) > allowed:
                 errors.append("%s: shown %g, printed %g, allowed +-%g (%s%s)" %
@@ -343,6 +360,9 @@ def main():
     ap.add_argument("--scale", type=float, default=float(os.environ.get("ROTLEAK_DOCS_SCALE", "1")))
     ap.add_argument("--list", action="store_true", help="list the blocks and what each is, run nothing")
     ap.add_argument("--show", action="store_true", help="print what each block prints")
+    ap.add_argument("--stale", action="store_true",
+                    help="also list every figure (of a block run at full size) that differs at all from what this "
+                         "build prints, within its tolerance or not: what a docs refresh should rewrite")
     a = ap.parse_args()
     build = os.path.abspath(a.build)
     files = [os.path.abspath(f) for f in a.files] or markdown_files(ROOT)
@@ -366,6 +386,10 @@ def main():
                 print("  FAIL %s" % e)
             if errors:
                 failed.append(f)
+        if a.stale:
+            for where, name, shown, printed in STALE:
+                print("  stale %s: %s shown %.10g, this build prints %.10g" % (where, name, shown, printed))
+            print("docs: %d figures differ from this build's" % len(STALE))
         print("docs: %d blocks run in %d files, %.0f s, scale %g; %s" %
               (total, len(files), time.time() - t0, a.scale, "all hold" if not failed else "%d files FAIL" % len(failed)))
         return 1 if failed else 0
