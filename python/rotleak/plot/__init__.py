@@ -1,16 +1,20 @@
-"""rotleak's pictures: ``/usr/bin/python3 -m rotleak.plot DIR`` (``rotleak plot DIR`` runs it) draws whatever a
-rotleak directory holds, beside its files:
+"""rotleak's pictures: ``/usr/bin/python3 -m rotleak.plot DIR [--format png,pdf]`` (``rotleak plot DIR`` runs it) draws
+whatever a rotleak directory holds, beside its files, and prints each picture's caption:
 
-- a run (``rotleak simulate``): survival.png (P(t) log-log and semi-log, error band, the kappa fit and
-  the alpha crossing) and fc.png (the collision density per time window);
-- a scan: scan_survival.png, scan_<key>.png (kappa and alpha against each swept key, regimes as a
-  strip), scan_alpha_covering.png;
-- a shadow: shadow.png; a covering: f_L.png; a regimes search: its coarse scan and regimes.png.
+- a run (``rotleak simulate``): survival (P(t) log-log and semi-log with the error band, the kappa fit and the alpha
+  crossing, t P(t) with C; a split run's range past ``unresolved_from`` greyed) and fc (the collision density per
+  time window, the arcs shaded);
+- a scan: scan_survival, scan_<key> (kappa and alpha against each swept key, regimes as a strip),
+  scan_alpha_covering;
+- a shadow: shadow; a covering: f_L; a regimes search: its coarse scan and regimes; a calibration: calibration; a
+  certified sample: certify.
 
-Each drawing is also a function for scripts and notebooks: ``draw(x)`` takes a directory or the object
-the package's readers give (a :class:`~rotleak.Run`, :class:`~rotleak.Scan` or
-:class:`~rotleak.Calibration`), and ``rotleak.plot.run.draw(run, out=DIR)`` draws an in-process run. The
-tables are read by the package's readers, by column name. Needs matplotlib (Debian: python3-matplotlib)."""
+One style for all (STYLE): a journal's column (ONE_COLUMN, 3.4 in) or page (TWO_COLUMN, 7 in) wide, 8 pt text at that
+size, one colour per meaning, the details in the caption. ``figures(x)`` gives the pictures as matplotlib Figures
+(Drawing: name, figure, caption) of a directory or of the object the package's readers give (a
+:class:`~rotleak.Run`, one made in process too, :class:`~rotleak.Scan`, :class:`~rotleak.Calibration`,
+:class:`~rotleak.Certification`); ``draw(x, formats="png,pdf")`` saves them. The tables are read by the package's
+readers, by column name. Needs matplotlib (Debian: python3-matplotlib)."""
 from __future__ import annotations
 
 import csv
