@@ -163,10 +163,10 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
   for (std::size_t i = 0; i < points; ++i) {
     double sp = 0, sq = 0;  // seed order: the pooled curve does not depend on how the seeds were run
     for (const SurvivalCurve& c : curves) {
-      sp += c.P_w[i];
+      sp += p.lines ? c.P_w[i] : c.weight_sum(i);  // importance sampling: the weight sums, normalised after
       sq += p.lines ? c.R[i] * c.P_w[i] * c.P_w[i] : c.Q[i];
     }
-    p.P_w.push_back(sp / K);
+    (p.lines ? p.P_w : p.W).push_back(sp / K);
     if (p.lines) {
       p.R.push_back(sp > 0 ? K * sq / (sp * sp) : 0.0);
       std::uint64_t alive = 0;
@@ -176,6 +176,7 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
       p.Q.push_back(sq / K);
     }
   }
+  if (!p.lines) self_normalise(p);  // the pooled sample's share of its weight, as one run of K N particles
   // the structure where every curve keeps it (finish_lines_curve builds G with it), else G from the pooled R alone
   if (p.lines && !(scene && pool_structure(curves, *scene, p))) running_lines_variance(p);
   return p;

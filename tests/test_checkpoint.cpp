@@ -113,7 +113,7 @@ TEST(TallyFile, RoundTripsBitForBitAndRefusesDamage) {
             "\"records\":", "\"records\":5.7e54,\"x\":", "records is not a count"},
         {"\"survival_bins\":", "\"survival_bins\":1000000000000,\"x\":", "sizes larger than the file"},
         {"\"weighted\":", "\"weighted\":3,\"x\":", "weighted is not true or false"}}) {
-    // the header edited and its length prefix with it ("rotleak-tallies 3\n<length>\n<header>"), so that
+    // the header edited and its length prefix with it ("rotleak-tallies 4\n<length>\n<header>"), so that
     // the reader gets past the JSON to the checks of its values
     const std::size_t magic = body.find('\n') + 1, nl = body.find('\n', magic);
     std::string header = body.substr(nl + 1, std::stoull(body.substr(magic, nl - magic)));

@@ -395,18 +395,22 @@ TEST(FitTail, SplitRunOfLinesThatNeverSplitHasTheWeightedError) {
   double alive_w = w_all, alive_w2 = w2_all, g = 0;
   std::uint64_t alive = n;
   const double nd = static_cast<double>(n);
+  const double m = w_all / nd, B = w2_all / nd;  // the weights' mean and mean square: P = W / m, the ratio
   for (std::size_t k = 0; k < points; ++k) {
     alive_w -= out_w[k];
     alive_w2 -= out_w2[k];
     alive -= out_n[k];
-    const double P = std::max(alive_w, 0.0) / nd, Q = std::max(alive_w2, 0.0) / nd;
+    const double W = std::max(alive_w, 0.0) / nd, Q = std::max(alive_w2, 0.0) / nd, P = W / m;
     for (SurvivalCurve* c : {&weighted, &split}) {
       c->t.push_back(static_cast<double>(k));
       c->survivors.push_back(alive);
-      c->P_w.push_back(P);
     }
+    weighted.W.push_back(W);
     weighted.Q.push_back(Q);
-    const double R = P > 0 ? Q / (P * P) : 0;  // N sum Y^2 / (sum Y)^2 with Y = w 1{alive}
+    split.P_w.push_back(P);
+    // the lines' R - 1 = (R_Y - 1) + (R_0 - 1) - 2 (X - 1), with Y = w 1{alive}: R_Y = Q / W^2, R_0 = B / m^2,
+    // X = N sum Y w / (sum Y sum w) = Q / (W m)
+    const double R = W > 0 ? Q / (W * W) + B / (m * m) - 2 * Q / (W * m) + 1 : 0;
     split.R.push_back(R);
     if (R > 0) g = std::max(g, (R - 1) / nd);
     split.G.push_back(g);
@@ -415,8 +419,9 @@ TEST(FitTail, SplitRunOfLinesThatNeverSplitHasTheWeightedError) {
     split.unsplit_P.push_back(P);
     all.lines.push_back(alive);
     all.P.push_back(P);
-    all.var.push_back(Q / nd);
+    all.var.push_back(Q / (nd * m * m));
   }
+  self_normalise(weighted);
   split.unsplit.push_back(all);
   const KappaFit kw = fit_kappa(weighted, 0, 300), ks = fit_kappa(split, 0, 300);
   ASSERT_TRUE(kw.ok && ks.ok);
@@ -681,10 +686,12 @@ TEST(SurvivalCurveCovariance, GreenwoodIsTheEarlierTimesVariance) {
   EXPECT_DOUBLE_EQ(c.log_cov(0, 2), 0.0);  // P(0) = 1: ln P(0) has no variance
 }
 
-// A weighted run's P error by hand: P = (1/N) sum w_i 1{alive}, so Var P = (E[Y^2] - P^2) / N with Q = (1/N) sum
-// w_i^2 1{alive} -- the spread of the weights about P, not their second moment. Four particles of weights 0.5,
-// 1.5, 1 and 1, all alive at t = 0 (P = 1, Q = 1.125: error sqrt(0.125 / 4)), the first two alive at t = 100
-// (P = 0.5, Q = 0.625: error sqrt(0.375 / 4)).
+// A weighted run's P error by hand: P = sum w_i 1{alive} / sum w_i (the ratio), linearised as (1 / (N m)) sum
+// (w_i 1{alive} - P w_i), so Var P = E[(w I - P w)^2] / (N m^2) -- the spread of the weights about P w, not their
+// second moment, and 0 where every particle is alive. Four particles of weights 0.5, 1.5, 1 and 1 (m = 1), all alive
+// at t = 0 (P = 1 exactly, error 0), the first two alive at t = 100 (P = 0.5; the terms w I - P w are 0.25, 0.75,
+// -0.5, -0.5, their mean square 1.125 / 4: error sqrt(0.28125 / 4)). (The unbiased (1/N) sum w I once gave t = 0
+// the error sqrt(0.125 / 4) about a P(0) that was the weights' mean, not 1.)
 TEST(SurvivalCurveCovariance, AWeightedErrorIsTheWeightsSpreadAboutP) {
   SurvivalCurve c;
   c.particles = 4;
@@ -692,9 +699,14 @@ TEST(SurvivalCurveCovariance, AWeightedErrorIsTheWeightsSpreadAboutP) {
   c.survivors = {4, 2};
   c.weighted = true;
   c.max_weight = 2;
-  c.P_w = {1.0, 0.5};
+  c.W = {(0.5 + 1.5 + 1 + 1) / 4, (0.5 + 1.5) / 4};
   c.Q = {(0.25 + 2.25 + 1 + 1) / 4, (0.25 + 2.25) / 4};
-  EXPECT_DOUBLE_EQ(c.P_err(0), std::sqrt(0.125 / 4));
-  EXPECT_DOUBLE_EQ(c.P_err(1), std::sqrt(0.375 / 4));
+  self_normalise(c);
+  EXPECT_EQ(c.P(0), 1.0);
+  EXPECT_EQ(c.P_err(0), 0.0);
+  EXPECT_DOUBLE_EQ(c.P(1), 0.5);
+  EXPECT_DOUBLE_EQ(c.P_err(1), std::sqrt(0.28125 / 4));
   EXPECT_DOUBLE_EQ(c.effective(1), 4 * 0.25 / 0.625);  // (sum w)^2 / sum w^2 of the living
+  // the covariance of ln P between the two times, by hand: E[w^2 (I_0 - 1)(I_1 - 0.5)] = 0 (everyone alive at 0)
+  EXPECT_NEAR(c.log_cov(0, 1), 0.0, 1e-17);
 }

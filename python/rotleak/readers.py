@@ -178,22 +178,30 @@ _FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][+-]?[0-9]+)?|-?inf|nan")
 _COUNT = re.compile(r"[0-9]+")
 
 
-def check_survival_csv(text: str, t_max: Optional[float] = None, survival_dt: Optional[float] = None) -> None:
-    """Raises RotleakError with the reason ``rotleak fit`` gives (src/io/run_output.cpp, read_survival_csv,
+def check_survival_csv(text: str, t_max: Optional[float] = None, survival_dt: Optional[float] = None,
+                       sums: bool = False) -> None:
+    """Raises RotleakError with the reason ``rotleak fit`` gives (src/io/run_csv.cpp, read_survival_csv,
     word for word) when survival.csv is damaged: its header, a row that ends the file (truncated), a row
-    that is not t,survivors,P,P_err (decimals as rotleak writes them), or fewer or more rows than the
-    grid t = k * survival_dt up to t_max."""
-    header = "t,survivors,P,P_err\n"
+    that is not t,survivors,P,P_err (decimals as rotleak writes them; with ``sums``, an importance-sampled run's,
+    t,survivors,P,P_err,W,W2 with P = W / W at t = 0), or fewer or more rows than the grid t = k * survival_dt up
+    to t_max."""
+    columns = "t,survivors,P,P_err,W,W2" if sums else "t,survivors,P,P_err"
+    header = columns + "\n"
     if not text.startswith(header):
-        raise RotleakError("survival.csv: expected the header t,survivors,P,P_err")
+        raise RotleakError("survival.csv: expected the header " + columns)
     if not text.endswith("\n"):
         raise RotleakError("survival.csv: ends inside a row (truncated)")
     rows = text[len(header):-1].split("\n") if len(text) > len(header) else []
+    w0 = 0.0
     for line, row in enumerate(rows, start=2):
         f = row.split(",")
-        if len(f) != 4 or not (_FLOAT.fullmatch(f[0]) and _COUNT.fullmatch(f[1]) and _FLOAT.fullmatch(f[2])
-                               and _FLOAT.fullmatch(f[3])) or int(f[1]) >= 2 ** 64:
-            raise RotleakError("survival.csv line %d: expected t,survivors,P,P_err" % line)
+        if len(f) != columns.count(",") + 1 or not _COUNT.fullmatch(f[1]) or int(f[1]) >= 2 ** 64 or not all(
+                _FLOAT.fullmatch(x) for k, x in enumerate(f) if k != 1):
+            raise RotleakError("survival.csv line %d: expected %s" % (line, columns))
+        if sums:  # P = W / W(0), the very doubles rotleak divided
+            w0 = float(f[4]) if line == 2 else w0
+            if not float(f[2]) == (float(f[4]) / w0 if w0 > 0 else 0.0):
+                raise RotleakError("survival.csv line %d: P is not W / W at t = 0" % line)
     if t_max is not None and survival_dt is not None:
         grid = math.ceil(t_max / survival_dt) + 1
         if len(rows) != grid:
@@ -222,10 +230,12 @@ class Run:
             try:
                 sc = self.summary["scene"]
                 t_max, dt = float(sc["run"]["t_max"]), float(sc["observe"]["survival_dt"])
+                # an importance-sampled run that is not split keeps its weight sums (docs/output.md)
+                sums = sc["ensemble"].get("sampling", "uniform") != "uniform" and sc["run"].get("splitting") is not True
             except (KeyError, TypeError, ValueError):
                 raise RotleakError("%s: summary.json: not a simulate run's summary" % where) from None
             try:
-                check_survival_csv(self._files["survival.csv"], t_max, dt)
+                check_survival_csv(self._files["survival.csv"], t_max, dt, sums)
             except RotleakError as e:
                 raise RotleakError("%s: %s" % (where, e)) from None
         missing = [f for f in self.summary.get("files", [])
@@ -258,7 +268,8 @@ class Run:
 
     @property
     def survival(self) -> pandas.DataFrame:
-        """t, survivors, P, P_err: P(t) on the grid t = k survival_dt with one standard error."""
+        """t, survivors, P, P_err: P(t) on the grid t = k survival_dt with one standard error (an importance-sampled
+        run's also W, W2: the survivors' weight sums over N)."""
         return self._table("survival.csv")
 
     @property

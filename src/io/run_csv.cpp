@@ -16,8 +16,10 @@
 namespace rotleak {
 
 std::string survival_csv(const SurvivalCurve& curve) {
-  std::string out = "t,survivors,P,P_err\n";
-  out.reserve(curve.survivors.size() * 48);
+  // an importance-sampled run (not split) keeps the survivors' weight sums its P and P_err are made from
+  const bool sums = curve.weighted && !curve.lines;
+  std::string out = sums ? "t,survivors,P,P_err,W,W2\n" : "t,survivors,P,P_err\n";
+  out.reserve(curve.survivors.size() * (sums ? 96 : 48));
   for (std::size_t k = 0; k < curve.survivors.size(); ++k) {
     out += shortest(curve.t[k]);
     out += ',';
@@ -26,6 +28,12 @@ std::string survival_csv(const SurvivalCurve& curve) {
     out += shortest(curve.P(k));
     out += ',';
     out += shortest(curve.P_err(k));
+    if (sums) {
+      out += ',';
+      out += shortest(curve.W[k]);
+      out += ',';
+      out += shortest(curve.Q[k]);
+    }
     out += '\n';
   }
   return out;
@@ -82,9 +90,11 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   c.weighted = scene.sampling.weighted() || c.lines;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  const std::string header = "t,survivors,P,P_err\n";
+  const bool sums = c.weighted && !c.lines;  // the survivors' weight sums W, W2 beside P
+  const std::string columns = sums ? "t,survivors,P,P_err,W,W2" : "t,survivors,P,P_err";
+  const std::string header = columns + "\n";
   if (text.compare(0, header.size(), header) != 0)
-    throw std::runtime_error("survival.csv: expected the header t,survivors,P,P_err");
+    throw std::runtime_error("survival.csv: expected the header " + columns);
   if (text.back() != '\n') throw std::runtime_error("survival.csv: ends inside a row (truncated)");
   std::size_t line = 1;
   for (std::size_t pos = header.size(); pos < text.size();) {
@@ -92,13 +102,13 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
     const std::string_view row(text.data() + pos, end - pos);
     pos = end + 1;
     ++line;
-    std::vector<std::string_view> field(4);
+    std::vector<std::string_view> field(sums ? 6 : 4);
     const std::size_t count = split_fields(row, field);
     unsigned long long k = 0;
-    if (count != 4 || !decimal_field(field[0], false) || !decimal_field(field[1], true) ||
-        !decimal_field(field[2], false) || !decimal_field(field[3], false) ||
-        std::from_chars(field[1].data(), field[1].data() + field[1].size(), k).ec != std::errc())
-      throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected t,survivors,P,P_err");
+    bool ok = count == field.size() && decimal_field(field[1], true) &&
+              std::from_chars(field[1].data(), field[1].data() + field[1].size(), k).ec == std::errc();
+    for (std::size_t f = 0; ok && f < field.size(); ++f) ok = f == 1 || decimal_field(field[f], false);
+    if (!ok) throw std::runtime_error("survival.csv line " + std::to_string(line) + ": expected " + columns);
     const double t = field_value(field[0]), P = field_value(field[2]), err = field_value(field[3]);
     c.t.push_back(t);
     c.survivors.push_back(k);
@@ -107,11 +117,14 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
       c.R.push_back(P > 0 ? 1 + n * (err / P) * (err / P) : 0.0);
       c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));
       c.lines_alive.push_back(0);
-    } else if (c.weighted) {
-      c.P_w.push_back(P);
-      c.Q.push_back(err * err * n + P * P);  // P_err = sqrt((Q - P^2) / N)
+    } else if (sums) {  // P = W / W(0), written from these very doubles: a P that is not is damage
+      c.W.push_back(field_value(field[4]));
+      c.Q.push_back(field_value(field[5]));
+      if (!(P == (c.W[0] > 0 ? c.W.back() / c.W[0] : 0.0)))
+        throw std::runtime_error("survival.csv line " + std::to_string(line) + ": P is not W / W at t = 0");
     }
   }
+  if (sums) self_normalise(c);
   const std::size_t grid = scene.survival_bins() + 1;
   if (c.t.size() != grid)
     throw std::runtime_error("survival.csv: " + std::to_string(c.t.size()) +

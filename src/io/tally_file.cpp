@@ -12,7 +12,7 @@ namespace rotleak {
 
 namespace {
 
-constexpr const char* kMagic = "rotleak-tallies 3\n";
+constexpr const char* kMagic = "rotleak-tallies 4\n";
 
 /// The file's checksum: FNV-1a started from 1469598103934665603 (not FNV's offset basis; the format has
 /// always carried this start, and docs/output.md and the readers use it).
@@ -46,7 +46,7 @@ void get_sums(ByteReader& r, std::vector<FixedSum>& v) {
 
 /// A split run's section: the line sums, counts, conservation sums and unsplit cells.
 void put_lines(ByteWriter& w, const LinesEstimator& e) {
-  for (const auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out}) put_sums(w, *v);
+  for (const auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out, &e.linex_in, &e.linex_out}) put_sums(w, *v);
   w.words(e.lines_ended);
   w.words(e.born_per_bin);
   w.words(e.culled_per_bin);
@@ -189,7 +189,7 @@ void read_weighted(ByteReader& r, Tally& t) {
 /// left, their keys increasing and on the grid).
 void read_lines(ByteReader& r, LinesEstimator& e, std::size_t bins, std::size_t size, const std::string& where) {
   e.resize(bins);
-  for (auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out}) get_sums(r, *v);
+  for (auto* v : {&e.line_in, &e.line_out, &e.line2_in, &e.line2_out, &e.linex_in, &e.linex_out}) get_sums(r, *v);
   r.words(e.lines_ended);
   r.words(e.born_per_bin);
   r.words(e.culled_per_bin);

@@ -2,13 +2,12 @@
 // of a shard (DIR/tally.bin) that `rotleak merge` combines, and what MPI ranks send to rank 0. One
 // format for all three, so what one writes the others read.
 //
-// Layout: the line "rotleak-tallies 3", the header's length in bytes and a newline, the header (JSON:
-// the run's inputs as text, its ids, block size, the blocks done, the array sizes; a checkpoint's also
-// the seconds spent so far), then the arrays
-// as little-endian 64-bit words (counts; each exact sum as its lowest limb's index, its limb count
-// and its limbs; escape records), then an
-// FNV-1a 64 checksum of everything before it. The counts are integers and the sums fixed-point
-// integers, so a tally read back merges to the same bits as the one written.
+// Layout: the line "rotleak-tallies 4" (4: a split run's sums of Y w0 added), the header's length in bytes and a
+// newline, the header (JSON: the run's inputs as text, its ids, block size, the blocks done, the array sizes; a
+// checkpoint's also the seconds spent so far), then the arrays as little-endian 64-bit words (counts; each exact sum as
+// its lowest limb's index, its limb count and its limbs; escape records), then an FNV-1a 64 checksum of everything
+// before it. The counts are integers and the sums fixed-point integers, so a tally read back merges to the same bits as
+// the one written.
 #pragma once
 
 #include <cstdint>

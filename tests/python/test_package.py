@@ -163,6 +163,35 @@ class Package(unittest.TestCase):
         self.assertEqual([n for n in dir(rotleak) if not n.startswith("_") and n not in rotleak.__all__], [],
                          "dir(rotleak) shows what the package offers, not its imports")
 
+    def test_an_importance_sampled_run_starts_at_one_and_keeps_its_weight_sums(self):
+        # mupo runs once started at P(0) = 0.996 +- 0.003 (the weights' mean); P is now the survivors' share of the
+        # sample's weight, and survival.csv keeps the sums W, W2 it is made from (docs/output.md)
+        run = rotleak.simulate(QUICK, particles=3000, overrides={"ensemble.sampling": "mupo", "run.t_max": 500,
+                                                                "fit.kappa_window": [0, 300],
+                                                                "observe.collision_density": {"bins": 10}})
+        out = os.path.join(self.tmp, "mupo-run")
+        run.write(out)
+        table = pd.read_csv(os.path.join(out, "survival.csv"), float_precision="round_trip")
+        self.assertEqual(list(table.columns), ["t", "survivors", "P", "P_err", "W", "W2"])
+        self.assertEqual((table["P"][0], table["P_err"][0]), (1.0, 0.0))
+        self.assertNotEqual(table["W"][0], 1.0)  # the weights' mean, which P once started at
+        self.assertTrue(all(p == w / table["W"][0] for p, w in zip(table["P"], table["W"])))
+        pd.testing.assert_frame_equal(rotleak.read_run(out).survival, table)
+        damaged = os.path.join(self.tmp, "mupo-damaged")
+        shutil.copytree(out, damaged)
+        with open(os.path.join(damaged, "survival.csv")) as f:
+            rows = f.read().split("\n")
+        f3 = rows[3].split(",")
+        f3[2] = repr(float(f3[2]) * (1 + 2 ** -40))  # P no longer W / W(0)
+        rows[3] = ",".join(f3)
+        with open(os.path.join(damaged, "survival.csv"), "w") as f:
+            f.write("\n".join(rows))
+        with self.assertRaisesRegex(rotleak.RotleakError, "survival.csv line 4: P is not W / W at t = 0"):
+            rotleak.read_run(damaged)
+        r = subprocess.run([BIN, "fit", damaged], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("survival.csv line 4: P is not W / W at t = 0", r.stderr)
+
     def test_a_split_run_keeps_its_tallies_in_process_and_on_disk(self):
         """A split run's tally.bin (its exact tallies, from which rotleak fit rebuilds its curve): the same bytes
         in process and from the command; read_run keeps it, write() writes it back, rotleak fit reads it."""

@@ -74,12 +74,12 @@ class LineBook {
       y_ = y;
       return;
     }
-    e.stretch(since_, g, y_);
+    e.stretch(since_, g, y_, w0_);
     y_ = y;
     since_ = g;
   }
   /// The line is over (no member in flight): its last stretch runs to the end of the grid.
-  void close(LinesEstimator& e) { e.stretch(since_, points_, y_); }
+  void close(LinesEstimator& e) { e.stretch(since_, points_, y_, w0_); }
 
  private:
   double value() const {

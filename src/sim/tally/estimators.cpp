@@ -31,7 +31,7 @@ void WeightedEstimator::merge(const WeightedEstimator& o) {
 
 void LinesEstimator::resize(std::size_t bins) {
   const std::size_t points = bins + 1;
-  for (auto* v : {&line_in, &line_out, &line2_in, &line2_out}) v->assign(points, FixedSum{});
+  for (auto* v : {&line_in, &line_out, &line2_in, &line2_out, &linex_in, &linex_out}) v->assign(points, FixedSum{});
   lines_ended.assign(points, 0);
   born_per_bin.assign(bins, 0);
   culled_per_bin.assign(bins, 0);
@@ -47,6 +47,8 @@ void LinesEstimator::merge(const LinesEstimator& o) {
     line_out[i].merge(o.line_out[i]);
     line2_in[i].merge(o.line2_in[i]);
     line2_out[i].merge(o.line2_out[i]);
+    linex_in[i].merge(o.linex_in[i]);
+    linex_out[i].merge(o.linex_out[i]);
     lines_ended[i] += o.lines_ended[i];
   }
   for (std::size_t i = 0; i < born_per_bin.size(); ++i) {
@@ -77,14 +79,17 @@ void LinesEstimator::leave_unsplit(std::size_t g, double w0) {
   unsplit_left[g * kUnsplitClasses + static_cast<std::uint64_t>(unsplit_class(w0))].add(w0);
 }
 
-void LinesEstimator::stretch(std::size_t from, std::size_t to, double y) {
+void LinesEstimator::stretch(std::size_t from, std::size_t to, double y, double w0) {
   const std::size_t points = line_in.size();
   if (!(y > 0) || from >= points || to <= from) return;
+  const double yw = y * w0;  // rounded once, then summed exactly: the same bits in any order (a variance's term)
   line_in[from].add(y);
   line2_in[from].add_square(y);
+  linex_in[from].add(yw);
   if (to < points) {
     line_out[to].add(y);
     line2_out[to].add_square(y);
+    linex_out[to].add(yw);
   }
 }
 

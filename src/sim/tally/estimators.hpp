@@ -75,6 +75,9 @@ inline int unsplit_class(double w0) {
 struct LinesEstimator {
   static constexpr const char* kName = "lines";
   std::vector<FixedSum> line_in, line_out, line2_in, line2_out;
+  /// The same for Y w0 (a line's living weight times its starting weight, each product rounded once): sum_i
+  /// Y_i(t_j) w0_i, the covariance of the curve with its start that the ratio P = sum Y / sum w0 needs.
+  std::vector<FixedSum> linex_in, linex_out;
   std::vector<std::uint64_t> lines_ended;                   ///< lines whose weight fell to 0, by grid index
   std::vector<std::uint64_t> born_per_bin, culled_per_bin;  ///< copies made, members the roulette removed, by bin
   std::uint64_t splits = 0, culls = 0;
@@ -105,7 +108,7 @@ struct LinesEstimator {
   /// The line of weight w0 leaves the unsplit stratum from grid index g on.
   void leave_unsplit(std::size_t g, double w0);
   /// A stretch of constant living weight y over grid indices [from, to) (to = points: to the end).
-  void stretch(std::size_t from, std::size_t to, double y);
+  void stretch(std::size_t from, std::size_t to, double y, double w0);
   /// A member split in two at a split time in `bin`.
   void split(std::size_t bin);
   /// The roulette kept (at twice its weight) or removed a member of `weight` at a split time in `bin`.

@@ -117,7 +117,7 @@ namespace {
 
 /// The unsplit lines on the grid, class by class (SurvivalCurve::unsplit_classes), from the exact tallies: the
 /// classes a line starts in, the start cells less the cells that left.
-void unsplit_class_curves(const LinesEstimator& e, SurvivalCurve& c, double n) {
+void unsplit_class_curves(const LinesEstimator& e, SurvivalCurve& c, double n) {  // n: the sum P is a share of
   const std::size_t points = c.t.size();
   std::vector<UnsplitCell> alive;
   std::vector<int> slot(kUnsplitClasses, -1);  // a class's place in c.unsplit_classes
@@ -153,27 +153,48 @@ void unsplit_class_curves(const LinesEstimator& e, SurvivalCurve& c, double n) {
   }
 }
 
-/// Lines: the split run's P, R, G and lines alive from the exact line tallies, then the unsplit lines.
+/// Lines: the split run's P, R, G and lines alive from the exact line tallies, then the unsplit lines. P is the
+/// lines' share of their starting weight, sum Y(t) / sum w0 (P(0) = 1), and R - 1 its relative variance times N by
+/// the delta method: (R_Y - 1) + (R_0 - 1) - 2 (X - 1) with R_Y = N sum Y^2 / (sum Y)^2, R_0 its value at t = 0 and
+/// X = N sum Y w0 / (sum Y sum w0) (docs/model.md "Importance sampling").
 void build_curve(const Scene& scene, const LinesEstimator& e, SurvivalCurve& c) {
   c.weighted = c.lines = true;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  FixedSum in, out, in2, out2;
+  FixedSum in, out, in2, out2, inx, outx;
   std::uint64_t ended = 0;
+  FixedSum::Scaled s0{};
+  double start = 0, w_start = 0, r0 = 0;
   for (std::size_t j = 0; j < e.line_in.size(); ++j) {
     in.merge(e.line_in[j]);
     out.merge(e.line_out[j]);
     in2.merge(e.line2_in[j]);
     out2.merge(e.line2_out[j]);
+    inx.merge(e.linex_in[j]);
+    outx.merge(e.linex_out[j]);
     ended += e.lines_ended[j];
-    const FixedSum y = in.minus(out), y2 = in2.minus(out2);  // exact: sum Y_i(t_j), sum Y_i(t_j)^2
-    c.P_w.push_back(y.value() / n);
-    // R = N sum Y^2 / (sum Y)^2 from the scaled sums (sum Y^2 may lie far below the double range)
-    const FixedSum::Scaled s1 = y.scaled(), s2 = y2.scaled();
-    c.R.push_back(s1.m > 0 ? n * std::ldexp(s2.m / (s1.m * s1.m), static_cast<int>(s2.e - 2 * s1.e)) : 0.0);
+    // exact: sum Y_i(t_j), sum Y_i(t_j)^2, sum Y_i(t_j) w0_i
+    const FixedSum y = in.minus(out), y2 = in2.minus(out2), yx = inx.minus(outx);
+    const FixedSum::Scaled s1 = y.scaled(), s2 = y2.scaled(), sx = yx.scaled();
+    const double w = y.value() / n;  // W as an unsplit weighted run rounds it: P the same bits when nothing splits
+    if (j == 0) {
+      s0 = s1;
+      start = y.value();
+      w_start = w;
+    }
+    c.P_w.push_back(w_start > 0 ? w / w_start : 0.0);
+    // from the scaled sums (sum Y^2 may lie far below the double range)
+    const double ry = s1.m > 0 ? n * std::ldexp(s2.m / (s1.m * s1.m), static_cast<int>(s2.e - 2 * s1.e)) : 0.0;
+    const double x =
+        s1.m > 0 && s0.m > 0 ? n * std::ldexp(sx.m / (s1.m * s0.m), static_cast<int>(sx.e - s1.e - s0.e)) : 0.0;
+    if (j == 0) r0 = ry;
+    // a difference of O(R) terms, each good to a few ulps: below 16 ulps of them it is rounding, not spread (every
+    // line still at its start gives exactly 0, as a uniform run's P(0) = 1 has no error)
+    const double rv = ry + r0 - 2 * x;
+    c.R.push_back(s1.m > 0 ? 1 + (rv > 16 * 0x1p-52 * (ry + r0) ? rv : 0.0) : 0.0);
     c.lines_alive.push_back(scene.particles - ended);
   }
-  unsplit_class_curves(e, c, n);
+  unsplit_class_curves(e, c, start > 0 ? start : n);  // the unsplit shares on P's scale: over sum w0
   finish_lines_curve(scene, c);
 }
 
@@ -215,20 +236,21 @@ namespace {
 /// Each estimator's part of the curve. Counting: the survivors' counts are the whole curve.
 void build_curve(const Scene& /*scene*/, const CountingEstimator& /*e*/, SurvivalCurve& /*c*/) {}
 
-/// Weighted: P_w and Q from the exact cumulative sums, rounded once per grid point.
+/// Weighted: W and Q from the exact cumulative sums, rounded once per grid point; P_w = W / W[0].
 void build_curve(const Scene& scene, const WeightedEstimator& e, SurvivalCurve& c) {
   c.weighted = true;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
   FixedSum w = e.total_w, w2 = e.total_w2;
-  c.P_w.push_back(w.value() / n);
+  c.W.push_back(w.value() / n);
   c.Q.push_back(w2.value() / n);
   for (std::size_t k = 0; k < e.escaped_w.size(); ++k) {
     w = w.minus(e.escaped_w[k]);
     w2 = w2.minus(e.escaped_w2[k]);
-    c.P_w.push_back(w.value() / n);
+    c.W.push_back(w.value() / n);
     c.Q.push_back(w2.value() / n);
   }
+  self_normalise(c);
 }
 
 }  // namespace
@@ -242,17 +264,25 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   return c;
 }
 
+void self_normalise(SurvivalCurve& c) {
+  c.P_w.clear();
+  for (double w : c.W) c.P_w.push_back(c.W[0] > 0 ? w / c.W[0] : 0.0);
+}
+
 double SurvivalCurve::P_err(std::size_t i) const {
   const double n = static_cast<double>(particles), p = P(i);
   if (!weighted) return std::sqrt(p * (1 - p) / n);
   if (lines) return p * std::sqrt(std::max(0.0, R[i] - 1) / n);
-  return std::sqrt(std::max(0.0, Q[i] - p * p) / n);
+  // P = S(t) / S(0) linearised: (1 / (N m)) sum (w I - P w), whose variance per particle is Q (1 - 2P) + P^2 B
+  const double m = weight_sum(0), B = Q[0];
+  return m > 0 ? std::sqrt(std::max(0.0, Q[i] * (1 - 2 * p) + p * p * B) / n) / m : 0.0;
 }
 
 double SurvivalCurve::effective(std::size_t i) const {
   if (!weighted) return static_cast<double>(survivors[i]);
   if (lines) return R[i] > 0 ? static_cast<double>(particles) / R[i] : 0.0;
-  return Q[i] > 0 ? static_cast<double>(particles) * P_w[i] * P_w[i] / Q[i] : 0.0;
+  const double w = weight_sum(i);
+  return Q[i] > 0 ? static_cast<double>(particles) * w * w / Q[i] : 0.0;
 }
 
 double SurvivalCurve::log_cov(std::size_t i, std::size_t j) const {
@@ -260,7 +290,9 @@ double SurvivalCurve::log_cov(std::size_t i, std::size_t j) const {
   const double n = static_cast<double>(particles);
   if (!weighted) return (1 - P(a)) / (n * P(a));
   if (lines) return G[a];
-  return (Q[b] - P_w[a] * P_w[b]) / (n * P_w[a] * P_w[b]);
+  // E[w^2 (I_a - P_a)(I_b - P_b)] with I_a I_b = I_b (alive at b is alive at a), over N m^2, relative
+  const double m = weight_sum(0), B = Q[0], pa = P_w[a], pb = P_w[b];
+  return (Q[b] - pb * Q[a] - pa * Q[b] + pa * pb * B) / (n * m * m * pa * pb);
 }
 
 }  // namespace rotleak

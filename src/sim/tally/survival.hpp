@@ -15,10 +15,12 @@ struct SurvivalCurve {
   std::vector<double> t;                 ///< grid times, increasing
   std::vector<std::uint64_t> survivors;  ///< survivors at each time (raw count, weighted runs too)
   std::uint64_t particles = 0;
-  /// Weighted runs: P_w[i] = (1/N) sum of the survivors' weights (the unbiased estimate of P), and
-  /// Q[i] = (1/N) sum of their squared weights (its second moment), from the exact tallies.
+  /// Weighted runs (importance sampling, not split): W[i] = (1/N) sum of the survivors' weights and Q[i] = (1/N)
+  /// sum of their squared weights, each rounded once from the exact tallies; P_w[i] = W[i] / W[0], the survivors'
+  /// share of the sample's weight (self-normalised: P(0) = 1 exactly; docs/model.md "Importance sampling"). A
+  /// curve built by hand without W takes P_w as W.
   bool weighted = false;
-  std::vector<double> P_w, Q;
+  std::vector<double> P_w, Q, W;
   double max_weight = 1;  ///< the largest weight a particle can have (1 / eps for the mupo mixture)
   /// Split runs (weighted too): the N lines are the independent units. P_w[i] = (1/N) sum_i Y_i(t), Y_i
   /// a line's living weight; R[i] = N sum Y^2 / (sum Y)^2 (1 for equal lines; its second moment
@@ -27,16 +29,19 @@ struct SurvivalCurve {
   std::vector<double> R;
   std::vector<std::uint64_t> lines_alive;
 
+  /// The survivors' weight sum over N at t_i (W, or P_w for a curve built without it).
+  double weight_sum(std::size_t i) const { return W.empty() ? P_w[i] : W[i]; }
   double P(std::size_t i) const {
     return weighted ? P_w[i] : static_cast<double>(survivors[i]) / static_cast<double>(particles);
   }
-  /// Standard error of P(t_i): binomial, or (Q - P^2) / N for weighted runs.
+  /// Standard error of P(t_i): binomial, or for weighted runs the ratio's (delta method, m = W[0], B = Q[0]):
+  /// Var = (Q (1 - 2P) + P^2 B) / (N m^2), 0 at t = 0 and binomial for unit weights.
   double P_err(std::size_t i) const;
-  /// Effective number of survivors: the count, or (sum w)^2 / sum w^2 = N P^2 / Q for weighted runs.
+  /// Effective number of survivors: the count, or (sum w)^2 / sum w^2 = N W^2 / Q for weighted runs.
   double effective(std::size_t i) const;
   /// Cov(ln P(t_i), ln P(t_j)): Greenwood's (1 - P_a) / (N P_a) for a = min(i, j); weighted runs
-  /// (Q_b - P_a P_b) / (N P_a P_b) with b = max(i, j) (the same for unit weights); split runs
-  /// Var(ln P(t_a)) = (R_a - 1) / N, made non-decreasing in a (see G).
+  /// (Q_b - P_b Q_a - P_a Q_b + P_a P_b B) / (N m^2 P_a P_b) with b = max(i, j) (Greenwood's for unit weights);
+  /// split runs Var(ln P(t_a)) = (R_a - 1) / N, made non-decreasing in a (see G).
   double log_cov(std::size_t i, std::size_t j) const;
   /// Split runs: G[a] = max over k <= a of (R_k - 1) / N. The model: given the past at t_a, a line's
   /// weight decays on average like P itself (E[Y(b) | t_a] = Y(a) P_b / P_a, mixing), so ln P has
@@ -107,5 +112,8 @@ std::vector<double> survival_times(const Scene& scene);
 std::vector<std::uint64_t> survivors_on_grid(const Scene& scene, const Tally& tally);
 /// Both together.
 SurvivalCurve survival_curve(const Scene& scene, const Tally& tally);
+
+/// A weighted (not split) curve's P_w from its W: P_w[i] = W[i] / W[0] (a run's, a pooled one's, one read back).
+void self_normalise(SurvivalCurve& c);
 
 }  // namespace rotleak
