@@ -115,6 +115,20 @@ def bare_python(root, files):
     return bad
 
 
+def readme_repeats_the_guide(root):
+    """The README's quick-start output (after `bash scripts/quickstart.sh`) repeats getting-started.md's lines, which
+    Docs.QuickStartFiguresAreThisBuilds holds to this build's figures: a line of the one not in the other is stale."""
+    with open(os.path.join(root, "README.md"), encoding="utf-8") as fh:
+        readme = fh.read()
+    with open(os.path.join(root, "docs", "guide", "getting-started.md"), encoding="utf-8") as fh:
+        guide = fh.read()
+    at = readme.index("```sh\nbash scripts/quickstart.sh\n```")
+    block = readme[readme.index("```text\n", at) + 8:readme.index("```", readme.index("```text\n", at) + 8)]
+    return ["README.md: the quick-start line %r is not getting-started.md's" % line
+            for line in block.split("\n") if line.startswith(("kappa =", "alpha =", "tail  =", "model :"))
+            and line not in guide]
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     bad = []
@@ -148,6 +162,7 @@ def main():
     bad += broken_links(root, tracked(root))
     bad += missing_paths(root, tracked(root))
     bad += bare_python(root, tracked(root))
+    bad += readme_repeats_the_guide(root)
     for b in bad:
         print(b)
     if bad:

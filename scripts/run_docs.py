@@ -30,9 +30,11 @@ error of a figure grows so with fewer particles; the tolerance written is the on
 
 Every failure is printed; exit status 1 if there is one, 0 when every block holds.
 `--stale` lists every figure of a full-size block that is not what this build prints (to the digits shown), within
-its tolerance or not: the README once showed kappa 0.0043876 to builds that printed 0.0043865.
+its tolerance or not: the README once showed kappa 0.0043876 to builds that printed 0.0043865; `--fail-stale` makes
+one a failure (the suite runs it on getting-started.md, whose quick-start lines the README repeats).
 
-Usage: /usr/bin/python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [--stale] [FILE.md ...]"""
+Usage: /usr/bin/python3 scripts/run_docs.py [--build DIR] [--scale S] [--list] [--show] [--stale [--fail-stale]]
+       [FILE.md ...]"""
 import argparse
 import math
 import os
@@ -360,6 +362,7 @@ def main():
     ap.add_argument("--scale", type=float, default=float(os.environ.get("ROTLEAK_DOCS_SCALE", "1")))
     ap.add_argument("--list", action="store_true", help="list the blocks and what each is, run nothing")
     ap.add_argument("--show", action="store_true", help="print what each block prints")
+    ap.add_argument("--fail-stale", action="store_true", help="with --stale: a stale figure is a failure (exit 1)")
     ap.add_argument("--stale", action="store_true",
                     help="also list every figure (of a block run at full size) that differs at all from what this "
                          "build prints, within its tolerance or not: what a docs refresh should rewrite")
@@ -390,6 +393,8 @@ def main():
             for where, name, shown, printed in STALE:
                 print("  stale %s: %s shown %.10g, this build prints %.10g" % (where, name, shown, printed))
             print("docs: %d figures differ from this build's" % len(STALE))
+            if a.fail_stale and STALE:
+                failed.append("stale figures")
         print("docs: %d blocks run in %d files, %.0f s, scale %g; %s" %
               (total, len(files), time.time() - t0, a.scale, "all hold" if not failed else "%d files FAIL" % len(failed)))
         return 1 if failed else 0
