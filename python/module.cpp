@@ -141,6 +141,14 @@ rotleak::RunOptions looped_run(int threads, std::atomic<bool>& stop) {
   return run;
 }
 
+/// A request's scene: a file, or (is_text) a Python Scene's TOML text named kPythonSource, with overrides.
+template <class Request>
+void scene_into(Request& req, const std::string& scene, bool is_text, const std::vector<std::string>& overrides) {
+  req.scene_path = is_text ? kPythonSource : scene;
+  if (is_text) req.scene_text = scene;
+  req.overrides = overrides;
+}
+
 /// A Python callable (or None) as the library's Note: each line handed over under the GIL.
 rotleak::Note python_note(const std::optional<py::function>& note) {
   if (!note) return {};
@@ -157,9 +165,7 @@ std::string calibrate(const std::string& scene, const std::vector<std::string>& 
   std::atomic<bool> stop{false};
   rotleak::CalibrateRequest req;
   req.run = looped_run(threads, stop);
-  req.scene_path = scene_is_text ? kPythonSource : scene;
-  if (scene_is_text) req.scene_text = scene;
-  req.overrides = overrides;
+  scene_into(req, scene, scene_is_text, overrides);
   req.seeds = seeds;
   req.first_seed = first_seed;
   req.out = out;
@@ -178,9 +184,7 @@ std::string scan(const std::string& scene, const std::vector<std::string>& overr
   std::atomic<bool> stop{false};
   rotleak::ScanRequest req;
   req.run = looped_run(threads, stop);
-  req.scene_path = scene_is_text ? kPythonSource : scene;
-  if (scene_is_text) req.scene_text = scene;
-  req.overrides = overrides;
+  scene_into(req, scene, scene_is_text, overrides);
   for (const std::string& o : over) req.axes.push_back(rotleak::parse_axis(o));
   req.out = out;
   req.force = force;
@@ -199,9 +203,7 @@ std::string regimes(const std::string& scene, const std::vector<std::string>& ov
   std::atomic<bool> stop{false};
   rotleak::RegimesRequest req;
   req.run = looped_run(threads, stop);
-  req.scene_path = scene_is_text ? kPythonSource : scene;
-  if (scene_is_text) req.scene_text = scene;
-  req.overrides = overrides;
+  scene_into(req, scene, scene_is_text, overrides);
   req.coarse = coarse;
   req.steps = steps;
   req.out = out;
