@@ -1,6 +1,6 @@
 // Everything `rotleak omega` says about one exact omega: its certified value and continued
 // fraction, convergents and best approximations with certified errors, semiconvergents, Liouville
-// partial sums, and the smallest denominator within eps. io/omega_output.hpp renders it.
+// partial sums, and the smallest denominator within eps. analysis/output/omega_output.hpp renders it.
 #pragma once
 
 #include <gmpxx.h>

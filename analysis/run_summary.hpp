@@ -1,5 +1,5 @@
 // What one run says: the scene as run, the engine's tallies, the survival curve and its fits. Every
-// command, scan point, rank and test that runs a scene summarises it here, and io/run_output.hpp
+// command, scan point, rank and test that runs a scene summarises it here, and analysis/output/run_output.hpp
 // writes it.
 #pragma once
 

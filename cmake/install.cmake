@@ -16,9 +16,10 @@ set_target_properties(rotleak_warnings PROPERTIES EXPORT_NAME warnings)
 
 # headers keep the paths the sources include them by ("sim/engine/engine.hpp", "analysis/fits.hpp")
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rotleak
-        FILES_MATCHING PATTERN "*.hpp" PATTERN "*.ipp" PATTERN "cli" EXCLUDE)
-foreach(layer analysis verify)
-  install(DIRECTORY ${CMAKE_SOURCE_DIR}/${layer}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rotleak/${layer}
+        FILES_MATCHING PATTERN "*.hpp" PATTERN "*.ipp")
+foreach(layer analysis verify app/run)
+  get_filename_component(name ${layer} NAME)
+  install(DIRECTORY ${CMAKE_SOURCE_DIR}/${layer}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rotleak/${name}
           FILES_MATCHING PATTERN "*.hpp" PATTERN "*.ipp")
 endforeach()
 install(FILES ${CMAKE_BINARY_DIR}/src/generated/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rotleak)

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "io/covering_output.hpp"
-#include "io/omega_output.hpp"
-#include "io/run_output.hpp"
+#include "analysis/output/covering_output.hpp"
+#include "analysis/output/omega_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"

@@ -1,9 +1,14 @@
 #!/usr/bin/python3
 """Checks that includes only point down the layers of the design:
 
-    numeric <- geometry <- leak <- sim <- analysis <- io <- verify <- run <- cli (and bench, tests)
+    numeric <- geometry <- leak <- sim <- io <- analysis <- output <- verify <- run <- cli (and bench, tests)
 
-A file may include files of its own layer and of the layers below it, never above. Inside src/sim the
+A file may include files of its own layer and of the layers below it, never above. The layers live in
+four top-level folders, which are layers in the same order:
+
+    src (numeric .. io) <- analysis (analysis, and output: the writers of its results) <- verify <- app (run, cli)
+
+so no include runs from a folder up to a later one (checked too, and named as such). Inside src/sim the
 folders are layers of their own, in the same way:
 
     sim/model <- sim/kernel <- sim/tally <- sim/engine
@@ -21,13 +26,24 @@ import os
 import re
 import sys
 
-LAYERS = ["numeric", "geometry", "leak", "sim", "analysis", "io", "verify", "run", "cli"]
-# where each layer lives (relative to the repository root)
+LAYERS = ["numeric", "geometry", "leak", "sim", "io", "analysis", "output", "verify", "run", "cli"]
+# where each layer lives (relative to the repository root); the longest matching prefix decides
 DIRS = {
-    "src/numeric": "numeric", "src/geometry": "geometry", "src/leak": "leak", "src/sim": "sim",
-    "analysis": "analysis", "src/io": "io", "verify": "verify", "src/run": "run", "src/cli": "cli",
+    "src/numeric": "numeric", "src/geometry": "geometry", "src/leak": "leak", "src/sim": "sim", "src/io": "io",
+    "analysis": "analysis", "analysis/output": "output", "verify": "verify", "app/run": "run", "app/cli": "cli",
     "bench": "cli", "tests": "cli", "python": "cli",
 }
+# the top-level folders, lowest first, and the layers each holds (bench, tests and python sit above all)
+FOLDERS = [("src", {"numeric", "geometry", "leak", "sim", "io"}), ("analysis", {"analysis", "output"}),
+           ("verify", {"verify"}), ("app", {"run", "cli"})]
+
+
+def folder_of(layer):
+    """The top-level folder of a layer (None for the users above them all: bench, tests, python)."""
+    for name, layers in FOLDERS:
+        if layer in layers:
+            return name
+    return None
 # src/sim's folders, lowest first: an include from one to a later one points up
 SIM_FOLDERS = ["model", "kernel", "tally", "engine"]
 # the Python package's modules, lowest first (the build backend imports none of them)
@@ -41,10 +57,10 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 def layer_of_include(path, includer_dir):
     if path in GENERATED:
         return GENERATED[path]
-    for prefix, layer in DIRS.items():
-        short = prefix[4:] if prefix.startswith("src/") else prefix
+    for prefix in sorted(DIRS, key=len, reverse=True):  # analysis/output before analysis
+        short = prefix.split("/", 1)[1] if prefix.startswith(("src/", "app/")) else prefix
         if path.startswith(short + "/") or path.startswith(prefix + "/"):
-            return layer
+            return DIRS[prefix]
     # a bare name is a file beside the includer (tests/tiers.hpp)
     return DIRS.get(includer_dir)
 
@@ -62,7 +78,8 @@ def source_files(root, d):
     for sub, dirs, names in os.walk(full):
         dirs.sort()
         if sub != full and d != "src/sim":
-            continue  # only src/sim has folders of its own
+            dirs[:] = []
+            continue  # only src/sim has folders of its own (analysis/output is a layer of its own)
         out += [os.path.relpath(os.path.join(sub, n), root) for n in sorted(names) if n.endswith((".hpp", ".cpp", ".h", ".ipp"))]
     return out
 
@@ -98,9 +115,18 @@ def check_python(root, bad):
     return checked
 
 
+def folders_follow_layers():
+    """The folders hold the layers in order: an include that keeps to the layers keeps to the folders."""
+    order = [f for f, _ in FOLDERS]
+    held = [order.index(folder_of(x)) for x in LAYERS if folder_of(x)]
+    return held == sorted(held)
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     bad, files, includes = [], 0, 0
+    if not folders_follow_layers():
+        bad.append(f"the folders ({FOLDERS}) do not hold the layers ({LAYERS}) in order")
     for d, layer in DIRS.items():
         if not os.path.isdir(os.path.join(root, d)):
             continue
@@ -118,7 +144,9 @@ def main():
                     if target is None:
                         bad.append(f"{rel}:{no}: \"{m.group(1)}\" is in no known layer")
                     elif LAYERS.index(target) > LAYERS.index(layer):
-                        bad.append(f"{rel}:{no}: includes \"{m.group(1)}\" ({target}) from {layer}, a lower layer")
+                        mine_f, theirs = folder_of(layer), folder_of(target)
+                        across = f", and from {mine_f}/ up to {theirs}/" if mine_f and mine_f != theirs else ""
+                        bad.append(f"{rel}:{no}: includes \"{m.group(1)}\" ({target}) from {layer}, a lower layer{across}")
                     elif d == "src/sim" and target == "sim" and (mine is None or folder is None):
                         bad.append(f"{rel}:{no}: \"{m.group(1)}\": every file of src/sim lives in one of its folders "
                                    f"({', '.join(SIM_FOLDERS)})")
@@ -129,7 +157,8 @@ def main():
     for b in bad:
         print(b)
     print(f"{files} files, {includes} project includes, {modules} Python modules, {len(bad)} pointing up "
-          f"(layers, lowest first: {' <- '.join(LAYERS)}; inside sim: {' <- '.join(SIM_FOLDERS)}; "
+          f"(layers, lowest first: {' <- '.join(LAYERS)}; folders: {' <- '.join(f for f, _ in FOLDERS)}; "
+          f"inside sim: {' <- '.join(SIM_FOLDERS)}; "
           f"Python: {' <- '.join(PY_LAYERS)})")
     return 1 if bad else 0
 

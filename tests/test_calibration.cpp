@@ -8,9 +8,9 @@
 #include <random>
 
 #include "analysis/calibration.hpp"
+#include "analysis/output/run_output.hpp"
 #include "analysis/run_summary.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"

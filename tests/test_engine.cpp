@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "names.hpp"
 #include "paths.hpp"

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "numeric/tiers.hpp"

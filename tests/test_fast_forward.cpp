@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include "analysis/output/run_output.hpp"
 #include "geometry/formulas.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "names.hpp"
 #include "same_text.hpp"

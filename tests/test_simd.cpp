@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "analysis/fits.hpp"
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "kernel_widths.hpp"
 #include "names.hpp"

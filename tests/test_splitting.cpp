@@ -11,7 +11,7 @@
 #include <functional>
 #include <string>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "paths.hpp"
 #include "same_text.hpp"

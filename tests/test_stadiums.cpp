@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "kernel_widths.hpp"
 #include "same_text.hpp"

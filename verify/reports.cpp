@@ -1,7 +1,7 @@
 #include "verify/reports.hpp"
 
+#include "analysis/output/run_output.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/text.hpp"
 
 namespace rotleak {

@@ -164,7 +164,7 @@ def _check_schema(doc: dict[str, Any], what: str, where: str) -> None:
 
 def json_document(text: str, name: str, where: str) -> Any:
     """The JSON document `name` of the directory `where`, or a RotleakError with the reason rotleak fit gives
-    (src/io/run_output.cpp, parse_document)."""
+    (analysis/output/run_output.cpp, parse_document)."""
     try:
         return json.loads(text)
     except ValueError:
@@ -180,7 +180,7 @@ _COUNT = re.compile(r"[0-9]+")
 
 def check_survival_csv(text: str, t_max: Optional[float] = None, survival_dt: Optional[float] = None,
                        sums: bool = False) -> None:
-    """Raises RotleakError with the reason ``rotleak fit`` gives (src/io/run_csv.cpp, read_survival_csv,
+    """Raises RotleakError with the reason ``rotleak fit`` gives (analysis/output/run_csv.cpp, read_survival_csv,
     word for word) when survival.csv is damaged: its header, a row that ends the file (truncated), a row
     that is not t,survivors,P,P_err (decimals as rotleak writes them; with ``sums``, an importance-sampled run's,
     t,survivors,P,P_err,W,W2 with P = W / W at t = 0), or fewer or more rows than the grid t = k * survival_dt up
@@ -358,7 +358,7 @@ def read_run(path: PathLike) -> Run:
 
 
 def _is_scan_document(doc: Any) -> bool:
-    """The rules rotleak fit reads scan.json by (src/io/run_output.cpp, read_scan_document): a scan's
+    """The rules rotleak fit reads scan.json by (analysis/output/run_output.cpp, read_scan_document): a scan's
     object whose axes hold a key and text values and whose points name a directory with the swept values."""
     if not isinstance(doc, dict) or doc.get("command") != "scan":
         return False

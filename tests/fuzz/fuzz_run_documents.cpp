@@ -1,12 +1,12 @@
 // libFuzzer target: the JSON documents of run and scan directories as rotleak fit reads them
-// (io/run_output.hpp: read_run_summary, read_scan_document). The first byte picks the reader. Damage
+// (analysis/output/run_output.hpp: read_run_summary, read_scan_document). The first byte picks the reader. Damage
 // must be an InputError with one line naming DIR; a document that is accepted must have what its
 // readers then take from it (a summary's scene; a scan's axes, points and their values).
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "numeric/input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,4 +1,4 @@
-// libFuzzer target: survival.csv read back (io/run_output.hpp read_survival_csv), as rotleak fit and the
+// libFuzzer target: survival.csv read back (analysis/output/run_output.hpp read_survival_csv), as rotleak fit and the
 // scan's refits read it, for a scene whose grid has 51 rows (t_max 50, survival_dt 1); and, for an input
 // holding a line "#--lines", a split run's survival.csv and lines.csv (read_lines_csv). Damage must be a
 // std::runtime_error naming the file; a file that is read holds exactly the grid's rows.
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,4 +1,4 @@
-#include "io/prediction_output.hpp"
+#include "analysis/output/prediction_output.hpp"
 
 #include <cmath>
 #include <cstdlib>

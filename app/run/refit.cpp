@@ -3,9 +3,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/output/run_output.hpp"
 #include "analysis/run_summary.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "numeric/input.hpp"

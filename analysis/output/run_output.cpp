@@ -1,4 +1,4 @@
-#include "io/run_output.hpp"
+#include "analysis/output/run_output.hpp"
 
 #include <unistd.h>
 

@@ -5,8 +5,8 @@
 #include <exception>
 #include <iostream>
 
+#include "analysis/output/run_output.hpp"
 #include "cli/commands.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "run/audit_shared.hpp"
 #include "verify/reports.hpp"

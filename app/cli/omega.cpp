@@ -2,8 +2,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/output/omega_output.hpp"
 #include "cli/commands.hpp"
-#include "io/omega_output.hpp"
 #include "numeric/input.hpp"
 
 namespace rotleak::cli {

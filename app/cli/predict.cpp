@@ -2,9 +2,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/output/run_output.hpp"
 #include "analysis/tail_model.hpp"
 #include "cli/commands.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 
 namespace rotleak::cli {

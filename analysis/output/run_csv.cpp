@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "analysis/output/run_output.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/text.hpp"
 #include "sim/tally/estimators.hpp"
 

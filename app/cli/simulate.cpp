@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/output/run_output.hpp"
 #include "cli/commands.hpp"
 #include "io/progress.hpp"
-#include "io/run_output.hpp"
 #include "run/pipeline.hpp"
 
 namespace rotleak::cli {

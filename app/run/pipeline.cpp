@@ -6,8 +6,8 @@
 #include <exception>
 #include <utility>
 
+#include "analysis/output/run_output.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "verify/audit.hpp"

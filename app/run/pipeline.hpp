@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/output/run_output.hpp"
 #include "analysis/run_summary.hpp"
 #include "io/json.hpp"
-#include "io/run_output.hpp"
 #include "io/tally_file.hpp"
 #include "run/team.hpp"
 #include "sim/engine/engine.hpp"

@@ -1,4 +1,4 @@
-#include "io/omega_output.hpp"
+#include "analysis/output/omega_output.hpp"
 
 #include "io/text.hpp"
 #include "numeric/input.hpp"

@@ -5,8 +5,8 @@
 #include <limits>
 
 #include "analysis/calibration.hpp"
+#include "analysis/output/run_output.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/scene_file.hpp"
 #include "io/text.hpp"
 #include "numeric/input.hpp"

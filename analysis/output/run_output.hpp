@@ -8,11 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/output/prediction_output.hpp"
 #include "analysis/run_summary.hpp"
 #include "analysis/tail_model.hpp"
 #include "io/files.hpp"
 #include "io/json.hpp"
-#include "io/prediction_output.hpp"
 
 namespace rotleak {
 

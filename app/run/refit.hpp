@@ -27,8 +27,9 @@ Scene saved_scene(const std::filesystem::path& dir, const std::vector<std::strin
 struct RefitOutcome {
   bool scan = false;
   std::size_t runs = 0;
-  json document;     ///< summary.json of the run, or scan.json of the scan
-  std::string text;  ///< a run's fits as simulate prints them (io/run_output.hpp, fit_text); empty for a scan
+  json document;  ///< summary.json of the run, or scan.json of the scan
+  std::string
+      text;  ///< a run's fits as simulate prints them (analysis/output/run_output.hpp, fit_text); empty for a scan
 };
 
 /// A run directory or a scan directory (scan.json), refitted with `overrides` (fit.* keys).

@@ -1,9 +1,9 @@
-#include "io/covering_output.hpp"
+#include "analysis/output/covering_output.hpp"
 
 #include <cstdio>
 
+#include "analysis/output/run_output.hpp"
 #include "io/files.hpp"
-#include "io/run_output.hpp"
 #include "io/text.hpp"
 #include "numeric/input.hpp"
 

@@ -2,8 +2,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/output/covering_output.hpp"
 #include "cli/commands.hpp"
-#include "io/covering_output.hpp"
 #include "io/files.hpp"
 #include "numeric/input.hpp"
 
