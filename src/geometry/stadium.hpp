@@ -110,17 +110,9 @@ class Stadium {
     return b;
   }
 
-  /// sin and cos of an angle in [0, 2 pi]: in the double tier the shared formula (numeric/sin_cos.hpp, which
-  /// the vectorised kernel evaluates too), in every other tier the tier's own.
-  static formula::SinCos<R> sin_cos(const R& angle) {
-    if constexpr (std::is_same_v<R, double>) {
-      return formula::sin_cos(angle);
-    } else {
-      using std::cos;
-      using std::sin;
-      return {sin(angle), cos(angle)};
-    }
-  }
+  /// sin and cos of an angle in [0, 2 pi] (formula::tier_sin_cos: the shared formula in the double tier, which
+  /// the vectorised kernel evaluates too, the tier's own in every other).
+  static formula::SinCos<R> sin_cos(const R& angle) { return formula::tier_sin_cos(angle); }
 
   /// Boundary coordinate s in [0,1) of a point q on piece p (the formulas of geometry/formulas.hpp).
   R s_of(Piece p, const Vec2<R>& q) const {

@@ -9,7 +9,7 @@
 namespace rotleak {
 
 struct ExactReal::Node {
-  enum class Kind { rational, pi, e, golden, ln, sqrt, liouville, add, sub, mul, div, neg };
+  enum class Kind { rational, pi, e, golden, ln, sqrt, acos, liouville, add, sub, mul, div, neg };
   Kind kind = Kind::rational;
   mpq_class q;             // value when kind == rational
   unsigned long base = 0;  // liouville base
@@ -76,6 +76,15 @@ NodePtr fold_sqrt(NodePtr a) {
   return make_node(Kind::sqrt, std::move(a));
 }
 
+NodePtr fold_acos(NodePtr a) {
+  if (is_rat(a)) {
+    if (a->q > 1 || a->q < -1) throw ExactParseError("acos of a number outside [-1, 1]");
+    if (a->q == 1) return make_rational(mpq_class(0));
+    if (a->q == -1) return make_node(Kind::pi);
+  }
+  return make_node(Kind::acos, std::move(a));
+}
+
 NodePtr fold_ln(NodePtr a) {
   if (is_rat(a)) {
     if (sgn(a->q) <= 0) throw ExactParseError("ln of a number <= 0");
@@ -126,7 +135,7 @@ class Parser {
   [[noreturn]] void fail(const std::string& what) const {
     throw ExactParseError(what + " at position " + std::to_string(pos_ + 1) +
                           "; expected a rational (1008/1009), a decimal (1e-4) or pi, e, golden, "
-                          "ln(..), sqrt(..), liouville(b) combined with + - * / ( )");
+                          "ln(..), sqrt(..), acos(..), liouville(b) combined with + - * / ( )");
   }
   void skip() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
@@ -227,12 +236,13 @@ class Parser {
     if (name == "pi") return make_node(Kind::pi);
     if (name == "e") return make_node(Kind::e);
     if (name == "golden") return make_node(Kind::golden);
-    if (name == "ln" || name == "log" || name == "sqrt" || name == "liouville") {
+    if (name == "ln" || name == "log" || name == "sqrt" || name == "acos" || name == "liouville") {
       if (!eat('(')) fail("'" + name + "' needs an argument in parentheses");
       Nest nest(*this);
       NodePtr arg = expr();
       if (!eat(')')) fail("missing ')'");
       if (name == "sqrt") return counted(fold_sqrt(arg));
+      if (name == "acos") return counted(fold_acos(arg));
       if (name == "liouville") {
         if (!is_rat(arg) || arg->q.get_den() != 1 || arg->q < 2 || !arg->q.get_num().fits_ulong_p())
           throw ExactParseError("liouville(b) needs an integer base b >= 2");
@@ -324,6 +334,14 @@ bool enclose_operation(Kind kind, mpfi_t out, mpfi_t a, mpfi_t b) {
       if (!mpfi_is_nonneg(a)) return false;
       mpfi_sqrt(out, a);
       return true;
+    case Kind::acos: {
+      // [-1, 1] decided: an enclosure past an end either proves the value outside (an error) or needs more bits
+      if (mpfr_cmp_si(&a->right, -1) < 0 || mpfr_cmp_si(&a->left, 1) > 0)
+        throw std::domain_error("acos of a value outside [-1, 1]");
+      if (mpfr_cmp_si(&a->left, -1) < 0 || mpfr_cmp_si(&a->right, 1) > 0) return false;
+      mpfi_acos(out, a);
+      return true;
+    }
     default:
       return false;
   }
@@ -365,6 +383,8 @@ std::string node_text(const Node& n) {
       return "ln(" + node_text(*n.a) + ")";
     case Kind::sqrt:
       return "sqrt(" + node_text(*n.a) + ")";
+    case Kind::acos:
+      return "acos(" + node_text(*n.a) + ")";
     case Kind::neg:
       return "-(" + node_text(*n.a) + ")";
     case Kind::add:
@@ -447,6 +467,8 @@ ExactReal::ExactReal(std::shared_ptr<const Node> n) : node_(std::move(n)) {}
 ExactReal ExactReal::parse(std::string_view text) { return ExactReal(Parser(text).parse_all()); }
 ExactReal ExactReal::rational(const mpq_class& q) { return ExactReal(make_rational(q)); }
 ExactReal ExactReal::pi() { return ExactReal(make_node(Kind::pi)); }
+ExactReal ExactReal::sqrt(const ExactReal& x) { return ExactReal(fold_sqrt(x.node_)); }
+ExactReal ExactReal::acos(const ExactReal& x) { return ExactReal(fold_acos(x.node_)); }
 
 bool ExactReal::is_rational() const { return is_rat(node_); }
 

@@ -19,7 +19,7 @@ class ExactParseError : public std::runtime_error {
 };
 
 /// A real number known exactly: a GMP rational, or an expression over rationals with the named
-/// constants pi, e, golden and the functions ln, sqrt, liouville. Rational sub-expressions are folded
+/// constants pi, e, golden and the functions ln, sqrt, acos, liouville. Rational sub-expressions are folded
 /// exactly; anything else is evaluated on demand by MPFI at any precision, so every rounding into a
 /// finite type is certified (correctly rounded, see round()).
 class ExactReal {
@@ -29,6 +29,11 @@ class ExactReal {
   static ExactReal parse(std::string_view text);
   static ExactReal rational(const mpq_class& q);
   static ExactReal pi();
+  /// sqrt(x) (x >= 0) and acos(x) (x in [-1, 1]): folded exactly where they are rational (a perfect square; acos(1) =
+  /// 0, acos(-1) = pi); a rational outside the domain throws ExactParseError, an irrational one std::domain_error once
+  /// enclosed.
+  static ExactReal sqrt(const ExactReal& x);
+  static ExactReal acos(const ExactReal& x);
 
   ExactReal();  ///< zero
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "numeric/select.hpp"
 
@@ -84,6 +85,19 @@ inline SinCos<T> sin_cos(const T& x) {
                    cos_negative = (n == T(1.0)) | (n == T(2.0));
   const T a = select(odd, c, s), b = select(odd, s, c);
   return {select(sin_negative, T(-a), a), select(cos_negative, T(-b), b)};
+}
+
+/// sin and cos of an angle in [0, 2 pi] in a tier: the shared formula above in the double tier (which the
+/// vectorised kernel evaluates too), in every other tier the tier's own (MPFR's correctly rounded ones).
+template <class R>
+inline SinCos<R> tier_sin_cos(const R& angle) {
+  if constexpr (std::is_same_v<R, double>) {
+    return sin_cos(angle);
+  } else {
+    using std::cos;
+    using std::sin;
+    return {sin(angle), cos(angle)};
+  }
 }
 
 }  // namespace rotleak::formula

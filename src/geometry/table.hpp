@@ -1,0 +1,280 @@
+// A billiard table rounded into a tier: every value of a TableSpec (geometry/table_spec.hpp) rounded once from its
+// exact value into R, held in fixed arrays (no allocation on a particle's path; Table<double> is plain data an
+// engine or a device can copy), and the table's physics over R: the next hit over its pieces, the reflection,
+// the boundary coordinate s of each loop, a boundary point's frame. Every expression is a formula of
+// geometry/table_formulas.hpp (and of geometry/formulas.hpp, whose circle and reflection it shares), so a table
+// built as the stadium computes the stadium's bits (tests/test_table.cpp; docs/model.md, "Tables").
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+
+#include "geometry/formulas.hpp"
+#include "geometry/table_formulas.hpp"
+#include "geometry/table_spec.hpp"
+#include "geometry/vec2.hpp"
+#include "numeric/exact.hpp"
+#include "numeric/num_traits.hpp"
+#include "numeric/sin_cos.hpp"
+
+namespace rotleak {
+
+/// One piece rounded into R (the fields of its kind; the others stay 0).
+template <class R>
+struct TablePiece {
+  PieceKind kind = PieceKind::segment;
+  int loop = 0;
+  bool clockwise = true, full = false;
+  bool wide = false;     ///< arc: more than a half turn
+  bool along_x = true;   ///< segment: runs at least as much along x as along y (its span test is on x)
+  bool horizontal = false, vertical = false;  ///< segment: parallel to an axis (the hit keeps that coordinate)
+  R ax{0}, ay{0}, bx{0}, by{0};  ///< its ends
+  R ex{0}, ey{0};                ///< segment: unit direction of travel (rounded from the exact one)
+  R lo{0}, hi{0};                ///< segment: the span test's range (x or y of its ends, in order)
+  R rx{0}, ry{0}, s_ref{0};      ///< segment: where s is s_ref (its start, or the loop's origin)
+  R cx{0}, cy{0}, rho{0}, inv_rho{0};  ///< arc
+  R fx{0}, fy{0};                ///< arc: the direction of its start from the centre
+  R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};  ///< arc: its ends' directions in clockwise order (on_arc)
+  R span{0}, rho_over_L{0}, L_over_rho{0};
+  R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
+};
+
+/// Where a flight next meets the boundary: flight time, piece index (-1: nowhere, a flight through a gap the
+/// rounding opened), point.
+template <class R>
+struct TableHit {
+  R t{0};
+  int piece = -1;
+  Vec2<R> q;
+};
+
+/// A point of a loop with its unit tangent (the direction of travel, towards growing s) and inward normal.
+template <class R>
+struct TableFrame {
+  int piece = 0;
+  Vec2<R> q, tangent, normal;
+};
+
+template <class R>
+class Table {
+ public:
+  explicit Table(const TableSpec& spec);
+
+  int pieces() const { return n_pieces_; }
+  int loops() const { return n_loops_; }
+  const TablePiece<R>& piece(int k) const { return piece_[k]; }
+  /// loop k's length, and its first piece and count
+  const R& loop_length(int k) const { return loop_length_[k]; }
+  int loop_first(int k) const { return loop_first_[k]; }
+  int loop_count(int k) const { return loop_count_[k]; }
+  const R& area() const { return area_; }
+  /// |boundary|: every loop's length
+  const R& perimeter() const { return perimeter_; }
+  /// The billiard flow's mean free path, pi area / |boundary| (Santalo), rounded once from its exact value.
+  const R& mean_free_path() const { return mean_free_path_; }
+  /// The largest |coordinate| of the table: the scale of its rounding errors.
+  const R& scale() const { return scale_; }
+
+  /// Where the flight from q along unit v (q inside the table or on its boundary) next meets the boundary: of the
+  /// pieces it crosses outward, within each piece's span, the nearest. Where rounding leaves a flight between two
+  /// pieces' spans (at a corner or a junction, within a few ulps) a second look widens every span by
+  /// kSpanSlack ulps of the table's scale; piece -1 if that finds nothing either.
+  TableHit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
+    TableHit<R> h = nearest(q, v, R(0));
+    if (h.piece < 0) h = nearest(q, v, slack_);
+    return h;
+  }
+
+  /// Specular reflection of v at q on piece k: about the radius vector as it is on an arc (formula::reflect_factor),
+  /// about the inward normal (e.y, -e.x) as rounded on a segment (so |v'| = |v| whatever |n| is).
+  Vec2<R> reflect(int k, const Vec2<R>& q, const Vec2<R>& v) const {
+    const TablePiece<R>& p = piece_[k];
+    if (p.kind == PieceKind::segment) {
+      const R nx = p.ey, ny = -p.ex;
+      const R f = formula::reflect_factor(nx, ny, v.x, v.y);
+      return {formula::reflected(v.x, f, nx), formula::reflected(v.y, f, ny)};
+    }
+    const R wx = formula::from_centre(q.x, p.cx), wy = formula::from_centre(q.y, p.cy);
+    const R f = formula::reflect_factor(wx, wy, v.x, v.y);
+    return {formula::reflected(v.x, f, wx), formula::reflected(v.y, f, wy)};
+  }
+
+  /// Boundary coordinate s in [0, 1) of a point q of piece k, in the piece's loop.
+  R s_of(int k, const Vec2<R>& q) const {
+    using std::atan2;
+    const TablePiece<R>& p = piece_[k];
+    if (p.kind == PieceKind::segment)
+      return formula::segment_piece_s(q.x, q.y, p.rx, p.ry, p.ex, p.ey, p.s_ref, inv_length(p.loop));
+    const R rx = formula::from_centre(q.x, p.cx), ry = formula::from_centre(q.y, p.cy);
+    const R angle = atan2(formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise), formula::arc_param_x(rx, ry, p.fx, p.fy));
+    return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi_));
+  }
+
+  /// The point of loop `loop` at s in [0, 1), with its frame.
+  TableFrame<R> at(int loop, const R& s) const {
+    const int k = piece_at(loop, s);
+    const TablePiece<R>& p = piece_[k];
+    const R u = s >= p.s1 ? R(s - R(1)) : s;  // unwrapped into [s0, s1)
+    TableFrame<R> f;
+    f.piece = k;
+    if (p.kind == PieceKind::segment) {
+      const R along = (u - p.s_ref) * loop_length_[p.loop];
+      f.q = {p.rx + along * p.ex, p.ry + along * p.ey};
+      if (p.horizontal) f.q.y = p.ry;
+      if (p.vertical) f.q.x = p.rx;
+      f.tangent = {p.ex, p.ey};
+    } else {
+      const formula::SinCos<R> sc = formula::tier_sin_cos(formula::arc_angle_of(u, p.s0, p.L_over_rho));
+      const R hx = p.clockwise ? p.fy : R(-p.fy), hy = p.clockwise ? R(-p.fx) : p.fx;  // f turned along the travel
+      f.q = {p.cx + p.rho * (p.fx * sc.cos + hx * sc.sin), p.cy + p.rho * (p.fy * sc.cos + hy * sc.sin)};
+      f.tangent = {hx * sc.cos - p.fx * sc.sin, hy * sc.cos - p.fy * sc.sin};
+    }
+    f.normal = {f.tangent.y, R(-f.tangent.x)};
+    return f;
+  }
+
+  /// The unit tangent (towards growing s) at a point q of piece k.
+  Vec2<R> tangent(int k, const Vec2<R>& q) const {
+    const TablePiece<R>& p = piece_[k];
+    if (p.kind == PieceKind::segment) return {p.ex, p.ey};
+    // as the stadium's: the radius vector times 1 / rho, turned a quarter along the travel
+    const R rx = (q.x - p.cx) * p.inv_rho, ry = (q.y - p.cy) * p.inv_rho;
+    return p.clockwise ? Vec2<R>{ry, R(-rx)} : Vec2<R>{R(-ry), rx};
+  }
+
+  /// Birkhoff momentum p = v_out . T of an outgoing velocity at a collision on piece k.
+  R birkhoff_p(int k, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(k, q)); }
+
+  /// The outgoing unit velocity of Birkhoff momentum p at a boundary point: sqrt(1 - p^2) n + p T.
+  Vec2<R> velocity(const TableFrame<R>& f, const R& p) const {
+    return formula::birkhoff_velocity(formula::Frame<R>{f.q, f.tangent, f.normal}, p);
+  }
+
+  /// The piece of loop `loop` that holds s in [0, 1).
+  int piece_at(int loop, const R& s) const {
+    const int first = loop_first_[loop], last = first + loop_count_[loop] - 1;
+    for (int k = first; k <= last; ++k) {
+      const TablePiece<R>& p = piece_[k];
+      if ((s >= p.s0 && s < p.s1) || s >= p.s0 + R(1)) return k;
+    }
+    return last;  // s a rounding below 1 past the last piece's end
+  }
+
+  /// How many ulps of the table's scale the second look widens every span by.
+  static constexpr int kSpanSlack = 64;
+
+ private:
+  const R& inv_length(int loop) const { return inv_loop_length_[loop]; }
+
+  /// The nearest outward crossing within the pieces' spans widened by tol.
+  TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
+    TableHit<R> best;
+    for (int k = 0; k < n_pieces_; ++k) {
+      const TablePiece<R>& p = piece_[k];
+      R t;
+      Vec2<R> at;
+      if (p.kind == PieceKind::segment) {
+        const R den = formula::segment_den(v.x, v.y, p.ex, p.ey);
+        if (!(den < R(0))) continue;  // not outward
+        t = formula::segment_num(q.x, q.y, p.ax, p.ay, p.ex, p.ey) / den;
+        if (!(t >= R(0))) continue;
+        at.x = p.vertical ? p.ax : formula::along(q.x, v.x, t);
+        at.y = p.horizontal ? p.ay : formula::along(q.y, v.y, t);
+        if (!formula::in_span(p.along_x ? at.x : at.y, p.lo, p.hi, tol)) continue;
+      } else {
+        const R dx = formula::from_centre(q.x, p.cx), dy = formula::from_centre(q.y, p.cy);
+        const R b = formula::arc_b(dx, dy, v.x, v.y), c = formula::arc_c(dx, dy, p.rho);
+        if (p.clockwise) {  // focusing: the table inside the circle, met where the flight leaves it
+          if (c > R(0) && b * b - c < R(0)) continue;  // from outside the circle, and missing it
+          t = formula::larger_root(b, c, formula::arc_sq(b, c));
+        } else {  // dispersing: met where the flight enters the circle
+          if (!(b < R(0)) || b * b - c < R(0)) continue;
+          t = formula::smaller_root(b, c, formula::arc_sq(b, c));
+        }
+        if (!(t >= R(0))) continue;
+        at = {formula::along(q.x, v.x, t), formula::along(q.y, v.y, t)};
+        if (!p.full && !formula::on_arc(formula::from_centre(at.x, p.cx), formula::from_centre(at.y, p.cy), p.cw_fx,
+                                        p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)))
+          continue;
+      }
+      if (best.piece < 0 || t < best.t) best = {t, k, at};
+    }
+    return best;
+  }
+
+  int n_pieces_ = 0, n_loops_ = 0;
+  TablePiece<R> piece_[kMaxTablePieces];
+  int loop_first_[kMaxTableLoops]{}, loop_count_[kMaxTableLoops]{};
+  R loop_length_[kMaxTableLoops], inv_loop_length_[kMaxTableLoops];
+  R area_, perimeter_, mean_free_path_, scale_, slack_, two_pi_;
+};
+
+template <class R>
+Table<R>::Table(const TableSpec& spec) {
+  using std::abs;
+  const ExactReal two = ExactReal::parse("2");
+  n_pieces_ = static_cast<int>(spec.pieces.size());
+  n_loops_ = static_cast<int>(spec.loops.size());
+  area_ = round_exact<R>(spec.area);
+  perimeter_ = round_exact<R>(spec.perimeter);
+  mean_free_path_ = round_exact<R>(ExactReal::pi() * spec.area / spec.perimeter);
+  two_pi_ = round_exact<R>(two * ExactReal::pi());
+  scale_ = R(0);
+  for (int l = 0; l < n_loops_; ++l) {
+    const LoopSpec& loop = spec.loops[static_cast<std::size_t>(l)];
+    loop_first_[l] = loop.first;
+    loop_count_[l] = loop.count;
+    loop_length_[l] = round_exact<R>(loop.length);
+    inv_loop_length_[l] = round_exact<R>(ExactReal::parse("1") / loop.length);
+    ExactReal before;  // the loop's length before piece k
+    for (int k = loop.first; k < loop.first + loop.count; ++k) {
+      const PieceSpec& e = spec.pieces[static_cast<std::size_t>(k)];
+      TablePiece<R>& p = piece_[k];
+      p.kind = e.kind;
+      p.loop = e.loop;
+      p.clockwise = e.clockwise;
+      p.full = e.full;
+      p.ax = round_exact<R>(e.ax), p.ay = round_exact<R>(e.ay), p.bx = round_exact<R>(e.bx), p.by = round_exact<R>(e.by);
+      const ExactReal s0 = (before - loop.origin) / loop.length;
+      p.s0 = round_exact<R>(s0);
+      p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
+      for (const R& x : {p.ax, p.ay, p.bx, p.by})
+        if (abs(x) > scale_) scale_ = abs(x);
+      if (e.kind == PieceKind::segment) {
+        const ExactReal ex = (e.bx - e.ax) / e.length, ey = (e.by - e.ay) / e.length;
+        p.ex = round_exact<R>(ex), p.ey = round_exact<R>(ey);
+        p.horizontal = ey.is_rational() && ey.as_rational() == 0;
+        p.vertical = ex.is_rational() && ex.as_rational() == 0;
+        p.along_x = abs(ex.to_double()) >= abs(ey.to_double());
+        const R ca = p.along_x ? p.ax : p.ay, cb = p.along_x ? p.bx : p.by;
+        p.lo = ca < cb ? ca : cb;
+        p.hi = ca < cb ? cb : ca;
+        if (k == loop.first && loop.origin.sign() != 0) {  // the origin's point, at s = 0
+          p.rx = round_exact<R>(e.ax + loop.origin * ex), p.ry = round_exact<R>(e.ay + loop.origin * ey);
+          p.s_ref = R(0);
+        } else {
+          p.rx = p.ax, p.ry = p.ay, p.s_ref = p.s0;
+        }
+      } else {
+        p.cx = round_exact<R>(e.cx), p.cy = round_exact<R>(e.cy), p.rho = round_exact<R>(e.rho);
+        p.inv_rho = round_exact<R>(ExactReal::parse("1") / e.rho);
+        const ExactReal fx = (e.ax - e.cx) / e.rho, fy = (e.ay - e.cy) / e.rho;
+        const ExactReal gx = (e.bx - e.cx) / e.rho, gy = (e.by - e.cy) / e.rho;
+        p.fx = round_exact<R>(fx), p.fy = round_exact<R>(fy);
+        const R gxr = round_exact<R>(gx), gyr = round_exact<R>(gy);
+        p.cw_fx = e.clockwise ? p.fx : gxr, p.cw_fy = e.clockwise ? p.fy : gyr;
+        p.cw_gx = e.clockwise ? gxr : p.fx, p.cw_gy = e.clockwise ? gyr : p.fy;
+        p.span = round_exact<R>(e.span);
+        p.wide = e.span.to_double() > M_PI;
+        p.rho_over_L = round_exact<R>(e.rho / loop.length);
+        p.L_over_rho = round_exact<R>(loop.length / e.rho);
+        for (const R& x : {R(abs(p.cx) + p.rho), R(abs(p.cy) + p.rho)})
+          if (x > scale_) scale_ = x;
+      }
+      before = before + e.length;
+    }
+  }
+  slack_ = R(kSpanSlack) * num_traits<R>::epsilon() * scale_;
+}
+
+}  // namespace rotleak

@@ -1,0 +1,240 @@
+#include "geometry/table_spec.hpp"
+
+#include <mpfi.h>
+
+#include <stdexcept>
+
+namespace rotleak {
+
+namespace {
+
+ExactReal num(const char* text) { return ExactReal::parse(text); }
+
+/// Whether an exact value is zero: exactly for a rational, else within 2^-200 of it (an enclosure at 320 bits):
+/// sign() cannot decide an irrational expression that is exactly zero.
+bool is_zero(const ExactReal& x) {
+  if (x.is_rational()) return x.as_rational() == 0;
+  mpfi_t e;
+  mpfi_init2(e, 320);
+  x.enclose(e, 320);
+  mpfr_t m;
+  mpfr_init2(m, 320);
+  mpfi_mag(m, e);
+  const bool zero = mpfr_cmp_d(m, 0x1p-200) < 0;
+  mpfr_clear(m);
+  mpfi_clear(e);
+  return zero;
+}
+
+/// The sign of x (0 where is_zero).
+int sign_of(const ExactReal& x) { return is_zero(x) ? 0 : x.sign(); }
+
+[[noreturn]] void bad(const TableSpec& t, const std::string& what) {
+  throw std::invalid_argument("table " + (t.name.empty() ? std::string("custom") : t.name) + ": " + what);
+}
+
+}  // namespace
+
+void TableSpec::begin_loop(const ExactReal& origin) {
+  if (static_cast<int>(loops.size()) == kMaxTableLoops)
+    bad(*this, "more than " + std::to_string(kMaxTableLoops) + " loops (the outer boundary and " +
+                   std::to_string(kMaxTableLoops - 1) + " scatterers at most)");
+  loops.push_back({static_cast<int>(pieces.size()), 0, origin, ExactReal()});
+}
+
+void TableSpec::segment(const ExactReal& ax, const ExactReal& ay, const ExactReal& bx, const ExactReal& by) {
+  if (loops.empty()) bad(*this, "a piece before the first loop");
+  if (static_cast<int>(pieces.size()) == kMaxTablePieces)
+    bad(*this, "more than " + std::to_string(kMaxTablePieces) + " pieces");
+  PieceSpec p;
+  p.kind = PieceKind::segment;
+  p.loop = static_cast<int>(loops.size()) - 1;
+  p.ax = ax, p.ay = ay, p.bx = bx, p.by = by;
+  pieces.push_back(p);
+  ++loops.back().count;
+}
+
+void TableSpec::arc(const ExactReal& cx, const ExactReal& cy, const ExactReal& rho, const ExactReal& ax,
+                    const ExactReal& ay, const ExactReal& bx, const ExactReal& by, bool clockwise) {
+  segment(ax, ay, bx, by);
+  PieceSpec& p = pieces.back();
+  p.kind = PieceKind::arc;
+  p.cx = cx, p.cy = cy, p.rho = rho, p.clockwise = clockwise;
+}
+
+void TableSpec::circle(const ExactReal& cx, const ExactReal& cy, const ExactReal& rho, bool clockwise) {
+  arc(cx, cy, rho, cx, cy + rho, cx, cy + rho, clockwise);
+  pieces.back().full = true;
+}
+
+void TableSpec::finish() {
+  if (loops.empty()) bad(*this, "no boundary");
+  const ExactReal two_pi = num("2") * ExactReal::pi();
+  ExactReal area2;  // -2 area: the sum over every loop of the integral of x dy - y dx
+  perimeter = ExactReal();
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    LoopSpec& loop = loops[k];
+    const std::string which = k == 0 ? "the outer boundary" : "scatterer " + std::to_string(k);
+    if (loop.count == 0) bad(*this, which + " has no piece");
+    ExactReal length, turn;  // turn: the loop's integral of x dy - y dx
+    for (int i = loop.first; i < loop.first + loop.count; ++i) {
+      PieceSpec& p = pieces[static_cast<std::size_t>(i)];
+      const PieceSpec& next = pieces[static_cast<std::size_t>(i + 1 < loop.first + loop.count ? i + 1 : loop.first)];
+      const std::string piece = which + ", piece " + std::to_string(i - loop.first + 1);
+      if (!is_zero(p.bx - next.ax) || !is_zero(p.by - next.ay))
+        bad(*this, piece + " ends at (" + p.bx.text() + ", " + p.by.text() + ") where the next piece does not start");
+      const ExactReal dx = p.bx - p.ax, dy = p.by - p.ay;
+      if (p.kind == PieceKind::segment) {
+        if (is_zero(dx) && is_zero(dy)) bad(*this, piece + " is a segment of length 0");
+        p.length = ExactReal::sqrt(dx * dx + dy * dy);
+        turn = turn + (p.ax * p.by - p.ay * p.bx);
+        continue;
+      }
+      if (sign_of(p.rho) <= 0) bad(*this, piece + " has a radius " + p.rho.text() + ", not > 0");
+      const ExactReal fx = p.ax - p.cx, fy = p.ay - p.cy, gx = p.bx - p.cx, gy = p.by - p.cy;
+      const ExactReal r2 = p.rho * p.rho;
+      if (!is_zero(fx * fx + fy * fy - r2) || !is_zero(gx * gx + gy * gy - r2))
+        bad(*this, piece + "'s ends do not lie on its circle (centre (" + p.cx.text() + ", " + p.cy.text() +
+                       "), radius " + p.rho.text() + ")");
+      if (p.full) {
+        p.span = two_pi;
+      } else {
+        // the angle from f to g in the direction of travel: at most a half turn when g lies that way of f
+        const int cr = sign_of(fx * gy - fy * gx);  // > 0: g anticlockwise of f
+        const ExactReal c = ExactReal::acos((fx * gx + fy * gy) / r2);
+        if (cr == 0 && is_zero(dx) && is_zero(dy)) bad(*this, piece + " is an arc of angle 0 (a whole circle is circle())");
+        const bool short_way = cr == 0 || (cr < 0) == p.clockwise;
+        p.span = short_way ? c : two_pi - c;
+      }
+      p.length = p.rho * p.span;
+      const ExactReal signed_span = p.clockwise ? -p.span : p.span;
+      turn = turn + (p.cx * dy - p.cy * dx) + r2 * signed_span;
+    }
+    for (int i = loop.first; i < loop.first + loop.count; ++i) length = length + pieces[static_cast<std::size_t>(i)].length;
+    loop.length = length;
+    const int orientation = sign_of(turn);  // > 0: anticlockwise
+    if (k == 0 && orientation >= 0) bad(*this, "the outer boundary must run clockwise (the table on its right)");
+    if (k > 0 && orientation <= 0) bad(*this, which + " must run anticlockwise (the table on its right)");
+    if (sign_of(loop.origin) < 0 || sign_of(loop.origin - pieces[static_cast<std::size_t>(loop.first)].length) >= 0)
+      bad(*this, which + "'s origin " + loop.origin.text() + " is not on its first piece");
+    area2 = area2 + turn;
+    perimeter = perimeter + length;
+  }
+  area = -(area2 / num("2"));
+  if (sign_of(area) <= 0) bad(*this, "the scatterers cover the whole table (area <= 0)");
+}
+
+TableSpec stadium_table(const ExactReal& d, const ExactReal& r) {
+  TableSpec t;
+  t.name = "stadium";
+  t.params = {{"d", d}, {"r", r}};
+  const ExactReal h = d / num("2"), z;
+  t.begin_loop(h);
+  t.segment(-h, r, h, r);
+  t.arc(h, z, r, h, r, h, -r, true);
+  t.segment(h, -r, -h, -r);
+  t.arc(-h, z, r, -h, -r, -h, r, true);
+  t.finish();
+  return t;
+}
+
+TableSpec circle_table(const ExactReal& rho) {
+  TableSpec t;
+  t.name = "circle";
+  t.params = {{"radius", rho}};
+  t.begin_loop();
+  t.circle(ExactReal(), ExactReal(), rho, true);
+  t.finish();
+  return t;
+}
+
+TableSpec mushroom_table(const ExactReal& R, const ExactReal& w, const ExactReal& h) {
+  TableSpec t;
+  t.name = "mushroom";
+  t.params = {{"radius", R}, {"stem_width", w}, {"stem_height", h}};
+  if (sign_of(w) <= 0 || sign_of(w - num("2") * R) > 0 || sign_of(h) <= 0)
+    bad(t, "needs 0 < stem_width <= 2 radius and stem_height > 0 (radius " + R.text() + ", stem_width " + w.text() +
+               ", stem_height " + h.text() + ")");
+  const ExactReal z, hw = w / num("2");
+  t.begin_loop(R * ExactReal::pi() / num("2"));  // the cap's top
+  t.arc(z, z, R, -R, z, R, z, true);
+  if (sign_of(R - hw) > 0) t.segment(R, z, hw, z);
+  t.segment(hw, z, hw, -h);
+  t.segment(hw, -h, -hw, -h);
+  t.segment(-hw, -h, -hw, z);
+  if (sign_of(R - hw) > 0) t.segment(-hw, z, -R, z);
+  t.finish();
+  return t;
+}
+
+TableSpec sinai_table(const ExactReal& a, const ExactReal& rho) {
+  TableSpec t;
+  t.name = "sinai";
+  t.params = {{"side", a}, {"radius", rho}};
+  const ExactReal h = a / num("2"), z;
+  if (sign_of(rho) <= 0 || sign_of(h - rho) <= 0)
+    bad(t, "needs 0 < radius < side / 2 (side " + a.text() + ", radius " + rho.text() + ")");
+  t.begin_loop(h);
+  t.segment(-h, h, h, h);
+  t.segment(h, h, h, -h);
+  t.segment(h, -h, -h, -h);
+  t.segment(-h, -h, -h, h);
+  t.begin_loop();
+  t.circle(z, z, rho, false);
+  t.finish();
+  return t;
+}
+
+TableSpec annulus_table(const ExactReal& R, const ExactReal& rho, const ExactReal& delta) {
+  TableSpec t;
+  t.name = "annulus";
+  t.params = {{"radius", R}, {"inner_radius", rho}, {"offset", delta}};
+  const ExactReal z;
+  const ExactReal reach = sign_of(delta) < 0 ? rho - delta : rho + delta;
+  if (sign_of(rho) <= 0 || sign_of(R - reach) <= 0)
+    bad(t, "needs inner_radius > 0 and |offset| + inner_radius < radius (radius " + R.text() + ", inner_radius " +
+               rho.text() + ", offset " + delta.text() + ")");
+  t.begin_loop();
+  t.circle(z, z, R, true);
+  t.begin_loop();
+  t.circle(delta, z, rho, false);
+  t.finish();
+  return t;
+}
+
+TableSpec lemon_table(const ExactReal& R, const ExactReal& delta) {
+  TableSpec t;
+  t.name = "lemon";
+  t.params = {{"radius", R}, {"distance", delta}};
+  if (sign_of(delta) <= 0 || sign_of(num("2") * R - delta) <= 0)
+    bad(t, "needs 0 < distance < 2 radius (radius " + R.text() + ", distance " + delta.text() + ")");
+  const ExactReal z, c = delta / num("2");
+  const ExactReal h = ExactReal::sqrt(R * R - c * c);
+  t.begin_loop();
+  t.arc(-c, z, R, z, h, z, -h, true);  // the right side: an arc of the left disc's circle
+  t.arc(c, z, R, z, -h, z, h, true);
+  t.finish();
+  return t;
+}
+
+TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vertices) {
+  TableSpec t;
+  t.name = "polygon";
+  const std::size_t n = vertices.size();
+  if (n < 3 || n > static_cast<std::size_t>(kMaxTablePieces))
+    bad(t, std::to_string(n) + " vertices; a polygon needs 3 to " + std::to_string(kMaxTablePieces));
+  for (std::size_t i = 0; i < n; ++i) {
+    t.params.push_back({"x" + std::to_string(i + 1), vertices[i].first});
+    t.params.push_back({"y" + std::to_string(i + 1), vertices[i].second});
+  }
+  t.begin_loop();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& a = vertices[i];
+    const auto& b = vertices[(i + 1) % n];
+    t.segment(a.first, a.second, b.first, b.second);
+  }
+  t.finish();
+  return t;
+}
+
+}  // namespace rotleak
