@@ -25,16 +25,16 @@ struct TablePiece {
   PieceKind kind = PieceKind::segment;
   int loop = 0;
   bool clockwise = true, full = false;
-  bool wide = false;     ///< arc: more than a half turn
-  bool along_x = true;   ///< segment: runs at least as much along x as along y (its span test is on x)
+  bool wide = false;    ///< arc: more than a half turn
+  bool along_x = true;  ///< segment: runs at least as much along x as along y (its span test is on x)
   bool horizontal = false, vertical = false;  ///< segment: parallel to an axis (the hit keeps that coordinate)
-  R ax{0}, ay{0}, bx{0}, by{0};  ///< its ends
-  R ex{0}, ey{0};                ///< segment: unit direction of travel (rounded from the exact one)
-  R lo{0}, hi{0};                ///< segment: the span test's range (x or y of its ends, in order)
-  R rx{0}, ry{0}, s_ref{0};      ///< segment: where s is s_ref (its start, or the loop's origin)
-  R cx{0}, cy{0}, rho{0}, inv_rho{0};  ///< arc
-  R fx{0}, fy{0};                ///< arc: the direction of its start from the centre
-  R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};  ///< arc: its ends' directions in clockwise order (on_arc)
+  R ax{0}, ay{0}, bx{0}, by{0};               ///< its ends
+  R ex{0}, ey{0};                             ///< segment: unit direction of travel (rounded from the exact one)
+  R lo{0}, hi{0};                             ///< segment: the span test's range (x or y of its ends, in order)
+  R rx{0}, ry{0}, s_ref{0};                   ///< segment: where s is s_ref (its start, or the loop's origin)
+  R cx{0}, cy{0}, rho{0}, inv_rho{0};         ///< arc
+  R fx{0}, fy{0};                             ///< arc: the direction of its start from the centre
+  R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};   ///< arc: its ends' directions in clockwise order (on_arc)
   R span{0}, rho_over_L{0}, L_over_rho{0};
   R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
 };
@@ -106,7 +106,8 @@ class Table {
     if (p.kind == PieceKind::segment)
       return formula::segment_piece_s(q.x, q.y, p.rx, p.ry, p.ex, p.ey, p.s_ref, inv_length(p.loop));
     const R rx = formula::from_centre(q.x, p.cx), ry = formula::from_centre(q.y, p.cy);
-    const R angle = atan2(formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise), formula::arc_param_x(rx, ry, p.fx, p.fy));
+    const R angle =
+        atan2(formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise), formula::arc_param_x(rx, ry, p.fx, p.fy));
     return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi_));
   }
 
@@ -234,9 +235,13 @@ Table<R>::Table(const TableSpec& spec) {
       p.loop = e.loop;
       p.clockwise = e.clockwise;
       p.full = e.full;
-      p.ax = round_exact<R>(e.ax), p.ay = round_exact<R>(e.ay), p.bx = round_exact<R>(e.bx), p.by = round_exact<R>(e.by);
+      p.ax = round_exact<R>(e.ax), p.ay = round_exact<R>(e.ay), p.bx = round_exact<R>(e.bx),
+      p.by = round_exact<R>(e.by);
       const ExactReal s0 = (before - loop.origin) / loop.length;
-      p.s0 = round_exact<R>(s0);
+      // the piece that holds the origin starts below 0: its start is rounded where it lies, a turn on (as the
+      // stadium's junction 3 is), and brought back by an exact - 1, so that s0 + 1 is that junction's bits
+      p.s0 = k == loop.first && loop.origin.sign() != 0 ? R(round_exact<R>(s0 + ExactReal::parse("1")) - R(1))
+                                                        : round_exact<R>(s0);
       p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
       for (const R& x : {p.ax, p.ay, p.bx, p.by})
         if (abs(x) > scale_) scale_ = abs(x);

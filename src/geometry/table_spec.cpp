@@ -102,7 +102,8 @@ void TableSpec::finish() {
         // the angle from f to g in the direction of travel: at most a half turn when g lies that way of f
         const int cr = sign_of(fx * gy - fy * gx);  // > 0: g anticlockwise of f
         const ExactReal c = ExactReal::acos((fx * gx + fy * gy) / r2);
-        if (cr == 0 && is_zero(dx) && is_zero(dy)) bad(*this, piece + " is an arc of angle 0 (a whole circle is circle())");
+        if (cr == 0 && is_zero(dx) && is_zero(dy))
+          bad(*this, piece + " is an arc of angle 0 (a whole circle is circle())");
         const bool short_way = cr == 0 || (cr < 0) == p.clockwise;
         p.span = short_way ? c : two_pi - c;
       }
@@ -110,7 +111,8 @@ void TableSpec::finish() {
       const ExactReal signed_span = p.clockwise ? -p.span : p.span;
       turn = turn + (p.cx * dy - p.cy * dx) + r2 * signed_span;
     }
-    for (int i = loop.first; i < loop.first + loop.count; ++i) length = length + pieces[static_cast<std::size_t>(i)].length;
+    for (int i = loop.first; i < loop.first + loop.count; ++i)
+      length = length + pieces[static_cast<std::size_t>(i)].length;
     loop.length = length;
     const int orientation = sign_of(turn);  // > 0: anticlockwise
     if (k == 0 && orientation >= 0) bad(*this, "the outer boundary must run clockwise (the table on its right)");

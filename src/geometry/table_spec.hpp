@@ -49,7 +49,7 @@ struct LoopSpec {
 /// was made from (for summaries and errors), its exact area and boundary length.
 class TableSpec {
  public:
-  std::string name;                                        ///< "stadium", "mushroom", ..., "custom"
+  std::string name;                                       ///< "stadium", "mushroom", ..., "custom"
   std::vector<std::pair<std::string, ExactReal>> params;  ///< what it was made from, in order
   std::vector<PieceSpec> pieces;
   std::vector<LoopSpec> loops;
