@@ -9,7 +9,9 @@
 
 #include "geometry/formulas.hpp"
 #include "geometry/stadium.hpp"
+#include "geometry/table.hpp"
 #include "leak/leak.hpp"
+#include "leak/table_leak.hpp"
 #include "numeric/binade.hpp"
 #include "sim/model/fate.hpp"
 #include "sim/model/initial.hpp"
@@ -37,6 +39,45 @@ struct Model {
     m.fast_forward = s.fast_forward;
     return m;
   }
+
+  // What the one collision step (advance) asks of a model; TableModel answers the same for any table.
+  using real_type = R;
+  using hit_type = Hit<R>;
+  /// the stadium's convex shortcut: the straight edges decide first (formula::next_exit)
+  hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return stadium.next_hit(q, v); }
+  static constexpr bool lost(const hit_type&) { return false; }  ///< the stadium's next hit is always found
+  /// the leak that takes the hit at time t (0: the one leak), or -1
+  int leak_of(const hit_type& h, const R& t) const { return leak.hit(h.piece, h.q, t) ? 0 : -1; }
+  R s_of(const hit_type& h) const { return stadium.s_of(h.piece, h.q); }
+  Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return stadium.reflect(h.piece, h.q, v); }
+  /// a hit from which a bouncing-ball phase may start (fast_forward)
+  bool jumps_from(const hit_type& h) const {
+    return fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom);
+  }
+};
+
+/// Any table (geometry/table.hpp) with its list of leaks (leak/table_leak.hpp), for the same collision step: the
+/// next hit over the table's pieces, the first leak that takes a hit, the table's reflection and s. On the stadium
+/// built as a table it computes the stadium's bits (tests/test_table.cpp).
+template <class R>
+struct TableModel {
+  Table<R> table;
+  LeakList<R> leaks;
+  R t_max;
+
+  template <class Specs>
+  TableModel(const TableSpec& spec, const Specs& leak_specs, double tmax)
+      : table(spec), leaks(table, leak_specs), t_max(R(tmax)) {}
+
+  using real_type = R;
+  using hit_type = TableHit<R>;
+  hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return table.next_hit(q, v); }
+  /// a flight that met no piece (through a gap that rounding opened at a corner): the particle is stuck there
+  static bool lost(const hit_type& h) { return h.piece < 0; }
+  int leak_of(const hit_type& h, const R& t) const { return leaks.hit(table, h.piece, h.q, t); }
+  R s_of(const hit_type& h) const { return table.s_of(h.piece, h.q); }
+  Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return table.reflect(h.piece, h.q, v); }
+  static constexpr bool jumps_from(const hit_type&) { return false; }
 };
 
 /// One bounce of a fast-forwarded stretch, as an observer with a ball_run() method is shown it.
@@ -120,6 +161,8 @@ struct ParticleEnd {
   ParticleState<double> last{};
   /// The particle's sampling weight (1 unweighted), as its start carried it: what its tallies add.
   double weight = 1;
+  /// Escaped: the leak that took it (its index in the table's list; 0 on the stadium's one leak).
+  int leak = 0;
 };
 
 /// A particle in flight: its state and, once it has ended, how.
@@ -356,11 +399,18 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
 }
 
 /// One collision: next_hit, time check, leak test, reflect. Returns false once the particle has
-/// ended (f.end says how). The scalar engine calls it for one particle after another (interleaving
-/// flights measured slower there); the vectorised kernel performs the same operations per lane.
-template <class R, class Observer>
-inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
-  const Hit<R> h = m.stadium.next_hit(f.ps.q, f.ps.v);
+/// ended (f.end says how). Written once for every model (Model: the stadium, with its convex shortcut and the
+/// fast-forward; TableModel: any table and its leaks). The scalar engine calls it for one particle after another
+/// (interleaving flights measured slower there); the vectorised kernel performs the same operations per lane.
+template <class M, class Observer>
+inline bool advance(const M& m, Flight<typename M::real_type>& f, Observer& observe) {
+  using R = typename M::real_type;
+  const typename M::hit_type h = m.next_hit(f.ps.q, f.ps.v);
+  if (m.lost(h)) {
+    f.end.fate = Fate::stuck;
+    f.end.t = num_traits<R>::to_double(f.ps.t);
+    return false;
+  }
   const R t_hit = f.ps.t + h.t;
   if (t_hit > m.t_max) {  // the state stays at the last collision
     f.end.fate = Fate::survived;
@@ -371,16 +421,18 @@ inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
   f.ps.t = t_hit;
   ++f.end.collisions;
   if constexpr (Observer::active) observe(h.piece, h.q, f.ps.t);
-  if (m.leak.hit(h.piece, h.q, f.ps.t)) {
+  if (const int leak = m.leak_of(h, f.ps.t); leak >= 0) {
     f.end.fate = Fate::escaped;
+    f.end.leak = leak;
     f.end.t = num_traits<R>::to_double(f.ps.t);
-    f.end.s = num_traits<R>::to_double(m.stadium.s_of(h.piece, h.q));
+    f.end.s = num_traits<R>::to_double(m.s_of(h));
     return false;
   }
-  f.ps.v = m.stadium.reflect(h.piece, h.q, f.ps.v);
+  f.ps.v = m.reflect(h, f.ps.v);
   f.ps.q = h.q;
-  if (m.fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom) && !fast_forward(m, f, &observe))
-    return false;
+  if constexpr (requires { m.stadium; }) {
+    if (m.jumps_from(h) && !fast_forward(m, f, &observe)) return false;
+  }
   if (h.t > 0) {
     f.zero_flights = 0;
   } else if (++f.zero_flights > kMaxZeroFlights) {
@@ -393,9 +445,9 @@ inline bool advance(const Model<R>& m, Flight<R>& f, Observer& observe) {
 
 /// A whole life, one particle at a time: the reference loop, which the scalar engine runs and whose
 /// operations the vectorised kernel performs per lane.
-template <class R, class Observer>
-ParticleEnd run_particle(const Model<R>& m, const ParticleState<R>& ps, Observer& observe) {
-  Flight<R> f{ps, {}, 0};
+template <class M, class Observer>
+ParticleEnd run_particle(const M& m, const ParticleState<typename M::real_type>& ps, Observer& observe) {
+  Flight<typename M::real_type> f{ps, {}, 0};
   while (advance(m, f, observe)) {
   }
   return f.end;
