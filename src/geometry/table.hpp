@@ -166,6 +166,8 @@ class Table {
 
  private:
   const R& inv_length(int loop) const { return inv_loop_length_[loop]; }
+  /// Rounds piece e (of `loop`, whose length before it is `before`; `first` in its loop) into p, and grows scale_.
+  void round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec& loop, const ExactReal& before, bool first);
 
   /// The nearest outward crossing within the pieces' spans widened by tol.
   TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
@@ -212,7 +214,6 @@ class Table {
 
 template <class R>
 Table<R>::Table(const TableSpec& spec) {
-  using std::abs;
   const ExactReal two = ExactReal::parse("2");
   n_pieces_ = static_cast<int>(spec.pieces.size());
   n_loops_ = static_cast<int>(spec.loops.size());
@@ -230,56 +231,60 @@ Table<R>::Table(const TableSpec& spec) {
     ExactReal before;  // the loop's length before piece k
     for (int k = loop.first; k < loop.first + loop.count; ++k) {
       const PieceSpec& e = spec.pieces[static_cast<std::size_t>(k)];
-      TablePiece<R>& p = piece_[k];
-      p.kind = e.kind;
-      p.loop = e.loop;
-      p.clockwise = e.clockwise;
-      p.full = e.full;
-      p.ax = round_exact<R>(e.ax), p.ay = round_exact<R>(e.ay), p.bx = round_exact<R>(e.bx),
-      p.by = round_exact<R>(e.by);
-      const ExactReal s0 = (before - loop.origin) / loop.length;
-      // the piece that holds the origin starts below 0: its start is rounded where it lies, a turn on (as the
-      // stadium's junction 3 is), and brought back by an exact - 1, so that s0 + 1 is that junction's bits
-      p.s0 = k == loop.first && loop.origin.sign() != 0 ? R(round_exact<R>(s0 + ExactReal::parse("1")) - R(1))
-                                                        : round_exact<R>(s0);
-      p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
-      for (const R& x : {p.ax, p.ay, p.bx, p.by})
-        if (abs(x) > scale_) scale_ = abs(x);
-      if (e.kind == PieceKind::segment) {
-        const ExactReal ex = (e.bx - e.ax) / e.length, ey = (e.by - e.ay) / e.length;
-        p.ex = round_exact<R>(ex), p.ey = round_exact<R>(ey);
-        p.horizontal = ey.is_rational() && ey.as_rational() == 0;
-        p.vertical = ex.is_rational() && ex.as_rational() == 0;
-        p.along_x = abs(ex.to_double()) >= abs(ey.to_double());
-        const R ca = p.along_x ? p.ax : p.ay, cb = p.along_x ? p.bx : p.by;
-        p.lo = ca < cb ? ca : cb;
-        p.hi = ca < cb ? cb : ca;
-        if (k == loop.first && loop.origin.sign() != 0) {  // the origin's point, at s = 0
-          p.rx = round_exact<R>(e.ax + loop.origin * ex), p.ry = round_exact<R>(e.ay + loop.origin * ey);
-          p.s_ref = R(0);
-        } else {
-          p.rx = p.ax, p.ry = p.ay, p.s_ref = p.s0;
-        }
-      } else {
-        p.cx = round_exact<R>(e.cx), p.cy = round_exact<R>(e.cy), p.rho = round_exact<R>(e.rho);
-        p.inv_rho = round_exact<R>(ExactReal::parse("1") / e.rho);
-        const ExactReal fx = (e.ax - e.cx) / e.rho, fy = (e.ay - e.cy) / e.rho;
-        const ExactReal gx = (e.bx - e.cx) / e.rho, gy = (e.by - e.cy) / e.rho;
-        p.fx = round_exact<R>(fx), p.fy = round_exact<R>(fy);
-        const R gxr = round_exact<R>(gx), gyr = round_exact<R>(gy);
-        p.cw_fx = e.clockwise ? p.fx : gxr, p.cw_fy = e.clockwise ? p.fy : gyr;
-        p.cw_gx = e.clockwise ? gxr : p.fx, p.cw_gy = e.clockwise ? gyr : p.fy;
-        p.span = round_exact<R>(e.span);
-        p.wide = e.span.to_double() > M_PI;
-        p.rho_over_L = round_exact<R>(e.rho / loop.length);
-        p.L_over_rho = round_exact<R>(loop.length / e.rho);
-        for (const R& x : {R(abs(p.cx) + p.rho), R(abs(p.cy) + p.rho)})
-          if (x > scale_) scale_ = x;
-      }
+      round_piece(piece_[k], e, loop, before, k == loop.first);
       before = before + e.length;
     }
   }
   slack_ = R(kSpanSlack) * num_traits<R>::epsilon() * scale_;
+}
+
+template <class R>
+void Table<R>::round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec& loop, const ExactReal& before,
+                           bool first) {
+  using std::abs;
+  p.kind = e.kind;
+  p.loop = e.loop;
+  p.clockwise = e.clockwise;
+  p.full = e.full;
+  p.ax = round_exact<R>(e.ax), p.ay = round_exact<R>(e.ay), p.bx = round_exact<R>(e.bx), p.by = round_exact<R>(e.by);
+  const ExactReal s0 = (before - loop.origin) / loop.length;
+  // the piece that holds the origin starts below 0: its start is rounded where it lies, a turn on (as the
+  // stadium's junction 3 is), and brought back by an exact - 1, so that s0 + 1 is that junction's bits
+  const bool holds_origin = first && loop.origin.sign() != 0;
+  p.s0 = holds_origin ? R(round_exact<R>(s0 + ExactReal::parse("1")) - R(1)) : round_exact<R>(s0);
+  p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
+  for (const R& x : {p.ax, p.ay, p.bx, p.by})
+    if (abs(x) > scale_) scale_ = abs(x);
+  if (e.kind == PieceKind::segment) {
+    const ExactReal ex = (e.bx - e.ax) / e.length, ey = (e.by - e.ay) / e.length;
+    p.ex = round_exact<R>(ex), p.ey = round_exact<R>(ey);
+    p.horizontal = ey.is_rational() && ey.as_rational() == 0;
+    p.vertical = ex.is_rational() && ex.as_rational() == 0;
+    p.along_x = abs(ex.to_double()) >= abs(ey.to_double());
+    const R ca = p.along_x ? p.ax : p.ay, cb = p.along_x ? p.bx : p.by;
+    p.lo = ca < cb ? ca : cb;
+    p.hi = ca < cb ? cb : ca;
+    if (holds_origin) {  // the origin's point, at s = 0
+      p.rx = round_exact<R>(e.ax + loop.origin * ex), p.ry = round_exact<R>(e.ay + loop.origin * ey);
+      p.s_ref = R(0);
+    } else {
+      p.rx = p.ax, p.ry = p.ay, p.s_ref = p.s0;
+    }
+    return;
+  }
+  p.cx = round_exact<R>(e.cx), p.cy = round_exact<R>(e.cy), p.rho = round_exact<R>(e.rho);
+  p.inv_rho = round_exact<R>(ExactReal::parse("1") / e.rho);
+  const ExactReal fx = (e.ax - e.cx) / e.rho, fy = (e.ay - e.cy) / e.rho;
+  const R gx = round_exact<R>((e.bx - e.cx) / e.rho), gy = round_exact<R>((e.by - e.cy) / e.rho);
+  p.fx = round_exact<R>(fx), p.fy = round_exact<R>(fy);
+  p.cw_fx = e.clockwise ? p.fx : gx, p.cw_fy = e.clockwise ? p.fy : gy;
+  p.cw_gx = e.clockwise ? gx : p.fx, p.cw_gy = e.clockwise ? gy : p.fy;
+  p.span = round_exact<R>(e.span);
+  p.wide = e.span.to_double() > M_PI;
+  p.rho_over_L = round_exact<R>(e.rho / loop.length);
+  p.L_over_rho = round_exact<R>(loop.length / e.rho);
+  for (const R& x : {R(abs(p.cx) + p.rho), R(abs(p.cy) + p.rho)})
+    if (x > scale_) scale_ = x;
 }
 
 }  // namespace rotleak
