@@ -37,6 +37,20 @@ struct TablePiece {
   R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};   ///< arc: its ends' directions in clockwise order (on_arc)
   R span{0}, rho_over_L{0}, L_over_rho{0};
   R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
+
+  /// Arc: the direction from the centre at angle a along the travel, f cos a + h sin a (h = f turned a quarter along
+  /// the travel), from cs = cos a and sn = sin a; and the unit tangent there, h cos a - f sin a.
+  Vec2<R> arc_direction(const R& cs, const R& sn) const {
+    const Vec2<R> h = turned();
+    return {fx * cs + h.x * sn, fy * cs + h.y * sn};
+  }
+  Vec2<R> arc_tangent(const R& cs, const R& sn) const {
+    const Vec2<R> h = turned();
+    return {h.x * cs - fx * sn, h.y * cs - fy * sn};
+  }
+
+ private:
+  Vec2<R> turned() const { return clockwise ? Vec2<R>{fy, R(-fx)} : Vec2<R>{R(-fy), fx}; }
 };
 
 /// Where a flight next meets the boundary: flight time, piece index (-1: nowhere, a flight through a gap the
@@ -126,9 +140,9 @@ class Table {
       f.tangent = {p.ex, p.ey};
     } else {
       const formula::SinCos<R> sc = formula::tier_sin_cos(formula::arc_angle_of(u, p.s0, p.L_over_rho));
-      const R hx = p.clockwise ? p.fy : R(-p.fy), hy = p.clockwise ? R(-p.fx) : p.fx;  // f turned along the travel
-      f.q = {p.cx + p.rho * (p.fx * sc.cos + hx * sc.sin), p.cy + p.rho * (p.fy * sc.cos + hy * sc.sin)};
-      f.tangent = {hx * sc.cos - p.fx * sc.sin, hy * sc.cos - p.fy * sc.sin};
+      const Vec2<R> d = p.arc_direction(sc.cos, sc.sin);
+      f.q = {p.cx + p.rho * d.x, p.cy + p.rho * d.y};
+      f.tangent = p.arc_tangent(sc.cos, sc.sin);
     }
     f.normal = {f.tangent.y, R(-f.tangent.x)};
     return f;

@@ -84,8 +84,6 @@ class TableLeak {
 
  private:
   void build_windows(const Table<R>& table) {
-    using std::cos;
-    using std::sin;
     const R c = schedule_.start();
     const R L = table.loop_length(loop_);
     for (int k = first_; k < first_ + count_; ++k) {
@@ -106,27 +104,28 @@ class TableLeak {
           pw.w[pw.n++] = w;
           continue;
         }
-        // the directions at the window's ends: f cos(angle) + h sin(angle), h = f turned along the travel
+        // the directions at the window's ends (TablePiece::arc_direction), at most a half turn apart (two
+        // half-planes): a longer window in two. Clockwise from `from` to `to`: along the travel on a clockwise arc,
+        // against it on an anticlockwise one.
         const R scale = L / p.rho;
-        const R hx = p.clockwise ? p.fy : R(-p.fy), hy = p.clockwise ? R(-p.fx) : p.fx;
-        auto direction = [&](const R& angle) {
-          const R cs = cos(angle), sn = sin(angle);
-          return Vec2<R>{p.fx * cs + hx * sn, p.fy * cs + hy * sn};
-        };
         const R ta = (lo - p.s0) * scale, tb = (hi - p.s0) * scale;
-        // at most a half turn each (two half-planes): a longer window in two
-        const R half_turn = num_traits<R>::pi();
-        const R mid = tb - ta > half_turn ? R((ta + tb) / 2) : tb;
-        for (const auto& [u, v] : {std::pair<R, R>{ta, mid}, std::pair<R, R>{mid, tb}}) {
-          if (!(v > u) && !(u == ta && v == tb)) continue;  // the second half of a window that was not split
-          Window w;
-          // clockwise from `from` to `to`: along the travel on a clockwise arc, against it on an anticlockwise one
-          w.from = p.clockwise ? direction(u) : direction(v);
-          w.to = p.clockwise ? direction(v) : direction(u);
-          pw.w[pw.n++] = w;
-        }
+        const bool split = tb - ta > num_traits<R>::pi();
+        const R mid = split ? R((ta + tb) / 2) : tb;
+        add_arc_window(pw, p, ta, mid);
+        if (split) add_arc_window(pw, p, mid, tb);
       }
     }
+  }
+
+  /// The window of arc p from angle u to angle v along its travel.
+  static void add_arc_window(PieceWindows& pw, const TablePiece<R>& p, const R& u, const R& v) {
+    using std::cos;
+    using std::sin;
+    const Vec2<R> du = p.arc_direction(cos(u), sin(u)), dv = p.arc_direction(cos(v), sin(v));
+    Window w;
+    w.from = p.clockwise ? du : dv;
+    w.to = p.clockwise ? dv : du;
+    pw.w[pw.n++] = w;
   }
 
   bool in_windows(const Table<R>& table, int k, const Vec2<R>& q) const {
