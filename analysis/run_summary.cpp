@@ -26,6 +26,10 @@ void fit_curve(RunSummary& s) {
   s.amplitude = fit_amplitude(s.curve, s.kappa, scene.min_survivors);
   s.alpha_c = alpha_from_amplitude(s.kappa, s.amplitude, scene.alpha_factor);
   s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa, &s.amplitude);
+  if (scene.on_table()) {  // the leak times and the tail model are the stadium's theory (docs/tables.md)
+    s.rate_jumps = decay_rate_jumps(s.curve, 100);
+    return;
+  }
   s.leak_times = leak_times(scene);
   try {
     s.prediction = predict_tail(scene);

@@ -159,6 +159,24 @@ def main():
             keys += 1
             if not re.search(r"^%s\s*=" % re.escape(name), example[start:end], re.M):
                 bad.append("docs/scenes.md: the loader accepts %s.%s, the example does not show it" % (section, name))
+    # [table]'s kinds and their parameters (src/geometry/table_spec.cpp's table_kinds), and [[leaks]]'s keys, in
+    # the section of docs/scenes.md on tables
+    with open(os.path.join(root, "src", "geometry", "table_spec.cpp")) as fh:
+        kinds_src = fh.read()
+    kinds_src = kinds_src[kinds_src.index("table_kinds() {"):]
+    tables = scenes[scenes.index("## Tables and several leaks"):]
+    tables = tables[:tables.index("\n## ")]
+    listed_keys = re.search(r"kListedLeakKeys = \{([^}]*)\}", source)
+    for m in re.finditer(r'\{"(\w+)",\s*\{([^}]*)\}', kinds_src):
+        for name in [m.group(1)] + re.findall(r'"(\w+)"', m.group(2)):
+            keys += 1
+            if not re.search(r"\b%s\b" % re.escape(name), tables):
+                bad.append("docs/scenes.md: [table] takes %s (table kind %s), the tables section does not name it"
+                           % (name, m.group(1)))
+    for name in re.findall(r'"(\w+)"', listed_keys.group(1)) if listed_keys else ["loop"]:
+        keys += 1
+        if not re.search(r"^%s\s*=" % re.escape(name), tables, re.M):
+            bad.append("docs/scenes.md: [[leaks]] takes %s, the tables example does not show it" % name)
     bad += broken_links(root, tracked(root))
     bad += missing_paths(root, tracked(root))
     bad += bare_python(root, tracked(root))

@@ -8,7 +8,8 @@ PYTHONPATH at the build's Python package and ROTLEAK_BINARY set. What a block is
 - ```sh / ```bash: run by `bash -e -o pipefail`; ```python: run by the runner's own interpreter (the suite
   runs it with the one scripts/setup.sh names, Debian's, with numpy and pandas; the blocks name it by its
   path, as a user must). Exit status 0 required.
-- ```toml: a scene; loaded by `rotleak predict` (which validates every key and runs nothing).
+- ```toml: a scene; loaded by `rotleak predict` (which validates every key and runs nothing), or, for a scene
+  on another table or with a list of leaks (which predict refuses), by `rotleak simulate` of one particle.
 - ```text right after a runnable block (only blank lines or a directive between): that block's output.
   Every shown line must appear in the printed output (stdout and stderr together), in order, with the same words;
   its numbers are not compared unless the directive says so (timings and rates differ between runs):
@@ -312,8 +313,15 @@ def run_file(path, build, scale, bindir, show=False):
                 scene = os.path.join(work, ".docs_scene.toml")
                 with open(scene, "w") as f:
                     f.write(b.text)
-                res = subprocess.run([os.path.join(build, "rotleak"), "predict", scene], cwd=work, env=env,
-                                     capture_output=True, text=True)
+                if "[table]" in b.text or "[[leaks]]" in b.text:  # predict runs the stadium with one leak only
+                    out = os.path.join(work, ".docs_scene_run")
+                    res = subprocess.run([os.path.join(build, "rotleak"), "simulate", scene, "--particles", "1",
+                                          "--no-progress", "--force", "--out", out], cwd=work, env=env,
+                                         capture_output=True, text=True)
+                    shutil.rmtree(out, ignore_errors=True)
+                else:
+                    res = subprocess.run([os.path.join(build, "rotleak"), "predict", scene], cwd=work, env=env,
+                                         capture_output=True, text=True)
                 os.remove(scene)
                 ran += 1
                 if res.returncode != 0:

@@ -4,21 +4,10 @@
 #include "io/scene_file.hpp"
 #include "leak/leak.hpp"
 #include "names.hpp"
+#include "scene_error.hpp"
 
 using namespace rotleak;
 
-namespace {
-
-std::string error_of(const std::string& toml, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_scene(toml, sets);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-}  // namespace
 
 TEST(Scene, DefaultsAndExactValues) {
   const Scene s = parse_scene("[leak]\nwidth = \"0.01\"\nomega = \"1008/1009\"\n");

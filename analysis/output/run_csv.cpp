@@ -176,6 +176,21 @@ std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>&
   return out;
 }
 
+std::string leaks_csv(const Scene& scene, const Tally& tally) {
+  const std::size_t bins = tally.escapes_per_bin.size(), leaks = bins ? tally.escapes_by_leak.size() / bins : 0;
+  std::string out = "t_from,t_to";
+  for (std::size_t j = 0; j < leaks; ++j) out += ",escaped_" + std::to_string(j);
+  out += '\n';
+  for (std::size_t k = 0; k < bins; ++k) {
+    const double from = static_cast<double>(k) * scene.survival_dt;
+    const double to = k + 1 == bins ? scene.t_max : static_cast<double>(k + 1) * scene.survival_dt;
+    out += shortest(from) + ',' + shortest(to);
+    for (std::size_t j = 0; j < leaks; ++j) out += ',' + std::to_string(tally.escapes_by_leak[j * bins + k]);
+    out += '\n';
+  }
+  return out;
+}
+
 std::string lines_csv(const SurvivalCurve& c) {
   std::string out = "t,P,R,lines_alive,unsplit_lines,unsplit_P";
   for (const SurvivalCurve::UnsplitGroup& k : c.unsplit_classes) {

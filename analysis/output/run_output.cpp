@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <numbers>
 #include <stdexcept>
 #include <string_view>
 
@@ -195,6 +196,39 @@ void put_fits(json& s, const RunSummary& r) {
   s["predicted"]["tail"] = r.prediction ? prediction_json(*r.prediction) : json(nullptr);
 }
 
+void put_table(json& s, const RunSummary& r) {
+  const Scene& scene = r.scene;
+  const TableSpec t = table_spec(scene);
+  s["table"] = {{"kind", t.name},
+                {"loops", t.loops.size()},
+                {"area", t.area.to_double()},
+                {"perimeter", t.perimeter.to_double()},
+                {"mean_free_path", std::numbers::pi * t.area.to_double() / t.perimeter.to_double()},
+                {"small_hole_rate", small_hole_rate(scene)}};
+  const std::vector<LeakSpec> specs = leak_specs(scene);
+  const Tally& tally = r.result.tally;
+  const std::size_t bins = tally.escapes_per_bin.size();
+  const double n = static_cast<double>(scene.particles);
+  json leaks = json::array();
+  for (std::size_t j = 0; j < specs.size(); ++j) {
+    std::uint64_t escaped = 0;  // one leak: all escapes
+    if (tally.escapes_by_leak.empty())
+      escaped = tally.escaped;
+    else
+      for (std::size_t k = 0; k < bins; ++k) escaped += tally.escapes_by_leak[j * bins + k];
+    const double f = static_cast<double>(escaped) / n;
+    const bool listed = !scene.leaks.empty();
+    leaks.push_back({{"loop", specs[j].loop},
+                     {"width", listed ? scene.leaks[j].width.text : scene.width_text},
+                     {"start", listed ? scene.leaks[j].start.text : scene.start_text},
+                     {"omega", listed ? scene.leaks[j].omega.text : scene.omega_text},
+                     {"escaped", escaped},
+                     {"fraction", f},
+                     {"fraction_error", std::sqrt(f * (1 - f) / n)}});
+  }
+  s["leaks"] = leaks;
+}
+
 json execution_json(json fields) {
   char host[256] = {};
   if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
@@ -229,6 +263,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["survivors_at_t_max"] = r.result.tally.survived;
   s["stuck"] = r.result.tally.stuck;
   s["sampling"] = sampling_json(scene, r.curve);
+  if (scene.on_table()) put_table(s, r);
   if (r.curve.lines) s["splitting"] = splitting_json(scene, r.result.tally, r.curve);
   put_fits(s, r);
   s["files"] = files;
@@ -393,6 +428,7 @@ RunTexts run_texts(const RunSummary& r, const std::vector<std::string>& written)
   if (r.curve.lines) out.files.emplace_back("lines.csv", lines_csv(r.curve));
   if (r.scene.collision_density) out.files.emplace_back("fc.csv", density_csv(r.scene, r.result.tally));
   if (r.scene.escape_records) out.files.emplace_back("escapes.csv", escapes_csv(r.result.first_id, r.result.records));
+  if (!r.result.tally.escapes_by_leak.empty()) out.files.emplace_back("leaks.csv", leaks_csv(r.scene, r.result.tally));
   out.files.emplace_back("scene.toml", scene_to_toml(r.scene));
   std::vector<std::string> names;
   for (const auto& f : out.files) names.push_back(f.first);

@@ -22,6 +22,8 @@ std::string survival_csv(const SurvivalCurve& curve);
 std::string density_csv(const Scene& scene, const Tally& tally);
 /// escapes.csv: id,fate,t,s,collisions.
 std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records);
+/// leaks.csv of a scene with several leaks: each survival bin's [t_from, t_to) and its escapes through each leak.
+std::string leaks_csv(const Scene& scene, const Tally& tally);
 
 /// A survival.csv back as a curve of the scene that wrote it (weighted runs: the second moment from
 /// P_err, Q = N P_err^2 + P^2). Throws std::runtime_error naming the line on a malformed row.
@@ -49,6 +51,9 @@ json read_scan_document(const std::filesystem::path& dir, const std::string& tex
 /// The fit objects of summary.json (kappa, alpha, tail_exponent, tail, rate_jumps, predicted), set in
 /// place: `rotleak fit` replaces them in a saved summary.json keeping every other field.
 void put_fits(json& s, const RunSummary& r);
+/// A scene on any table (or with several leaks): summary.json's "table" (kind, loops, area, perimeter, mean free
+/// path, small-hole rate) and "leaks" (each leak's keys, its escapes and their share of the particles).
+void put_table(json& s, const RunSummary& r);
 /// summary.json of a run whose directory holds `files`.
 /// The sampling scheme and, for weighted runs, its parameters and the effective survivors at a few times.
 json sampling_json(const Scene& scene, const SurvivalCurve& curve);

@@ -19,6 +19,7 @@ struct PredictArgs {
 
 int run_predict(const PredictArgs& a) {
   const Scene scene = load_scene(a.scene, a.overrides);
+  require_stadium(scene, "rotleak predict");
   const TailPrediction p = predict_tail(scene);
   if (a.json_out) {
     std::cout << prediction_document(scene, p).dump(2) << "\n";

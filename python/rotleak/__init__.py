@@ -72,13 +72,76 @@ __all__ = ["__version__", "SCHEMA", "RotleakError", "Run", "Scan", "Calibration"
 #: A scene value as Python gives it: exact keys take str, int or Fraction (never float); a list or a dict
 #: becomes a TOML array or inline table ({"bins": 10} -> { bins = 10 }).
 Value = Union[str, int, float, bool, Fraction, Sequence[Any], Mapping[str, Any]]
+#: A scene's sections as keywords: a dict of keys per section (leak={"omega": "2/3"}), or a list of leaks
+#: (leaks=[{"width": "0.01"}, ...]).
+Sections = Union[Mapping[str, Value], Sequence[Mapping[str, Value]]]
 #: progress(done, total, collisions, final): called after blocks of particles.
 Progress = Callable[[int, int, int, bool], None]
 
 # the scene's sections (docs/scenes.md): an override's key is "section.key"
-_SECTIONS = ("stadium", "leak", "ensemble", "run", "observe", "fit")
+_SECTIONS = ("stadium", "table", "leak", "ensemble", "run", "observe", "fit")
 # the keys read exactly (docs/scenes.md): a float would pass its rounding off as the value meant
 _EXACT_KEYS = ("stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega")
+# a listed leak's keys (leaks.N.KEY), and those of them read exactly
+_LEAK_KEYS = ("loop", "width", "start", "omega")
+
+
+def _exact_key(key: str) -> bool:
+    """Whether a dotted key is read exactly: the stadium's and the leak's, every table parameter, a listed leak's
+    width, start and omega."""
+    section, _, name = key.partition(".")
+    if section == "table":
+        return name not in ("kind", "vertices")
+    if section == "leaks":
+        return name.partition(".")[2] in ("width", "start", "omega")
+    return key in _EXACT_KEYS
+
+
+def _exact_text(value: Value) -> str:
+    """An exact value as its text (str, int or Fraction)."""
+    if isinstance(value, Fraction):
+        return _text(value)
+    return str(value)
+
+
+def _leaks_toml(leaks: object) -> str:
+    """A list of leaks (dicts of loop, width, start, omega) as the scene's [[leaks]] (docs/scenes.md)."""
+    if not isinstance(leaks, (list, tuple)) or not leaks or not all(isinstance(x, Mapping) for x in leaks):
+        raise ValueError("leaks = %r: must be a list of dicts, each with width and optionally loop, start, omega, "
+                         "e.g. leaks=[{\"width\": \"0.01\"}, {\"width\": \"0.01\", \"start\": \"1/2\"}]" % (leaks,))
+    out = ""
+    for i, leak in enumerate(leaks):
+        out += "\n[[leaks]]\n"
+        for name, v in leak.items():
+            key = "leaks.%d.%s" % (i, name)
+            if name not in _LEAK_KEYS:
+                raise ValueError("%s = %r: unknown key; a leak takes %s" % (key, v, ", ".join(_LEAK_KEYS)))
+            if name == "loop":
+                if isinstance(v, bool) or not isinstance(v, int):
+                    raise ValueError("%s = %r: must be an int (0: the outer boundary, k: scatterer k)" % (key, v))
+                out += "loop = %d\n" % v
+                continue
+            _check_exact(key, v)
+            out += "%s = %s\n" % (name, json.dumps(_exact_text(v)))
+    return out
+
+
+def _without_leaks(text: str) -> str:
+    """Scene TOML without its [leak] section and [[leaks]] blocks (each runs to the next header)."""
+    out, skip = [], False
+    for line in text.splitlines(keepends=True):
+        head = line.strip()
+        if head.startswith("["):
+            skip = head in ("[leak]", "[[leaks]]")
+        if not skip:
+            out.append(line)
+    return "".join(out)
+
+
+def _check_exact(key: str, value: Value) -> None:
+    if isinstance(value, (float, bool)) or not isinstance(value, (int, str, Fraction)):
+        raise ValueError("overrides[%r] = %r: %s is exact; give a string (\"2/3\", \"ln(19)\"), an int or a Fraction, "
+                         "not a %s (its value is a nearby binary fraction)" % (key, value, key, type(value).__name__))
 
 
 def _module() -> Any:
@@ -117,12 +180,15 @@ def _overrides(name: str, keys: Mapping[str, Value] | None) -> list[str]:
 def _override(key: object, value: Value) -> str:
     """One override as the command line's ``section.key=value`` text, its key and exactness checked."""
     section, dot, name = key.partition(".") if isinstance(key, str) else ("", "", "")
-    if not dot or section not in _SECTIONS or not name:
-        raise ValueError("overrides[%r]: a scene key is \"section.key\" (sections: %s), e.g. {\"leak.omega\": \"2/3\"}"
-                         % (key, ", ".join(_SECTIONS)))
-    if key in _EXACT_KEYS and (isinstance(value, (float, bool)) or not isinstance(value, (int, str, Fraction))):
-        raise ValueError("overrides[%r] = %r: %s is exact; give a string (\"2/3\", \"ln(19)\"), an int or a Fraction, "
-                         "not a %s (its value is a nearby binary fraction)" % (key, value, key, type(value).__name__))
+    if not dot or (section not in _SECTIONS and section != "leaks") or not name:
+        raise ValueError("overrides[%r]: a scene key is \"section.key\" (sections: %s; a listed leak's "
+                         "\"leaks.N.key\"), e.g. {\"leak.omega\": \"2/3\"}" % (key, ", ".join(_SECTIONS)))
+    if isinstance(key, str) and _exact_key(key):
+        _check_exact(key, value)
+    if key == "table.vertices" and isinstance(value, (list, tuple)):  # exact coordinates, quoted
+        return "%s=[%s]" % (key, ", ".join("[%s]" % ", ".join(json.dumps(_exact_text(c)) for c in xy)
+                                            if isinstance(xy, (list, tuple)) else json.dumps(_exact_text(xy))
+                                            for xy in value))
     return "%s=%s" % (key, _text(value))
 
 
@@ -131,19 +197,23 @@ class Scene:
 
     ``Scene({"leak.omega": "2/3", "ensemble.particles": 10000})`` takes dotted keys;
     ``Scene(leak={"omega": "2/3"}, ensemble={"particles": 10000})`` takes sections as keywords;
+    ``Scene(table={"kind": "circle", "radius": 1}, leaks=[{"width": "0.02"}, {"width": "0.02", "start": "1/4"}])``
+    any table and a list of leaks (docs/tables.md; a listed leak's key is then ``leaks.N.key``);
     ``Scene.read(path)`` a scene file and ``Scene.from_toml(text)`` its text, each with the same keys on top. Keys
-    left out keep their defaults. Exact keys (stadium.d, stadium.r, leak.width, leak.start, leak.omega) take str,
-    int or Fraction, never float. A bad key or value raises ValueError with the one line ``rotleak`` prints for it.
+    left out keep their defaults. Exact keys (stadium.d, stadium.r, leak.width, leak.start, leak.omega, the table's
+    parameters and vertices, a listed leak's width, start and omega) take str, int or Fraction, never float. A bad key or value raises ValueError with the one line ``rotleak`` prints for it.
     :meth:`to_toml` is the scene exactly (every key, exact values as their text); :meth:`save` writes it, and
     ``rotleak simulate`` of that file runs what :func:`simulate` of this Scene runs, bit for bit.
     """
 
-    def __init__(self, keys: Mapping[str, Value] | None = None, **sections: Mapping[str, Value]) -> None:
+    def __init__(self, keys: Mapping[str, Value] | None = None, **sections: Sections) -> None:
         self._toml = Scene._checked("", keys, sections)
 
     @staticmethod
-    def _checked(base: str, keys: Mapping[str, Value] | None, sections: Mapping[str, Mapping[str, Value]]) -> str:
+    def _checked(base: str, keys: Mapping[str, Value] | None, sections: dict[str, Any]) -> str:
         texts = _overrides("keys", keys)
+        if "leaks" in sections:  # a list of leaks: the scene's [[leaks]], in place of the base's leak or leaks
+            base = _without_leaks(base) + _leaks_toml(sections.pop("leaks"))
         for section, table in sections.items():
             if section not in _SECTIONS or not isinstance(table, Mapping):
                 raise ValueError("%s = %r: a section is one of %s, given as a dict of its keys, e.g. "
@@ -154,7 +224,7 @@ class Scene:
 
     @classmethod
     def from_toml(cls, text: str, keys: Mapping[str, Value] | None = None,
-                  **sections: Mapping[str, Value]) -> "Scene":
+                  **sections: Sections) -> "Scene":
         """A scene from TOML text (a scene file's contents), with keys on top."""
         if not isinstance(text, str):
             raise ValueError("text = %r: must be a scene's TOML text (a str)" % (text,))
@@ -164,7 +234,7 @@ class Scene:
 
     @classmethod
     def read(cls, path: PathLike, keys: Mapping[str, Value] | None = None,
-             **sections: Mapping[str, Value]) -> "Scene":
+             **sections: Sections) -> "Scene":
         """A scene file (TOML), with keys on top."""
         try:
             with open(path, encoding="utf-8") as f:
@@ -173,7 +243,7 @@ class Scene:
             raise ValueError("scene = %s: cannot be read as a TOML scene file (%s)" % (os.fspath(path), e)) from None
         return cls.from_toml(text, keys, **sections)
 
-    def replace(self, keys: Mapping[str, Value] | None = None, **sections: Mapping[str, Value]) -> "Scene":
+    def replace(self, keys: Mapping[str, Value] | None = None, **sections: Sections) -> "Scene":
         """A copy with these keys changed."""
         return Scene.from_toml(self._toml, keys, **sections)
 

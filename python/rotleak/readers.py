@@ -251,7 +251,8 @@ class Run:
         if not os.path.isdir(path):
             raise RotleakError("%s: no such directory" % path)
         files: dict[str, Union[str, bytes]] = {}
-        for name in ("summary.json", "survival.csv", "lines.csv", "fc.csv", "escapes.csv", "scene.toml") + tuple(BINARY):
+        for name in ("summary.json", "survival.csv", "lines.csv", "fc.csv", "escapes.csv", "leaks.csv",
+                     "scene.toml") + tuple(BINARY):
             p = os.path.join(path, name)
             if os.path.exists(p):
                 with open(p, "rb") as f:
@@ -287,6 +288,13 @@ class Run:
     def escapes(self) -> Optional[pandas.DataFrame]:
         """id, fate (escaped, survived, stuck), t, s, collisions: one row per particle."""
         return self._table("escapes.csv", dtype={"fate": str})
+
+    @property
+    def leaks(self) -> Optional[pandas.DataFrame]:
+        """Scenes of several leaks: t_from, t_to, then escaped_<j> -- the escapes through leak j in each survival bin
+        [t_from, t_to) (docs/output.md, leaks.csv); None for one leak. summary.json's ``leaks`` gives each leak's
+        keys, total and share of the particles."""
+        return self._table("leaks.csv")
 
     @property
     def scene(self) -> dict[str, Any]:

@@ -6,8 +6,10 @@
 // built as the stadium computes the stadium's bits (tests/test_table.cpp; docs/model.md, "Tables").
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <utility>
 
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
@@ -86,6 +88,8 @@ class Table {
   const R& perimeter() const { return perimeter_; }
   /// The billiard flow's mean free path, pi area / |boundary| (Santalo), rounded once from its exact value.
   const R& mean_free_path() const { return mean_free_path_; }
+  /// pi, rounded once.
+  const R& pi() const { return pi_; }
   /// The largest |coordinate| of the table: the scale of its rounding errors.
   const R& scale() const { return scale_; }
 
@@ -175,6 +179,51 @@ class Table {
     return last;  // s a rounding below 1 past the last piece's end
   }
 
+  /// Whether q lies inside the table (inside the outer loop, outside every scatterer): the parity of the
+  /// boundary's crossings by the ray from q along +x. Points on the boundary may go either way (a start drawn at
+  /// random lands on one with probability 0).
+  bool contains(const Vec2<R>& q) const {
+    using std::sqrt;
+    bool inside = false;
+    for (int k = 0; k < n_pieces_; ++k) {
+      const TablePiece<R>& p = piece_[k];
+      if (p.kind == PieceKind::segment) {
+        if ((p.ay > q.y) == (p.by > q.y)) continue;  // half-open in y: a vertex on the ray counts once
+        const R x = p.ax + (q.y - p.ay) * (p.bx - p.ax) / (p.by - p.ay);
+        inside ^= x > q.x;
+        continue;
+      }
+      const R dy = q.y - p.cy, h2 = p.rho * p.rho - dy * dy;
+      if (!(h2 > R(0))) continue;  // the ray misses the circle (or touches it)
+      const R h = sqrt(h2);
+      for (const R dx : {R(-h), h})
+        if (p.cx + dx > q.x && (p.full || formula::on_arc(dx, dy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(0))))
+          inside = !inside;
+    }
+    return inside;
+  }
+
+  /// The outer loop's bounding box: lo, hi corners (a start drawn from the flow is drawn in it and kept if inside).
+  const Vec2<R>& box_lo() const { return box_lo_; }
+  const Vec2<R>& box_hi() const { return box_hi_; }
+
+  /// A share sigma in [0, 1) of the whole boundary (the loops laid end to end, in order) as a loop and its s:
+  /// sigma itself on a table of one loop.
+  std::pair<int, R> loop_s(const R& sigma) const {
+    if (n_loops_ == 1) return {0, sigma};
+    const R x = sigma * perimeter_;
+    int l = 0;
+    while (l + 1 < n_loops_ && x >= loop_offset_[l + 1]) ++l;
+    R s = (x - loop_offset_[l]) * inv_loop_length_[l];
+    if (!(s < R(1))) s = R(0);
+    return {l, s};
+  }
+  /// The inverse: the share of the boundary before s of loop `loop` (s itself on a table of one loop).
+  R boundary_share(int loop, const R& s) const {
+    if (n_loops_ == 1) return s;
+    return (loop_offset_[loop] + s * loop_length_[loop]) / perimeter_;
+  }
+
   /// How many ulps of the table's scale the second look widens every span by.
   static constexpr int kSpanSlack = 64;
 
@@ -223,7 +272,9 @@ class Table {
   TablePiece<R> piece_[kMaxTablePieces];
   int loop_first_[kMaxTableLoops]{}, loop_count_[kMaxTableLoops]{};
   R loop_length_[kMaxTableLoops], inv_loop_length_[kMaxTableLoops];
-  R area_, perimeter_, mean_free_path_, scale_, slack_, two_pi_;
+  R loop_offset_[kMaxTableLoops];  ///< the loops' lengths before each
+  R area_, perimeter_, mean_free_path_, scale_, slack_, two_pi_, pi_;
+  Vec2<R> box_lo_, box_hi_;
 };
 
 template <class R>
@@ -235,6 +286,7 @@ Table<R>::Table(const TableSpec& spec) {
   perimeter_ = round_exact<R>(spec.perimeter);
   mean_free_path_ = round_exact<R>(ExactReal::pi() * spec.area / spec.perimeter);
   two_pi_ = round_exact<R>(two * ExactReal::pi());
+  pi_ = round_exact<R>(ExactReal::pi());
   scale_ = R(0);
   for (int l = 0; l < n_loops_; ++l) {
     const LoopSpec& loop = spec.loops[static_cast<std::size_t>(l)];
@@ -242,6 +294,9 @@ Table<R>::Table(const TableSpec& spec) {
     loop_count_[l] = loop.count;
     loop_length_[l] = round_exact<R>(loop.length);
     inv_loop_length_[l] = round_exact<R>(ExactReal::parse("1") / loop.length);
+    ExactReal offset;  // the loops' lengths before this one
+    for (int m = 0; m < l; ++m) offset = offset + spec.loops[static_cast<std::size_t>(m)].length;
+    loop_offset_[l] = round_exact<R>(offset);
     ExactReal before;  // the loop's length before piece k
     for (int k = loop.first; k < loop.first + loop.count; ++k) {
       const PieceSpec& e = spec.pieces[static_cast<std::size_t>(k)];
@@ -250,6 +305,17 @@ Table<R>::Table(const TableSpec& spec) {
     }
   }
   slack_ = R(kSpanSlack) * num_traits<R>::epsilon() * scale_;
+  // the outer loop's box: its pieces' ends, and each arc's whole circle (a box a little large only costs draws)
+  box_lo_ = {piece_[0].ax, piece_[0].ay}, box_hi_ = box_lo_;
+  for (int k = loop_first_[0]; k < loop_first_[0] + loop_count_[0]; ++k) {
+    const TablePiece<R>& p = piece_[k];
+    const R lx = p.kind == PieceKind::arc ? R(p.cx - p.rho) : std::min(p.ax, p.bx);
+    const R hx = p.kind == PieceKind::arc ? R(p.cx + p.rho) : std::max(p.ax, p.bx);
+    const R ly = p.kind == PieceKind::arc ? R(p.cy - p.rho) : std::min(p.ay, p.by);
+    const R hy = p.kind == PieceKind::arc ? R(p.cy + p.rho) : std::max(p.ay, p.by);
+    box_lo_ = {std::min(box_lo_.x, lx), std::min(box_lo_.y, ly)};
+    box_hi_ = {std::max(box_hi_.x, hx), std::max(box_hi_.y, hy)};
+  }
 }
 
 template <class R>

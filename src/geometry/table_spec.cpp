@@ -219,6 +219,25 @@ TableSpec lemon_table(const ExactReal& R, const ExactReal& delta) {
   return t;
 }
 
+namespace {
+
+/// Whether sides i and j of a polygon, on one line, overlap (share a point): their ranges along x, or along y for a
+/// vertical line.
+bool collinear_overlap(const std::vector<std::pair<ExactReal, ExactReal>>& v, std::size_t i, std::size_t j) {
+  const std::size_t n = v.size();
+  const bool vertical = sign_of(v[i].first - v[(i + 1) % n].first) == 0;
+  const auto coord = [&](std::size_t k) { return vertical ? v[k % n].second : v[k % n].first; };
+  const auto lo_hi = [&](std::size_t k) {
+    const ExactReal a = coord(k), b = coord(k + 1);
+    return sign_of(a - b) <= 0 ? std::pair{a, b} : std::pair{b, a};
+  };
+  const auto [a0, a1] = lo_hi(i);
+  const auto [b0, b1] = lo_hi(j);
+  return sign_of(a1 - b0) >= 0 && sign_of(b1 - a0) >= 0;
+}
+
+}  // namespace
+
 TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vertices) {
   TableSpec t;
   t.name = "polygon";
@@ -229,6 +248,22 @@ TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vert
     t.params.push_back({"x" + std::to_string(i + 1), vertices[i].first});
     t.params.push_back({"y" + std::to_string(i + 1), vertices[i].second});
   }
+  // a simple polygon: no two sides that do not share a vertex meet (a crossing would leave the inside undefined)
+  const auto side = [&](std::size_t i, std::size_t j) {  // where vertex j lies from side i: the sign of a cross product
+    const auto& a = vertices[i];
+    const auto& b = vertices[(i + 1) % n];
+    const auto& c = vertices[j % n];
+    return sign_of((b.first - a.first) * (c.second - a.second) - (b.second - a.second) * (c.first - a.first));
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // the first and the last side share vertex 1
+      const int s1 = side(i, j), s2 = side(i, j + 1), s3 = side(j, i), s4 = side(j, i + 1);
+      if (s1 == 0 && s2 == 0 && s3 == 0 && s4 == 0 && !collinear_overlap(vertices, i, j)) continue;
+      if (s1 * s2 <= 0 && s3 * s4 <= 0)
+        bad(t, "sides " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
+                   " meet: the vertices must make a simple polygon");
+    }
   t.begin_loop();
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = vertices[i];
@@ -237,6 +272,29 @@ TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vert
   }
   t.finish();
   return t;
+}
+
+const std::vector<TableKind>& table_kinds() {
+  static const std::vector<TableKind> kinds = {
+      {"stadium", {"d", "r"}, [](const std::vector<ExactReal>& v) { return stadium_table(v[0], v[1]); }},
+      {"circle", {"radius"}, [](const std::vector<ExactReal>& v) { return circle_table(v[0]); }},
+      {"mushroom",
+       {"radius", "stem_width", "stem_height"},
+       [](const std::vector<ExactReal>& v) { return mushroom_table(v[0], v[1], v[2]); }},
+      {"sinai", {"side", "radius"}, [](const std::vector<ExactReal>& v) { return sinai_table(v[0], v[1]); }},
+      {"annulus",
+       {"radius", "inner_radius", "offset"},
+       [](const std::vector<ExactReal>& v) { return annulus_table(v[0], v[1], v[2]); }},
+      {"lemon", {"radius", "distance"}, [](const std::vector<ExactReal>& v) { return lemon_table(v[0], v[1]); }},
+      {"polygon", {}, nullptr},
+  };
+  return kinds;
+}
+
+const TableKind* find_table_kind(const std::string& name) {
+  for (const TableKind& k : table_kinds())
+    if (k.name == name) return &k;
+  return nullptr;
 }
 
 }  // namespace rotleak

@@ -91,4 +91,16 @@ TableSpec lemon_table(const ExactReal& R, const ExactReal& delta);
 /// A polygon from its vertices in clockwise order (at least 3, at most kMaxTablePieces); s = 0 at the first.
 TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vertices);
 
+/// A standard table by name: the parameters it takes (the keys of a scene's [table], in the constructor's order)
+/// and its constructor. The polygon takes its vertices instead (no parameters here, build unset).
+struct TableKind {
+  std::string name;
+  std::vector<std::string> params;
+  TableSpec (*build)(const std::vector<ExactReal>& values) = nullptr;
+};
+/// Every standard table: stadium, circle, mushroom, sinai, annulus, lemon, polygon.
+const std::vector<TableKind>& table_kinds();
+/// The kind named `name`, or null.
+const TableKind* find_table_kind(const std::string& name);
+
 }  // namespace rotleak

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include <tuple>
 #include "geometry/stadium.hpp"
 #include "io/files.hpp"
+#include "io/scene_reader.hpp"
 #include "numeric/input.hpp"
 
 namespace rotleak {
@@ -28,9 +30,13 @@ std::string toml_float(double x) {
 
 namespace {
 
+using namespace scene_detail;
+
 // The keys a scene may hold. Anything else is an error: a misspelt key must not be silently ignored.
+
 const std::map<std::string, std::set<std::string>> kSchema = {
     {"stadium", {"d", "r"}},
+    {"table", table_keys()},
     {"leak", {"width", "start", "omega"}},
     {"ensemble",
      {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p", "sampling_ride"}},
@@ -39,133 +45,51 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors", "tail_floor"}},
 };
-const std::set<std::string> kExactKeys = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
+
+/// Keys read exactly, whose --set value is kept as text: the stadium's, the leak's, every table parameter.
+bool exact_key(const std::string& path) {
+  static const std::set<std::string> keys = [] {
+    std::set<std::string> k = {"stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega"};
+    for (const std::string& key : table_keys())
+      if (key != "kind" && key != "vertices") k.insert("table." + key);
+    return k;
+  }();
+  return keys.count(path) > 0;
+}
 const std::set<std::string> kDensityKeys = {"bins", "windows"};
 const std::set<std::string> kCountKeys = {"ensemble.particles", "ensemble.seed", "run.split_cap", "fit.min_survivors"};
 
-std::string shown(const toml::node& n) {
-  std::ostringstream os;
-  if (auto s = n.as_string())
-    os << '"' << s->get() << '"';
-  else if (auto f = n.as_floating_point()) {
-    os << toml_float(f->get());  // 1000.0 as written, not 1000
-  } else if (n.is_table()) {
-    os << "{...}";
-  } else if (auto a = n.as_array()) {  // inline, as written: toml++ would print one element a line
-    os << "[";
-    for (std::size_t i = 0; i < a->size(); ++i) os << (i ? ", " : "") << shown(*a->get(i));
-    os << "]";
-  } else {
-    n.visit([&](auto&& v) { os << v; });
-  }
-  return os.str();
+/// [[leaks]]: an array of tables, each with the keys of a listed leak only.
+void check_leak_list(const toml::node& v) {
+  const auto a = v.as_array();
+  if (!a || a->empty() || !a->is_array_of_tables())
+    throw InputError("leaks", shown(v), "must be a list of tables [[leaks]] with loop, width, start, omega");
+  for (std::size_t i = 0; i < a->size(); ++i)
+    for (auto&& [kk, vv] : *a->get(i)->as_table())
+      if (!kListedLeakKeys.count(std::string(kk.str())))
+        throw InputError("leaks." + std::to_string(i) + "." + std::string(kk.str()), shown(vv),
+                         "unknown key; [[leaks]] allows " + listed(kListedLeakKeys));
 }
-
-struct Reader {
-  const toml::table& root;
-
-  const toml::node* find(const std::string& section, const std::string& key) const {
-    if (auto sec = root.get_as<toml::table>(section)) return sec->get(key);
-    return nullptr;
-  }
-
-  ExactReal exact(const std::string& section, const std::string& key, std::string& text, ExactReal fallback) const {
-    const std::string name = section + "." + key;
-    const toml::node* n = find(section, key);
-    if (!n) return fallback;
-    if (n->is_floating_point())
-      throw InputError(name, shown(*n),
-                       "write it as a string (e.g. " + key + " = \"0.01\") so it is read exactly, not through double");
-    if (auto i = n->as_integer())
-      text = std::to_string(i->get());
-    else if (auto s = n->as_string())
-      text = s->get();
-    else
-      throw InputError(name, shown(*n), "must be an exact number given as a string or an integer");
-    return parse_exact_input(name, text);
-  }
-
-  /// A number key, checked: a value outside `ok` is refused naming the key and what was used -- the
-  /// text given, or the default when the key was not given (a default can fail too: creation_window 4
-  /// with t_max 1). Every range check of a number goes through here, so no error path looks up a
-  /// key that may be absent.
-  template <class Ok>
-  double number(const std::string& section, const std::string& key, double fallback, Ok ok,
-                const std::string& allowed) const {
-    const toml::node* n = find(section, key);
-    const double v = n ? as_number(section + "." + key, *n) : fallback;
-    if (!ok(v)) throw InputError(section + "." + key, n ? shown(*n) : toml_float(v) + " (the default)", allowed);
-    return v;
-  }
-
-  static double as_number(const std::string& name, const toml::node& n) {
-    double v;
-    if (auto i = n.as_integer())
-      v = static_cast<double>(i->get());
-    else if (auto f = n.as_floating_point())
-      v = f->get();
-    else
-      throw InputError(name, shown(n), "must be a number");
-    if (!std::isfinite(v)) throw InputError(name, shown(n), "must be a finite number");
-    return v;
-  }
-
-  std::uint64_t count(const std::string& section, const std::string& key, std::uint64_t fallback, std::uint64_t min,
-                      const std::string& allowed) const {
-    const toml::node* n = find(section, key);
-    if (!n) return fallback;
-    auto i = n->as_integer();
-    if (n->is_floating_point())  // TOML reads 1e6 as a float; --set reads it exactly
-      throw InputError(section + "." + key, shown(*n),
-                       allowed + " (TOML reads 1e6 as a float: write 1000000 in a scene file, or --set " + section +
-                           "." + key + "=1e6)");
-    if (!i || i->get() < 0 || static_cast<std::uint64_t>(i->get()) < min)
-      throw InputError(section + "." + key, shown(*n), allowed);
-    return static_cast<std::uint64_t>(i->get());
-  }
-
-  std::string word(const std::string& section, const std::string& key, const std::string& fallback,
-                   const std::set<std::string>& allowed) const {
-    const toml::node* n = find(section, key);
-    if (!n) return fallback;
-    auto s = n->as_string();
-    if (!s || !allowed.count(s->get())) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + ("\"" + a + "\"");
-      throw InputError(section + "." + key, shown(*n), "must be one of " + list);
-    }
-    return s->get();
-  }
-
-  static TimeWindow window(const std::string& name, const toml::node& n) {
-    auto a = n.as_array();
-    if (!a || a->size() != 2)
-      throw InputError(name, shown(n), "must be a pair of times [from, to] with 0 <= from < to");
-    TimeWindow w{as_number(name, *a->get(0)), as_number(name, *a->get(1))};
-    if (!(w.from >= 0 && w.from < w.to))
-      throw InputError(name, shown(n), "must be a pair of times [from, to] with 0 <= from < to");
-    return w;
-  }
-};
 
 void check_known_keys(const toml::table& root) {
   for (auto&& [k, v] : root) {
     const std::string section(k.str());
+    if (section == "leaks") {
+      check_leak_list(v);
+      continue;
+    }
     auto it = kSchema.find(section);
     if (it == kSchema.end()) {
       std::string list;
       for (const auto& [s, _] : kSchema) list += (list.empty() ? "" : ", ") + s;
-      throw InputError(section, shown(v), "unknown section; allowed: " + list);
+      throw InputError(section, shown(v), "unknown section; allowed: " + list + ", [[leaks]]");
     }
     auto sec = v.as_table();
     if (!sec) throw InputError(section, shown(v), "must be a table [" + section + "]");
     for (auto&& [kk, vv] : *sec) {
       const std::string key(kk.str());
-      if (!it->second.count(key)) {
-        std::string list;
-        for (const auto& a : it->second) list += (list.empty() ? "" : ", ") + a;
-        throw InputError(section + "." + key, shown(vv), "unknown key; [" + section + "] allows " + list);
-      }
+      if (!it->second.count(key))
+        throw InputError(section + "." + key, shown(vv), "unknown key; [" + section + "] allows " + listed(it->second));
     }
   }
 }
@@ -198,6 +122,7 @@ void apply_override(toml::table& root, const std::string& assignment) {
   if (dot == std::string::npos)
     throw InputError("--set", "\"" + assignment + "\"", "the key needs its section, e.g. leak.omega=2/3");
   const std::string section = path.substr(0, dot), key = path.substr(dot + 1);
+  if (section == "leaks") return override_listed_leak(root, key, value);
   auto it = kSchema.find(section);
   if (it == kSchema.end() || !it->second.count(key)) {
     std::string list;
@@ -210,10 +135,8 @@ void apply_override(toml::table& root, const std::string& assignment) {
   if (!found)  // `leak = "2/3"` in the file and --set leak.start=...: once a null dereference (found by fuzz_scene)
     throw InputError(section, shown(*root.get(section)), "must be a table [" + section + "]");
   toml::table& sec = *found;
-  if (kExactKeys.count(path)) {
-    // exact keys keep the text verbatim; a value quoted as in a scene file ("2/3") is the text inside
-    const bool quoted = value.size() >= 2 && value.front() == '"' && value.back() == '"';
-    sec.insert_or_assign(key, quoted ? value.substr(1, value.size() - 2) : value);
+  if (exact_key(path)) {
+    sec.insert_or_assign(key, unquoted(value));  // exact keys keep the text verbatim
     return;
   }
   if (kCountKeys.count(path)) {
@@ -238,38 +161,34 @@ void apply_override(toml::table& root, const std::string& assignment) {
   parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
 }
 
-/// Values that make the run meaningless or endless, refused with the allowed range.
-void check_physics(const Scene& s, bool t_max_given) {
-  // omega beyond 1e15 turns per unit time: 1e100000 once became inf in double and no particle
-  // escaped. Below the bound the audit's scalar check says up to where each tier resolves the phase
-  // (double loses it near omega t_max = 2^53; dd keeps omega = 1e12 at t_max = 2e4).
-  if ((ExactReal::parse("1e15") - (s.omega.sign() < 0 ? -s.omega : s.omega)).sign() < 0)
-    throw InputError("leak.omega", "\"" + s.omega_text + "\"",
-                     "must be within [-10^15, 10^15] turns per unit time (rotleak audit tells which tiers resolve the "
-                     "leak phase at a given omega and t_max)");
-  try {
-    (void)floor_exact(s.start);  // the leak's start is reduced modulo 1 exactly: it must be decidable
-  } catch (const std::domain_error& e) {
-    throw InputError("leak.start", "\"" + s.start_text + "\"", e.what());
+/// A run whose particles make more than 1e9 collisions each is refused: the key to blame and why.
+void check_collisions_per_particle(const Scene& s, bool t_max_given) {
+  if (s.table) {  // any table: its mean free path pi Area / |boundary|
+    const TableSpec t = table_spec(s);
+    const double mfp = std::numbers::pi * t.area.to_double() / t.perimeter.to_double();
+    if (s.t_max / mfp <= 1e9) return;
+    throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
+                     "on this " + s.table->kind + " (mean free path " + shortest(mfp) + ") a particle makes about " +
+                         shortest(s.t_max / mfp) +
+                         " collisions; at most 1e9 are allowed: here run.t_max <= " + shortest(std::floor(1e9 * mfp)));
   }
   // collisions per particle ~ t_max / mean free path (pi area / perimeter): a tiny r or d makes it endless
   const double d = s.d.to_double(), r = s.r.to_double();
   const double mfp = Stadium<double>(s.d, s.r).mean_free_path();
   const double per_particle = s.t_max / mfp;
-  if (!(per_particle <= 1e9)) {
-    char why[300];
-    std::snprintf(why, sizeof why,
-                  "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
-                  "at most 1e9 are allowed: make the stadium larger or t_max smaller",
-                  s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
-    // the key to blame: t_max when even the default stadium (d = 2, r = 1) would make too many collisions
-    // with it (t_max = 1e12 once blamed stadium.r, never given), else the stadium's smaller size
-    const double mfp_default = Stadium<double>(ExactReal::parse("2"), ExactReal::parse("1")).mean_free_path();
-    if (s.t_max / mfp_default > 1e9)
-      throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
-                       std::string(why) + " (here run.t_max <= " + shortest(std::floor(1e9 * mfp)) + ")");
-    throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
-  }
+  if (per_particle <= 1e9) return;
+  char why[300];
+  std::snprintf(why, sizeof why,
+                "with d = %s, r = %s and t_max = %s a particle makes about %.3g collisions (mean free path %.3g); "
+                "at most 1e9 are allowed: make the stadium larger or t_max smaller",
+                s.d_text.c_str(), s.r_text.c_str(), shortest(s.t_max).c_str(), per_particle, mfp);
+  // the key to blame: t_max when even the default stadium (d = 2, r = 1) would make too many collisions
+  // with it (t_max = 1e12 once blamed stadium.r, never given), else the stadium's smaller size
+  const double mfp_default = Stadium<double>(ExactReal::parse("2"), ExactReal::parse("1")).mean_free_path();
+  if (s.t_max / mfp_default > 1e9)
+    throw InputError("run.t_max", toml_float(s.t_max) + (t_max_given ? "" : " (the default)"),
+                     std::string(why) + " (here run.t_max <= " + shortest(std::floor(1e9 * mfp)) + ")");
+  throw InputError(r <= d ? "stadium.r" : "stadium.d", "\"" + (r <= d ? s.r_text : s.d_text) + "\"", why);
 }
 
 /// run.splitting and its parameters; the parameters only with splitting on.
@@ -300,21 +219,16 @@ void read_splitting(const Reader& in, Scene& s) {
     throw InputError("run.split_cap", std::to_string(s.splitting.cap), "must be at most 10^6 members of a line");
 }
 
-/// The stadium and the leak: exact values, positive, and normal in double (the tiers run them rounded).
-void read_geometry(const Reader& in, Scene& s) {
-  s.d = in.exact("stadium", "d", s.d_text, s.d);
-  s.r = in.exact("stadium", "r", s.r_text, s.r);
-  s.width = in.exact("leak", "width", s.width_text, s.width);
-  s.start = in.exact("leak", "start", s.start_text, s.start);
-  s.omega = in.exact("leak", "omega", s.omega_text, s.omega);
-  if (s.d.sign() <= 0) throw InputError("stadium.d", "\"" + s.d_text + "\"", "must be > 0");
-  if (s.r.sign() <= 0) throw InputError("stadium.r", "\"" + s.r_text + "\"", "must be > 0");
-  if (s.width.sign() <= 0 || (s.width - ExactReal::parse("1")).sign() >= 0)
-    throw InputError("leak.width", "\"" + s.width_text + "\"", "must be in (0, 1) (a fraction of the perimeter)");
+/// The stadium's d and r from [stadium] (or [table] with kind = "stadium": `section`): exact values, positive,
+/// normal in double (the tiers run them rounded) and within a factor 1e12 of each other.
+void read_stadium(const Reader& in, Scene& s, const std::string& section) {
+  s.d = in.exact(section, "d", s.d_text, s.d);
+  s.r = in.exact(section, "r", s.r_text, s.r);
+  const std::string key_d = section + ".d", key_r = section + ".r";
+  if (s.d.sign() <= 0) throw InputError(key_d, "\"" + s.d_text + "\"", "must be > 0");
+  if (s.r.sign() <= 0) throw InputError(key_r, "\"" + s.r_text + "\"", "must be > 0");
   // positive, but the tiers run it rounded: d = 1e-400 once ran as a circle (d = 0 in double)
-  for (const auto& [key, value, text] :
-       {std::tuple{"stadium.d", &s.d, &s.d_text}, std::tuple{"stadium.r", &s.r, &s.r_text},
-        std::tuple{"leak.width", &s.width, &s.width_text}})
+  for (const auto& [key, value, text] : {std::tuple{key_d, &s.d, &s.d_text}, std::tuple{key_r, &s.r, &s.r_text}})
     if (!std::isnormal(value->to_double()))
       throw InputError(key, "\"" + *text + "\"",
                        "rounds to " + shortest(value->to_double()) +
@@ -323,7 +237,7 @@ void read_geometry(const Reader& in, Scene& s) {
   // overflow) and d = 1e-30 as a circle (its straight edges below r's rounding), both complete with P = 1
   const double d = s.d.to_double(), r = s.r.to_double();
   const bool d_worse = std::abs(std::log10(d)) >= std::abs(std::log10(r));
-  const std::string key = d_worse ? "stadium.d" : "stadium.r";
+  const std::string key = d_worse ? key_d : key_r;
   const std::string& text = d_worse ? s.d_text : s.r_text;
   if (!(std::max(d, r) <= 1e100 && std::min(d, r) >= 1e-100) || !(std::min(d, r) >= 1e-12 * std::max(d, r)))
     throw InputError(key, "\"" + text + "\"",
@@ -331,6 +245,32 @@ void read_geometry(const Reader& in, Scene& s) {
                      "within a factor 1e12 of each other (doubles resolve both the straight edges and the arcs); "
                      "here d = " +
                          s.d_text + ", r = " + s.r_text);
+}
+
+/// The one leak of [leak].
+void read_leak(const Reader& in, Scene& s) {
+  s.width = in.exact("leak", "width", s.width_text, s.width);
+  s.start = in.exact("leak", "start", s.start_text, s.start);
+  s.omega = in.exact("leak", "omega", s.omega_text, s.omega);
+  check_leak_values("leak", {s.width, s.width_text}, {s.start, s.start_text}, {s.omega, s.omega_text});
+}
+
+/// The table and its leaks: [stadium] or [table], then [leak] or [[leaks]].
+void read_geometry(const Reader& in, Scene& s) {
+  const toml::table* table = in.root.get_as<toml::table>("table");
+  const toml::node* kind = table ? table->get("kind") : nullptr;
+  const bool stadium_table = table && (!kind || (kind->as_string() && kind->as_string()->get() == "stadium"));
+  if (table && !stadium_table)
+    read_table(in, s);
+  else
+    read_stadium(in, s, stadium_table ? "table" : "stadium");
+  if (stadium_table && in.root.contains("stadium"))
+    throw InputError("stadium", shown(*in.root.get("stadium")),
+                     "the stadium is given twice: keep [stadium] or [table] with kind = \"stadium\", not both");
+  if (in.root.contains("leaks"))
+    read_leak_list(in, s);
+  else
+    read_leak(in, s);
 }
 
 /// The ensemble's size, seed and initial conditions, and the run's length.
@@ -487,12 +427,13 @@ Scene build(const toml::table& root, const std::string& source) {
   s.source = source;
   read_geometry(in, s);
   read_ensemble(in, s);
-  check_physics(s, in.find("run", "t_max") != nullptr);
+  check_collisions_per_particle(s, in.find("run", "t_max") != nullptr);
   read_sampling(in, s);
   read_run_options(in, s);
   read_splitting(in, s);
   read_observe(in, s);
   read_fit(in, s);
+  check_table_needs(s);
   check_splitting_needs(s);
   return s;
 }

@@ -17,6 +17,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 Scene parse_scene(const std::string& toml_text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");
 
+/// Refuses a scene on another table or with a list of leaks (Scene::on_table) for a command that runs the stadium
+/// with one leak only so far (`command`: "rotleak audit"): an InputError naming SCENE and what it has.
+void require_stadium(const Scene& scene, const std::string& command);
+
 /// The scene as a JSON object: "source", then one object per TOML section, exact keys as their text.
 json scene_json(const Scene& s);
 /// A float as TOML writes it: the shortest decimal that reads back, with a point (1000.0, not 1000).

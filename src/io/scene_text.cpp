@@ -9,8 +9,26 @@ namespace rotleak {
 json scene_json(const Scene& s) {
   json j;
   j["source"] = s.source;
-  j["stadium"] = {{"d", s.d_text}, {"r", s.r_text}};
-  j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
+  if (s.table) {  // any other table: its kind and parameters as written
+    json t = {{"kind", s.table->kind}};
+    const TableKind& kind = *find_table_kind(s.table->kind);
+    for (std::size_t i = 0; i < s.table->params.size(); ++i) t[kind.params[i]] = s.table->params[i].text;
+    if (!s.table->vertices.empty()) {
+      t["vertices"] = json::array();
+      for (const auto& [x, y] : s.table->vertices) t["vertices"].push_back({x.text, y.text});
+    }
+    j["table"] = t;
+  } else {
+    j["stadium"] = {{"d", s.d_text}, {"r", s.r_text}};
+  }
+  if (s.leaks.empty()) {
+    j["leak"] = {{"width", s.width_text}, {"start", s.start_text}, {"omega", s.omega_text}};
+  } else {  // a list: [[leaks]]
+    j["leaks"] = json::array();
+    for (const LeakInput& l : s.leaks)
+      j["leaks"].push_back(
+          {{"loop", l.loop}, {"width", l.width.text}, {"start", l.start.text}, {"omega", l.omega.text}});
+  }
   j["ensemble"] = {{"particles", s.particles},
                    {"seed", s.seed},
                    {"init", to_string(s.init)},
@@ -90,10 +108,15 @@ std::string simulation_inputs(const Scene& scene, const std::string& engine) {
 
 std::string scene_to_toml(const json& doc) {
   std::string out;
-  for (const auto& [section, keys] : doc.items()) {
-    if (!keys.is_object()) continue;  // "source": where it came from, not part of the scene
-    out += (out.empty() ? "[" : "\n[") + section + "]\n";
+  const auto section_text = [&out](const std::string& header, const json& keys) {
+    out += (out.empty() ? "" : "\n") + header + "\n";
     for (const auto& [k, v] : keys.items()) out += k + " = " + toml_value(v) + "\n";
+  };
+  for (const auto& [section, keys] : doc.items()) {
+    if (keys.is_object()) section_text("[" + section + "]", keys);
+    if (keys.is_array())  // a list of tables: [[leaks]]
+      for (const json& item : keys) section_text("[[" + section + "]]", item);
+    // anything else ("source": where it came from) is not part of the scene
   }
   return out;
 }

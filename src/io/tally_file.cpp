@@ -83,12 +83,14 @@ std::string encode_tally_file(const TallyFile& f) {
                        {"split", t.get_if<LinesEstimator>() != nullptr},
                        {"records", f.records.size()}};
   json with_time = header;
-  if (f.wall_seconds > 0) with_time["wall_seconds"] = f.wall_seconds;  // checkpoints only: not an input
+  if (!t.escapes_by_leak.empty()) with_time["leak_bins"] = t.escapes_by_leak.size();  // several leaks only
+  if (f.wall_seconds > 0) with_time["wall_seconds"] = f.wall_seconds;                 // checkpoints only: not an input
   const std::string h = with_time.dump();
   ByteWriter w;
   w.out = std::string(kMagic) + std::to_string(h.size()) + "\n" + h;
   w.words(t.escapes_per_bin);
   w.words(t.collision_density);
+  w.words(t.escapes_by_leak);
   for (std::uint64_t x : {t.collisions, t.escaped, t.survived, t.stuck}) w.word(x);
   if (t.weighted()) {
     // format 3's weighted section: a weighted run's escape sums and totals (a split run's places hold no
@@ -160,6 +162,11 @@ void read_header(const json& h, std::size_t size, std::size_t nl, TallyFile& f) 
                              " records in " + std::to_string(size) + " bytes)");
   f.tally.escapes_per_bin.assign(survival_bins, 0);
   f.tally.collision_density.assign(density_bins, 0);
+  const std::uint64_t leak_bins = h.contains("leak_bins") ? count(h.at("leak_bins"), "leak_bins") : 0;
+  if (leak_bins > room || (leak_bins % std::max<std::uint64_t>(survival_bins, 1)) != 0)
+    throw std::runtime_error("leak_bins " + std::to_string(leak_bins) + " is not a number of leaks times " +
+                             std::to_string(survival_bins) + " bins within the file");
+  f.tally.escapes_by_leak.assign(leak_bins, 0);
   const bool weighted = flag("weighted"), split = flag("split");
   if (split && !weighted) throw std::runtime_error("a split run whose members carry no weights");
   if (split)
@@ -243,6 +250,7 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   Tally& t = f.tally;
   r.words(t.escapes_per_bin);
   r.words(t.collision_density);
+  r.words(t.escapes_by_leak);
   t.collisions = r.word();
   t.escaped = r.word();
   t.survived = r.word();

@@ -6,6 +6,7 @@ Run by CTest as: PYTHONPATH=BUILD/python /usr/bin/python3 -m unittest tests/pyth
 with ROTLEAK_BINARY and ROTLEAK_SOURCE set."""
 import csv
 import json
+import math
 import os
 import shutil
 import signal
@@ -434,6 +435,67 @@ class Package(unittest.TestCase):
         self.assertEqual(plot.draw(out), [os.path.join(out, "certify.png")])
         with self.assertRaises(rotleak.RotleakError):
             rotleak.read_certification(self.scan_dir)  # a scan is not a certified sample
+
+    def test_a_two_leak_table_run_reads_back_with_csv_json_and_pandas(self):
+        """A circle with two leaks (docs/tables.md): leaks.csv and summary.json's table and leaks (docs/output.md)
+        with the standard readers and the package's Run, each leak's escapes adding up to the run's."""
+        import csv
+        scene = os.path.join(self.tmp, "circle.toml")
+        with open(scene, "w") as f:
+            f.write('[table]\nkind = "circle"\nradius = "1"\n\n[[leaks]]\nwidth = "0.02"\n\n'
+                    '[[leaks]]\nwidth = "0.01"\nstart = "1/4"\nomega = "1/3"\n\n[run]\nt_max = 2000.0\n')
+        out = os.path.join(self.tmp, "circle")
+        cli("simulate", scene, "--particles", "5000", "--out", out)
+        with open(os.path.join(out, "summary.json")) as f:
+            doc = json.load(f)
+        self.assertEqual(doc["table"]["kind"], "circle")
+        self.assertAlmostEqual(doc["table"]["mean_free_path"], math.pi / 2, places=12)  # pi A / L = r pi / 2
+        self.assertEqual([leak["width"] for leak in doc["leaks"]], ["0.02", "0.01"])
+        self.assertIsNone(doc["predicted"]["tail"])  # the tail model is the stadium's
+        with open(os.path.join(out, "leaks.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0]), ["t_from", "t_to", "escaped_0", "escaped_1"])
+        self.assertEqual(len(rows), 2000)
+        table = pd.read_csv(os.path.join(out, "leaks.csv"))
+        self.assertTrue(pd.api.types.is_integer_dtype(table["escaped_1"]))
+        for j, leak in enumerate(doc["leaks"]):
+            self.assertEqual(int(table["escaped_%d" % j].sum()), leak["escaped"])
+            self.assertAlmostEqual(leak["fraction"], leak["escaped"] / 5000)
+        self.assertEqual(sum(leak["escaped"] for leak in doc["leaks"]), doc["escaped"])
+        run = rotleak.read_run(out)
+        self.assertEqual(run.leaks["escaped_0"].tolist(), table["escaped_0"].tolist())
+        self.assertIsNone(rotleak.read_run(self.run_dir).leaks)  # one leak: no leaks.csv
+
+    def test_a_scene_on_any_table_with_leaks_is_built_in_python_and_runs_as_the_command(self):
+        """Scene(table=..., leaks=[...]) (docs/tables.md): checked by rotleak's reader, saved as TOML exactly, run in
+        process to the command's bytes; listed leaks changed by leaks.N.key or replaced whole."""
+        scene = rotleak.Scene(table={"kind": "sinai", "side": 2, "radius": Fraction(1, 2)},
+                              leaks=[{"width": "0.02"}, {"loop": 1, "width": Fraction(1, 20), "omega": "1/7"}],
+                              ensemble={"particles": 2000}, run={"t_max": 1000})
+        toml = scene.to_toml()
+        self.assertIn('kind = "sinai"', toml)
+        self.assertEqual(toml.count("[[leaks]]"), 2)
+        self.assertIn('width = "1/20"', toml)
+        self.assertEqual(rotleak.Scene.from_toml(toml), scene)
+        path = os.path.join(self.tmp, "sinai.toml")
+        scene.save(path)
+        cmd = os.path.join(self.tmp, "sinai_cmd")
+        subprocess.run([BIN, "simulate", path, "--threads", "2", "--no-progress", "--out", cmd], check=True,
+                       capture_output=True)
+        r = rotleak.simulate(scene, threads=1)
+        for name in ("survival.csv", "leaks.csv", "scene.toml"):
+            self.assertEqual(r.text(name), rotleak.read_run(cmd).text(name), name)
+        self.assertEqual([leak["loop"] for leak in r.summary["leaks"]], [0, 1])
+        # a listed leak's key, and the list replaced whole (not appended to)
+        wider = scene.replace({"leaks.1.width": "0.1"})
+        self.assertIn('width = "0.1"', wider.to_toml())
+        one = scene.replace(leaks=[{"width": "0.03", "loop": 1}])
+        self.assertEqual(one.to_toml().count("[[leaks]]"), 1)
+        for bad in ({"table": {"kind": "circle", "radius": 1.5}}, {"leaks": [{"width": 0.01}]},
+                    {"leaks": [{"width": "0.01", "size": 2}]}, {"leaks": "0.01"},
+                    {"table": {"kind": "circle", "radius": 1}, "leaks": [{"width": "0.01", "loop": 1}]}):
+            with self.assertRaises(ValueError, msg=str(bad)):
+                rotleak.Scene(**bad)
 
     def test_calibration_reads_back_with_csv_json_and_pandas(self):
         """rotleak calibrate's files (docs/output.md "Calibration") with the standard readers, the package's

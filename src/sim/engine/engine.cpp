@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 
@@ -41,6 +42,8 @@ struct RunSetup {
   const Scene& scene;
   const RunOptions& opt;
   Model<R> model;
+  /// Any other table, or several leaks: the model every particle runs (the stadium's model is then unused).
+  std::optional<TableModel<R>> table;
   std::unique_ptr<Sampler> sampler;
   DrawSource source;
   std::unique_ptr<SplitRule> scene_rule;
@@ -57,6 +60,7 @@ struct RunSetup {
         sampler(make_sampler(scene, p.stadium())),
         source{sampler.get(), o.first_id, o.draws},
         engine(p.engine()) {
+    if (scene.on_table()) table.emplace(table_spec(scene), leak_specs(scene), scene.t_max);
     if (scene.splitting.on && !opt.split_rule) scene_rule = make_split_rule(scene, p.stadium());
     if (scene.splitting.on) split_rule = opt.split_rule ? opt.split_rule : scene_rule.get();
     if constexpr (std::is_same_v<R, double>)
@@ -115,6 +119,9 @@ class Worker {
     density_ = {&s.model.stadium, sc.collision_density ? &sc.collision_density->windows : nullptr,
                 sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
                 local.weighted() ? local.collision_density_w.data() : nullptr};
+    if (s.table)
+      table_density_ = {&s.table->table, sc.collision_density ? &sc.collision_density->windows : nullptr,
+                        sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data()};
     if (s.engine == Engine::simd && sc.collision_density) {  // f_c by time cell (DensityCells), folded in flush()
       const auto n = static_cast<std::size_t>(s.cells.cells()) * static_cast<std::size_t>(s.cells.bins);
       cell_counts_.assign(n, 0);
@@ -149,25 +156,35 @@ class Worker {
         if (!cell_counts_.empty() && !local.weighted()) exact.counts = cell_counts_.data();
         simd::run(s_.kernel, &ctx, simd_next, simd_finish, exact);
       }
+    } else if (s_.table) {
+      auto rec = [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); };
+      if (s_.scene.collision_density)
+        run_particles(*s_.table, lo, hi, table_density_, rec);
+      else
+        run_particles(*s_.table, lo, hi, none_, rec);
     } else {
       auto rec = [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); };
       if (s_.scene.collision_density)
-        run_particles(lo, hi, density_, rec);
+        run_particles(s_.model, lo, hi, density_, rec);
       else
-        run_particles(lo, hi, none_, rec);
+        run_particles(s_.model, lo, hi, none_, rec);
     }
   }
 
  private:
   /// Runs particles [lo, hi) one after the other. (Interleaving several flights per thread was
   /// measured slower here: the loop is bound by branch mispredictions, not by its dependency chain.)
-  template <class Observer, class Record>
-  void run_particles(std::uint64_t lo, std::uint64_t hi, Observer& observe, Record& rec) {
+  template <class M, class Observer, class Record>
+  void run_particles(const M& model, std::uint64_t lo, std::uint64_t hi, Observer& observe, Record& rec) {
     for (std::uint64_t i = lo; i < hi; ++i) {
       const InitialDraw d = s_.source(i);
       const double w = local.weighted() ? s_.source.weight(d) : 1.0;
       if constexpr (Observer::active) observe.weight = w;
-      ParticleEnd end = run_particle(s_.model, initial_state(s_.model.stadium, d), observe);
+      ParticleEnd end;
+      if constexpr (requires { model.stadium; })
+        end = run_particle(model, initial_state(model.stadium, d), observe);
+      else
+        end = run_particle(model, initial_state(model.table, d), observe);
       end.weight = w;
       rec(i, end);
     }
@@ -175,7 +192,7 @@ class Worker {
 
   /// A particle's end into the thread's tallies (and its escape record); its weight came with it from its start.
   void record(std::uint64_t i, const ParticleEnd& end) {
-    local.add_end(end.fate, end.t, end.collisions, end.weight, s_.scene.survival_dt);
+    local.add_end(end.fate, end.t, end.collisions, end.weight, s_.scene.survival_dt, end.leak);
     if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate};
   }
 
@@ -239,6 +256,7 @@ class Worker {
   const RunSetup<R>& s_;
   std::vector<EscapeRecord>& records_;
   DensityObserver<R> density_{};
+  TableDensityObserver<R> table_density_{};
   NoCollisionObserver<R> none_;
   std::vector<std::uint64_t> cell_counts_;  ///< the vectorised engine's f_c, by time cell (DensityCells)
   std::vector<FixedSum> cell_sums_;         ///< and its weighted sums

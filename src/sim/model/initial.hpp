@@ -6,8 +6,10 @@
 #include <Random123/philox.h>
 
 #include <cstdint>
+#include <memory>
 
 #include "geometry/stadium.hpp"
+#include "geometry/table.hpp"
 #include "sim/model/scene.hpp"
 
 namespace rotleak {
@@ -26,6 +28,10 @@ class InitialConditions {
 
   InitialConditions(std::uint64_t seed, InitKind kind, double creation_window, double half_d, double r)
       : seed_(seed), kind_(kind), window_(creation_window), half_d_(half_d), r_(r) {}
+  /// On any table: flow starts drawn in the outer loop's box and kept when inside the table (Table::contains).
+  InitialConditions(std::uint64_t seed, InitKind kind, double creation_window,
+                    std::shared_ptr<const Table<double>> table)
+      : seed_(seed), kind_(kind), window_(creation_window), half_d_(0), r_(0), table_(std::move(table)) {}
 
   std::uint64_t seed() const { return seed_; }
   InitKind kind() const { return kind_; }
@@ -54,9 +60,16 @@ class InitialConditions {
       }
       // Flow: rejection from the bounding box; each try uses the next counter.
       out.flow = true;
+      out.u = unit(w[2]);
+      if (table_) {
+        const Vec2<double> lo = table_->box_lo(), hi = table_->box_hi();
+        out.x = lo.x + (hi.x - lo.x) * unit(w[0]);
+        out.y = lo.y + (hi.y - lo.y) * unit(w[1]);
+        if (table_->contains({out.x, out.y})) return out;
+        continue;
+      }
       out.x = (half_d_ + r_) * (2 * unit(w[0]) - 1);
       out.y = r_ * (2 * unit(w[1]) - 1);
-      out.u = unit(w[2]);
       const double ax = out.x < 0 ? -out.x : out.x;
       if (ax <= half_d_ || (ax - half_d_) * (ax - half_d_) + out.y * out.y < r_ * r_) return out;
     }
@@ -66,10 +79,14 @@ class InitialConditions {
   std::uint64_t seed_;
   InitKind kind_;
   double window_, half_d_, r_;
+  std::shared_ptr<const Table<double>> table_;  ///< any table's flow starts (null: the stadium's)
 };
 
-/// The scene's initial conditions (its seed, kind, creation window and stadium size).
+/// The scene's initial conditions (its seed, kind, creation window and stadium size, or its table).
 inline InitialConditions initial_conditions(const Scene& scene) {
+  if (scene.table)
+    return InitialConditions(scene.seed, scene.init, scene.creation_window,
+                             std::make_shared<const Table<double>>(table_spec(scene)));
   return InitialConditions(scene.seed, scene.init, scene.creation_window,
                            round_exact<double>(scene.d / ExactReal::parse("2")), round_exact<double>(scene.r));
 }
@@ -80,6 +97,25 @@ struct ParticleState {
   Vec2<R> q, v;
   R t{0};
 };
+
+/// The same on any table: a Birkhoff start's s is a share of the whole boundary (Table::loop_s), its p taken about
+/// that point's inward normal; a flow start's direction is the angle 2 pi u.
+template <class R>
+ParticleState<R> initial_state(const Table<R>& table, const InitialDraw& dr) {
+  ParticleState<R> ps;
+  ps.t = R(dr.tau);
+  if (!dr.flow) {
+    const auto [loop, s] = table.loop_s(R(dr.s));
+    const TableFrame<R> f = table.at(loop, s);
+    ps.q = f.q;
+    ps.v = table.velocity(f, R(dr.p));
+  } else {
+    const auto sc = formula::tier_sin_cos(formula::flow_angle(table.pi(), R(dr.u)));
+    ps.q = {R(dr.x), R(dr.y)};
+    ps.v = {sc.cos, sc.sin};
+  }
+  return ps;
+}
 
 template <class R>
 ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "geometry/table_spec.hpp"
+#include "leak/table_leak.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/input.hpp"
 #include "numeric/tier.hpp"
@@ -60,8 +62,30 @@ struct CollisionDensitySpec {
   std::vector<TimeWindow> windows;
 };
 
+/// An exact input and the text the user wrote for it.
+struct ExactInput {
+  ExactReal value;
+  std::string text;
+};
+
+/// A table other than the stadium of [stadium] (docs/tables.md): a standard kind (table_kinds()) with its exact
+/// parameters in that kind's order, or a polygon's vertices.
+struct TableInput {
+  std::string kind;
+  std::vector<ExactInput> params;
+  std::vector<std::pair<ExactInput, ExactInput>> vertices;
+};
+
+/// One leak of a list ([[leaks]]): the loop it lies on (0: the outer boundary) and its exact width (a share of that
+/// loop's length), start and omega.
+struct LeakInput {
+  int loop = 0;
+  ExactInput width, start, omega;
+};
+
 struct Scene {
-  // Exact inputs, with the text the user wrote.
+  // Exact inputs, with the text the user wrote: the stadium and its one leak (the table and leak of every
+  // scene that names no other).
   ExactReal d = ExactReal::parse("2"), r = ExactReal::parse("1");
   ExactReal width = ExactReal::parse("0.01"), start = ExactReal::parse("0"), omega = ExactReal::parse("0");
   std::string d_text = "2", r_text = "1", width_text = "0.01", start_text = "0", omega_text = "0";
@@ -92,14 +116,33 @@ struct Scene {
   /// alpha's upper bound lies below it; otherwise its regime is undecided (analysis/regimes.hpp).
   double tail_floor = 1e-4;
 
+  /// A table other than the stadium d, r (unset: that stadium).
+  std::optional<TableInput> table;
+  /// Leaks given as a list: two or more, or one on a scatterer (empty: the one leak width, start, omega above on
+  /// the outer boundary; a list of one such leak is read as that).
+  std::vector<LeakInput> leaks;
+
   std::string source;  ///< file it came from, if any
+
+  /// Whether the scene leaves the stadium with one leak: then it runs through any table's model (TableModel,
+  /// sim/model/particle.hpp), and what only the stadium has (mupo draws, the fast-forward, the tail model) is
+  /// refused.
+  bool on_table() const { return table.has_value() || !leaks.empty(); }
 
   /// Number of survival bins, ceil(t_max / survival_dt).
   std::size_t survival_bins() const;
 };
 
+/// The scene's table, exact: its [table], or the stadium d, r.
+TableSpec table_spec(const Scene& scene);
+/// The scene's leaks: its list, or the one leak on the outer boundary.
+std::vector<LeakSpec> leak_specs(const Scene& scene);
+/// How many leaks the scene has.
+inline std::size_t leak_count(const Scene& scene) { return scene.leaks.empty() ? 1 : scene.leaks.size(); }
+
 /// The small-hole escape rate of the chaotic sea, lambda L / (pi Area): the share lambda of collisions that land in
-/// the leak, one collision per mean free path pi Area / L (0.004583 for d = 2, r = 1, lambda = 0.01).
+/// the leak, one collision per mean free path pi Area / L (0.004583 for d = 2, r = 1, lambda = 0.01). On any table
+/// with any leaks: the leaks' lengths over pi Area.
 double small_hole_rate(const Scene& scene);
 
 /// ln 2 over the small-hole escape rate lambda L / (pi Area) (lambda L the leak's length): the time in

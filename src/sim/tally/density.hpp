@@ -285,6 +285,33 @@ struct DensityObserver {
   }
 };
 
+/// f_c on any table (and on the stadium with several leaks, which runs as a table): collisions counted by their
+/// share of the whole boundary, Table::boundary_share (the loops laid end to end in order; on a table of one loop
+/// that is s), in every time window that holds them.
+template <class R>
+struct TableDensityObserver {
+  static constexpr bool active = true;
+  const Table<R>* table = nullptr;
+  const std::vector<TimeWindow>* windows = nullptr;
+  int bins = 0;
+  std::uint64_t* counts = nullptr;
+  double weight = 1;  ///< unused: tables run unweighted draws so far (ensemble.sampling = "uniform")
+
+  void operator()(int piece, const Vec2<R>& q, const R& t) {
+    const double tt = num_traits<R>::to_double(t);
+    int b = -1;  // the bin, worked out at the first window that holds t
+    for (std::size_t i = 0; i < windows->size(); ++i) {
+      if (!(tt >= (*windows)[i].from && tt <= (*windows)[i].to)) continue;
+      if (b < 0) {
+        const int loop = table->piece(piece).loop;
+        const R share = table->boundary_share(loop, table->s_of(piece, q));
+        b = static_cast<int>(formula::density_bin(num_traits<R>::to_double(share), static_cast<double>(bins)));
+      }
+      ++counts[i * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)];
+    }
+  }
+};
+
 /// The vectorised kernel's f_c time cells (simd::DensityHit): bit w of cells[c] (c = 0 .. 2 windows)
 /// says window w = [from[w], to[w]] holds the times t of cell c = #{v: t >= from[v]} + #{v: t > to[v]}.
 void density_cells(int windows, const double* from, const double* to, unsigned* cells);

@@ -9,6 +9,7 @@ namespace rotleak {
 
 void Tally::resize(const Scene& scene) {
   escapes_per_bin.assign(scene.survival_bins(), 0);
+  escapes_by_leak.assign(leak_count(scene) > 1 ? leak_count(scene) * escapes_per_bin.size() : 0, 0);
   if (scene.collision_density)
     collision_density.assign(
         scene.collision_density->windows.size() * static_cast<std::size_t>(scene.collision_density->bins), 0);
@@ -22,13 +23,14 @@ void Tally::resize(const Scene& scene) {
   collision_density_w.assign(weighted() ? collision_density.size() : 0, FixedSum{});
 }
 
-void Tally::add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt) {
+void Tally::add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt, int leak) {
   std::size_t b = 0;  // the escape bin (escapes only)
   switch (fate) {
     case Fate::escaped:
       b = std::min(static_cast<std::size_t>(t / dt), escapes_per_bin.size() - 1);
       ++escapes_per_bin[b];
       ++escaped;
+      if (!escapes_by_leak.empty()) ++escapes_by_leak[static_cast<std::size_t>(leak) * escapes_per_bin.size() + b];
       break;
     case Fate::survived:
       ++survived;
@@ -44,6 +46,9 @@ void Tally::add_end(Fate fate, double t, std::uint64_t collisions_made, double w
 void Tally::merge(const Tally& o) {
   for (std::size_t i = 0; i < escapes_per_bin.size(); ++i) escapes_per_bin[i] += o.escapes_per_bin[i];
   for (std::size_t i = 0; i < collision_density.size(); ++i) collision_density[i] += o.collision_density[i];
+  if (escapes_by_leak.size() != o.escapes_by_leak.size())
+    throw std::logic_error("merging tallies of different leak counts");
+  for (std::size_t i = 0; i < escapes_by_leak.size(); ++i) escapes_by_leak[i] += o.escapes_by_leak[i];
   collisions += o.collisions;
   escaped += o.escaped;
   survived += o.survived;

@@ -25,6 +25,9 @@ struct EscapeRecord {
 struct Tally {
   std::vector<std::uint64_t> escapes_per_bin;    ///< escapes with t in [k dt, (k+1) dt)
   std::vector<std::uint64_t> collision_density;  ///< windows x bins, row-major
+  /// Scenes of several leaks: escapes through leak j with t in [k dt, (k+1) dt) at j bins + k (leaks x bins,
+  /// row-major); empty for one leak (its escapes are escapes_per_bin).
+  std::vector<std::uint64_t> escapes_by_leak;
   std::uint64_t collisions = 0, escaped = 0, survived = 0, stuck = 0;
   /// Runs whose particles carry weights (every estimator but counting): the weighted collision density.
   std::vector<FixedSum> collision_density_w;
@@ -55,7 +58,8 @@ struct Tally {
   }
   /// A particle's (or a split member's) end: its fate at time t (escapes binned by dt), its collisions,
   /// and its weight w, which the estimator books.
-  void add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt);
+  /// `leak` is the leak it escaped through (ParticleEnd::leak), booked in escapes_by_leak when that is kept.
+  void add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt, int leak = 0);
   /// Adds another tally of the same scene (the same estimator): exact, in any order.
   void merge(const Tally& other);
 };

@@ -1,0 +1,194 @@
+// Scenes on any table with a list of leaks ([table], [[leaks]]): read, refused, written back; and the ensemble
+// engine running them (docs/tables.md): the stadium given as a table runs the stadium's tallies bit for bit,
+// per-leak escapes add up and split by symmetry, flow starts land inside, threads do not change a bit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/model/initial.hpp"
+#include "scene_error.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+
+const char* kMushroom = "[table]\nkind = \"mushroom\"\nradius = \"1\"\nstem_width = \"1/2\"\nstem_height = \"1\"\n";
+const char* kTwoLeaks =
+    "[[leaks]]\nwidth = \"0.02\"\nstart = \"0\"\n\n[[leaks]]\nwidth = \"0.02\"\nstart = \"1/2\"\n";
+
+RunOptions threads(int n) {
+  RunOptions o;
+  o.threads = n;
+  return o;
+}
+
+std::uint64_t leak_total(const Tally& t, std::size_t leak) {
+  const std::size_t bins = t.escapes_per_bin.size();
+  return std::accumulate(t.escapes_by_leak.begin() + static_cast<std::ptrdiff_t>(leak * bins),
+                         t.escapes_by_leak.begin() + static_cast<std::ptrdiff_t>((leak + 1) * bins), std::uint64_t{0});
+}
+
+}  // namespace
+
+TEST(TableScene, EveryStandardTableReadsAndWritesBack) {
+  const std::vector<std::string> tables = {
+      "[table]\nkind = \"circle\"\nradius = \"1\"\n",
+      kMushroom,
+      "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
+      "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",
+      "[table]\nkind = \"lemon\"\nradius = \"1\"\ndistance = \"1\"\n",
+      "[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"1\"], [\"2\", \"1/3\"]]\n",
+  };
+  for (const std::string& t : tables) {
+    const Scene s = parse_scene(t + kTwoLeaks);
+    ASSERT_TRUE(s.table.has_value()) << t;
+    EXPECT_TRUE(s.on_table());
+    EXPECT_EQ(s.leaks.size(), 2u);
+    EXPECT_EQ(table_spec(s).name, s.table->kind);
+    // written as TOML and read back: the same scene, to the text
+    const std::string toml = scene_to_toml(s);
+    EXPECT_EQ(scene_json(parse_scene(toml)).dump(), scene_json(s).dump()) << toml;
+  }
+  // a simple polygon whose two tops lie on one line (sides 2 and 6) is no crossing
+  EXPECT_EQ(error_of("[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"2\"], [\"1\", \"2\"], "
+                     "[\"1\", \"1\"], [\"2\", \"1\"], [\"2\", \"2\"], [\"3\", \"2\"], [\"3\", \"0\"]]\n"),
+            "");
+  // the stadium given as [table] is the stadium of [stadium]; a list of one leak on the outer boundary is [leak]
+  const Scene a = parse_scene("[table]\nkind = \"stadium\"\nd = \"3\"\nr = \"1/2\"\n[[leaks]]\nwidth = \"0.05\"\n");
+  const Scene b = parse_scene("[stadium]\nd = \"3\"\nr = \"1/2\"\n[leak]\nwidth = \"0.05\"\n");
+  EXPECT_FALSE(a.on_table());
+  EXPECT_EQ(scene_json(a).dump(), scene_json(b).dump());
+}
+
+TEST(TableScene, BadTablesAndLeakListsAreRefusedWithTheirKey) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[table]\nkind = \"oval\"\n", "table.kind"},
+      {"[table]\nkind = \"circle\"\n", "table.radius"},                        // a parameter missing
+      {"[table]\nkind = \"circle\"\nradius = \"1\"\nside = \"2\"\n", "table.side"},  // another kind's
+      {"[table]\nkind = \"circle\"\nradius = 1.5\n", "table.radius"},          // through double
+      {"[table]\nkind = \"circle\"\nradius = \"-1\"\n", "table"},
+      {"[table]\nkind = \"circle\"\nradius = \"1e-200\"\n", "table.radius"},
+      {"[table]\nkind = \"sinai\"\nside = \"1\"\nradius = \"1/2\"\n", "table"},  // the disc touches the walls
+      {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"1\", \"0\"]]\n", "table.vertices"},
+      {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"1\", \"0\"], [\"0\", \"1\"]]\n", "table"},  // anticlockwise
+      {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"2\"], [\"2\", \"0\"], [\"2\", \"3\"]]\n",
+       "table"},  // a bow tie: two sides cross
+      {"[table]\nkind = \"circle\"\nradius = \"1\"\n[stadium]\nd = \"2\"\n", "stadium"},
+      {"[table]\nkind = \"stadium\"\nd = \"2\"\n[stadium]\nr = \"2\"\n", "stadium"},
+      {std::string("[leak]\nwidth = \"0.1\"\n") + kTwoLeaks, "leak"},
+      {"[[leaks]]\nstart = \"0\"\n", "leaks.0.width"},
+      {"[[leaks]]\nwidth = \"0.1\"\nloop = 1\n", "leaks.0.loop"},  // the stadium has one loop
+      {"[[leaks]]\nwidth = \"1\"\n[[leaks]]\nwidth = \"0.1\"\n", "leaks.0.width"},
+      {std::string(kTwoLeaks) + "[[leaks]]\nwidth = \"0.1\"\nside = 2\n", "leaks.2.side"},
+      {std::string(kMushroom) + "[ensemble]\nsampling = \"mupo\"\n", "ensemble.sampling"},
+      {std::string(kTwoLeaks) + "[run]\nfast_forward = true\n", "run.fast_forward"},
+      {std::string(kMushroom) + "[run]\ntier = \"auto\"\n", "run.tier"},
+  };
+  for (const auto& [toml, key] : cases) {
+    const std::string msg = error_of(toml);
+    ASSERT_FALSE(msg.empty()) << "accepted: " << toml;
+    EXPECT_EQ(msg.rfind(key + " = ", 0), 0u) << msg;
+  }
+  // --set reaches a listed leak's keys, and refuses one not listed
+  const Scene s = parse_scene(kTwoLeaks, {"leaks.1.width=1/64", "leaks.1.omega=2/3", "table.kind=circle",
+                                          "table.radius=2"});
+  EXPECT_EQ(s.leaks[1].width.text, "1/64");
+  EXPECT_EQ(s.leaks[1].omega.value.as_rational(), mpq_class(2, 3));
+  EXPECT_EQ(s.table->kind, "circle");
+  EXPECT_EQ(error_of(kTwoLeaks, {"leaks.2.width=0.1"}).rfind("leaks.2.width = ", 0), 0u);
+  EXPECT_EQ(error_of(kTwoLeaks, {"leaks.0.size=0.1"}).rfind("leaks.0.size = ", 0), 0u);
+}
+
+TEST(TableRun, TheStadiumGivenAsATableRunsTheStadiumsTalliesBitForBit) {
+  // the stadium model (its convex shortcut, its Leak) and the table model (pieces, LeakList) on the same stadium:
+  // the same draws, every tally equal, in every ensemble tier
+  for (const char* tier : {"float", "double", "long_double"}) {
+    Scene s = parse_scene(std::string("[stadium]\nd = \"2\"\nr = \"1\"\n[leak]\nwidth = \"0.03\"\nomega = \"2/3\"\n") +
+                              "[run]\nt_max = 3000.0\n",
+                          {"ensemble.particles=3000", std::string("run.tier=") + tier,
+                           "observe.collision_density={ bins = 50, windows = [[0.0, 100.0]] }"});
+    const RunResult stadium = run_ensemble(s, threads(2));
+    ASSERT_FALSE(s.on_table());
+    s.table = TableInput{"stadium", {{s.d, s.d_text}, {s.r, s.r_text}}, {}};
+    ASSERT_TRUE(s.on_table());
+    const RunResult table = run_ensemble(s, threads(2));
+    EXPECT_EQ(table.engine, Engine::scalar);
+    EXPECT_EQ(table.tally.escapes_per_bin, stadium.tally.escapes_per_bin) << tier;
+    EXPECT_EQ(table.tally.collision_density, stadium.tally.collision_density) << tier;
+    EXPECT_EQ(table.tally.collisions, stadium.tally.collisions) << tier;
+    EXPECT_EQ(table.tally.survived, stadium.tally.survived) << tier;
+  }
+}
+
+TEST(TableRun, PerLeakEscapesAddUpAndSplitBySymmetry) {
+  // two equal leaks that a symmetry of the table swaps (the stadium's s = 0 and 1/2: the top and bottom edges'
+  // middles; the circle's 0 and 1/4): each takes half the escapes. Error model: given the escapes E, leak 0's
+  // count is binomial(E, 1/2) (the particles are independent), so |n0 - E/2| <= 5 sqrt(E / 4).
+  const std::vector<std::string> tables = {"", "[table]\nkind = \"circle\"\nradius = \"1\"\n"};
+  for (const std::string& t : tables) {
+    const std::string second = t.empty() ? "1/2" : "1/4";
+    const Scene s = parse_scene(t + "[[leaks]]\nwidth = \"0.02\"\n[[leaks]]\nwidth = \"0.02\"\nstart = \"" + second +
+                                "\"\n[run]\nt_max = 2000.0\n",
+                                {"ensemble.particles=20000"});
+    const RunResult r = run_ensemble(s, threads(2));
+    ASSERT_EQ(r.tally.escapes_by_leak.size(), 2 * r.tally.escapes_per_bin.size());
+    const std::uint64_t n0 = leak_total(r.tally, 0), n1 = leak_total(r.tally, 1);
+    EXPECT_EQ(n0 + n1, r.tally.escaped);
+    for (std::size_t k = 0; k < r.tally.escapes_per_bin.size(); ++k)  // bin by bin
+      ASSERT_EQ(r.tally.escapes_by_leak[k] + r.tally.escapes_by_leak[r.tally.escapes_per_bin.size() + k],
+                r.tally.escapes_per_bin[k]);
+    const double e = static_cast<double>(r.tally.escaped);
+    EXPECT_GT(e, 10000) << t;
+    EXPECT_LE(std::abs(static_cast<double>(n0) - e / 2), 5 * std::sqrt(e / 4)) << t << ": " << n0 << " of " << e;
+    // the same run on one thread: every count equal
+    const RunResult one = run_ensemble(s, threads(1));
+    EXPECT_EQ(one.tally.escapes_by_leak, r.tally.escapes_by_leak);
+    EXPECT_EQ(one.tally.collisions, r.tally.collisions);
+  }
+}
+
+TEST(TableRun, FlowStartsLieInsideAndTheTallyFileKeepsTheLeaks) {
+  // flow starts on the Sinai table: inside the square, outside the disc (Table::contains), about as many draws as
+  // the table's share of its box (1 - pi / 16 of the square here) -- none rejected wrongly
+  const Scene s = parse_scene(std::string("[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n") + kTwoLeaks +
+                                  "[ensemble]\ninit = \"flow\"\n[run]\nt_max = 500.0\n",
+                              {"ensemble.particles=2000"});
+  const InitialConditions ic = initial_conditions(s);
+  for (std::uint64_t id = 0; id < 2000; ++id) {
+    const InitialDraw d = ic.draw(id);
+    ASSERT_TRUE(d.flow);
+    ASSERT_LT(std::abs(d.x), 1.0);
+    ASSERT_LT(std::abs(d.y), 1.0);
+    ASSERT_GT(d.x * d.x + d.y * d.y, 0.25) << id;
+  }
+  const RunResult r = run_ensemble(s, threads(2));
+  EXPECT_EQ(r.tally.escaped + r.tally.survived + r.tally.stuck, 2000u);
+  EXPECT_EQ(r.tally.stuck, 0u);
+  // a checkpoint's tally file holds the per-leak counts and reads them back
+  TallyFile f;
+  f.tally = r.tally;
+  f.particles = 2000;
+  f.done = r.done;
+  f.inputs = simulation_inputs(s, "scalar");
+  const TallyFile back = decode_tally_file(encode_tally_file(f), "test");
+  EXPECT_EQ(back.tally.escapes_by_leak, r.tally.escapes_by_leak);
+  EXPECT_EQ(back.tally.escapes_per_bin, r.tally.escapes_per_bin);
+}
+
+TEST(TableRun, TheVectorisedEngineIsRefusedOnTablesWithItsReason) {
+  const Scene s = parse_scene(kMushroom, {"ensemble.particles=10"});
+  RunOptions o;
+  o.engine = Engine::simd;
+  try {
+    (void)plan_run(s, o);
+    FAIL() << "the vectorised engine ran a mushroom";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--engine = simd", 0), 0u) << e.what();
+  }
+  EXPECT_EQ(resolve_engine(Engine::automatic, s), Engine::scalar);
+}
