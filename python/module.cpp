@@ -17,6 +17,7 @@
 #include "analysis/output/covering_output.hpp"
 #include "analysis/output/omega_output.hpp"
 #include "analysis/output/run_output.hpp"
+#include "analysis/output/table_output.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "run/calibrate.hpp"
@@ -247,7 +248,15 @@ std::string omega(const std::string& value, long long terms, const std::string& 
 /// `rotleak predict --json`'s document for a scene file with overrides (milliseconds: the GIL is kept).
 std::string predict(const std::string& scene, const std::vector<std::string>& overrides, bool scene_is_text) {
   const rotleak::Scene sc = scene_of(scene, scene_is_text, overrides);
+  rotleak::require_stadium(sc, "rotleak.predict");
   return rotleak::prediction_document(sc, rotleak::predict_tail(sc)).dump(2);
+}
+
+std::string table_drawing(const std::string& scene, const std::vector<std::string>& overrides, int samples,
+                          bool scene_is_text) {
+  if (samples < 8 || samples > 1000000)
+    throw rotleak::InputError("samples", std::to_string(samples), "must be in [8, 10^6]");
+  return rotleak::table_drawing(scene_of(scene, scene_is_text, overrides), samples).dump();
 }
 
 py::tuple covering(const std::vector<std::string>& omegas, const std::vector<std::string>& deltas,
@@ -307,6 +316,9 @@ PYBIND11_MODULE(_rotleak, m) {
         py::arg("convergents"), "`rotleak omega --json`'s document as a JSON text.");
   m.def("predict", &predict, py::arg("scene"), py::arg("overrides"), py::arg("scene_is_text") = false,
         "The covering model's tail for a scene: rotleak predict --json's document");
+  m.def("table_drawing", &table_drawing, py::arg("scene"), py::arg("overrides"), py::arg("samples"),
+        py::arg("scene_is_text") = false,
+        "The scene's table as points to draw (analysis/output/table_output.hpp), as a JSON text.");
   m.def("covering", &covering, py::arg("omegas"), py::arg("deltas"), py::arg("lam"), py::arg("d"), py::arg("r"),
         py::arg("resolution"), "(summary.json text, f_L.csv text, [segments csv]) of `rotleak covering`.");
 }

@@ -8,7 +8,6 @@
 
 using namespace rotleak;
 
-
 TEST(Scene, DefaultsAndExactValues) {
   const Scene s = parse_scene("[leak]\nwidth = \"0.01\"\nomega = \"1008/1009\"\n");
   EXPECT_EQ(s.width.as_rational(), mpq_class(1, 100));

@@ -8,18 +8,16 @@
 
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
+#include "scene_error.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/model/initial.hpp"
-#include "scene_error.hpp"
 
 using namespace rotleak;
 
 namespace {
 
-
 const char* kMushroom = "[table]\nkind = \"mushroom\"\nradius = \"1\"\nstem_width = \"1/2\"\nstem_height = \"1\"\n";
-const char* kTwoLeaks =
-    "[[leaks]]\nwidth = \"0.02\"\nstart = \"0\"\n\n[[leaks]]\nwidth = \"0.02\"\nstart = \"1/2\"\n";
+const char* kTwoLeaks = "[[leaks]]\nwidth = \"0.02\"\nstart = \"0\"\n\n[[leaks]]\nwidth = \"0.02\"\nstart = \"1/2\"\n";
 
 RunOptions threads(int n) {
   RunOptions o;
@@ -68,14 +66,15 @@ TEST(TableScene, EveryStandardTableReadsAndWritesBack) {
 TEST(TableScene, BadTablesAndLeakListsAreRefusedWithTheirKey) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[table]\nkind = \"oval\"\n", "table.kind"},
-      {"[table]\nkind = \"circle\"\n", "table.radius"},                        // a parameter missing
+      {"[table]\nkind = \"circle\"\n", "table.radius"},                              // a parameter missing
       {"[table]\nkind = \"circle\"\nradius = \"1\"\nside = \"2\"\n", "table.side"},  // another kind's
-      {"[table]\nkind = \"circle\"\nradius = 1.5\n", "table.radius"},          // through double
+      {"[table]\nkind = \"circle\"\nradius = 1.5\n", "table.radius"},                // through double
       {"[table]\nkind = \"circle\"\nradius = \"-1\"\n", "table"},
       {"[table]\nkind = \"circle\"\nradius = \"1e-200\"\n", "table.radius"},
       {"[table]\nkind = \"sinai\"\nside = \"1\"\nradius = \"1/2\"\n", "table"},  // the disc touches the walls
       {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"1\", \"0\"]]\n", "table.vertices"},
-      {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"1\", \"0\"], [\"0\", \"1\"]]\n", "table"},  // anticlockwise
+      {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"1\", \"0\"], [\"0\", \"1\"]]\n",
+       "table"},  // anticlockwise
       {"[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"2\"], [\"2\", \"0\"], [\"2\", \"3\"]]\n",
        "table"},  // a bow tie: two sides cross
       {"[table]\nkind = \"circle\"\nradius = \"1\"\n[stadium]\nd = \"2\"\n", "stadium"},
@@ -95,8 +94,8 @@ TEST(TableScene, BadTablesAndLeakListsAreRefusedWithTheirKey) {
     EXPECT_EQ(msg.rfind(key + " = ", 0), 0u) << msg;
   }
   // --set reaches a listed leak's keys, and refuses one not listed
-  const Scene s = parse_scene(kTwoLeaks, {"leaks.1.width=1/64", "leaks.1.omega=2/3", "table.kind=circle",
-                                          "table.radius=2"});
+  const Scene s =
+      parse_scene(kTwoLeaks, {"leaks.1.width=1/64", "leaks.1.omega=2/3", "table.kind=circle", "table.radius=2"});
   EXPECT_EQ(s.leaks[1].width.text, "1/64");
   EXPECT_EQ(s.leaks[1].omega.value.as_rational(), mpq_class(2, 3));
   EXPECT_EQ(s.table->kind, "circle");
@@ -133,7 +132,7 @@ TEST(TableRun, PerLeakEscapesAddUpAndSplitBySymmetry) {
   for (const std::string& t : tables) {
     const std::string second = t.empty() ? "1/2" : "1/4";
     const Scene s = parse_scene(t + "[[leaks]]\nwidth = \"0.02\"\n[[leaks]]\nwidth = \"0.02\"\nstart = \"" + second +
-                                "\"\n[run]\nt_max = 2000.0\n",
+                                    "\"\n[run]\nt_max = 2000.0\n",
                                 {"ensemble.particles=20000"});
     const RunResult r = run_ensemble(s, threads(2));
     ASSERT_EQ(r.tally.escapes_by_leak.size(), 2 * r.tally.escapes_per_bin.size());

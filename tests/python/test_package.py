@@ -497,6 +497,28 @@ class Package(unittest.TestCase):
             with self.assertRaises(ValueError, msg=str(bad)):
                 rotleak.Scene(**bad)
 
+    def test_a_table_is_drawn_from_rotleaks_own_geometry(self):
+        """rotleak.plot.table's points (analysis/output/table_output.hpp): the circle's lie on it, the Sinai table has
+        two loops with its disc's leak on the disc, and a figure of every example scene is drawn."""
+        from rotleak.plot import table as tables
+        circle = tables.drawing(os.path.join(SRC, "data", "scenes", "tables", "circle.toml"))
+        self.assertEqual(circle["kind"], "circle")
+        self.assertAlmostEqual(circle["area"], math.pi)
+        ring = circle["loops"][0]
+        self.assertTrue(all(abs(math.hypot(x, y) - 1) < 1e-14 for x, y in zip(ring["x"], ring["y"])))
+        self.assertEqual((ring["x"][0], ring["y"][0]), (ring["x"][-1], ring["y"][-1]))  # closed
+        self.assertEqual(ring["origin"], [0.0, 1.0])  # s = 0 at the top, clockwise: towards +x
+        self.assertAlmostEqual(ring["direction"][0], 1.0)
+        sinai = tables.drawing(os.path.join(SRC, "data", "scenes", "tables", "sinai.toml"))
+        self.assertEqual(len(sinai["loops"]), 2)
+        disc_leak = [leak for leak in sinai["leaks"] if leak["loop"] == 1][0]
+        self.assertTrue(all(abs(math.hypot(x, y) - 0.5) < 1e-14 for x, y in zip(disc_leak["x"], disc_leak["y"])))
+        scenes = sorted(os.path.join(SRC, "data", "scenes", "tables", f)
+                        for f in os.listdir(os.path.join(SRC, "data", "scenes", "tables")))
+        out = os.path.join(self.tmp, "tables.png")
+        self.assertEqual(tables.main([out] + scenes), 0)
+        self.assertGreater(os.path.getsize(out), 10000)
+
     def test_calibration_reads_back_with_csv_json_and_pandas(self):
         """rotleak calibrate's files (docs/output.md "Calibration") with the standard readers, the package's
         Calibration the same, and rotleak.calibrate in process writing the same bytes as the command."""
