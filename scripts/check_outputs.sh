@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every kind of file rotleak writes, made once and read back against docs/output.md's schemas with
 # Python's csv and json and with pandas (scripts/check_output_schema.py): a run with escapes and f_c, a
-# split run, a 3-point scan, a shadow, a covering of two omegas with segments, an audit, proven orbits and a certified sample. Then four
+# split run, a 3-point scan, a run and a scan on other tables (two leaks), a shadow, a covering of two omegas with segments, an audit, proven orbits and a certified sample. Then four
 # damaged copies (a row one field short, an undocumented summary.json key, a renamed column, a flipped bit in a
 # split run's tally.bin) must be
 # refused, so the check is seen to fail where it should.
@@ -19,6 +19,11 @@ q=(--no-progress)
 "$bin" simulate "$here/../data/scenes/stationary_sL_0.toml" --particles 4000 --set ensemble.sampling=mupo \
   --set run.splitting=true --set run.t_max=3000 --out "$work/out/split" "${q[@]}" >/dev/null
 "$bin" scan "$scene" --over leak.omega=0,1,2/3 --set ensemble.particles=5000 --out "$work/out/scan" "${q[@]}" >/dev/null
+# any table with two leaks (summary.json's table and leaks, leaks.csv, fc by the boundary's share), and a scan of one
+"$bin" simulate "$here/../data/scenes/tables/sinai.toml" --particles 5000 --set run.t_max=2000 \
+  --set "observe.collision_density={ bins = 50 }" --out "$work/out/table" "${q[@]}" >/dev/null
+"$bin" scan "$here/../data/scenes/tables/mushroom.toml" --over leak.width=0.01,0.02 --set ensemble.particles=2000 \
+  --set run.t_max=1000 --out "$work/out/table_scan" "${q[@]}" >/dev/null
 "$bin" shadow "$scene" --particle 3 --tiers float,double,dd --collisions 300 --out "$work/out/shadow" >/dev/null
 "$bin" covering --omega 2/3 --omega 1e-4 --resolution 200 --segments --out "$work/out/covering" >/dev/null
 "$bin" audit "$scene" --sample 20 --stats-particles 20000 --stratify-particles 5000 --max-collisions 200 \

@@ -2,7 +2,8 @@
 # The same run as 1 process, as `mpirun -np 2` and as `mpirun -np 3 --oversubscribe` (one thread per
 # rank, and 2 threads in the single process): survival.csv, fc.csv and escapes.csv must be
 # byte-identical, and summary.json's fitted numbers equal. The scene has every tally: a rotating
-# leak, importance-sampling weights (exact sums), f_c, escape records. Then a scan of three omegas
+# leak, importance-sampling weights (exact sums), f_c, escape records. Then a split run, and a run on the Sinai
+# table with two leaks (leaks.csv too). Then a scan of three omegas
 # as 1 process and as `mpirun -np 2`: table.csv and every point's survival.csv byte-identical. Then
 # an audit as 1 process and as `mpirun -np 3`: audit.json identical but for its timing fields.
 # Usage: scripts/mpi_equivalence.sh ROTLEAK_BINARY [MPIRUN]      Exit 1 on the first difference.
@@ -55,6 +56,16 @@ if a["splitting"] != b["splitting"] or a["alpha"] != b["alpha"]:
     sys.exit("split run under 3 ranks: summary.json splitting or alpha differs")
 PY
 echo "split run under 3 ranks: survival.csv, fc.csv and summary.json's splitting identical to one process"
+
+# any table with two leaks (one on the Sinai table's disc): the same files, leaks.csv too, under 3 ranks
+table=("$(dirname "$scene")/tables/sinai.toml" --particles 60000 --set run.t_max=2000
+  --set 'observe.collision_density={bins=50}' --no-progress)
+"$bin" simulate "${table[@]}" --threads 2 --out table1 >/dev/null
+"$mpirun" -np 3 --oversubscribe "$bin" simulate "${table[@]}" --threads 1 --out table3 >/dev/null
+for f in survival.csv fc.csv leaks.csv; do
+  cmp -s "table1/$f" "table3/$f" || { echo "a table under 3 ranks: $f differs from the single process's"; exit 1; }
+done
+echo "the Sinai table with two leaks under 3 ranks: survival.csv, fc.csv and leaks.csv identical to one process"
 
 scan=("$scene" --over "leak.omega=2/3,1/7,ln(19)" --particles 60000 --set run.t_max=3000 --no-progress)
 "$bin" scan "${scan[@]}" --threads 2 --out scan1 >/dev/null

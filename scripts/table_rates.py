@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The escape rate of a small stationary hole on every standard table, against the small-hole rate.
 
 For each table of docs/tables.md and two hole widths lambda (a share of the outer boundary's length), runs

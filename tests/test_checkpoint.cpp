@@ -14,6 +14,7 @@
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "numeric/input.hpp"
+#include "resume.hpp"
 #include "run/pipeline.hpp"
 #include "same_text.hpp"
 #include "scratch.hpp"
@@ -208,34 +209,11 @@ TEST(Epochs, CheckpointsAndStopsLeaveTheTalliesUnchanged) {
   EXPECT_TRUE(same(cut.tally, whole.tally));
 
   // stopped after the first checkpoint, then resumed from it on one thread
-  std::atomic<bool> stop{false};
-  RunOptions first;
-  first.threads = 2;
-  first.checkpoint_seconds = 1e-9;
-  first.stop = &stop;
-  TallyFile saved;
-  first.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>& rec) {
-    saved.tally = t;
-    saved.done = done;
-    saved.records = rec;
-    stop = true;
-  };
-  const RunResult part = run_ensemble(scene, first);
-  EXPECT_FALSE(part.complete);
-  EXPECT_LT(saved.done.size(), block_count(scene.particles));
-  EXPECT_EQ(saved.done, part.done);
-  const std::string bytes =
-      encode_tally_file({simulation_inputs(scene, "auto"), scene.particles, 0, scene.particles, saved.done, saved.tally,
-                         saved.records});  // through the file format, as a resume reads it
-  const TallyFile read = decode_tally_file(bytes, "checkpoint");
-  const IntervalSet todo = read.done.complement_in(0, block_count(scene.particles));
-  RunOptions rest;
-  rest.threads = 1;
-  rest.blocks = &todo;
-  rest.start_done = &read.done;
-  rest.start = &read.tally;
-  rest.start_records = &read.records;
-  const RunResult resumed = run_ensemble(scene, rest);
+  const test::StopAndResume r = test::stop_and_resume(scene);
+  EXPECT_FALSE(r.part.complete);
+  EXPECT_LT(r.read.done.size(), block_count(scene.particles));
+  EXPECT_EQ(r.read.done, r.part.done);
+  const RunResult& resumed = r.resumed;
   EXPECT_TRUE(resumed.complete);
   EXPECT_TRUE(same(resumed.tally, whole.tally));
   for (std::size_t i = 0; i < whole.records.size(); ++i) {

@@ -8,6 +8,7 @@
 
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
+#include "resume.hpp"
 #include "scene_error.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/model/initial.hpp"
@@ -190,4 +191,24 @@ TEST(TableRun, TheVectorisedEngineIsRefusedOnTablesWithItsReason) {
     EXPECT_EQ(std::string(e.what()).rfind("--engine = simd", 0), 0u) << e.what();
   }
   EXPECT_EQ(resolve_engine(Engine::automatic, s), Engine::scalar);
+}
+
+TEST(TableRun, StoppedAtACheckpointAndResumedThroughItsFileIsTheWholeRun) {
+  // the Sinai table with a leak on the square and one on the disc, with f_c and escape records: stopped after its
+  // first checkpoint, the tallies through the tally file's bytes, resumed on one thread -- every count equal
+  const Scene s = parse_scene(std::string("[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n") +
+                                  "[[leaks]]\nwidth = \"0.02\"\n[[leaks]]\nloop = 1\nwidth = \"0.05\"\n" +
+                                  "[run]\nt_max = 1000.0\n[observe]\nescapes = true\n",
+                              {"ensemble.particles=40000", "observe.collision_density={ bins = 40 }"});
+  const RunResult whole = run_ensemble(s, threads(2));
+  const test::StopAndResume r = test::stop_and_resume(s);
+  ASSERT_FALSE(r.part.complete);
+  const RunResult& resumed = r.resumed;
+  ASSERT_TRUE(resumed.complete);
+  EXPECT_EQ(resumed.tally.escapes_by_leak, whole.tally.escapes_by_leak);
+  EXPECT_EQ(resumed.tally.escapes_per_bin, whole.tally.escapes_per_bin);
+  EXPECT_EQ(resumed.tally.collision_density, whole.tally.collision_density);
+  EXPECT_EQ(resumed.tally.collisions, whole.tally.collisions);
+  EXPECT_GT(leak_total(whole.tally, 1), 0u);  // the disc's leak takes particles
+  for (std::size_t i = 0; i < whole.records.size(); ++i) ASSERT_EQ(resumed.records[i].t, whole.records[i].t) << i;
 }

@@ -131,8 +131,15 @@ std::string csv_field(const std::string& s) {
 }  // namespace
 
 json omega_number_theory(const Scene& scene) {
-  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
   json out;
+  if (scene.on_table()) {  // 2 r omega and the covering are the stadium's theory (docs/tables.md): empty columns
+    out["cf_2r_omega"] = "";
+    out["omega_value"] = scene.omega.to_double();
+    out["covering_zero_measure"] = nullptr;
+    out["covering_max_zero_gap"] = nullptr;
+    return out;
+  }
+  const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
   const CertifiedExpansion cf = certified_cf(x, kScanPartialQuotients);
   std::string terms;
   for (std::size_t i = 0; i < cf.terms.size() && i < kScanPartialQuotients; ++i)

@@ -465,6 +465,12 @@ class Package(unittest.TestCase):
         run = rotleak.read_run(out)
         self.assertEqual(run.leaks["escaped_0"].tolist(), table["escaped_0"].tolist())
         self.assertIsNone(rotleak.read_run(self.run_dir).leaks)  # one leak: no leaks.csv
+        # its pictures: the caption names the table and both leaks
+        from rotleak import plot
+        drawings = plot.figures(out)
+        self.assertEqual([d.name for d in drawings], ["survival"])
+        self.assertIn("circle radius = 1; leak at s_L = 0, width 0.02", drawings[0].caption)
+        self.assertIn("leak at s_L = 1/4, width 0.01, omega = 1/3", drawings[0].caption)
 
     def test_a_scene_on_any_table_with_leaks_is_built_in_python_and_runs_as_the_command(self):
         """Scene(table=..., leaks=[...]) (docs/tables.md): checked by rotleak's reader, saved as TOML exactly, run in

@@ -26,11 +26,19 @@ def unresolved_from(summary: dict[str, Any]) -> Optional[float]:
 def scene_text(summary: dict[str, Any]) -> str:
     """The scene in a caption: the stadium, the leak and the sample."""
     sc = summary["scene"]
-    leak, stadium = sc["leak"], sc["stadium"]
     split = summary.get("splitting")
     scheme = summary.get("sampling", {}).get("scheme", "uniform")
-    return ("stadium d = %s, r = %s; leak at s_L = %s, width %s, omega = %s; %s %s (%s%s), %s tier"
-            % (stadium["d"], stadium["r"], leak["start"], leak["width"], leak["omega"], format(summary["particles"], ","),
+    if "stadium" in sc:
+        where = "stadium d = %s, r = %s" % (sc["stadium"]["d"], sc["stadium"]["r"])
+    else:  # any other table (docs/tables.md): its kind and parameters as written
+        where = "%s %s" % (sc["table"]["kind"], ", ".join("%s = %s" % (k, v) for k, v in sc["table"].items()
+                                                          if k not in ("kind", "vertices")))
+    leaks = [sc["leak"]] if "leak" in sc else sc["leaks"]
+    leak_text = "; ".join("leak%s at s_L = %s, width %s, omega = %s" % (
+        " on loop %d" % leak["loop"] if leak.get("loop") else "", leak["start"], leak["width"], leak["omega"])
+        for leak in leaks)
+    return ("%s; %s; %s %s (%s%s), %s tier"
+            % (where.strip(), leak_text, format(summary["particles"], ","),
                "lines" if split else "particles", scheme, ", split every %g" % split["split_every"] if split else "",
                summary["tier"]))
 
@@ -159,7 +167,8 @@ def density_figure(run: Run) -> Optional[Drawing]:
     summary = run.summary
     s = fc["s"].astype(float).tolist()
     fig, ax = plt.subplots(figsize=(TWO_COLUMN, 2.4))
-    parts = pieces(summary["scene"]["stadium"]) or []
+    scene = summary["scene"]
+    parts = pieces(scene["stadium"]) or [] if "stadium" in scene else []
     for piece in parts:
         if piece[2] == "arc":
             ax.axvspan(piece[0], piece[1], color="0.93", lw=0, zorder=0)
@@ -173,22 +182,31 @@ def density_figure(run: Run) -> Optional[Drawing]:
     for k, column in enumerate(columns):
         ax.plot(s, fc[column].astype(float).tolist(), lw=0.8, color="C%d" % ((k + 4) % 10) if k else "C0",
                 label=column.replace("fc", "t in "))
-    leak = summary["scene"]["leak"]
-    start, width = exact_text(leak["start"]), exact_text(leak["width"])
-    stationary = leak["omega"] == "0" and start is not None and width is not None
-    if start is not None and width is not None and stationary:
+    # the leaks that stand still, where s is their loop's own (a table of one loop; several loops are laid end to
+    # end in f_c's s, docs/tables.md)
+    one_loop = "stadium" in scene or summary.get("table", {}).get("loops", 1) == 1
+    leaks = [scene["leak"]] if "leak" in scene else scene["leaks"]
+    stationary = one_loop and all(leak["omega"] == "0" for leak in leaks)
+    for leak in leaks if stationary else []:
+        start, width = exact_text(leak["start"]), exact_text(leak["width"])
+        if start is None or width is None:
+            stationary = False
+            continue
         for shift in (-1, 0, 1):  # the leak on the circle s mod 1
             ax.axvspan(start - width / 2 + shift, start + width / 2 + shift, color=LEAK, alpha=0.3, lw=0)
-        ax.plot([], [], color=LEAK, alpha=0.4, lw=6, label="leak")
+    if stationary:
+        ax.plot([], [], color=LEAK, alpha=0.4, lw=6, label="leak" if len(leaks) == 1 else "leaks")
     ax.set_xlim(0, 1)
     ax.set_xlabel("s")
     ax.set_ylabel("f_c(s)")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0)  # beside the axes: it hides no spike
     ax.grid(True)
     fig.tight_layout(pad=0.3)
-    caption = ("f_c(s), the collisions per unit s in each time window, of %s. Shaded: the arcs (the rest is the "
-               "straight edges)%s." % (scene_text(summary), "; red: the leak" if stationary else
-                                       "; the leak moves, so it is not drawn"))
+    shading = ("Shaded: the arcs (the rest is the straight edges)" if parts else
+               "s: the share of the whole boundary, its loops laid end to end (docs/tables.md)")
+    caption = ("f_c(s), the collisions per unit s in each time window, of %s. %s%s." % (
+        scene_text(summary), shading, "; red: the leak" if stationary else
+        "; the leak moves (or lies on another loop), so it is not drawn"))
     return Drawing("fc", fig, caption)
 
 
