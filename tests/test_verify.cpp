@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/table.hpp"
 #include "io/scene_file.hpp"
 #include "numeric/tiers.hpp"
 #include "paths.hpp"
@@ -126,6 +127,44 @@ TEST(Shadow, TrustHorizonsGrowWithPrecision) {
   // expected ln(1e-6 / 1.1e-16) / 0.94 = 24; MUPO phases only lengthen it
   EXPECT_GT(md, 12);
   EXPECT_LT(md, 60);
+}
+
+TEST(Shadow, OnOtherTablesDoubleIsMpfrAt53BitsAndHorizonsGrowWithPrecision) {
+  // the shadow through any table's model (TableModel in every tier): a particle that starts on a straight piece
+  // (no sin or cos in its start) runs the same trace in double and in MPFR at 53 bits -- the table's next hit,
+  // windows and reflection are +, -, *, /, sqrt only -- and the error shrinks with the bits: the divergence at
+  // collision 10 (medians over 5 particles), and on the Sinai table, whose divergence grows exponentially, the
+  // trust horizon grows (the mushroom's regular orbits and the polygon, of zero entropy, keep double within the
+  // tolerance for the 300 collisions: no horizon to compare there)
+  for (const char* name : {"sinai", "mushroom", "polygon"}) {
+    const Scene scene = load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/tables/" + name + ".toml");
+    const Table<double> table(table_spec(scene));
+    const InitialConditions ic = initial_conditions(scene);
+    ShadowOptions opt;
+    opt.collisions = 300;
+    opt.tiers = {"double", "mpfr:53", "dd", "mpfr:256"};
+    std::vector<double> h[3], early[3];
+    int straight = 0;
+    for (std::uint64_t id = 0; straight < 5; ++id) {
+      const auto [loop, s] = table.loop_s(ic.draw(id).s);
+      if (table.piece(table.at(loop, s).piece).kind != PieceKind::segment) continue;
+      ++straight;
+      const ShadowResult r = shadow(scene, id, opt);
+      ASSERT_EQ(r.tiers[0].divergence, r.tiers[1].divergence) << name << " particle " << id;
+      for (int k = 0; k < 3; ++k) {
+        const TierShadow& t = r.tiers[k == 0 ? 0 : k + 1];
+        h[k].push_back(t.horizon ? static_cast<double>(*t.horizon) : 300);
+        early[k].push_back(t.divergence[9]);  // at collision 10, before any tier's error saturates
+      }
+    }
+    for (int k = 0; k < 3; ++k) std::sort(h[k].begin(), h[k].end()), std::sort(early[k].begin(), early[k].end());
+    EXPECT_GT(early[0][2], early[1][2]) << name;
+    EXPECT_GT(early[1][2], early[2][2]) << name;
+    if (std::string(name) == "sinai") {
+      EXPECT_LT(h[0][2], h[1][2]);
+      EXPECT_LT(h[1][2], h[2][2]);
+    }
+  }
 }
 
 TEST(Shadow, HighPrecisionTiersReproduceTheEscape) {

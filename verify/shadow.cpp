@@ -25,8 +25,8 @@ struct State {
   Mpfr v[5];
 };
 
-template <class R>
-State to_state(const TraceStep<R>& st) {
+template <class R, class P>
+State to_state(const TraceStep<R, P>& st) {
   State s;
   num_traits<R>::to_mpfr(s.v[0].data(), st.t);
   num_traits<R>::to_mpfr(s.v[1].data(), st.q.x);
@@ -54,12 +54,27 @@ struct Reported {
   bool in_leak, straight;
 };
 
+/// Whether a collision lies on a straight piece: the stadium's edges, a table's segments.
+bool straight(const Stadium<double>&, Piece p) { return p == Piece::top || p == Piece::bottom; }
+bool straight(const Table<double>& table, int k) { return table.piece(k).kind == PieceKind::segment; }
+
+/// The model of tier R the geometry G stands for: the stadium's (Model), or any table's (TableModel).
 template <class R>
-Reported report(const Stadium<double>& st, const TraceStep<R>& step) {
+Model<R> model_for(const Scene& scene, const Stadium<double>&) {
+  return model_of<R>(scene);
+}
+template <class R>
+TableModel<R> model_for(const Scene& scene, const Table<double>&) {
+  return table_model_of<R>(scene);
+}
+
+/// A collision's t, s, p in double, from the geometry in double (the stadium's, or the table's).
+template <class G, class R, class P>
+Reported report(const G& geometry, const TraceStep<R, P>& step) {
   const Vec2<double> q{num_traits<R>::to_double(step.q.x), num_traits<R>::to_double(step.q.y)};
   const Vec2<double> v{num_traits<R>::to_double(step.v.x), num_traits<R>::to_double(step.v.y)};
-  return {num_traits<R>::to_double(step.t), st.s_of(step.piece, q), st.birkhoff_p(step.piece, q, v), step.in_leak,
-          step.piece == Piece::top || step.piece == Piece::bottom};
+  return {num_traits<R>::to_double(step.t), geometry.s_of(step.piece, q), geometry.birkhoff_p(step.piece, q, v),
+          step.in_leak, straight(geometry, step.piece)};
 }
 
 struct TruthRun {
@@ -68,12 +83,13 @@ struct TruthRun {
 };
 
 // One MPFR run at `bits`; states are stored at `store_bits` (>= bits) for comparisons.
+template <class G>
 TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long store_bits, std::size_t K,
-                  bool stop_at_escape, const Stadium<double>& st) {
+                  bool stop_at_escape, const G& st) {
   TruthRun run;
   MpfrPrecision work(bits);
-  const Model<Mpfr> model = model_of<Mpfr>(scene);
-  trace(model, draw, K, [&](const TraceStep<Mpfr>& step) {
+  const auto model = model_for<Mpfr>(scene, st);
+  trace(model, draw, K, [&](const auto& step) {
     {
       MpfrPrecision store(store_bits);
       run.states.push_back(to_state(step));
@@ -84,16 +100,16 @@ TruthRun run_mpfr(const Scene& scene, const InitialDraw& draw, long bits, long s
   return run;
 }
 
-template <class R>
+template <class R, class G>
 TierShadow run_tier(const std::string& name, const Scene& scene, const InitialDraw& draw, const TruthRun& truth,
-                    long truth_bits, const ShadowOptions& opt, const Stadium<double>& st) {
+                    long truth_bits, const ShadowOptions& opt, const G& st) {
   TierShadow out;
   out.name = name;
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t K = truth.states.size();
   try {
-    const Model<R> model = model_of<R>(scene);
-    trace(model, draw, K, [&](const TraceStep<R>& step) {
+    const auto model = model_for<R>(scene, st);
+    trace(model, draw, K, [&](const auto& step) {
       State s;
       {
         MpfrPrecision store(truth_bits);
@@ -156,7 +172,8 @@ namespace {
 
 /// The truth: MPFR runs at doubling bits until the trace no longer changes beyond truth_tolerance; the
 /// run at the bits that agreed, its bits and the agreement in res.truth.
-TruthRun find_truth(const Scene& scene, const ShadowOptions& opt, const Stadium<double>& st, ShadowResult& res) {
+template <class G>
+TruthRun find_truth(const Scene& scene, const ShadowOptions& opt, const G& st, ShadowResult& res) {
   const bool until_escape = opt.collisions == 0;
   const std::size_t K0 = until_escape ? opt.max_collisions : std::min(opt.collisions, opt.max_collisions);
   long bits = opt.start_bits;
@@ -207,12 +224,13 @@ void record_truth(const TruthRun& truth, double mupo_p, ShadowResult& res) {
 
 }  // namespace
 
-ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
-  for (const auto& n : opt.tiers)
-    if (tier_bits(n) == 0) throw std::invalid_argument(n);
+namespace {
+
+/// The shadow on the geometry G in double (the stadium's, or any table's), whose model each tier runs.
+template <class G>
+ShadowResult shadow_on(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt, const G& st) {
   ShadowResult res;
   res.draw = draw;
-  const Stadium<double> st(scene.d, scene.r);
   const TruthRun upper = find_truth(scene, opt, st, res);
   record_truth(upper, opt.mupo_p, res);
 
@@ -226,6 +244,15 @@ ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const Shad
     res.tiers.push_back(std::move(ts));
   }
   return res;
+}
+
+}  // namespace
+
+ShadowResult shadow_from(const Scene& scene, const InitialDraw& draw, const ShadowOptions& opt) {
+  for (const auto& n : opt.tiers)
+    if (tier_bits(n) == 0) throw std::invalid_argument(n);
+  if (scene.on_table()) return shadow_on(scene, draw, opt, Table<double>(table_spec(scene)));
+  return shadow_on(scene, draw, opt, Stadium<double>(scene.d, scene.r));
 }
 
 std::vector<ShadowResult> shadow_many(const Scene& scene, const std::vector<std::uint64_t>& ids,

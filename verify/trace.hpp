@@ -9,37 +9,45 @@
 
 namespace rotleak {
 
-template <class R>
+template <class R, class P = Piece>
 struct TraceStep {
-  std::size_t k;  ///< collision number, from 1
-  const R& t;     ///< its time
-  Piece piece;
+  std::size_t k;     ///< collision number, from 1
+  const R& t;        ///< its time
+  P piece;           ///< the stadium's Piece, or a table's piece index
   const Vec2<R>& q;  ///< its point
   Vec2<R>& v;        ///< outgoing velocity (on() may perturb it: a test of the replays)
-  bool in_leak;      ///< the escape test at this collision
+  bool in_leak;      ///< the escape test at this collision (a table's: any of its leaks)
 };
 
-/// Follows the particle from state ps through at most `max_collisions` collisions (or until t_max),
-/// calling on(step) after each (its velocity may be changed there: a test's perturbation). Returns the
-/// number of collisions traced.
-template <class R, class On>
-std::size_t trace_from(const Model<R>& model, ParticleState<R> ps, std::size_t max_collisions, On&& on) {
+/// Follows the particle from state ps through at most `max_collisions` collisions (or until t_max, or a flight
+/// that meets no piece), calling on(step) after each (its velocity may be changed there: a test's perturbation):
+/// the model's own next hit, leak test and reflection (Model: the stadium; TableModel: any table), the operations
+/// of the collision step (sim/model/particle.hpp advance) without stopping at the leak. Returns the number of
+/// collisions traced.
+template <class M, class On>
+std::size_t trace_from(const M& model, ParticleState<typename M::real_type> ps, std::size_t max_collisions, On&& on) {
+  using R = typename M::real_type;
+  using P = decltype(std::declval<typename M::hit_type>().piece);
   for (std::size_t k = 1; k <= max_collisions; ++k) {
-    const Hit<R> h = model.stadium.next_hit(ps.q, ps.v);
+    const typename M::hit_type h = model.next_hit(ps.q, ps.v);
+    if (model.lost(h)) return k - 1;
     ps.t += h.t;
     if (ps.t > model.t_max) return k - 1;
-    const bool leak = model.leak.hit(h.piece, h.q, ps.t);
-    ps.v = model.stadium.reflect(h.piece, h.q, ps.v);
+    const bool leak = model.leak_of(h, ps.t) >= 0;
+    ps.v = model.reflect(h, ps.v);
     ps.q = h.q;
-    if (!on(TraceStep<R>{k, ps.t, h.piece, ps.q, ps.v, leak})) return k;
+    if (!on(TraceStep<R, P>{k, ps.t, h.piece, ps.q, ps.v, leak})) return k;
   }
   return max_collisions;
 }
 
-/// The same from binary initial data `draw` (initial_state).
-template <class R, class On>
-std::size_t trace(const Model<R>& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
-  return trace_from(model, initial_state(model.stadium, draw), max_collisions, std::forward<On>(on));
+/// The same from binary initial data `draw` (initial_state on the model's stadium or table).
+template <class M, class On>
+std::size_t trace(const M& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
+  if constexpr (requires { model.stadium; })
+    return trace_from(model, initial_state(model.stadium, draw), max_collisions, std::forward<On>(on));
+  else
+    return trace_from(model, initial_state(model.table, draw), max_collisions, std::forward<On>(on));
 }
 
 template <class R>
@@ -47,6 +55,12 @@ Model<R> model_of(const Scene& s) {
   Model<R> m = Model<R>::from(s);
   m.fast_forward = false;  // a shadow compares collision by collision: it steps every bounce
   return m;
+}
+
+/// The scene's table and leaks in tier R (a scene on another table, or with several leaks: Scene::on_table).
+template <class R>
+TableModel<R> table_model_of(const Scene& s) {
+  return TableModel<R>(table_spec(s), leak_specs(s), s.t_max);
 }
 
 }  // namespace rotleak

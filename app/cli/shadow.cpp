@@ -22,7 +22,6 @@ struct ShadowArgs {
 
 int run_shadow(const ShadowArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  require_stadium(scene, "rotleak shadow");
   if (a.particle < 0 || static_cast<std::uint64_t>(a.particle) >= scene.particles)
     throw InputError("--particle", std::to_string(a.particle),
                      "must be a particle id in [0, " + std::to_string(scene.particles) + ")");
