@@ -27,25 +27,37 @@ MeanSd mean_se(const std::vector<double>& v) {
 
 }  // namespace
 
-LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, std::size_t collisions) {
+namespace {
+
+/// The Jacobi field's jump at a collision, J' -= 2 J / (rho cos(phi)) with rho the boundary's radius of curvature
+/// there (positive where it focuses, negative where it disperses): that denominator rho cos(phi), or 0 on a straight
+/// piece (no jump). The stadium's arcs focus with radius r; a table's arc focuses (clockwise) or disperses.
+double jump_denominator(const Model<double>& model, const TraceStep<double>& s) {
+  if (s.piece != Piece::right_arc && s.piece != Piece::left_arc) return 0;
+  const Vec2<double> n = model.stadium.inward_normal(s.piece, s.q);
+  const double cos_phi = std::abs(dot(s.v, n));
+  return num_traits<double>::to_double(model.stadium.r()) * cos_phi;
+}
+double jump_denominator(const TableModel<double>& model, const TraceStep<double, int>& s) {
+  const TablePiece<double>& p = model.table.piece(s.piece);
+  if (p.kind == PieceKind::segment) return 0;
+  const double cos_phi = std::abs(dot(s.v, Vec2<double>{s.q.x - p.cx, s.q.y - p.cy})) * p.inv_rho;
+  return (p.clockwise ? p.rho : -p.rho) * cos_phi;  // clockwise: the table inside the circle, focusing
+}
+
+template <class M>
+LyapunovEstimate tangent_on(M model, const InitialDraw& draw, std::size_t collisions) {
   // the leak and t_max play no part: follow the flow for the requested collisions
-  Model<double> model = model_of<double>(scene);
   model.t_max = std::numeric_limits<double>::infinity();
-  const Stadium<double>& st = model.stadium;
-  const double r = num_traits<double>::to_double(st.r());
   constexpr std::size_t kBatches = 20;
   const std::size_t per_batch = collisions / kBatches > 0 ? collisions / kBatches : 1;
   double J = 1, Jp = 0, t_prev = draw.tau, log_sum = 0, batch_log = 0, batch_t0 = draw.tau;
   std::vector<double> rate_t, rate_k;
-  const std::size_t done = trace(model, draw, collisions, [&](const TraceStep<double>& s) {
+  const std::size_t done = trace(model, draw, collisions, [&](const auto& s) {
     const double tau = s.t - t_prev;
     t_prev = s.t;
     J += tau * Jp;
-    if (s.piece == Piece::right_arc || s.piece == Piece::left_arc) {
-      const Vec2<double> n = st.inward_normal(s.piece, s.q);
-      const double cos_phi = std::abs(dot(s.v, n));
-      Jp -= 2 * J / (r * cos_phi);
-    }
+    if (const double d = jump_denominator(model, s); d != 0) Jp -= 2 * J / d;
     const double norm = std::hypot(J, Jp);
     J /= norm;
     Jp /= norm;
@@ -68,6 +80,13 @@ LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, s
   e.per_collision_error = mean_se(rate_k).se;
   e.samples = rate_t.size();
   return e;
+}
+
+}  // namespace
+
+LyapunovEstimate tangent_lyapunov(const Scene& scene, const InitialDraw& draw, std::size_t collisions) {
+  if (scene.on_table()) return tangent_on(table_model_of<double>(scene), draw, collisions);
+  return tangent_on(model_of<double>(scene), draw, collisions);
 }
 
 LyapunovEstimate divergence_lyapunov(const std::vector<ShadowResult>& runs, std::size_t tier, double t_from,
@@ -168,6 +187,7 @@ LyapunovStudy lyapunov_study(const Scene& scene, const LyapunovStudyOptions& opt
   const std::vector<ShadowResult> runs = shadow_many(scene, ids, so, opt.threads);
   s.divergence = divergence_lyapunov(runs, 0, opt.from, opt.to);
   s.by_class = class_growth(runs, 0);
+  if (scene.on_table()) return s;  // the bouncing-ball orbit below is the stadium's (no MUPO law on another table)
   ShadowOptions bb;
   bb.tiers = {"double"};
   bb.collisions = 8000;

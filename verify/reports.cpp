@@ -281,6 +281,7 @@ std::string lyapunov_text(const LyapunovStudy& s, const std::string& source) {
   appendf(out, "growth of ln(divergence) per collision: MUPO phases %.4f (%zu steps), chaotic %.4f (%zu steps)\n",
           s.by_class.mupo_per_collision, s.by_class.mupo_steps, s.by_class.chaotic_per_collision,
           s.by_class.chaotic_steps);
+  if (s.mupo_collisions == 0) return out;  // another table: no bouncing-ball orbit was followed
   appendf(out,
           "bouncing-ball orbit, p0 = %g, %zu collisions in double: divergence ~ k^%.2f (R^2 %.4f) vs exp(%.4f k) (R^2 "
           "%.4f): %s\n",

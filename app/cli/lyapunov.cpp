@@ -21,7 +21,6 @@ struct LyapunovArgs {
 
 int run_lyapunov(const LyapunovArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  require_stadium(scene, "rotleak lyapunov");
   if (a.particles < 2 || static_cast<std::uint64_t>(a.particles) > scene.particles)
     throw InputError("--particles", std::to_string(a.particles), "must be in [2, ensemble.particles]");
   if (a.collisions < 10) throw InputError("--collisions", std::to_string(a.collisions), "must be >= 10");
