@@ -47,12 +47,12 @@ Certificate certify_at(const Scene& scene, const InitialDraw& draw, long bits, s
     return true;
   };
   try {
-    const Model<Mpfi> model = model_of<Mpfi>(scene);
-    if (method == Enclosure::lohner) {
-      c.survived = trace_lohner(model, draw, max_collisions, on);
-    } else {
-      const std::size_t n = trace(model, draw, max_collisions, [&](const TraceStep<Mpfi>& s) {
-        return on(s.k, s.t, s.in_leak, std::max(s.q.x.width(), s.q.y.width()));
+    if (method == Enclosure::lohner && !scene.on_table()) {
+      c.survived = trace_lohner(model_of<Mpfi>(scene), draw, max_collisions, on);
+    } else {  // plain MPFI: on any table (the Lohner sets use the stadium's Jacobian)
+      const std::size_t n = with_model<Mpfi>(scene, [&](const auto& model) {
+        return trace(model, draw, max_collisions,
+                     [&](const auto& s) { return on(s.k, s.t, s.in_leak, std::max(s.q.x.width(), s.q.y.width())); });
       });
       // trace stops at the leak (on says so), at the cap, or where the time passed t_max
       c.survived = !c.escape_certified && n < max_collisions && n == c.certified_collisions;
@@ -82,23 +82,31 @@ namespace rotleak {
 std::vector<double> enclosure_log2_widths(const Scene& scene, const InitialDraw& draw, long bits,
                                           std::size_t max_collisions, Enclosure method) {
   MpfrPrecision precision(bits);
-  Model<Mpfi> model = model_of<Mpfi>(scene);
-  model.t_max = Mpfi(std::numeric_limits<double>::max());
   std::vector<double> widths;
   const auto widest = [](const Vec2<Mpfi>& q, const Vec2<Mpfi>& v) {
     return std::max({log2_width(q.x), log2_width(q.y), log2_width(v.x), log2_width(v.y)});
   };
   try {
-    if (method == Enclosure::lohner) {
+    if (method == Enclosure::lohner && !scene.on_table()) {
+      Model<Mpfi> model = model_of<Mpfi>(scene);
+      model.t_max = Mpfi(std::numeric_limits<double>::max());
       LohnerEnclosure set(model, draw);
       widths.push_back(set.log2_width());
       for (std::size_t k = 1; k <= max_collisions; ++k) widths.push_back(set.step().log2_width);
-    } else {
-      const ParticleState<Mpfi> ps = initial_state(model.stadium, draw);
-      widths.push_back(widest(ps.q, ps.v));
-      trace_from(model, ps, max_collisions, [&](const TraceStep<Mpfi>& s) {
-        widths.push_back(widest(s.q, s.v));
-        return true;
+    } else {  // plain MPFI (on any table)
+      with_model<Mpfi>(scene, [&](auto model) {
+        model.t_max = Mpfi(std::numeric_limits<double>::max());
+        const ParticleState<Mpfi> ps = [&] {
+          if constexpr (requires { model.stadium; })
+            return initial_state(model.stadium, draw);
+          else
+            return initial_state(model.table, draw);
+        }();
+        widths.push_back(widest(ps.q, ps.v));
+        trace_from(model, ps, max_collisions, [&](const auto& s) {
+          widths.push_back(widest(s.q, s.v));
+          return true;
+        });
       });
     }
   } catch (const UncertainDecision&) {

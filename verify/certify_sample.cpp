@@ -74,11 +74,12 @@ ParticleEscape certify_particle(const Scene& capped, const InitialDraw& draw, st
 }
 
 /// A tier's escape time and collision for one particle (the scalar core, every bounce stepped).
-template <class R>
-std::pair<double, std::size_t> tier_escape(const Model<R>& model, const InitialDraw& draw) {
+template <class M>
+std::pair<double, std::size_t> tier_escape(const M& model, const InitialDraw& draw) {
+  using R = typename M::real_type;
   double t = std::numeric_limits<double>::infinity();
   std::size_t k = 0;
-  trace(model, draw, std::numeric_limits<std::size_t>::max(), [&](const TraceStep<R>& s) {
+  trace(model, draw, std::numeric_limits<std::size_t>::max(), [&](const auto& s) {
     if (!s.in_leak) return true;
     t = num_traits<R>::to_double(s.t);
     k = s.k;
@@ -96,9 +97,10 @@ TierEscapes run_tier(const std::string& tier, const Scene& capped, const std::ve
   const auto t0 = std::chrono::steady_clock::now();
   with_tier(tier, [&](auto type) {
     using R = typename decltype(type)::type;
-    const Model<R> model = model_of<R>(capped);
+    with_model<R>(capped, [&](const auto& model) {
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
-    for (std::size_t i = 0; i < draws.size(); ++i) std::tie(out.t[i], collisions[i]) = tier_escape(model, draws[i]);
+      for (std::size_t i = 0; i < draws.size(); ++i) std::tie(out.t[i], collisions[i]) = tier_escape(model, draws[i]);
+    });
   });
   out.seconds = seconds_since(t0);
   return out;

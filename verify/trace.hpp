@@ -63,4 +63,12 @@ TableModel<R> table_model_of(const Scene& s) {
   return TableModel<R>(table_spec(s), leak_specs(s), s.t_max);
 }
 
+/// f(model) with the scene's model in tier R: TableModel on another table or with several leaks, else the
+/// stadium's Model (model_of).
+template <class R, class F>
+decltype(auto) with_model(const Scene& s, F&& f) {
+  if (s.on_table()) return f(table_model_of<R>(s));
+  return f(model_of<R>(s));
+}
+
 }  // namespace rotleak

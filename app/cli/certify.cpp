@@ -88,7 +88,6 @@ int run_sample(const CertifyArgs& a, const Scene& scene) {
 
 int run_certify(const CertifyArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  require_stadium(scene, "rotleak certify");
   // each bound blames its own option (--max-bits 100000000 once blamed --bits)
   if (a.max_bits < Tier::kMinBits || a.max_bits > (1L << 22))
     throw InputError("--max-bits", std::to_string(a.max_bits),

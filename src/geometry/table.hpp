@@ -229,6 +229,8 @@ class Table {
 
  private:
   const R& inv_length(int loop) const { return inv_loop_length_[loop]; }
+  /// scale_ = max(scale_, x) (x >= 0).
+  void grow_scale(const R& x);
   /// Rounds piece e (of `loop`, whose length before it is `before`; `first` in its loop) into p, and grows scale_.
   void round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec& loop, const ExactReal& before, bool first);
 
@@ -251,7 +253,9 @@ class Table {
         const R dx = formula::from_centre(q.x, p.cx), dy = formula::from_centre(q.y, p.cy);
         const R b = formula::arc_b(dx, dy, v.x, v.y), c = formula::arc_c(dx, dy, p.rho);
         if (p.clockwise) {  // focusing: the table inside the circle, met where the flight leaves it
-          if (c > R(0) && b * b - c < R(0)) continue;  // from outside the circle, and missing it
+          // from outside the circle, and missing it; the discriminant first: from a point on the circle (c = 0 up
+          // to rounding: an interval tier cannot decide c's sign) it is clearly positive, and decides alone
+          if (b * b - c < R(0) && c > R(0)) continue;
           t = formula::larger_root(b, c, formula::arc_sq(b, c));
         } else {  // dispersing: met where the flight enters the circle
           if (!(b < R(0)) || b * b - c < R(0)) continue;
@@ -305,7 +309,9 @@ Table<R>::Table(const TableSpec& spec) {
     }
   }
   slack_ = R(kSpanSlack) * num_traits<R>::epsilon() * scale_;
-  // the outer loop's box: its pieces' ends, and each arc's whole circle (a box a little large only costs draws)
+  // the outer loop's box: its pieces' ends, and each arc's whole circle (a box a little large only costs draws);
+  // flow starts are drawn in double, so an interval tier (whose equal ends cannot be ordered) keeps none
+  if constexpr (requires(const R& r) { r.hi(); }) return;
   box_lo_ = {piece_[0].ax, piece_[0].ay}, box_hi_ = box_lo_;
   for (int k = loop_first_[0]; k < loop_first_[0] + loop_count_[0]; ++k) {
     const TablePiece<R>& p = piece_[k];
@@ -333,8 +339,7 @@ void Table<R>::round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec&
   const bool holds_origin = first && loop.origin.sign() != 0;
   p.s0 = holds_origin ? R(round_exact<R>(s0 + ExactReal::parse("1")) - R(1)) : round_exact<R>(s0);
   p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
-  for (const R& x : {p.ax, p.ay, p.bx, p.by})
-    if (abs(x) > scale_) scale_ = abs(x);
+  for (const R& x : {p.ax, p.ay, p.bx, p.by}) grow_scale(abs(x));
   if (e.kind == PieceKind::segment) {
     const ExactReal ex = (e.bx - e.ax) / e.length, ey = (e.by - e.ay) / e.length;
     p.ex = round_exact<R>(ex), p.ey = round_exact<R>(ey);
@@ -363,8 +368,18 @@ void Table<R>::round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec&
   p.wide = e.span.to_double() > M_PI;
   p.rho_over_L = round_exact<R>(e.rho / loop.length);
   p.L_over_rho = round_exact<R>(loop.length / e.rho);
-  for (const R& x : {R(abs(p.cx) + p.rho), R(abs(p.cy) + p.rho)})
-    if (x > scale_) scale_ = x;
+  for (const R& x : {R(abs(p.cx) + p.rho), R(abs(p.cy) + p.rho)}) grow_scale(x);
+}
+
+template <class R>
+void Table<R>::grow_scale(const R& x) {
+  if constexpr (requires(const R& r) { r.hi(); }) {
+    // an interval tier: equal coordinates (the lemon's corners) cannot be ordered, and need not be: the scale is a
+    // tolerance's size, so the larger upper end serves
+    if (x.hi() > scale_.hi()) scale_ = R(x.hi());
+  } else if (x > scale_) {
+    scale_ = x;
+  }
 }
 
 }  // namespace rotleak
