@@ -96,12 +96,7 @@ std::vector<double> enclosure_log2_widths(const Scene& scene, const InitialDraw&
     } else {  // plain MPFI (on any table)
       with_model<Mpfi>(scene, [&](auto model) {
         model.t_max = Mpfi(std::numeric_limits<double>::max());
-        const ParticleState<Mpfi> ps = [&] {
-          if constexpr (requires { model.stadium; })
-            return initial_state(model.stadium, draw);
-          else
-            return initial_state(model.table, draw);
-        }();
+        const ParticleState<Mpfi> ps = initial_state(model, draw);
         widths.push_back(widest(ps.q, ps.v));
         trace_from(model, ps, max_collisions, [&](const auto& s) {
           widths.push_back(widest(s.q, s.v));

@@ -44,10 +44,7 @@ std::size_t trace_from(const M& model, ParticleState<typename M::real_type> ps, 
 /// The same from binary initial data `draw` (initial_state on the model's stadium or table).
 template <class M, class On>
 std::size_t trace(const M& model, const InitialDraw& draw, std::size_t max_collisions, On&& on) {
-  if constexpr (requires { model.stadium; })
-    return trace_from(model, initial_state(model.stadium, draw), max_collisions, std::forward<On>(on));
-  else
-    return trace_from(model, initial_state(model.table, draw), max_collisions, std::forward<On>(on));
+  return trace_from(model, initial_state(model, draw), max_collisions, std::forward<On>(on));
 }
 
 template <class R>

@@ -185,7 +185,7 @@ std::string leaks_csv(const Scene& scene, const Tally& tally) {
     const double from = static_cast<double>(k) * scene.survival_dt;
     const double to = k + 1 == bins ? scene.t_max : static_cast<double>(k + 1) * scene.survival_dt;
     out += shortest(from) + ',' + shortest(to);
-    for (std::size_t j = 0; j < leaks; ++j) out += ',' + std::to_string(tally.escapes_by_leak[j * bins + k]);
+    for (std::size_t j = 0; j < leaks; ++j) out += ',' + std::to_string(tally.leak_escapes(j, k));
     out += '\n';
   }
   return out;

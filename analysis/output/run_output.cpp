@@ -207,15 +207,10 @@ void put_table(json& s, const RunSummary& r) {
                 {"small_hole_rate", small_hole_rate(scene)}};
   const std::vector<LeakSpec> specs = leak_specs(scene);
   const Tally& tally = r.result.tally;
-  const std::size_t bins = tally.escapes_per_bin.size();
   const double n = static_cast<double>(scene.particles);
   json leaks = json::array();
   for (std::size_t j = 0; j < specs.size(); ++j) {
-    std::uint64_t escaped = 0;  // one leak: all escapes
-    if (tally.escapes_by_leak.empty())
-      escaped = tally.escaped;
-    else
-      for (std::size_t k = 0; k < bins; ++k) escaped += tally.escapes_by_leak[j * bins + k];
+    const std::uint64_t escaped = tally.leak_escaped(j);
     const double f = static_cast<double>(escaped) / n;
     const bool listed = !scene.leaks.empty();
     leaks.push_back({{"loop", specs[j].loop},

@@ -149,16 +149,9 @@ void apply_override(toml::table& root, const std::string& assignment) {
       // not a count: the TOML value below gets the key's own message
     }
   }
-  toml::table parsed;
-  try {
-    parsed = toml::parse("v = " + value);
-  } catch (const toml::parse_error&) {
-    check_representable(path, value, std::nullopt);  // TOML refuses what overflows a double (1e400)
-    sec.insert_or_assign(key, value);                // a bare word: validation says whether it is allowed
-    return;
-  }
-  if (auto f = parsed.get("v")->as_floating_point()) check_representable(path, value, f->get());
-  parsed.get("v")->visit([&](auto&& node) { sec.insert_or_assign(key, node); });
+  // a bare word: validation says whether it is allowed; TOML refuses what overflows a double (1e400)
+  if (!set_value(sec, key, value)) return check_representable(path, value, std::nullopt);
+  if (auto f = sec.get(key)->as_floating_point()) check_representable(path, value, f->get());
 }
 
 /// A run whose particles make more than 1e9 collisions each is refused: the key to blame and why.

@@ -143,6 +143,9 @@ std::set<std::string> table_keys();
 void override_listed_leak(toml::table& root, const std::string& rest, const std::string& value);
 /// The text of a --set value: a value quoted as in a scene file ("2/3") is the text inside.
 std::string unquoted(const std::string& value);
+/// Sets section[key] to `value` read as a TOML value (`v = VALUE`), or to the bare word where it is none (the key's
+/// own check says whether a word is allowed); false for the bare word.
+bool set_value(toml::table& section, const std::string& key, const std::string& value);
 /// One leak's width, start and omega, checked (`prefix` names its keys: "leak", "leaks.1").
 void check_leak_values(const std::string& prefix, const ExactInput& width, const ExactInput& start,
                        const ExactInput& omega);

@@ -22,6 +22,18 @@ std::string unquoted(const std::string& value) {
   return quoted ? value.substr(1, value.size() - 2) : value;
 }
 
+bool set_value(toml::table& section, const std::string& key, const std::string& value) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    section.insert_or_assign(key, value);
+    return false;
+  }
+  parsed.get("v")->visit([&](auto&& node) { section.insert_or_assign(key, node); });
+  return true;
+}
+
 /// --set leaks.N.key=value: a key of the listed leak N (from 0) of the scene's [[leaks]].
 void override_listed_leak(toml::table& root, const std::string& rest, const std::string& value) {
   const std::string path = "leaks." + rest;
@@ -44,14 +56,7 @@ void override_listed_leak(toml::table& root, const std::string& rest, const std:
     leak.insert_or_assign(key, unquoted(value));
     return;
   }
-  toml::table parsed;
-  try {
-    parsed = toml::parse("v = " + value);
-  } catch (const toml::parse_error&) {
-    leak.insert_or_assign(key, value);  // a word: the loop's own check refuses it
-    return;
-  }
-  parsed.get("v")->visit([&](auto&& node) { leak.insert_or_assign(key, node); });
+  set_value(leak, key, value);  // a word: the loop's own check refuses it
 }
 
 /// One leak's width, start and omega, checked (`prefix` names its keys: "leak", "leaks.1"): a width in (0, 1) that

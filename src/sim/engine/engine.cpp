@@ -180,11 +180,7 @@ class Worker {
       const InitialDraw d = s_.source(i);
       const double w = local.weighted() ? s_.source.weight(d) : 1.0;
       if constexpr (Observer::active) observe.weight = w;
-      ParticleEnd end;
-      if constexpr (requires { model.stadium; })
-        end = run_particle(model, initial_state(model.stadium, d), observe);
-      else
-        end = run_particle(model, initial_state(model.table, d), observe);
+      ParticleEnd end = run_particle(model, initial_state(model, d), observe);
       end.weight = w;
       rec(i, end);
     }

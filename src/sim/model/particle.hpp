@@ -453,4 +453,15 @@ ParticleEnd run_particle(const M& m, const ParticleState<typename M::real_type>&
   return f.end;
 }
 
+/// A particle's start from binary initial data on the model's boundary: its stadium's (Model) or its table's
+/// (TableModel). Every caller that starts a particle from its draw (the scalar engine, the trace, the enclosures)
+/// takes it here.
+template <class M>
+ParticleState<typename M::real_type> initial_state(const M& model, const InitialDraw& draw) {
+  if constexpr (requires { model.stadium; })
+    return initial_state(model.stadium, draw);
+  else
+    return initial_state(model.table, draw);
+}
+
 }  // namespace rotleak

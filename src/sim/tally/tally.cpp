@@ -43,6 +43,13 @@ void Tally::add_end(Fate fate, double t, std::uint64_t collisions_made, double w
   std::visit([&](auto& e) { e.add_end(fate, b, w); }, estimator);
 }
 
+std::uint64_t Tally::leak_escaped(std::size_t j) const {
+  if (escapes_by_leak.empty()) return escaped;
+  std::uint64_t n = 0;
+  for (std::size_t k = 0; k < escapes_per_bin.size(); ++k) n += leak_escapes(j, k);
+  return n;
+}
+
 void Tally::merge(const Tally& o) {
   for (std::size_t i = 0; i < escapes_per_bin.size(); ++i) escapes_per_bin[i] += o.escapes_per_bin[i];
   for (std::size_t i = 0; i < collision_density.size(); ++i) collision_density[i] += o.collision_density[i];

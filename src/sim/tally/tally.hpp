@@ -60,6 +60,11 @@ struct Tally {
   /// and its weight w, which the estimator books.
   /// `leak` is the leak it escaped through (ParticleEnd::leak), booked in escapes_by_leak when that is kept.
   void add_end(Fate fate, double t, std::uint64_t collisions_made, double w, double dt, int leak = 0);
+  /// Escapes through leak j with t in bin k (escapes_per_bin's with one leak), and through leak j in all.
+  std::uint64_t leak_escapes(std::size_t j, std::size_t k) const {
+    return escapes_by_leak.empty() ? escapes_per_bin[k] : escapes_by_leak[j * escapes_per_bin.size() + k];
+  }
+  std::uint64_t leak_escaped(std::size_t j) const;
   /// Adds another tally of the same scene (the same estimator): exact, in any order.
   void merge(const Tally& other);
 };
