@@ -12,7 +12,9 @@ Second, the kernel's hot loop must be one function: GCC 12 once left the pack's 
 next_hit and the leak tests as calls inside it (a call passes its packs through memory), and whether it did
 changed with any function added elsewhere in the file. step and flights_kernel are [[gnu::flatten]], and
 run_kernel's ordinary step is inlined into it; run_kernel, flights_kernel and the step instantiations may
-call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and the callbacks.
+call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and the callbacks. The same
+for the step on other tables: run_table_kernel and table_step (flattened) call no function of the kernel's own but
+a table_step (libm's atan2 and the callbacks are not the kernel's).
 
 usage: check_kernel_objects.py OBJECT...   (exit 1, naming each weak symbol or call left, when any is found)
        check_kernel_objects.py --selftest  (the call finder on a canned disassembly, which it must flag)
@@ -32,7 +34,7 @@ def weak_symbols(path):
     return found
 
 
-HOT = ("run_kernel(", "flights_kernel(", "::step<")
+HOT = ("run_kernel(", "run_table_kernel(", "flights_kernel(", "::step<", "::table_step<")
 SELFTEST = """0000000000000000 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)>:
    0:	call   10 <rotleak::simd::avx2_kernel::(anonymous namespace)::next_hit(rotleak::simd::KernelScene const&)>
    5:	call   0 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)+0x5>
@@ -60,7 +62,7 @@ def hot_calls(disassembly):
         call = re.search(r"\bcall\s+[0-9a-f]+ <(.*)>", line)
         if call:
             target = re.sub(r"\+0x[0-9a-f]+$", "", call.group(1))
-            if "(anonymous namespace)::" in target and "::step<" not in target:
+            if "(anonymous namespace)::" in target and "::step<" not in target and "::table_step<" not in target:
                 pending = (current, target)
     if pending is not None:
         found.append(pending)

@@ -21,40 +21,6 @@
 
 namespace rotleak {
 
-/// One piece rounded into R (the fields of its kind; the others stay 0).
-template <class R>
-struct TablePiece {
-  PieceKind kind = PieceKind::segment;
-  int loop = 0;
-  bool clockwise = true, full = false;
-  bool wide = false;    ///< arc: more than a half turn
-  bool along_x = true;  ///< segment: runs at least as much along x as along y (its span test is on x)
-  bool horizontal = false, vertical = false;  ///< segment: parallel to an axis (the hit keeps that coordinate)
-  R ax{0}, ay{0}, bx{0}, by{0};               ///< its ends
-  R ex{0}, ey{0};                             ///< segment: unit direction of travel (rounded from the exact one)
-  R lo{0}, hi{0};                             ///< segment: the span test's range (x or y of its ends, in order)
-  R rx{0}, ry{0}, s_ref{0};                   ///< segment: where s is s_ref (its start, or the loop's origin)
-  R cx{0}, cy{0}, rho{0}, inv_rho{0};         ///< arc
-  R fx{0}, fy{0};                             ///< arc: the direction of its start from the centre
-  R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};   ///< arc: its ends' directions in clockwise order (on_arc)
-  R span{0}, rho_over_L{0}, L_over_rho{0};
-  R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
-
-  /// Arc: the direction from the centre at angle a along the travel, f cos a + h sin a (h = f turned a quarter along
-  /// the travel), from cs = cos a and sn = sin a; and the unit tangent there, h cos a - f sin a.
-  Vec2<R> arc_direction(const R& cs, const R& sn) const {
-    const Vec2<R> h = turned();
-    return {fx * cs + h.x * sn, fy * cs + h.y * sn};
-  }
-  Vec2<R> arc_tangent(const R& cs, const R& sn) const {
-    const Vec2<R> h = turned();
-    return {h.x * cs - fx * sn, h.y * cs - fy * sn};
-  }
-
- private:
-  Vec2<R> turned() const { return clockwise ? Vec2<R>{fy, R(-fx)} : Vec2<R>{R(-fy), fx}; }
-};
-
 /// Where a flight next meets the boundary: flight time, piece index (-1: nowhere, a flight through a gap the
 /// rounding opened), point.
 template <class R>
@@ -83,6 +49,12 @@ class Table {
   const R& loop_length(int k) const { return loop_length_[k]; }
   int loop_first(int k) const { return loop_first_[k]; }
   int loop_count(int k) const { return loop_count_[k]; }
+  /// 1 / loop k's length and the loops' lengths before it (rounded once from their exact values)
+  const R& inv_loop_length(int k) const { return inv_loop_length_[k]; }
+  const R& loop_offset(int k) const { return loop_offset_[k]; }
+  /// the second look's widening of every span (kSpanSlack ulps of the scale), and 2 pi rounded once
+  const R& slack() const { return slack_; }
+  const R& two_pi() const { return two_pi_; }
   const R& area() const { return area_; }
   /// |boundary|: every loop's length
   const R& perimeter() const { return perimeter_; }
@@ -106,27 +78,16 @@ class Table {
   /// Specular reflection of v at q on piece k: about the radius vector as it is on an arc (formula::reflect_factor),
   /// about the inward normal (e.y, -e.x) as rounded on a segment (so |v'| = |v| whatever |n| is).
   Vec2<R> reflect(int k, const Vec2<R>& q, const Vec2<R>& v) const {
-    const TablePiece<R>& p = piece_[k];
-    if (p.kind == PieceKind::segment) {
-      const R nx = p.ey, ny = -p.ex;
-      const R f = formula::reflect_factor(nx, ny, v.x, v.y);
-      return {formula::reflected(v.x, f, nx), formula::reflected(v.y, f, ny)};
-    }
-    const R wx = formula::from_centre(q.x, p.cx), wy = formula::from_centre(q.y, p.cy);
-    const R f = formula::reflect_factor(wx, wy, v.x, v.y);
-    return {formula::reflected(v.x, f, wx), formula::reflected(v.y, f, wy)};
+    return reflect_about(reflection_axis(piece_[k], q.x, q.y), v);
   }
 
   /// Boundary coordinate s in [0, 1) of a point q of piece k, in the piece's loop.
   R s_of(int k, const Vec2<R>& q) const {
     using std::atan2;
     const TablePiece<R>& p = piece_[k];
-    if (p.kind == PieceKind::segment)
-      return formula::segment_piece_s(q.x, q.y, p.rx, p.ry, p.ex, p.ey, p.s_ref, inv_length(p.loop));
-    const R rx = formula::from_centre(q.x, p.cx), ry = formula::from_centre(q.y, p.cy);
-    const R angle =
-        atan2(formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise), formula::arc_param_x(rx, ry, p.fx, p.fy));
-    return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi_));
+    if (p.kind == PieceKind::segment) return segment_point_s(p, q.x, q.y, inv_length(p.loop));
+    const Vec2<R> a = arc_angle_args(p, q.x, q.y);
+    return arc_point_s(p, R(atan2(a.y, a.x)), two_pi_);
   }
 
   /// The point of loop `loop` at s in [0, 1), with its frame.
@@ -224,6 +185,18 @@ class Table {
     return (loop_offset_[loop] + s * loop_length_[loop]) / perimeter_;
   }
 
+  /// The nearest outward crossing within the pieces' spans widened by tol (next_hit's first look: tol 0; its
+  /// second: slack()).
+  TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
+    TableHit<R> best;
+    for (int k = 0; k < n_pieces_; ++k) {
+      Crossing<R> c{};
+      if (!crossing(piece_[k], q.x, q.y, v.x, v.y, tol, c)) continue;
+      if (best.piece < 0 || c.t < best.t) best = {c.t, k, {c.x, c.y}};
+    }
+    return best;
+  }
+
   /// How many ulps of the table's scale the second look widens every span by.
   static constexpr int kSpanSlack = 64;
 
@@ -233,44 +206,6 @@ class Table {
   void grow_scale(const R& x);
   /// Rounds piece e (of `loop`, whose length before it is `before`; `first` in its loop) into p, and grows scale_.
   void round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec& loop, const ExactReal& before, bool first);
-
-  /// The nearest outward crossing within the pieces' spans widened by tol.
-  TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
-    TableHit<R> best;
-    for (int k = 0; k < n_pieces_; ++k) {
-      const TablePiece<R>& p = piece_[k];
-      R t;
-      Vec2<R> at;
-      if (p.kind == PieceKind::segment) {
-        const R den = formula::segment_den(v.x, v.y, p.ex, p.ey);
-        if (!(den < R(0))) continue;  // not outward
-        t = formula::segment_num(q.x, q.y, p.ax, p.ay, p.ex, p.ey) / den;
-        if (!(t >= R(0))) continue;
-        at.x = p.vertical ? p.ax : formula::along(q.x, v.x, t);
-        at.y = p.horizontal ? p.ay : formula::along(q.y, v.y, t);
-        if (!formula::in_span(p.along_x ? at.x : at.y, p.lo, p.hi, tol)) continue;
-      } else {
-        const R dx = formula::from_centre(q.x, p.cx), dy = formula::from_centre(q.y, p.cy);
-        const R b = formula::arc_b(dx, dy, v.x, v.y), c = formula::arc_c(dx, dy, p.rho);
-        if (p.clockwise) {  // focusing: the table inside the circle, met where the flight leaves it
-          // from outside the circle, and missing it; the discriminant first: from a point on the circle (c = 0 up
-          // to rounding: an interval tier cannot decide c's sign) it is clearly positive, and decides alone
-          if (b * b - c < R(0) && c > R(0)) continue;
-          t = formula::larger_root(b, c, formula::arc_sq(b, c));
-        } else {  // dispersing: met where the flight enters the circle
-          if (!(b < R(0)) || b * b - c < R(0)) continue;
-          t = formula::smaller_root(b, c, formula::arc_sq(b, c));
-        }
-        if (!(t >= R(0))) continue;
-        at = {formula::along(q.x, v.x, t), formula::along(q.y, v.y, t)};
-        if (!p.full && !formula::on_arc(formula::from_centre(at.x, p.cx), formula::from_centre(at.y, p.cy), p.cw_fx,
-                                        p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)))
-          continue;
-      }
-      if (best.piece < 0 || t < best.t) best = {t, k, at};
-    }
-    return best;
-  }
 
   int n_pieces_ = 0, n_loops_ = 0;
   TablePiece<R> piece_[kMaxTablePieces];

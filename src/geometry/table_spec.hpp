@@ -10,11 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/table_piece.hpp"
 #include "numeric/exact.hpp"
 
 namespace rotleak {
-
-enum class PieceKind : int { segment = 0, arc = 1 };
 
 /// The most pieces and loops a table may have (a polygon of up to 30 sides, up to 7 scatterers): the engines
 /// hold a table in fixed arrays, with no allocation on the path a particle takes.

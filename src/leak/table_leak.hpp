@@ -12,6 +12,7 @@
 #include "geometry/table.hpp"
 #include "leak/leak.hpp"
 #include "leak/leak_formulas.hpp"
+#include "leak/leak_window.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 
@@ -30,12 +31,8 @@ struct LeakSpec {
 template <class R>
 class TableLeak {
  public:
-  /// A stationary window on one piece: a coordinate range (segments: x where the piece runs along x, else y) or
-  /// the directions from the arc's centre that bound the sub-arc, clockwise.
-  struct Window {
-    R lo{0}, hi{0};
-    Vec2<R> from, to;
-  };
+  /// A stationary window on one piece (leak/leak_window.hpp).
+  using Window = LeakWindow<R>;
   /// Up to three windows per piece (the leak and its images one turn either side; an arc's window of more than
   /// a half turn in two).
   struct PieceWindows {
@@ -130,17 +127,8 @@ class TableLeak {
 
   bool in_windows(const Table<R>& table, int k, const Vec2<R>& q) const {
     const PieceWindows& pw = windows_[k];
-    if (pw.n == 0) return false;
-    const TablePiece<R>& p = table.piece(k);
-    if (p.kind == PieceKind::segment) {
-      const R& x = p.along_x ? q.x : q.y;
-      for (int i = 0; i < pw.n; ++i)
-        if (formula::in_x_window(x, pw.w[i].lo, pw.w[i].hi)) return true;
-      return false;
-    }
-    const Vec2<R> rel{formula::from_centre(q.x, p.cx), formula::from_centre(q.y, p.cy)};
     for (int i = 0; i < pw.n; ++i)
-      if (formula::in_arc_window(rel, pw.w[i].from, pw.w[i].to)) return true;
+      if (in_window(table.piece(k), pw.w[i], q.x, q.y)) return true;
     return false;
   }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -49,8 +50,9 @@ struct RunSetup {
   std::unique_ptr<SplitRule> scene_rule;
   const SplitRule* split_rule = nullptr;
   Engine engine;
-  simd::KernelScene kernel{};  ///< the vectorised kernel's scene (engine simd)
-  DensityCells cells;          ///< and its f_c time cells
+  simd::KernelScene kernel{};                         ///< the vectorised kernel's scene (engine simd)
+  std::unique_ptr<simd::KernelTable> kernel_numbers;  ///< and a table's numbers, which it points to
+  DensityCells cells;                                 ///< and its f_c time cells
 
   RunSetup(const RunPlan& p, const RunOptions& o)
       : plan(p),
@@ -65,7 +67,13 @@ struct RunSetup {
     if (scene.splitting.on) split_rule = opt.split_rule ? opt.split_rule : scene_rule.get();
     if constexpr (std::is_same_v<R, double>)
       if (engine == Engine::simd) {
-        kernel = simd_scene(model);
+        if (table) {
+          kernel_numbers = std::make_unique<simd::KernelTable>();
+          kernel_table(*table, *kernel_numbers);
+          kernel = simd_scene(*table, *kernel_numbers);
+        } else {
+          kernel = simd_scene(model);
+        }
         cells = simd_density(kernel, scene);
         kernel.lanes = p.simd_lanes();
       }
@@ -197,6 +205,7 @@ class Worker {
   SimdContext context(const Model<double>& model, std::uint64_t lo, std::uint64_t hi, bool weights, Put put) {
     SimdContext ctx{};
     ctx.model = &model;
+    if (s_.table) ctx.table = &*s_.table;
     ctx.draw = s_.source;
     ctx.next = lo;
     ctx.hi = hi;

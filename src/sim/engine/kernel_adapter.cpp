@@ -70,6 +70,51 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   return s;
 }
 
+namespace {
+
+simd::KernelLeak kernel_leak(const Table<double>& table, const TableLeak<double>& l) {
+  simd::KernelLeak k{};
+  k.first = table.loop_first(l.loop());
+  k.count = table.loop_count(l.loop());
+  k.rotating = l.schedule().rotating();
+  k.omega_hi = l.schedule().omega_terms().hi, k.omega_lo = l.schedule().omega_terms().lo;
+  k.start = l.schedule().start();
+  k.half_width = l.half_width();
+  for (int p = k.first; p < k.first + k.count; ++p) {
+    k.mid[p] = l.piece_mid(p), k.reach[p] = l.reach(p);
+    const auto& pw = l.windows(p);
+    for (int w = 0; w < pw.n; ++w) k.window[k.n_windows++] = {p, pw.w[w]};
+  }
+  return k;
+}
+
+}  // namespace
+
+void kernel_table(const TableModel<double>& m, simd::KernelTable& out) {
+  static_assert(simd::kKernelPieces >= kMaxTablePieces && simd::kKernelLoops >= kMaxTableLoops &&
+                simd::kKernelLeaks >= kMaxLeaks);
+  const Table<double>& t = m.table;
+  out = {};
+  out.pieces = t.pieces(), out.loops = t.loops(), out.leaks = m.leaks.size();
+  for (int k = 0; k < t.pieces(); ++k) out.piece[k] = t.piece(k);
+  for (int l = 0; l < t.loops(); ++l) {
+    out.loop_first[l] = t.loop_first(l), out.loop_count[l] = t.loop_count(l);
+    out.inv_length[l] = t.inv_loop_length(l), out.loop_length[l] = t.loop_length(l);
+    out.loop_offset[l] = t.loop_offset(l);
+  }
+  out.perimeter = t.perimeter(), out.slack = t.slack(), out.two_pi = t.two_pi();
+  for (int j = 0; j < m.leaks.size(); ++j) out.leak[j] = kernel_leak(t, m.leaks[j]);
+}
+
+simd::KernelScene simd_scene(const TableModel<double>& m, const simd::KernelTable& table) {
+  simd::KernelScene s{};
+  s.t_max = m.t_max;
+  s.table = &table;
+  s.density_windows = 0;
+  s.bins = 1;
+  return s;
+}
+
 DensityCells simd_density(simd::KernelScene& s, const Scene& scene) {
   if (!scene.collision_density) return {};
   const auto& windows = scene.collision_density->windows;
@@ -138,6 +183,12 @@ bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
     *start = (*ctx->members)[*id];
     return true;
   }
+  if (ctx->table) {  // a table's starts: the scalar core's initial_state, one by one
+    const InitialDraw d = ctx->draw(*id);
+    const ParticleState<double> ps = initial_state(ctx->table->table, d);
+    *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
+    return true;
+  }
   if (ctx->taken == ctx->batch.size()) {
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, ctx->hi - *id));
     ctx->batch.resize(n);
@@ -204,11 +255,15 @@ void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
   end.t = e.t;
   end.collisions = e.collisions;
   if (end.fate == Fate::survived) {
-    end.t = ctx->model->t_max;
+    end.t = ctx->table ? ctx->table->t_max : ctx->model->t_max;
     end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
   }
-  if (end.fate == Fate::escaped && ctx->escape_s)
-    end.s = ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  if (end.fate == Fate::escaped) {
+    end.leak = e.leak;
+    if (ctx->escape_s)
+      end.s = ctx->table ? ctx->table->table.s_of(e.piece, {e.qx, e.qy})
+                         : ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  }
   ctx->record(id, end);
 }
 

@@ -32,6 +32,10 @@ struct DrawSource {
 
 /// The vectorised kernel's view of a double model.
 simd::KernelScene simd_scene(const Model<double>& m);
+/// A table and its leaks in the kernel's plain numbers (every value TableModel<double> holds, copied).
+void kernel_table(const TableModel<double>& m, simd::KernelTable& out);
+/// The kernel's view of a double table model whose numbers `table` holds (kernel_table; it must outlive the scene).
+simd::KernelScene simd_scene(const TableModel<double>& m, const simd::KernelTable& table);
 
 /// The scene's f_c windows and bins in the kernel's scene, and the time cells the kernel counts in, both
 /// from the scene's one spec (observe.collision_density): the kernel's plain copy and the cells that
@@ -44,6 +48,7 @@ void set_density_windows(simd::KernelScene& s, int n, const double* from, const 
 
 struct SimdContext {
   const Model<double>* model;
+  const TableModel<double>* table = nullptr;  ///< a table's run: its model (starts, escapes' s and leak)
   DrawSource draw;
   std::uint64_t next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;

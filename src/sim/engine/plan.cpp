@@ -46,14 +46,6 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
   const bool fits = scene.tier == Tier::double_ &&
                     (!scene.collision_density ||
                      scene.collision_density->windows.size() <= static_cast<std::size_t>(simd::kMaxDensityWindows));
-  if (scene.on_table()) {  // the vectorised kernel runs the stadium with one leak so far
-    if (requested == Engine::simd)
-      throw std::runtime_error(
-          "--engine simd runs the stadium with one leak so far (this scene has " +
-          (scene.table ? "table.kind = \"" + scene.table->kind + "\"" : std::to_string(leak_count(scene)) + " leaks") +
-          "): use --engine scalar or auto");
-    return Engine::scalar;
-  }
   if (requested == Engine::simd) {
     if (!simd::available()) throw std::runtime_error("--engine simd: this CPU lacks AVX2 and FMA");
     if (!fits)

@@ -5,7 +5,10 @@
 #include <utility>
 #include <xsimd/xsimd.hpp>
 
+#include <cmath>
+
 #include "geometry/formulas.hpp"
+#include "geometry/table_formulas.hpp"
 #include "leak/leak_formulas.hpp"
 #include "numeric/sin_cos.hpp"
 #include "sim/kernel/flatten.hpp"
@@ -43,6 +46,8 @@ bool available() {
 #include "sim/kernel/simd_pack.ipp"
 //
 #include "sim/kernel/simd_kernel.ipp"
+// and on any other table
+#include "sim/kernel/simd_table.ipp"
 // the draws use the kernel's pack
 #include "sim/kernel/simd_draws.ipp"
 

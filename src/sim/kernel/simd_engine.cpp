@@ -6,7 +6,10 @@
 #include <utility>
 #include <xsimd/xsimd.hpp>
 
+#include <cmath>
+
 #include "geometry/formulas.hpp"
+#include "geometry/table_formulas.hpp"
 #include "leak/leak_formulas.hpp"
 #include "numeric/sin_cos.hpp"
 #include "sim/kernel/flatten.hpp"
@@ -21,6 +24,7 @@ namespace rotleak::simd {
 namespace avx512_kernel {  // sim/kernel/simd_avx512.cpp
 bool available();
 void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+void run_table_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
 void rough_kernel(double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n);
 void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n);
 void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
@@ -55,6 +59,8 @@ inline U mul_wide(const U& a, const U& b) {
 #include "sim/kernel/simd_pack.ipp"
 //
 #include "sim/kernel/simd_kernel.ipp"
+// and on any other table
+#include "sim/kernel/simd_table.ipp"
 // the draws use the kernel's pack
 #include "sim/kernel/simd_draws.ipp"
 }  // namespace avx2_kernel
@@ -66,7 +72,11 @@ int widest_lanes() { return avx512_kernel::available() ? 8 : available() ? 4 : 0
 bool lanes_available(int lanes) { return lanes == 4 ? available() : lanes == 8 ? avx512_kernel::available() : false; }
 
 void run(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
-  if (S.lanes == 8)
+  if (S.table && S.lanes == 8)
+    avx512_kernel::run_table_kernel(S, ctx, next, finish, exact);
+  else if (S.table)
+    avx2_kernel::run_table_kernel(S, ctx, next, finish, exact);
+  else if (S.lanes == 8)
     avx512_kernel::run_kernel(S, ctx, next, finish, exact);
   else
     avx2_kernel::run_kernel(S, ctx, next, finish, exact);

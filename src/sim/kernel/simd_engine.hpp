@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "geometry/table_piece.hpp"
+#include "leak/leak_window.hpp"
 #include "sim/model/fate.hpp"
 
 namespace rotleak::simd {
@@ -16,7 +18,41 @@ inline constexpr int kMaxWindows = 3;
 /// Time windows of the f_c observer the kernel takes (more: the scalar engine runs).
 inline constexpr int kMaxDensityWindows = 8;
 
-/// Everything the kernel needs, in doubles, from a Model<double>.
+/// Pieces, loops and leaks a table the kernel runs may have (Table's and LeakList's own limits).
+inline constexpr int kKernelPieces = 32, kKernelLoops = 8, kKernelLeaks = 8;
+/// Stationary windows one leak may hold in all (up to six per piece: TableLeak::PieceWindows).
+inline constexpr int kKernelLeakWindows = 6 * kKernelPieces;
+
+/// A stationary leak's window on piece `piece` (TableLeak<double>'s, leak/leak_window.hpp).
+struct KernelWindow {
+  int piece;
+  LeakWindow<double> w;
+};
+
+/// One leak of a table (TableLeak<double>): the pieces of its loop, its schedule, its windows when stationary, and
+/// each piece's middle and reach (may_touch) when it moves.
+struct KernelLeak {
+  int first, count;
+  bool rotating;
+  double omega_hi, omega_lo, start, half_width;
+  int n_windows;
+  KernelWindow window[kKernelLeakWindows];
+  double mid[kKernelPieces], reach[kKernelPieces];
+};
+
+/// A table and its leaks (Table<double>, LeakList<double>) in plain numbers: what the kernel's table step reads.
+struct KernelTable {
+  int pieces, loops, leaks;
+  /// the pieces as Table<double> holds them (geometry/table_piece.hpp: plain numbers; the kernel calls only the
+  /// header's templates on its own packs, never a member function)
+  TablePiece<double> piece[kKernelPieces];
+  int loop_first[kKernelLoops], loop_count[kKernelLoops];  ///< each loop's pieces
+  double inv_length[kKernelLoops], loop_length[kKernelLoops], loop_offset[kKernelLoops];
+  double perimeter, slack, two_pi;
+  KernelLeak leak[kKernelLeaks];
+};
+
+/// Everything the kernel needs, in doubles, from a Model<double> (or a TableModel<double>: `table`).
 struct KernelScene {
   double r, half_d, t_max;
   double L, inv_L, r_over_L, L_over_r, pi;
@@ -62,6 +98,9 @@ struct KernelScene {
   bool keep_last = false;
   /// the kernel: 4 (AVX2) or 8 (AVX-512) lanes a register; lanes_available(lanes) must hold
   int lanes = 4;
+  /// Any other table, or several leaks: the table and leaks every lane runs (the stadium's fields above but t_max,
+  /// the f_c windows, bins and keep_last are then unused); null: the stadium.
+  const KernelTable* table = nullptr;
 };
 
 struct Start {
@@ -97,6 +136,7 @@ struct End {
   double t, qx, qy, vx, vy;
   double weight;  ///< Start::weight, travelling with the lane
   int piece;
+  int leak = 0;  ///< the leak it escaped through (a table's list; 0 on the stadium)
   std::uint64_t collisions;
 };
 

@@ -91,7 +91,7 @@ void take(const KernelScene& S, Pack& g, int k, void* ctx, NextParticle next) {
   L.w[k] = st.weight;
 }
 
-void fill(const KernelScene& S, Pack& g, void* ctx, NextParticle next) {
+[[gnu::always_inline]] inline void fill(const KernelScene& S, Pack& g, void* ctx, NextParticle next) {
   for (int k = 0; k < N; ++k) take(S, g, k, ctx, next);
   reload(g);
 }
@@ -349,10 +349,11 @@ inline V density_bin_of(const KernelScene& S, const HitLanes& h, const MV& count
   return formula::density_bin(s, bins);
 }
 
-inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count,
-                            void* ctx, const Exact& exact, DensityHit* buf, int& used) {
-  const V bins(static_cast<double>(S.bins)), ZERO(0.0);
-  const V bin = density_bin_of(S, h, count, ctx, exact), cell = time_cell(S, t);
+/// Books the lanes in `count` in f_c's bin `bin` of time cell `cell`: the thread's counts, or the buffer that
+/// exact.density() empties (a weighted run).
+inline void book_density(const KernelScene& S, const Pack& g, const V& bin, const V& cell, const MV& count, void* ctx,
+                         const Exact& exact, DensityHit* buf, int& used) {
+  const V bins(static_cast<double>(S.bins));
   const unsigned in = bits(count);
   if (exact.counts) {
     alignas(sizeof(B)) double index[N];
@@ -373,6 +374,11 @@ inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes&
     }
     buf[used++] = {static_cast<std::uint32_t>(cells[i]), static_cast<std::uint32_t>(bin_of[i]), g.L.w[i]};
   });
+}
+
+inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count,
+                            void* ctx, const Exact& exact, DensityHit* buf, int& used) {
+  book_density(S, g, density_bin_of(S, h, count, ctx, exact), time_cell(S, t), count, ctx, exact, buf, used);
 }
 
 /// Reports the lanes in `done` to finish() and refills them from next() (or parks them).

@@ -130,6 +130,7 @@ template <class F>
 inline MV both(const MV& m, const F& f) {
   return m & f();
 }
+inline bool none(const MV& m) { return bits(m) == 0; }
 inline V load(const double* p) {
   V r;
   each([&](int i) { r.b[i] = B::load_aligned(p + W * i); });

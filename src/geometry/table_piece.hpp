@@ -1,0 +1,138 @@
+// One piece of a billiard table rounded into a number type R (Table<R>, geometry/table.hpp), and what a flight does
+// there, written once for one number of any tier and for a pack of lanes (the vectorised kernel): the outward
+// crossing of the piece within its span (crossing), the axis a reflection there takes and the reflection
+// (reflection_axis, reflect_about), and the boundary coordinate s of a point of it (segment_point_s, arc_angle_args,
+// arc_point_s). T is the flight's number type: R itself, or a pack whose lanes share the piece's numbers (R = double).
+// Branches on lanes go through the selection hook (numeric/select.hpp); `none(m)` asks whether no lane (or the one
+// number) holds, so one number skips what a pack computes for all its lanes. Every expression is a formula of
+// geometry/table_formulas.hpp or geometry/formulas.hpp, so the stadium built as a table computes the stadium's bits.
+// Header-only, no container and no exact type: a device compiler can take it whole.
+#pragma once
+
+#include "geometry/formulas.hpp"
+#include "geometry/table_formulas.hpp"
+#include "geometry/vec2.hpp"
+#include "numeric/select.hpp"
+
+namespace rotleak {
+
+enum class PieceKind : int { segment = 0, arc = 1 };
+
+/// One piece rounded into R (the fields of its kind; the others stay 0).
+template <class R>
+struct TablePiece {
+  PieceKind kind = PieceKind::segment;
+  int loop = 0;
+  bool clockwise = true, full = false;
+  bool wide = false;    ///< arc: more than a half turn
+  bool along_x = true;  ///< segment: runs at least as much along x as along y (its span test is on x)
+  bool horizontal = false, vertical = false;  ///< segment: parallel to an axis (the hit keeps that coordinate)
+  R ax{0}, ay{0}, bx{0}, by{0};               ///< its ends
+  R ex{0}, ey{0};                             ///< segment: unit direction of travel (rounded from the exact one)
+  R lo{0}, hi{0};                             ///< segment: the span test's range (x or y of its ends, in order)
+  R rx{0}, ry{0}, s_ref{0};                   ///< segment: where s is s_ref (its start, or the loop's origin)
+  R cx{0}, cy{0}, rho{0}, inv_rho{0};         ///< arc
+  R fx{0}, fy{0};                             ///< arc: the direction of its start from the centre
+  R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};   ///< arc: its ends' directions in clockwise order (on_arc)
+  R span{0}, rho_over_L{0}, L_over_rho{0};
+  R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
+
+  /// Arc: the direction from the centre at angle a along the travel, f cos a + h sin a (h = f turned a quarter along
+  /// the travel), from cs = cos a and sn = sin a; and the unit tangent there, h cos a - f sin a.
+  Vec2<R> arc_direction(const R& cs, const R& sn) const {
+    const Vec2<R> h = turned();
+    return {fx * cs + h.x * sn, fy * cs + h.y * sn};
+  }
+  Vec2<R> arc_tangent(const R& cs, const R& sn) const {
+    const Vec2<R> h = turned();
+    return {h.x * cs - fx * sn, h.y * cs - fy * sn};
+  }
+
+ private:
+  Vec2<R> turned() const { return clockwise ? Vec2<R>{fy, R(-fx)} : Vec2<R>{R(-fy), fx}; }
+};
+
+/// A flight's crossing of one piece: its time, point, and the reflection's axis there (reflection_axis).
+template <class T>
+struct Crossing {
+  T t, x, y, wx, wy;
+};
+
+/// The axis a reflection at (x, y) on piece p takes (formula::reflect_factor's w): the segment's inward normal
+/// (e.y, -e.x) as rounded, the arc's radius vector.
+template <class T, class R>
+inline Vec2<T> reflection_axis(const TablePiece<R>& p, const T& x, const T& y) {
+  if (p.kind == PieceKind::segment) return {T(p.ey), T(-p.ex)};
+  return {formula::from_centre(x, T(p.cx)), formula::from_centre(y, T(p.cy))};
+}
+
+/// Specular reflection of v about the axis w (|v'| = |v| whatever |w| is).
+template <class T>
+inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
+  const T k = formula::reflect_factor(w.x, w.y, v.x, v.y);
+  return {formula::reflected(v.x, k, w.x), formula::reflected(v.y, k, w.y)};
+}
+
+/// Does the flight from q along unit v cross piece p outward within its span widened by tol? Where it does, c holds
+/// the crossing (the lanes that do not: junk). A segment is crossed where the flight meets its line going out
+/// (cross(v, e) < 0) at t >= 0; a focusing arc (the table inside its circle) where the flight leaves the circle, a
+/// dispersing one where it enters it (b < 0), on the arc's part of the circle. The discriminant comes before c's
+/// sign: from a point on the circle (c = 0 up to rounding: an interval tier cannot decide c's sign) it is clearly
+/// positive, and decides alone.
+template <class T, class R>
+[[gnu::always_inline]] inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy, const T& vx, const T& vy, const R& tol,
+                           Crossing<T>& c) {
+  using M = mask_of<T>;
+  const T zero(0);
+  if (p.kind == PieceKind::segment) {
+    const T den = formula::segment_den(vx, vy, p.ex, p.ey);
+    M ok = den < zero;  // outward
+    if (none(ok)) return ok;
+    c.t = formula::segment_num(qx, qy, p.ax, p.ay, p.ex, p.ey) / den;
+    ok = both(ok, [&] { return M(c.t >= zero); });
+    if (none(ok)) return ok;
+    c.x = p.vertical ? T(p.ax) : formula::along(qx, vx, c.t);
+    c.y = p.horizontal ? T(p.ay) : formula::along(qy, vy, c.t);
+    c.wx = T(p.ey), c.wy = T(-p.ex);
+    return both(ok, [&] { return formula::in_span(p.along_x ? c.x : c.y, p.lo, p.hi, tol); });
+  }
+  const T dx = formula::from_centre(qx, T(p.cx)), dy = formula::from_centre(qy, T(p.cy));
+  const T b = formula::arc_b(dx, dy, vx, vy), cc = formula::arc_c(dx, dy, T(p.rho));
+  M ok;
+  if (p.clockwise) {  // focusing: from outside the circle, and missing it, no crossing
+    ok = !both(M(b * b - cc < zero), [&] { return M(cc > zero); });
+    if (none(ok)) return ok;
+    c.t = formula::larger_root(b, cc, formula::arc_sq(b, cc));
+  } else {  // dispersing: approaching the circle, and meeting it
+    ok = both(M(b < zero), [&] { return M(!(b * b - cc < zero)); });
+    if (none(ok)) return ok;
+    c.t = formula::smaller_root(b, cc, formula::arc_sq(b, cc));
+  }
+  ok = both(ok, [&] { return M(c.t >= zero); });
+  if (none(ok)) return ok;
+  c.x = formula::along(qx, vx, c.t), c.y = formula::along(qy, vy, c.t);
+  c.wx = formula::from_centre(c.x, T(p.cx)), c.wy = formula::from_centre(c.y, T(p.cy));
+  if (p.full) return ok;
+  return both(ok, [&] { return formula::on_arc(c.wx, c.wy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)); });
+}
+
+/// s of a point of segment p (its loop's 1 / length inv_L), in [0, 1).
+template <class T, class R>
+inline T segment_point_s(const TablePiece<R>& p, const T& x, const T& y, const R& inv_L) {
+  return formula::segment_piece_s(x, y, p.rx, p.ry, p.ex, p.ey, p.s_ref, inv_L);
+}
+
+/// The arguments (y, x) of the atan2 that gives the angle of (x, y) along arc p from its start.
+template <class T, class R>
+inline Vec2<T> arc_angle_args(const TablePiece<R>& p, const T& x, const T& y) {
+  const T rx = formula::from_centre(x, T(p.cx)), ry = formula::from_centre(y, T(p.cy));
+  return {formula::arc_param_x(rx, ry, p.fx, p.fy), formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise)};
+}
+
+/// s in [0, 1) of the point of arc p at `angle` (atan2 of arc_angle_args) along it.
+template <class T, class R>
+inline T arc_point_s(const TablePiece<R>& p, const T& angle, const R& two_pi) {
+  return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi));
+}
+
+}  // namespace rotleak
