@@ -1,0 +1,60 @@
+"""The table scripts' CSV (docs/output.md, "Table scripts' CSV"), run small and read back with csv and pandas.
+
+scripts/table_engines.py must find every example table's files byte-identical between the scalar engine and the
+vectorised kernel (it exits 1 otherwise); scripts/table_rates.py must write one row per table and hole width with a
+positive small-hole rate. ROTLEAK_BINARY names the rotleak binary of the build (its folder is the scripts' BUILD).
+"""
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import pandas
+
+SOURCE = os.environ.get("ROTLEAK_SOURCE", os.path.join(os.path.dirname(__file__), "..", ".."))
+BUILD = os.path.dirname(os.environ["ROTLEAK_BINARY"])
+ENGINES = ["table", "lanes", "scalar_collisions_per_s", "simd_collisions_per_s", "ratio", "identical"]
+RATES = ["table", "width", "kappa0", "kappa", "kappa_err", "kappa_syst", "ratio", "ratio_err", "P_3T", "P_3T_err",
+         "particles", "collisions"]
+
+
+def script(name, *args):
+    return subprocess.run([sys.executable, os.path.join(SOURCE, "scripts", name), BUILD, *args], check=True,
+                          capture_output=True, text=True)
+
+
+class TableScripts(unittest.TestCase):
+    def test_engines_write_identical_files_on_every_table(self):
+        version = subprocess.run([os.path.join(BUILD, "rotleak"), "--version"], check=True, capture_output=True,
+                                 text=True).stdout
+        if "lanes" not in version:
+            self.skipTest("this CPU runs no vectorised kernel: " + version.strip())
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "engines.csv")
+            script("table_engines.py", out, "3000", "1")
+            with open(out, newline="") as f:
+                rows = list(csv.DictReader(f))
+            frame = pandas.read_csv(out)
+        tables = sorted(n[:-5] for n in os.listdir(os.path.join(SOURCE, "data", "scenes", "tables")))
+        self.assertEqual(list(frame.columns), ENGINES)
+        self.assertEqual(sorted(set(r["table"] for r in rows)), tables)
+        self.assertTrue(all(r["identical"] == "yes" for r in rows), rows)
+        self.assertTrue((frame["scalar_collisions_per_s"] > 0).all() and (frame["simd_collisions_per_s"] > 0).all())
+
+    def test_rates_write_a_row_per_table_and_width(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "rates.csv")
+            script("table_rates.py", out, "3000")
+            with open(out, newline="") as f:
+                rows = list(csv.DictReader(f))
+            frame = pandas.read_csv(out, dtype={"width": str})
+        self.assertEqual(list(frame.columns), RATES)
+        self.assertEqual(len(rows), 14)  # 7 tables, 2 widths
+        self.assertEqual(sorted(set(frame["width"])), ["0.01", "0.02"])
+        self.assertTrue((frame["kappa0"] > 0).all() and (frame["particles"] == 3000).all())
+
+
+if __name__ == "__main__":
+    unittest.main()
