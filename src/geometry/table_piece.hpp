@@ -80,8 +80,8 @@ inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
 /// sign: from a point on the circle (c = 0 up to rounding: an interval tier cannot decide c's sign) it is clearly
 /// positive, and decides alone.
 template <class T, class R>
-[[gnu::always_inline]] inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy, const T& vx, const T& vy, const R& tol,
-                           Crossing<T>& c) {
+[[gnu::always_inline]] inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy, const T& vx,
+                                                  const T& vy, const R& tol, Crossing<T>& c) {
   using M = mask_of<T>;
   const T zero(0);
   if (p.kind == PieceKind::segment) {
@@ -113,7 +113,8 @@ template <class T, class R>
   c.x = formula::along(qx, vx, c.t), c.y = formula::along(qy, vy, c.t);
   c.wx = formula::from_centre(c.x, T(p.cx)), c.wy = formula::from_centre(c.y, T(p.cy));
   if (p.full) return ok;
-  return both(ok, [&] { return formula::on_arc(c.wx, c.wy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)); });
+  return both(ok,
+              [&] { return formula::on_arc(c.wx, c.wy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)); });
 }
 
 /// s of a point of segment p (its loop's 1 / length inv_L), in [0, 1).
