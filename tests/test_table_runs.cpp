@@ -22,6 +22,18 @@ namespace {
 const char* kMushroom = "[table]\nkind = \"mushroom\"\nradius = \"1\"\nstem_width = \"1/2\"\nstem_height = \"1\"\n";
 const char* kTwoLeaks = "[[leaks]]\nwidth = \"0.02\"\nstart = \"0\"\n\n[[leaks]]\nwidth = \"0.02\"\nstart = \"1/2\"\n";
 
+/// Every standard table but the stadium, as a scene's [table].
+std::vector<std::string> other_tables() {
+  return {
+      "[table]\nkind = \"circle\"\nradius = \"1\"\n",
+      kMushroom,
+      "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
+      "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",
+      "[table]\nkind = \"lemon\"\nradius = \"1\"\ndistance = \"1\"\n",
+      "[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"1\"], [\"2\", \"1/3\"]]\n",
+  };
+}
+
 RunOptions threads(int n) {
   RunOptions o;
   o.threads = n;
@@ -37,15 +49,7 @@ std::uint64_t leak_total(const Tally& t, std::size_t leak) {
 }  // namespace
 
 TEST(TableScene, EveryStandardTableReadsAndWritesBack) {
-  const std::vector<std::string> tables = {
-      "[table]\nkind = \"circle\"\nradius = \"1\"\n",
-      kMushroom,
-      "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
-      "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",
-      "[table]\nkind = \"lemon\"\nradius = \"1\"\ndistance = \"1\"\n",
-      "[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"1\"], [\"2\", \"1/3\"]]\n",
-  };
-  for (const std::string& t : tables) {
+  for (const std::string& t : other_tables()) {
     const Scene s = parse_scene(t + kTwoLeaks);
     ASSERT_TRUE(s.table.has_value()) << t;
     EXPECT_TRUE(s.on_table());
@@ -208,15 +212,8 @@ TEST(TableRun, TheVectorisedEngineRunsEveryTableAsTheScalarOneBitForBit) {
   // every standard table with a stationary leak and a moving one (on the scatterer where there is one), f_c and
   // escape records, Birkhoff and flow starts: the kernel of every width this CPU runs against the scalar engine
   if (!simd::available()) GTEST_SKIP() << "this CPU has no AVX2: the vectorised engine does not run here";
-  const std::vector<std::string> tables = {
-      "[table]\nkind = \"circle\"\nradius = \"1\"\n",
-      kMushroom,
-      "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
-      "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",
-      "[table]\nkind = \"lemon\"\nradius = \"1\"\ndistance = \"1\"\n",
-      "[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"1\"], [\"2\", \"1/3\"]]\n",
-      "[table]\nkind = \"stadium\"\nd = \"2\"\nr = \"1\"\n",
-  };
+  std::vector<std::string> tables = other_tables();
+  tables.push_back("[table]\nkind = \"stadium\"\nd = \"2\"\nr = \"1\"\n");
   std::vector<int> widths = {4};
   if (simd::lanes_available(8)) widths.push_back(8);
   for (const std::string& t : tables) {
