@@ -32,7 +32,8 @@ void fit_curve(RunSummary& s) {
   }
   s.leak_times = leak_times(scene);
   try {
-    s.prediction = predict_tail(scene);
+    // the tail model counts the bouncing-ball orbits of starts uniform on the whole boundary, not of entries
+    if (scene.enter_through < 0) s.prediction = predict_tail(scene);
   } catch (const InputError&) {
     s.prediction.reset();  // a leak too wide for the model: no prediction, the run stands
   }

@@ -157,7 +157,8 @@ def main():
         end = min([p for p in sections.values() if p > start] + [len(example)])
         for name in names:
             keys += 1
-            if not re.search(r"^%s\s*=" % re.escape(name), example[start:end], re.M):
+            # a key that excludes one the example sets is shown commented out: "# key = value"
+            if not re.search(r"^(# )?%s\s*=" % re.escape(name), example[start:end], re.M):
                 bad.append("docs/scenes.md: the loader accepts %s.%s, the example does not show it" % (section, name))
     # [table]'s kinds and their parameters (src/geometry/table_spec.cpp's table_kinds), and [[leaks]]'s keys, in
     # the section of docs/scenes.md on tables

@@ -13,14 +13,11 @@ compared with `rotleak simulate` (all particles created at t = 0) at a few times
 
 Usage: scripts/circle_exact.py BUILD_DIR [PARTICLES (default 4000000)] [EPS (default 0.02)]
 """
-import csv
-import os
-import shutil
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
+
+from scene_runs import Scratch, markdown
 
 TIMES = (10.0, 50.0, 100.0, 200.0)
 
@@ -49,28 +46,19 @@ def main(argv):
     build = argv[1]
     particles = int(argv[2]) if len(argv) > 2 else 4000000
     eps = argv[3] if len(argv) > 3 else "0.02"
-    work = tempfile.mkdtemp(prefix="rotleak_circle_")
-    try:
-        scene = os.path.join(work, "circle.toml")
-        with open(scene, "w") as f:
-            f.write('[table]\nkind = "circle"\nradius = "1"\n[[leaks]]\nwidth = "%s"\n[run]\nt_max = %r\n'
-                    '[ensemble]\ncreation_window = 0.0\n[observe]\nsurvival_dt = 1.0\n' % (eps, max(TIMES)))
-        out = os.path.join(work, "run")
-        subprocess.run([os.path.join(build, "rotleak"), "simulate", scene, "--particles", str(particles),
-                        "--no-progress", "--out", out], check=True, stdout=subprocess.DEVNULL)
-        with open(os.path.join(out, "survival.csv"), newline="") as f:
-            rows = {float(r["t"]): r for r in csv.DictReader(f)}
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
-    print("| t | P exact (20000 / 40000 points in p) | P rotleak (%d particles) | (rotleak - exact) / error |" % particles)
-    print("|---|---|---|---|")
-    worst = 0.0
+    scene = ('[table]\nkind = "circle"\nradius = "1"\n[[leaks]]\nwidth = "%s"\n[run]\nt_max = %r\n'
+             '[ensemble]\ncreation_window = 0.0\n[observe]\nsurvival_dt = 1.0\n' % (eps, max(TIMES)))
+    with Scratch("rotleak_circle_") as work:
+        rows = {float(r["t"]): r for r in work.simulate(build, "circle", scene, particles)}
+    worst, lines = 0.0, []
     for t in TIMES:
         coarse, fine = exact_p(t, float(eps), 20000), exact_p(t, float(eps), 40000)
         p, err = float(rows[t]["P"]), float(rows[t]["P_err"])
         z = (p - fine) / err
         worst = max(worst, abs(z))
-        print("| %g | %.5f / %.5f | %.5f +- %.5f | %+.2f |" % (t, coarse, fine, p, err, z))
+        lines.append(["%g" % t, "%.5f / %.5f" % (coarse, fine), "%.5f +- %.5f" % (p, err), "%+.2f" % z])
+    markdown(["t", "P exact (20000 / 40000 points in p)", "P rotleak (%d particles)" % particles,
+              "(rotleak - exact) / error"], lines)
     return 0 if worst < 5 else 1
 
 

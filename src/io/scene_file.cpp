@@ -39,7 +39,8 @@ const std::map<std::string, std::set<std::string>> kSchema = {
     {"table", table_keys()},
     {"leak", {"width", "start", "omega"}},
     {"ensemble",
-     {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p", "sampling_ride"}},
+     {"particles", "seed", "init", "creation_window", "sampling", "sampling_eps", "sampling_p", "sampling_ride",
+      "enter_through"}},
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
@@ -315,6 +316,31 @@ void read_sampling(const Reader& in, Scene& s) {
                      "edges; flow starts have none), or 0");
 }
 
+/// ensemble.enter_through: particles that enter through one stationary leak (uniform Birkhoff starts in its window).
+void read_entry(const Reader& in, Scene& s) {
+  const toml::node* n = in.find("ensemble", "enter_through");
+  if (!n) return;
+  const std::size_t count = leak_count(s);
+  const std::uint64_t j =
+      in.count("ensemble", "enter_through", 0, 0,
+               "must be a leak's place in the list, an integer in [0, " + std::to_string(count - 1) + "]");
+  if (j >= count)
+    throw InputError("ensemble.enter_through", shown(*n),
+                     "must be a leak's place in the list, an integer in [0, " + std::to_string(count - 1) + "]");
+  if (s.init == InitKind::flow)
+    throw InputError("ensemble.enter_through", shown(*n),
+                     "applies to ensemble.init = \"birkhoff\" only (an entering particle starts on the hole with "
+                     "the Birkhoff measure restricted to it)");
+  if (s.sampling.weighted())
+    throw InputError("ensemble.enter_through", shown(*n),
+                     "needs ensemble.sampling = \"uniform\" (the mupo draws cover the whole boundary)");
+  const ExactReal& omega = s.leaks.empty() ? s.omega : s.leaks[j].omega.value;
+  if (omega.sign() != 0)
+    throw InputError("ensemble.enter_through", shown(*n),
+                     "needs a stationary leak (omega = 0): leak " + std::to_string(j) + " moves");
+  s.enter_through = static_cast<int>(j);
+}
+
 /// The run's tier, fast-forward and checkpoint period.
 void read_run_options(const Reader& in, Scene& s) {
   if (const toml::node* n = in.find("run", "tier")) {
@@ -422,6 +448,7 @@ Scene build(const toml::table& root, const std::string& source) {
   read_ensemble(in, s);
   check_collisions_per_particle(s, in.find("run", "t_max") != nullptr);
   read_sampling(in, s);
+  read_entry(in, s);
   read_run_options(in, s);
   read_splitting(in, s);
   read_observe(in, s);

@@ -39,6 +39,7 @@ json scene_json(const Scene& s) {
     j["ensemble"]["sampling_p"] = {s.sampling.p_min, s.sampling.p_max};
     if (s.sampling.ride > 0) j["ensemble"]["sampling_ride"] = s.sampling.ride;  // 0: the inputs as before
   }
+  if (s.enter_through >= 0) j["ensemble"]["enter_through"] = s.enter_through;  // absent: the inputs as before
   j["run"] = {{"t_max", s.t_max},
               {"tier", to_string(s.tier)},
               {"fast_forward", s.fast_forward},

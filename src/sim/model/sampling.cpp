@@ -6,6 +6,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "leak/leak.hpp"
+#include "leak/table_leak.hpp"
+
 namespace rotleak {
 
 namespace {
@@ -22,6 +25,36 @@ class UniformSampler final : public Sampler {
 
  private:
   InitialConditions ic_;
+};
+
+/// Particles that enter through one stationary leak: the Birkhoff measure restricted to the hole, s uniform in the
+/// leak's window (centre + width (u - 1/2), u the uniform draw's s) and p uniform in (-1, 1): the flux of a
+/// uniform gas outside it. Every particle weighs 1; its creation time is the uniform scheme's.
+class EntrySampler final : public Sampler {
+ public:
+  explicit EntrySampler(const Scene& scene) : ic_(initial_conditions(scene)) {
+    const LeakSpec spec = leak_specs(scene).at(static_cast<std::size_t>(scene.enter_through));
+    loop_ = spec.loop;
+    centre_ = LeakSchedule<double>(spec.start, spec.omega).start();
+    width_ = round_exact<double>(spec.width);
+    if (scene.table) table_ = std::make_shared<const Table<double>>(table_spec(scene));
+  }
+  InitialDraw draw(std::uint64_t id) const override {
+    InitialDraw d = ic_.draw(id);
+    double s = centre_ + width_ * (d.s - 0.5);
+    if (s < 0) s += 1;
+    if (s >= 1) s -= 1;
+    d.s = table_ ? table_->boundary_share(loop_, s) : s;  // a share of the whole boundary, as initial_state reads it
+    return d;
+  }
+  double weight(const InitialDraw&) const override { return 1; }
+  bool weighted() const override { return false; }
+
+ private:
+  InitialConditions ic_;
+  int loop_ = 0;
+  double centre_ = 0, width_ = 0;
+  std::shared_ptr<const Table<double>> table_;  ///< any table's loops (null: the stadium's one)
 };
 
 /// What both MUPO schemes share: the mixture, the log-uniform magnitude, the Philox words.
@@ -198,12 +231,14 @@ std::vector<RidingBand> riding_bands(const Scene& scene) {
 }
 
 std::unique_ptr<Sampler> make_sampler(const Scene& scene, const Stadium<double>& st) {
+  if (scene.enter_through >= 0) return std::make_unique<EntrySampler>(scene);
   if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);
   if (scene.init == InitKind::flow) return std::make_unique<MupoFlow>(scene, st);
   return std::make_unique<MupoBirkhoff>(scene, st);
 }
 
 std::unique_ptr<Sampler> make_sampler(const Scene& scene) {
+  if (scene.enter_through >= 0) return std::make_unique<EntrySampler>(scene);
   if (!scene.sampling.weighted()) return std::make_unique<UniformSampler>(scene);
   return make_sampler(scene, Stadium<double>(scene.d, scene.r));
 }

@@ -95,6 +95,9 @@ struct Scene {
   InitKind init = InitKind::birkhoff;
   double creation_window = 4;  ///< particles are created at times uniform in [0, creation_window]
   SamplingSpec sampling;
+  /// Particles enter through this leak (its place in the list, from 0): Birkhoff starts uniform in the stationary
+  /// leak's window and in p, the flux of a uniform gas outside the hole (-1: starts on the whole boundary).
+  int enter_through = -1;
 
   double t_max = 20000;
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
