@@ -20,7 +20,7 @@ q=(--no-progress)
   --set run.splitting=true --set run.t_max=3000 --out "$work/out/split" "${q[@]}" >/dev/null
 "$bin" scan "$scene" --over leak.omega=0,1,2/3 --set ensemble.particles=5000 --out "$work/out/scan" "${q[@]}" >/dev/null
 # any table with two leaks (summary.json's table and leaks, leaks.csv, fc by the boundary's share), and a scan of one
-"$bin" simulate "$here/../data/scenes/tables/sinai.toml" --particles 5000 --set run.t_max=2000 \
+"$bin" simulate "$here/../data/scenes/tables/sinai.toml" --particles 5000 --set run.t_max=2000 --set observe.escapes=true \
   --set "observe.collision_density={ bins = 50 }" --out "$work/out/table" "${q[@]}" >/dev/null
 "$bin" scan "$here/../data/scenes/tables/mushroom.toml" --over leak.width=0.01,0.02 --set ensemble.particles=2000 \
   --set run.t_max=1000 --out "$work/out/table_scan" "${q[@]}" >/dev/null

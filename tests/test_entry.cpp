@@ -7,9 +7,11 @@
 #include <cmath>
 #include <numeric>
 
+#include "analysis/output/run_output.hpp"
 #include "geometry/table.hpp"
 #include "geometry/table_spec.hpp"
 #include "io/scene_file.hpp"
+#include "io/tally_file.hpp"
 #include "leak/leak.hpp"
 #include "scene_error.hpp"
 #include "sim/engine/engine.hpp"
@@ -137,4 +139,31 @@ TEST(Entry, TransmissionIsReciprocalAndReflectionsDiffer) {
   const auto [chi2_r, dof_r] = two_sample_chi2(through(ra.tally, 0), through(rb.tally, 1));
   EXPECT_GT(chi2_r, dof_r + 10 * std::sqrt(2.0 * dof_r))
       << "reflections at A and B: chi2 " << chi2_r << ", dof " << dof_r;
+}
+
+TEST(Entry, EscapeRecordsNameTheirLeakOnEveryEngineAndInTheTallyFile) {
+  // entries through A of the two-hole stadium with escape records: each escaped record's leak agrees with the
+  // per-leak tallies (as many records name leak j as leak j's escapes), on the scalar engine and the vectorised
+  // one alike (the same bytes of escapes.csv, now with its leak column), and a tally file keeps the leaks; a fate
+  // word naming a leak the run does not have is refused.
+  Scene s = parse_scene(kTwoHoles, {"ensemble.enter_through=0", "ensemble.particles=20000", "observe.escapes=true"});
+  RunOptions scalar;
+  scalar.engine = Engine::scalar;
+  const RunResult a = run_ensemble(s, scalar), b = run_ensemble(s, RunOptions{});
+  std::uint64_t named[2] = {0, 0};
+  for (const EscapeRecord& e : a.records)
+    if (e.fate == Fate::escaped) ++named[e.leak];
+  EXPECT_EQ(named[0], a.tally.leak_escaped(0));
+  EXPECT_EQ(named[1], a.tally.leak_escaped(1));
+  EXPECT_GT(named[0], 1000u);
+  EXPECT_GT(named[1], 1000u);
+  const std::string csv = escapes_csv(0, a.records, true);
+  EXPECT_EQ(csv.rfind("id,fate,t,s,collisions,leak\n", 0), 0u);
+  EXPECT_EQ(csv, escapes_csv(0, b.records, true));
+  TallyFile f{simulation_inputs(s, "scalar"), s.particles, 0, s.particles, a.done, a.tally, a.records};
+  const std::string bytes = encode_tally_file(f);
+  const TallyFile back = decode_tally_file(bytes, "mem");
+  EXPECT_EQ(escapes_csv(0, back.records, true), csv);
+  f.records[0].leak = 2;  // the run has leaks 0 and 1
+  EXPECT_THROW(decode_tally_file(encode_tally_file(f), "mem"), std::runtime_error);
 }

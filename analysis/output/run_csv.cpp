@@ -165,13 +165,16 @@ std::string density_csv(const Scene& scene, const Tally& tally) {
   return out;
 }
 
-std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records) {
-  std::string out = "id,fate,t,s,collisions\n";
+std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records, bool leak_column) {
+  std::string out = leak_column ? "id,fate,t,s,collisions,leak\n" : "id,fate,t,s,collisions\n";
   static const char* names[] = {"escaped", "survived", "stuck"};
   for (std::size_t i = 0; i < records.size(); ++i) {
     const EscapeRecord& r = records[i];
+    const bool escaped = r.fate == Fate::escaped;
     out += std::to_string(first_id + i) + ',' + names[static_cast<int>(r.fate)] + ',' + shortest(r.t) + ',' +
-           (r.fate == Fate::escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions) + '\n';
+           (escaped ? shortest(r.s) : std::string()) + ',' + std::to_string(r.collisions);
+    if (leak_column) out += ',' + (escaped ? std::to_string(r.leak) : std::string());
+    out += '\n';
   }
   return out;
 }

@@ -422,7 +422,9 @@ RunTexts run_texts(const RunSummary& r, const std::vector<std::string>& written)
   out.files.emplace_back("survival.csv", survival_csv(r.curve));
   if (r.curve.lines) out.files.emplace_back("lines.csv", lines_csv(r.curve));
   if (r.scene.collision_density) out.files.emplace_back("fc.csv", density_csv(r.scene, r.result.tally));
-  if (r.scene.escape_records) out.files.emplace_back("escapes.csv", escapes_csv(r.result.first_id, r.result.records));
+  if (r.scene.escape_records)
+    out.files.emplace_back("escapes.csv",
+                           escapes_csv(r.result.first_id, r.result.records, !r.result.tally.escapes_by_leak.empty()));
   if (!r.result.tally.escapes_by_leak.empty()) out.files.emplace_back("leaks.csv", leaks_csv(r.scene, r.result.tally));
   out.files.emplace_back("scene.toml", scene_to_toml(r.scene));
   std::vector<std::string> names;

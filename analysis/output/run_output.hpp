@@ -20,8 +20,8 @@ namespace rotleak {
 std::string survival_csv(const SurvivalCurve& curve);
 /// fc.csv: s (bin centre), then per window the normalised density and the raw count.
 std::string density_csv(const Scene& scene, const Tally& tally);
-/// escapes.csv: id,fate,t,s,collisions.
-std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records);
+/// escapes.csv: id,fate,t,s,collisions, and with `leak_column` (a scene of several leaks) the escape's leak.
+std::string escapes_csv(std::uint64_t first_id, const std::vector<EscapeRecord>& records, bool leak_column = false);
 /// leaks.csv of a scene with several leaks: each survival bin's [t_from, t_to) and its escapes through each leak.
 std::string leaks_csv(const Scene& scene, const Tally& tally);
 

@@ -286,8 +286,9 @@ class Run:
 
     @property
     def escapes(self) -> Optional[pandas.DataFrame]:
-        """id, fate (escaped, survived, stuck), t, s, collisions: one row per particle."""
-        return self._table("escapes.csv", dtype={"fate": str})
+        """id, fate (escaped, survived, stuck), t, s, collisions, and with several leaks leak (the escape's leak, an
+        integer column with <NA> where none took the particle): one row per particle."""
+        return self._table("escapes.csv", dtype={"fate": str, "leak": "Int64"})
 
     @property
     def leaks(self) -> Optional[pandas.DataFrame]:

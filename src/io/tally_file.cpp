@@ -13,6 +13,8 @@ namespace rotleak {
 namespace {
 
 constexpr const char* kMagic = "rotleak-tallies 4\n";
+/// An escape record's last word: its fate + kLeakShift x its leak.
+constexpr std::uint64_t kLeakShift = 256;
 
 /// The file's checksum: FNV-1a started from 1469598103934665603 (not FNV's offset basis; the format has
 /// always carried this start, and docs/output.md and the readers use it).
@@ -111,7 +113,7 @@ std::string encode_tally_file(const TallyFile& f) {
     w.real(r.t);
     w.real(r.s);
     w.word(r.collisions);
-    w.word(static_cast<std::uint64_t>(r.fate));
+    w.word(static_cast<std::uint64_t>(r.fate) + kLeakShift * static_cast<std::uint64_t>(r.leak));
   }
   return sealed_tally_bytes(std::move(w.out));
 }
@@ -257,11 +259,18 @@ TallyFile decode_tally_file(const std::string& in, const std::string& where) {
   t.stuck = r.word();
   if (t.weighted()) read_weighted(r, t);
   if (auto* e = t.get_if<LinesEstimator>()) read_lines(r, *e, t.escapes_per_bin.size(), in.size(), where);
+  const std::uint64_t leaks = t.escapes_by_leak.empty() ? 1 : t.escapes_by_leak.size() / t.escapes_per_bin.size();
   for (EscapeRecord& e : f.records) {
     e.t = r.real();
     e.s = r.real();
     e.collisions = r.word();
-    e.fate = static_cast<Fate>(r.word());
+    const std::uint64_t word = r.word(), fate = word % kLeakShift, leak = word / kLeakShift;
+    if (fate > static_cast<std::uint64_t>(Fate::stuck) || leak >= leaks)
+      throw std::runtime_error(where + ": an escape record's fate word " + std::to_string(word) +
+                               " is not a fate (0 escaped, 1 survived, 2 stuck) + 256 x a leak below " +
+                               std::to_string(leaks));
+    e.fate = static_cast<Fate>(fate);
+    e.leak = static_cast<int>(leak);
   }
   if (r.at + 8 != in.size()) throw std::runtime_error(where + ": tally file has trailing data");
   return f;

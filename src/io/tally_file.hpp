@@ -5,7 +5,8 @@
 // Layout: the line "rotleak-tallies 4" (4: a split run's sums of Y w0 added), the header's length in bytes and a
 // newline, the header (JSON: the run's inputs as text, its ids, block size, the blocks done, the array sizes; a
 // checkpoint's also the seconds spent so far), then the arrays as little-endian 64-bit words (counts; each exact sum as
-// its lowest limb's index, its limb count and its limbs; escape records), then an FNV-1a 64 checksum of everything
+// its lowest limb's index, its limb count and its limbs; escape records: t, s, collisions and the word
+// fate + 256 leak), then an FNV-1a 64 checksum of everything
 // before it. The counts are integers and the sums fixed-point integers, so a tally read back merges to the same bits as
 // the one written.
 #pragma once

@@ -197,7 +197,7 @@ class Worker {
   /// A particle's end into the thread's tallies (and its escape record); its weight came with it from its start.
   void record(std::uint64_t i, const ParticleEnd& end) {
     local.add_end(end.fate, end.t, end.collisions, end.weight, s_.scene.survival_dt, end.leak);
-    if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate};
+    if (s_.scene.escape_records) records_[i] = {end.t, end.s, end.collisions, end.fate, end.leak};
   }
 
   /// The kernel's context for particles [lo, hi) of `model`, f_c wired to the thread's tallies.

@@ -19,6 +19,7 @@ struct EscapeRecord {
   double s = 0;  ///< boundary coordinate of the escape collision
   std::uint64_t collisions = 0;
   Fate fate = Fate::survived;
+  int leak = 0;  ///< escaped: the leak that took it (its place in the scene's list; 0 for one leak)
 };
 
 /// Integer counts and exact fixed-point sums; merge() is exact and order-independent.
