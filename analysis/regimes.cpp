@@ -143,7 +143,7 @@ void undecided_if_unswept(const Scene& scene, const SurvivalCurve& c, std::size_
 }
 
 void tail_fate(const Scene& scene, const SurvivalCurve& c, double tc, double min_eff, double steep, TailClass& k) {
-  const bool rotating = scene.omega.sign() != 0;
+  const bool rotating = any_leak_moves(scene);  // any listed leak, not only [leak]'s
   const TailEnd end = tail_end_of(c, tc, min_eff);
   const std::size_t e = end.e, a = end.a, zero = end.zero;
   const double z = end.z;
@@ -287,7 +287,7 @@ TailClass tail_from_amplitude(const Scene& scene, const SurvivalCurve& c, const 
 
 TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const AlphaResult& alpha,
                                const KappaFit* fit, const TailAmplitude* amplitude) {
-  const bool rotating = scene.omega.sign() != 0;
+  const bool rotating = any_leak_moves(scene);  // any listed leak, not only [leak]'s
   // near a rational other than an integer: a tail that forms and dies is looked for more closely
   std::optional<NearRational> near = rotating ? near_rational(scene) : std::nullopt;
   if (near && near->q < 2) near.reset();
@@ -328,7 +328,8 @@ TailClass classify_tail_from_P(const Scene& scene, const SurvivalCurve& c, const
 }  // namespace
 
 std::optional<NearRational> near_rational(const Scene& scene) {
-  if (scene.omega.sign() == 0) return std::nullopt;
+  // 2 r omega is the stadium's one leak's theory (docs/tables.md): none for a list of leaks or another table
+  if (scene.on_table() || scene.omega.sign() == 0) return std::nullopt;
   const ExactReal x = ExactReal::parse("2") * scene.r * scene.omega;
   const BestApproximations best = best_approximations(x, mpz_class(kNearRationalQ));
   if (best.list.empty()) return std::nullopt;

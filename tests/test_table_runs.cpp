@@ -7,6 +7,7 @@
 #include <memory>
 #include <numeric>
 
+#include "analysis/run_summary.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "resume.hpp"
@@ -315,4 +316,18 @@ TEST(TableRun, StoppedAtACheckpointAndResumedThroughItsFileIsTheWholeRun) {
   EXPECT_EQ(resumed.tally.collisions, whole.tally.collisions);
   EXPECT_GT(leak_total(whole.tally, 1), 0u);  // the disc's leak takes particles
   for (std::size_t i = 0; i < whole.records.size(); ++i) ASSERT_EQ(resumed.records[i].t, whole.records[i].t) << i;
+}
+
+TEST(TableRun, TheRegimeSeesAListedLeakMove) {
+  // a list of leaks keeps [leak]'s omega at 0: the regime once read that alone and called a run whose second leak
+  // turns at omega = 2/3 "stationary"; and a scan's omega_value is the one leak's omega, none for several
+  const std::string moving = "[[leaks]]\nwidth = \"0.02\"\n\n[[leaks]]\nwidth = \"0.02\"\nomega = \"2/3\"\n";
+  const std::vector<std::string> small = {"ensemble.particles=2000", "run.t_max=400.0"};
+  const RunSummary turning = summarise(parse_scene(moving, small), run_ensemble(parse_scene(moving, small), {}));
+  EXPECT_NE(turning.tail_class.regime, "stationary");
+  const Scene still = parse_scene(kTwoLeaks, small);
+  EXPECT_EQ(summarise(still, run_ensemble(still, {})).tail_class.regime, "stationary");
+  EXPECT_FALSE(any_leak_moves(still));
+  EXPECT_TRUE(any_leak_moves(parse_scene(moving)));
+  EXPECT_TRUE(any_leak_moves(parse_scene("", {"leak.omega=1/3"})));
 }

@@ -134,7 +134,8 @@ json omega_number_theory(const Scene& scene) {
   json out;
   if (scene.on_table()) {  // 2 r omega and the covering are the stadium's theory (docs/tables.md): empty columns
     out["cf_2r_omega"] = "";
-    out["omega_value"] = scene.omega.to_double();
+    const std::vector<LeakSpec> leaks = leak_specs(scene);  // one leak's omega; none for several
+    out["omega_value"] = leaks.size() == 1 ? json(leaks[0].omega.to_double()) : json(nullptr);
     out["covering_zero_measure"] = nullptr;
     out["covering_max_zero_gap"] = nullptr;
     return out;

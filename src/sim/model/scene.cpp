@@ -37,6 +37,12 @@ std::vector<LeakSpec> leak_specs(const Scene& scene) {
   return out;
 }
 
+bool any_leak_moves(const Scene& scene) {
+  for (const LeakSpec& l : leak_specs(scene))
+    if (l.omega.sign() != 0) return true;
+  return false;
+}
+
 double small_hole_rate(const Scene& scene) {
   if (scene.on_table()) {
     const TableSpec t = table_spec(scene);

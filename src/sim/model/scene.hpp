@@ -142,6 +142,8 @@ TableSpec table_spec(const Scene& scene);
 std::vector<LeakSpec> leak_specs(const Scene& scene);
 /// How many leaks the scene has.
 inline std::size_t leak_count(const Scene& scene) { return scene.leaks.empty() ? 1 : scene.leaks.size(); }
+/// Whether any of the scene's leaks moves (omega != 0): the one leak's omega, or any listed leak's.
+bool any_leak_moves(const Scene& scene);
 
 /// The small-hole escape rate of the chaotic sea, lambda L / (pi Area): the share lambda of collisions that land in
 /// the leak, one collision per mean free path pi Area / L (0.004583 for d = 2, r = 1, lambda = 0.01). On any table
