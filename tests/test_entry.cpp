@@ -166,4 +166,20 @@ TEST(Entry, EscapeRecordsNameTheirLeakOnEveryEngineAndInTheTallyFile) {
   EXPECT_EQ(escapes_csv(0, back.records, true), csv);
   f.records[0].leak = 2;  // the run has leaks 0 and 1
   EXPECT_THROW(decode_tally_file(encode_tally_file(f), "mem"), std::runtime_error);
+  // a header of leak bins but no survival bins, behind a valid checksum, is refused and not divided by (the header
+  // and its length prefix edited as in TallyFile.RoundTripsBitForBitAndRefusesDamage)
+  const std::string body = bytes.substr(0, bytes.size() - 8);
+  const std::size_t magic = body.find('\n') + 1, nl = body.find('\n', magic);
+  std::string header = body.substr(nl + 1, std::stoull(body.substr(magic, nl - magic)));
+  const std::string rest = body.substr(nl + 1 + header.size());
+  const std::size_t at = header.find("\"survival_bins\":");
+  ASSERT_NE(at, std::string::npos);
+  header.replace(at, 16, "\"survival_bins\":0,\"x\":");
+  const std::string edited = body.substr(0, magic) + std::to_string(header.size()) + "\n" + header + rest;
+  try {
+    decode_tally_file(sealed_tally_bytes(edited), "mem");
+    ADD_FAILURE() << "accepted leak bins without survival bins";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("leak_bins"), std::string::npos) << e.what();
+  }
 }

@@ -320,13 +320,11 @@ void read_sampling(const Reader& in, Scene& s) {
 void read_entry(const Reader& in, Scene& s) {
   const toml::node* n = in.find("ensemble", "enter_through");
   if (!n) return;
-  const std::size_t count = leak_count(s);
-  const std::uint64_t j =
-      in.count("ensemble", "enter_through", 0, 0,
-               "must be a leak's place in the list, an integer in [0, " + std::to_string(count - 1) + "]");
-  if (j >= count)
-    throw InputError("ensemble.enter_through", shown(*n),
-                     "must be a leak's place in the list, an integer in [0, " + std::to_string(count - 1) + "]");
+  const std::vector<LeakSpec> leaks = leak_specs(s);
+  const std::string allowed =
+      "must be a leak's place in the list, an integer in [0, " + std::to_string(leaks.size() - 1) + "]";
+  const std::uint64_t j = in.count("ensemble", "enter_through", 0, 0, allowed);
+  if (j >= leaks.size()) throw InputError("ensemble.enter_through", shown(*n), allowed);
   if (s.init == InitKind::flow)
     throw InputError("ensemble.enter_through", shown(*n),
                      "applies to ensemble.init = \"birkhoff\" only (an entering particle starts on the hole with "
@@ -334,8 +332,7 @@ void read_entry(const Reader& in, Scene& s) {
   if (s.sampling.weighted())
     throw InputError("ensemble.enter_through", shown(*n),
                      "needs ensemble.sampling = \"uniform\" (the mupo draws cover the whole boundary)");
-  const ExactReal& omega = s.leaks.empty() ? s.omega : s.leaks[j].omega.value;
-  if (omega.sign() != 0)
+  if (leaks[j].omega.sign() != 0)
     throw InputError("ensemble.enter_through", shown(*n),
                      "needs a stationary leak (omega = 0): leak " + std::to_string(j) + " moves");
   s.enter_through = static_cast<int>(j);

@@ -165,7 +165,8 @@ void read_header(const json& h, std::size_t size, std::size_t nl, TallyFile& f) 
   f.tally.escapes_per_bin.assign(survival_bins, 0);
   f.tally.collision_density.assign(density_bins, 0);
   const std::uint64_t leak_bins = h.contains("leak_bins") ? count(h.at("leak_bins"), "leak_bins") : 0;
-  if (leak_bins > room || (leak_bins % std::max<std::uint64_t>(survival_bins, 1)) != 0)
+  // leak bins come as whole rows of survival bins: none without survival bins (the records' leaks divide by them)
+  if (leak_bins > room || (leak_bins != 0 && (survival_bins == 0 || leak_bins % survival_bins != 0)))
     throw std::runtime_error("leak_bins " + std::to_string(leak_bins) + " is not a number of leaks times " +
                              std::to_string(survival_bins) + " bins within the file");
   f.tally.escapes_by_leak.assign(leak_bins, 0);
