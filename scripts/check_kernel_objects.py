@@ -12,9 +12,9 @@ Second, the kernel's hot loop must be one function: GCC 12 once left the pack's 
 next_hit and the leak tests as calls inside it (a call passes its packs through memory), and whether it did
 changed with any function added elsewhere in the file. step and flights_kernel are [[gnu::flatten]], and
 run_kernel's ordinary step is inlined into it; run_kernel, flights_kernel and the step instantiations may
-call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and the callbacks. The same
-for the step on other tables: run_table_kernel and table_step (flattened) call no function of the kernel's own but
-a table_step (libm's atan2 and the callbacks are not the kernel's).
+call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and libm (the core's own
+atan2 near an edge). The same for the step on other tables: run_table_kernel and table_step (flattened) call no
+function of the kernel's own but a table_step (libm's atan2 is not the kernel's).
 
 usage: check_kernel_objects.py OBJECT...   (exit 1, naming each weak symbol or call left, when any is found)
        check_kernel_objects.py --selftest  (the call finder on a canned disassembly, which it must flag)

@@ -21,12 +21,6 @@ using test::Size;
 
 namespace {
 
-/// The core's own s of an arc point, as the kernel asks it (simd::Exact::s_of), with the stadium as ctx.
-double core_s(void* ctx, int piece, double x, double y) {
-  return static_cast<const Stadium<double>*>(ctx)->s_of(static_cast<Piece>(piece), {x, y});
-}
-void no_density(void*, const simd::DensityHit*, int) {}
-
 /// Points on the boundary around s: the point at() places there and its neighbours a few ulps away (in x
 /// on a straight edge, in x and y on an arc), each at time t.
 void points_near(const Stadium<double>& st, double s, double t, std::vector<simd::Probe>& out) {
@@ -84,14 +78,13 @@ void decides_as_the_core(const Size& z, const std::string& omega, double omega_d
     near_bin_edge += std::abs(sb - std::nearbyint(sb)) < 1e-12;
   }
   EXPECT_GT(near_bin_edge, static_cast<std::size_t>(kBins));  // the probe does look at the edges
-  const simd::Exact exact{core_s, no_density};
   for (int lanes : test::kernel_widths()) {
     simd::KernelScene ks = simd_scene(model);
     ks.lanes = lanes;
     ks.bins = kBins;
     EXPECT_EQ(ks.phase_bound > 0, rough) << "omega = " << omega << ": phase bound " << ks.phase_bound;
     std::vector<simd::ProbeResult> got(points.size());
-    simd::probe(ks, points.data(), got.data(), points.size(), const_cast<Stadium<double>*>(&st), exact);
+    simd::probe(ks, points.data(), got.data(), points.size());
     std::size_t bins_differ = 0, leak_differs = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
       const simd::Probe& p = points[i];

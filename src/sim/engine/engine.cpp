@@ -160,9 +160,8 @@ class Worker {
       if constexpr (std::is_same_v<R, double>) {
         SimdContext ctx = context(s_.model, lo, hi, local.weighted(),
                                   [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); });
-        simd::Exact exact = kSimdExact;
-        if (!cell_counts_.empty() && !local.weighted()) exact.counts = cell_counts_.data();
-        simd::run(s_.kernel, &ctx, simd_next, simd_finish, exact);
+        ctx.kernel_counts = !cell_counts_.empty() && !local.weighted();
+        simd_run(s_.kernel, ctx);
       }
     } else if (s_.table) {
       auto rec = [this](std::uint64_t i, const ParticleEnd& e) { record(i, e); };
@@ -240,7 +239,7 @@ class Worker {
         SimdContext ctx =
             context(epoch, 0, members.size(), true, [&ends](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; });
         ctx.members = &starts_;
-        simd::run(ks, &ctx, simd_next, simd_finish, kSimdExact);
+        simd_run(ks, ctx);
       } else {
         for (std::size_t i = 0; i < members.size(); ++i) {
           Flight<double> f{members[i].ps, {}, 0};

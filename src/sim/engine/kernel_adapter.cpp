@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "leak/leak_formulas.hpp"
 
@@ -149,54 +150,102 @@ void set_density_windows(simd::KernelScene& s, int n, const double* from, const 
 
 namespace {
 
-double simd_s_of(void* c, int piece, double x, double y) {
-  return static_cast<SimdContext*>(c)->model->stadium.s_of(static_cast<Piece>(piece), {x, y});
-}
-
-void simd_density_hits(void* c, const simd::DensityHit* hits, int n) {
-  auto* ctx = static_cast<SimdContext*>(c);
-  const std::uint32_t bins = static_cast<std::uint32_t>(ctx->cells->bins);
-  for (int i = 0; i < n; ++i) {
+/// f_c's counted collisions of a weighted run (or a split run's epoch) into the context's counts and sums.
+void density_hits(SimdContext& ctx, const simd::DensityHit* hits, std::size_t n) {
+  const std::uint32_t bins = static_cast<std::uint32_t>(ctx.cells->bins);
+  for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t cell = hits[i].cell;
-    if (!ctx->cells->windows[cell]) continue;  // a gap between windows
+    if (!ctx.cells->windows[cell]) continue;  // a gap between windows
     const std::uint32_t k = cell * bins + hits[i].bin;
-    ++ctx->density[k];
-    if (ctx->density_w) ctx->density_w[k].add(hits[i].weight);
+    ++ctx.density[k];
+    if (ctx.density_w) ctx.density_w[k].add(hits[i].weight);
   }
 }
+
+/// The next starts into `starts`: the fast-forward's returns first, then (while fewer than kStartBatch wait) the
+/// next kStartBatch of the context's members or draws. Start::id is the particle's index in [0, hi).
+void more_starts(SimdContext& ctx, std::vector<simd::Start>& starts) {
+  starts.insert(starts.end(), ctx.resume.rbegin(), ctx.resume.rend());
+  ctx.resume.clear();
+  if (starts.size() >= kStartBatch || ctx.next >= ctx.hi) return;
+  const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, ctx.hi - ctx.next));
+  const std::size_t at = starts.size();
+  starts.resize(at + n);
+  simd::Start* out = starts.data() + at;
+  if (ctx.members) {
+    std::copy_n(ctx.members->begin() + static_cast<std::ptrdiff_t>(ctx.next), n, out);
+  } else if (ctx.table) {  // a table's starts: the scalar core's initial_state, one by one
+    for (std::size_t i = 0; i < n; ++i) {
+      const InitialDraw d = ctx.draw(ctx.next + i);
+      const ParticleState<double> ps = initial_state(ctx.table->table, d);
+      out[i] = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx.weights ? ctx.draw.weight(d) : 1.0};
+    }
+  } else {
+    draw_starts(ctx.draw, *ctx.kernel, ctx.weights, ctx.next, n, out);
+  }
+  for (std::size_t i = 0; i < n; ++i) out[i].id = ctx.next + i;
+  ctx.next += n;
+}
+
+/// A lane's end: a handed-back lane is fast-forwarded and queued again (or recorded, if it ended in the jump), an
+/// ended one recorded.
+void finish(SimdContext& ctx, const simd::End& e) {
+  if (e.fate == LaneEnd::handed_back) {  // handed back at the start of a bouncing-ball phase: jump it exactly
+    Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
+    f.end.collisions = e.collisions;
+    const double weight = e.weight;
+    f.end.weight = weight;
+    if (ctx.observer) ctx.observer->weight = weight;
+    if (fast_forward(*ctx.model, f, ctx.observer)) {  // a null observer sees nothing
+      ctx.resume.push_back({f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, f.end.collisions, weight, e.id});
+    } else {
+      ctx.record(e.id, f.end);
+    }
+    return;
+  }
+  ParticleEnd end;
+  end.weight = e.weight;
+  end.fate = static_cast<Fate>(e.fate);
+  end.t = e.t;
+  end.collisions = e.collisions;
+  if (end.fate == Fate::survived) {
+    end.t = ctx.table ? ctx.table->t_max : ctx.model->t_max;
+    end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
+  }
+  if (end.fate == Fate::escaped) {
+    end.leak = e.leak;
+    if (ctx.escape_s)
+      end.s = ctx.table ? ctx.table->table.s_of(e.piece, {e.qx, e.qy})
+                        : ctx.model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
+  }
+  ctx.record(e.id, end);
+}
+
+/// How many ends and counted collisions the kernel may leave between two looks.
+constexpr std::size_t kEndBuffer = 256, kHitBuffer = 4096;
+static_assert(kEndBuffer >= simd::kMaxPackLanes && kHitBuffer >= simd::kMaxPackLanes);
 
 }  // namespace
 
-const simd::Exact kSimdExact{simd_s_of, simd_density_hits};
-
-bool simd_next(void* c, simd::Start* start, std::uint64_t* id) {
-  auto* ctx = static_cast<SimdContext*>(c);
-  if (!ctx->resume.empty()) {
-    *id = ctx->resume.back().first;
-    *start = ctx->resume.back().second;
-    ctx->resume.pop_back();
-    return true;
+void simd_run(const simd::KernelScene& scene, SimdContext& ctx) {
+  auto state = std::make_unique<simd::KernelState>();
+  std::vector<simd::Start> starts;
+  std::vector<simd::End> ends(kEndBuffer);
+  std::vector<simd::DensityHit> hits(ctx.cells && !ctx.kernel_counts ? kHitBuffer : 0);
+  simd::Exchange x;
+  x.ends = ends.data(), x.end_capacity = ends.size();
+  x.hits = hits.empty() ? nullptr : hits.data(), x.hit_capacity = hits.size();
+  x.counts = ctx.kernel_counts ? ctx.density : nullptr;
+  for (;;) {
+    more_starts(ctx, starts);
+    x.starts = starts.data(), x.n_starts = starts.size(), x.taken = 0, x.n_ends = 0, x.n_hits = 0;
+    x.last = ctx.next >= ctx.hi;
+    const simd::Pause why = simd::run(scene, *state, x);
+    starts.erase(starts.begin(), starts.begin() + static_cast<std::ptrdiff_t>(x.taken));
+    for (std::size_t i = 0; i < x.n_ends; ++i) finish(ctx, ends[i]);
+    if (x.n_hits) density_hits(ctx, hits.data(), x.n_hits);
+    if (why == simd::Pause::idle && starts.empty() && ctx.resume.empty() && ctx.next >= ctx.hi) return;
   }
-  if (ctx->next >= ctx->hi) return false;
-  *id = ctx->next++;
-  if (ctx->members) {
-    *start = (*ctx->members)[*id];
-    return true;
-  }
-  if (ctx->table) {  // a table's starts: the scalar core's initial_state, one by one
-    const InitialDraw d = ctx->draw(*id);
-    const ParticleState<double> ps = initial_state(ctx->table->table, d);
-    *start = {ps.q.x, ps.q.y, ps.v.x, ps.v.y, ps.t, 0, ctx->weights ? ctx->draw.weight(d) : 1.0};
-    return true;
-  }
-  if (ctx->taken == ctx->batch.size()) {
-    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kStartBatch, ctx->hi - *id));
-    ctx->batch.resize(n);
-    draw_starts(ctx->draw, *ctx->kernel, ctx->weights, *id, n, ctx->batch.data());
-    ctx->taken = 0;
-  }
-  *start = ctx->batch[ctx->taken++];
-  return true;
 }
 
 void draw_starts(const DrawSource& draw, const simd::KernelScene& kernel, bool weights, std::uint64_t first,
@@ -231,40 +280,6 @@ void draw_starts(const DrawSource& draw, const simd::KernelScene& kernel, bool w
     if (nf) simd::flow_directions(kernel, u, vx, vy, nf);
     for (std::size_t j = 0; j < nf; ++j) out[flow[j]].vx = vx[j], out[flow[j]].vy = vy[j];
   }
-}
-
-void simd_finish(void* c, std::uint64_t id, const simd::End& e) {
-  auto* ctx = static_cast<SimdContext*>(c);
-  if (e.fate == LaneEnd::handed_back) {  // handed back at the start of a bouncing-ball phase: jump it exactly, then
-                                         // give it back to a lane (or record it, if it ended in the jump)
-    Flight<double> f{{{e.qx, e.qy}, {e.vx, e.vy}, e.t}, {}, 0};
-    f.end.collisions = e.collisions;
-    const double weight = e.weight;
-    f.end.weight = weight;
-    if (ctx->observer) ctx->observer->weight = weight;
-    if (fast_forward(*ctx->model, f, ctx->observer)) {  // a null observer sees nothing
-      ctx->resume.push_back({id, {f.ps.q.x, f.ps.q.y, f.ps.v.x, f.ps.v.y, f.ps.t, f.end.collisions, weight}});
-    } else {
-      ctx->record(id, f.end);
-    }
-    return;
-  }
-  ParticleEnd end;
-  end.weight = e.weight;
-  end.fate = static_cast<Fate>(e.fate);
-  end.t = e.t;
-  end.collisions = e.collisions;
-  if (end.fate == Fate::survived) {
-    end.t = ctx->table ? ctx->table->t_max : ctx->model->t_max;
-    end.last = {{e.qx, e.qy}, {e.vx, e.vy}, e.t};
-  }
-  if (end.fate == Fate::escaped) {
-    end.leak = e.leak;
-    if (ctx->escape_s)
-      end.s = ctx->table ? ctx->table->table.s_of(e.piece, {e.qx, e.qy})
-                         : ctx->model->stadium.s_of(static_cast<Piece>(e.piece), {e.qx, e.qy});
-  }
-  ctx->record(id, end);
 }
 
 }  // namespace rotleak

@@ -1,15 +1,13 @@
 // The vectorised kernel's adapter: the scene in the kernel's plain structs, the context a block of
-// particles (or a split run's members) runs in, and the callbacks through which the kernel asks the
-// core (s of an arc hit), hands over f_c counts, takes the next particle and reports an ended
-// one. The f_c observer the scalar engine and the kernel's fast-forward hand-off share is in
-// sim/tally/density.hpp.
+// particles (or a split run's members) runs in, and the loop that feeds the kernel its starts and takes
+// its ends and f_c counts through plain buffers (simd::Exchange). The f_c observer the scalar engine and
+// the kernel's fast-forward hand-off share is in sim/tally/density.hpp.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <utility>
 #include <vector>
 
 #include "sim/kernel/simd_engine.hpp"
@@ -52,10 +50,12 @@ struct SimdContext {
   DrawSource draw;
   std::uint64_t next, hi;
   std::function<void(std::uint64_t, const ParticleEnd&)> record;
-  std::vector<std::pair<std::uint64_t, simd::Start>> resume;  ///< back from the fast-forward
-  bool weights = false;                         ///< lanes carry their weight (a weighted run: its tallies and f_c)
-  std::uint64_t* density = nullptr;             ///< this thread's f_c counts, by time cell
-  FixedSum* density_w = nullptr;                ///< and weighted sums
+  std::vector<simd::Start> resume;   ///< back from the fast-forward (Start::id: the particle)
+  bool weights = false;              ///< lanes carry their weight (a weighted run: its tallies and f_c)
+  std::uint64_t* density = nullptr;  ///< this thread's f_c counts, by time cell
+  FixedSum* density_w = nullptr;     ///< and weighted sums
+  /// set (an unweighted f_c): the kernel adds its counted collisions to `density` itself (simd::Exchange::counts)
+  bool kernel_counts = false;
   DensityObserver<double>* observer = nullptr;  ///< f_c of the fast-forwarded bounces
   const DensityCells* cells = nullptr;          ///< the kernel's time cells
   /// A split run's members: particle i (next .. hi) starts from (*members)[i] instead of a draw
@@ -65,8 +65,6 @@ struct SimdContext {
   bool escape_s = true;
   /// The kernel's scene, for its draws: initial states are drawn kStartBatch at a time, vectorised (draw_starts)
   const simd::KernelScene* kernel = nullptr;
-  std::vector<simd::Start> batch;  ///< drawn ahead: ids next - (batch.size() - taken) ..
-  std::size_t taken = 0;
 };
 
 /// How many particles a SimdContext draws at once.
@@ -79,14 +77,10 @@ inline constexpr std::size_t kStartBatch = 64;
 void draw_starts(const DrawSource& draw, const simd::KernelScene& kernel, bool weights, std::uint64_t first,
                  std::size_t n, simd::Start* out);
 
-/// The kernel's questions to the core and its f_c sink (the callbacks below, for a SimdContext).
-extern const simd::Exact kSimdExact;
-
-/// simd::NextParticle for a SimdContext: the fast-forward's returns first, then its members (split runs)
-/// or the draws of its ids.
-bool simd_next(void* c, simd::Start* start, std::uint64_t* id);
-/// simd::Finish for a SimdContext: a handed-back lane is fast-forwarded and queued again, an ended one
-/// recorded.
-void simd_finish(void* c, std::uint64_t id, const simd::End& e);
+/// Runs a context's particles [next, hi) through the kernel of `scene` (its state lives for this call): feeds it
+/// their starts (the fast-forward's returns first, then its members in a split run, or the draws of its ids),
+/// fast-forwards a handed-back lane and queues it again, records an ended one, and adds a weighted f_c's
+/// counted collisions to the context's sums.
+void simd_run(const simd::KernelScene& scene, SimdContext& ctx);
 
 }  // namespace rotleak

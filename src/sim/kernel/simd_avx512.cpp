@@ -6,6 +6,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <cmath>
+#include <new>
 
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"

@@ -7,6 +7,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <cmath>
+#include <new>
 
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
@@ -23,12 +24,11 @@ namespace rotleak::simd {
 
 namespace avx512_kernel {  // sim/kernel/simd_avx512.cpp
 bool available();
-void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
-void run_table_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x);
+Pause run_table_kernel(const KernelScene& S, KernelState& state, Exchange& x);
 void rough_kernel(double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n);
 void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t n);
-void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
-                  const Exact& exact);
+void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n);
 double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps);
 int pack_size();
 void birkhoff_kernel(const KernelScene& S, const double* s, const double* p, Start* out, std::size_t n);
@@ -71,15 +71,11 @@ int widest_lanes() { return avx512_kernel::available() ? 8 : available() ? 4 : 0
 
 bool lanes_available(int lanes) { return lanes == 4 ? available() : lanes == 8 ? avx512_kernel::available() : false; }
 
-void run(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
-  if (S.table && S.lanes == 8)
-    avx512_kernel::run_table_kernel(S, ctx, next, finish, exact);
-  else if (S.table)
-    avx2_kernel::run_table_kernel(S, ctx, next, finish, exact);
-  else if (S.lanes == 8)
-    avx512_kernel::run_kernel(S, ctx, next, finish, exact);
-  else
-    avx2_kernel::run_kernel(S, ctx, next, finish, exact);
+Pause run(const KernelScene& S, KernelState& state, Exchange& x) {
+  if (S.table && S.lanes == 8) return avx512_kernel::run_table_kernel(S, state, x);
+  if (S.table) return avx2_kernel::run_table_kernel(S, state, x);
+  if (S.lanes == 8) return avx512_kernel::run_kernel(S, state, x);
+  return avx2_kernel::run_kernel(S, state, x);
 }
 
 void time_cells(const KernelScene& S, const double* t, double* out, std::size_t n) {
@@ -89,11 +85,11 @@ void time_cells(const KernelScene& S, const double* t, double* out, std::size_t 
     avx2_kernel::cell_kernel(S, t, out, n);
 }
 
-void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx, const Exact& exact) {
+void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n) {
   if (S.lanes == 8)
-    avx512_kernel::probe_kernel(S, points, out, n, ctx, exact);
+    avx512_kernel::probe_kernel(S, points, out, n);
   else
-    avx2_kernel::probe_kernel(S, points, out, n, ctx, exact);
+    avx2_kernel::probe_kernel(S, points, out, n);
 }
 
 void rough_arc_s(int lanes, double r, double r_over_L, const double* ay, const double* ax, double* out, std::size_t n) {

@@ -1,8 +1,9 @@
 // The vectorised double engine: four (AVX2) or eight (AVX-512) particles per register, branch-free
 // piece selection, lanes refilled from the id stream as particles end. Its translation units alone
 // are compiled for those instruction sets and selected at run time; they see only the plain structs
-// below (no shared inline code gets vector instructions), and ask the caller for new particles and
-// hand back the ended ones.
+// below (no shared inline code gets vector instructions) and talk to the caller through plain buffers
+// (Exchange: the particles to start, the ended ones, f_c's counted collisions), never a callback: run() returns
+// when a buffer needs the caller, and goes on where it stopped (KernelState).
 #pragma once
 
 #include <cstddef>
@@ -76,7 +77,7 @@ struct KernelScene {
   /// it of a decision's edge; 0: the exact phase at every hit (a bound too wide to be of use)
   double phase_bound;
   /// a vector atan2 (SLEEF, 3.5 ulp) may decide differently from libm's only this close to a leak
-  /// end or a bin edge (in s); such lanes ask Exact for the core's s
+  /// end or a bin edge (in s); such lanes take the core's s (libm's atan2, lane by lane)
   double margin;
   // f_c: collisions with t in any window [win_from, win_to] counted in `bins` bins of s
   int density_windows;
@@ -107,6 +108,7 @@ struct Start {
   double qx, qy, vx, vy, t;
   std::uint64_t collisions = 0;  ///< already made (a particle coming back from the fast-forward)
   double weight = 1;             ///< the particle's sampling weight (for the weighted f_c)
+  std::uint64_t id = 0;          ///< the caller's name for the particle, given back in End::id
 };
 
 /// One counted collision of the weighted f_c observer: its time cell, its bin and its weight. The time
@@ -119,16 +121,6 @@ struct DensityHit {
   double weight;
 };
 
-/// The scalar core's own s of an arc hit, asked for the rare lanes where the vector atan2 cannot settle a
-/// decision (so every decision is still the core's), and the sink of f_c's counted collisions.
-struct Exact {
-  double (*s_of)(void* ctx, int piece, double x, double y);   ///< Stadium<double>::s_of
-  void (*density)(void* ctx, const DensityHit* hits, int n);  ///< add these to the tallies
-  /// When set (f_c unweighted): the thread's f_c counts by time cell, indexed cell * bins + bin,
-  /// which the kernel increments itself instead of sending the hits to density().
-  std::uint64_t* counts = nullptr;
-};
-
 struct End {
   LaneEnd fate;  ///< a Fate, or handed back mid-flight (the state below)
   /// the lane's state: where it ended (escaped, stuck, handed back); survived with KernelScene::keep_last,
@@ -138,11 +130,40 @@ struct End {
   int piece;
   int leak = 0;  ///< the leak it escaped through (a table's list; 0 on the stadium)
   std::uint64_t collisions;
+  std::uint64_t id;  ///< Start::id
 };
 
-/// Fills *start and *id with the next particle; false when there is none.
-using NextParticle = bool (*)(void* ctx, Start* start, std::uint64_t* id);
-using Finish = void (*)(void* ctx, std::uint64_t id, const End& end);
+/// What the caller and the kernel exchange in one call of run(): plain buffers the caller owns. The kernel takes
+/// starts in order (from `taken` on), appends the ended lanes to `ends` and, in a weighted f_c, the counted
+/// collisions to `hits`; with `counts` (an unweighted f_c: the thread's counts by time cell, indexed
+/// cell * bins + bin) it increments the counts itself. A call returns before a buffer could overflow: a step
+/// ends at most one particle and counts at most one collision a lane, so `ends` and `hits` hold at least
+/// kMaxPackLanes.
+struct Exchange {
+  const Start* starts = nullptr;
+  std::size_t n_starts = 0, taken = 0;
+  /// no particle will follow these but what the caller makes of the ends (a hand-back's return): a lane without a
+  /// start is parked, not waited for
+  bool last = false;
+  End* ends = nullptr;
+  std::size_t end_capacity = 0, n_ends = 0;
+  DensityHit* hits = nullptr;
+  std::size_t hit_capacity = 0, n_hits = 0;
+  std::uint64_t* counts = nullptr;
+};
+
+/// Why run() returned: a lane wants a start (and `last` is not set), `ends` or `hits` is nearly full, or every
+/// lane is idle (no particle left in the kernel).
+enum class Pause { starts, ends, hits, idle };
+
+/// The most lanes a pack of any kernel holds.
+inline constexpr int kMaxPackLanes = 64;
+/// The lanes between calls of run(): the pack of the kernel that ran them, as that kernel lays it out. One state
+/// serves one scene and one kernel width from its first call to its last (Pause::idle with nothing left to start).
+struct KernelState {
+  alignas(64) unsigned char pack[16384];
+  bool started = false;
+};
 
 /// True when this CPU has AVX2 and FMA.
 bool available();
@@ -175,8 +196,8 @@ struct ProbeResult {
 };
 /// The kernel's own decisions at given collision points, for the ulp-edge probe test: each point's f_c bin and
 /// whether it is in the leak, by the kernel of S.lanes lanes, computed as run() computes them (the same
-/// functions); requires lanes_available(S.lanes). exact.s_of is asked as run() asks it.
-void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx, const Exact& exact);
+/// functions); requires lanes_available(S.lanes).
+void probe(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n);
 
 /// Initial states from their draws, vectorised, by the kernel of S.lanes lanes (requires lanes_available):
 /// - birkhoff_states: out[i]'s position and velocity of Birkhoff (s[i], p[i]), Stadium<double>::at and velocity;
@@ -191,9 +212,10 @@ void flow_directions(const KernelScene& S, const double* u, double* vx, double* 
 void uniform_starts(const KernelScene& S, std::uint64_t seed, double window, std::uint64_t first, std::size_t n,
                     Start* out);
 
-/// Runs particles until next() has none left, by the kernel of scene.lanes; requires
+/// Runs the particles of `x` (and those `state` still holds) by the kernel of scene.lanes until a buffer needs the
+/// caller (Pause); the next call with the same state goes on where this one stopped. Requires
 /// lanes_available(scene.lanes).
-void run(const KernelScene& scene, void* ctx, NextParticle next, Finish finish, const Exact& exact);
+Pause run(const KernelScene& scene, KernelState& state, Exchange& x);
 
 /// The ceiling of the kernel's physics, for bench_scale: one pack of S.lanes-wide registers flying
 /// `steps` collisions from `starts` (a pack's worth, KernelScene::lanes times the kernel's registers per

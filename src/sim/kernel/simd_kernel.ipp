@@ -27,7 +27,7 @@
 //   within 1 ulp, so the two differ by < 2e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
 //   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
 //   arc_s_for takes the rough s where it is far from every edge, SLEEF's where it is not, and the
-//   core's own s (simd::Exact) within `margin` (1e-12) of one: every decision is the core's.
+//   core's own s (libm's atan2, lane by lane) within `margin` (1e-12) of one: every decision is the core's.
 // The deliberate FMAs: the exact product error of the leak phase, as in the scalar core, and the rough s
 // (rough_arc_s), whose bits decide nothing (only its error bound does).
 //
@@ -37,7 +37,6 @@
 // instruction; branches (an ended lane, a lane near a moving leak) are taken once per pack. The pack
 // (V, MV, their operations and the selection hook) is sim/kernel/simd_pack.ipp, included before this file.
 
-constexpr int kDensityBuffer = 1024;
 /// How far the kernel trusts its angles, in one place (arc_s_for, in_moving_leak): rough_arc_s's error
 /// bound in rad (3.4e-6 in theory and measured; Simd.RoughArcAngleWithinItsBound checks the bound), i.e.
 /// kRoughAngleError r / L in s (< 1.6e-6: r / L < 0.16); a rough s decides only beyond kRoughAngleSafety times
@@ -63,7 +62,18 @@ struct Pack {
   unsigned live_mask = 0;   ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
   std::uint64_t steps = 0;  ///< steps taken (Lanes::base)
   bool zeros = false;       ///< some lane's count of zero-length flights in a row (Lanes::zero) is not 0
+  bool hungry = false;      ///< a lane found no start, and more will come (Pause::starts)
 };
+static_assert(N <= kMaxPackLanes && sizeof(Pack) <= sizeof(KernelState::pack) && alignof(Pack) <= 64);
+
+/// The pack a state holds: made on its first call (every lane idle), the same object on every later one.
+Pack& pack_of(KernelState& state) {
+  if (!state.started) {
+    new (state.pack) Pack{};
+    state.started = true;
+  }
+  return *std::launder(reinterpret_cast<Pack*>(state.pack));
+}
 
 void park(const KernelScene& S, Lanes& L, int k) {
   // an idle lane: parked far past t_max, never reported (its bit of live_mask is clear)
@@ -75,24 +85,36 @@ void reload(Pack& g) {
   g.qx = load(g.L.qx), g.qy = load(g.L.qy), g.vx = load(g.L.vx), g.vy = load(g.L.vy), g.t = load(g.L.t);
 }
 
-/// Lane k takes the next particle, or is parked when there is none (its bit of live_mask follows).
-void take(const KernelScene& S, Pack& g, int k, void* ctx, NextParticle next) {
+/// Lane k takes the next start, or is parked when there is none (its bit of live_mask follows; Pack::hungry when
+/// more will come).
+void take(const KernelScene& S, Pack& g, int k, Exchange& x) {
   Lanes& L = g.L;
-  Start st;
   L.zero[k] = 0;
-  if (!next(ctx, &st, &L.id[k])) {
+  if (x.taken == x.n_starts) {
     park(S, L, k);
     g.live_mask &= ~(1u << k);
+    g.hungry = g.hungry || !x.last;
     return;
   }
+  const Start& st = x.starts[x.taken++];
+  L.id[k] = st.id;
   g.live_mask |= 1u << k;
   L.qx[k] = st.qx, L.qy[k] = st.qy, L.vx[k] = st.vx, L.vy[k] = st.vy, L.t[k] = st.t;
   L.base[k] = st.collisions - g.steps;
   L.w[k] = st.weight;
 }
 
-[[gnu::always_inline]] inline void fill(const KernelScene& S, Pack& g, void* ctx, NextParticle next) {
-  for (int k = 0; k < N; ++k) take(S, g, k, ctx, next);
+/// The lanes' registers into their memory (before lanes change).
+[[gnu::always_inline]] inline void unload(Pack& g) {
+  store(g.qx, g.L.qx), store(g.qy, g.L.qy), store(g.vx, g.L.vx), store(g.vy, g.L.vy), store(g.t, g.L.t);
+}
+
+/// A call's start: every idle lane takes a start (or stays parked).
+[[gnu::always_inline]] inline void fill(const KernelScene& S, Pack& g, Exchange& x) {
+  g.hungry = false;
+  unload(g);
+  for (int k = 0; k < N; ++k)
+    if (!((g.live_mask >> k) & 1)) take(S, g, k, x);
   reload(g);
 }
 
@@ -218,17 +240,17 @@ struct RoughArc {
 }
 
 /// The cascade's second half: the lanes of `fine` take SLEEF's s, which they keep beyond KernelScene::margin of
-/// every edge of near(s, tol), else the core's own s (Exact::s_of); the other lanes keep `s`.
+/// every edge of near(s, tol), else the core's own s (Stadium::s_of: libm's atan2 of the same arguments, lane by
+/// lane, then formula::arc_s); the other lanes keep `s`.
 template <class Near>
-inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s, const Near& near, void* ctx,
-                    const Exact& exact) {
+inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s, const Near& near) {
   s = sleef_arc_s(S, h, fine, s);
-  if (const unsigned ask = bits(fine & near(s, S.margin))) {
-    alignas(sizeof(B)) double sv[N], x[N], y[N];
-    store(s, sv), store(h.x, x), store(h.y, y);
-    const unsigned rm = bits(h.right);
-    for_lanes(ask, [&](int i) { sv[i] = exact.s_of(ctx, ((rm >> i) & 1) ? 1 : 3, x[i], y[i]); });
-    s = load(sv);
+  const MV ask = fine & near(s, S.margin);
+  if (const unsigned m = bits(ask)) {
+    alignas(sizeof(B)) double y[N], x[N], angle[N] = {};
+    store(formula::arc_angle_y(h.right, h.x, V(S.half_d)), y), store(formula::arc_angle_x(h.right, h.y), x);
+    for_lanes(m, [&](int i) { angle[i] = std::atan2(y[i], x[i]); });
+    s = select(ask, arc_s_from(S, h, load(angle)), s);
   }
   return s;
 }
@@ -239,13 +261,12 @@ inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s
 /// (in s) of one of that decision's edges. A lane keeps the rough s beyond kRoughAngleSafety times its bound
 /// from every edge, else takes fine_arc_s.
 template <class Near>
-inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s, const Near& near, void* ctx,
-                   const Exact& exact) {
+inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s, const Near& near) {
   if (!bits(arcs)) return s;
   s = select(arcs, rough_arc_s(S, h), s);
   const MV fine = arcs & near(s, kRoughAngleSafety * kRoughAngleError * S.r_over_L);
   if (!bits(fine)) return s;
-  return fine_arc_s(S, h, fine, s, near, ctx, exact);
+  return fine_arc_s(S, h, fine, s, near);
 }
 
 /// The leak's exact centre at t (formula::leak_phase), as Leak::hit takes it.
@@ -260,8 +281,7 @@ inline V exact_phase(const KernelScene& S, const V& t) {
 /// Moving leak, Leak::hit with the exact phase: on an arc nothing unless the leak can touch it now
 /// (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes' s from the cascade
 /// with the leak's two ends as its edges.
-inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
-                               const Exact& exact) {
+inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V& t, const MV& live) {
   const V ph = exact_phase(S, t);
   const MV near_arc = (!h.straight) &
                       formula::may_touch(select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3])), ph,
@@ -269,7 +289,7 @@ inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V&
                       live;
   const V hw(S.half_width);
   const auto near_end = [&](const V& s, double tol) { return formula::distance_to_leak_end(s, ph, hw) <= V(tol); };
-  const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end, ctx, exact);
+  const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end);
   return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
 }
 
@@ -290,9 +310,8 @@ inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V&
 /// from fine_arc_s. Leak::hit asks first whether the leak can touch the arc (may_touch: its centre within
 /// reach = half the arc + the half width of the arc's middle); a hit inside the leak by more than those errors
 /// lies on an arc the leak touches by as much (the triangle inequality), so only `unsure` lanes ask it.
-inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live, void* ctx,
-                         const Exact& exact) {
-  if (S.phase_bound == 0) return in_moving_leak_exact(S, h, t, live, ctx, exact);
+inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live) {
+  if (S.phase_bound == 0) return in_moving_leak_exact(S, h, t, live);
   const double b = S.phase_bound;
   const V c = formula::rough_leak_phase(V(S.omega_hi), V(S.start), t);
   const MV arc = (!h.straight) & live;
@@ -311,9 +330,8 @@ inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, co
     const V hw(S.half_width);
     const MV fine = unsure & arc;
     if (bits(fine))
-      s = fine_arc_s(
-          S, h, fine, s, [&](const V& x, double e) { return formula::distance_to_leak_end(x, ph, hw) <= V(e); }, ctx,
-          exact);
+      s = fine_arc_s(S, h, fine, s,
+                     [&](const V& x, double e) { return formula::distance_to_leak_end(x, ph, hw) <= V(e); });
     s = select(unsure & h.straight, straight_s(S, h), s);
     const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
     const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
@@ -339,58 +357,53 @@ inline V time_cell(const KernelScene& S, const V& t) {
 /// lanes' s from the cascade with the bin edges as its edges.
 /// f_c's bin floor(s bins) of the lanes in `count`: the straight lanes' s by formula::straight_s, the arc
 /// lanes' from the cascade with the bin edges as its edges.
-inline V density_bin_of(const KernelScene& S, const HitLanes& h, const MV& count, void* ctx, const Exact& exact) {
+inline V density_bin_of(const KernelScene& S, const HitLanes& h, const MV& count) {
   const V bins(static_cast<double>(S.bins));
   const auto near_edge = [&](const V& s, double tol) {
     const V sb = s * bins;
     return abs(sb - nearbyint(sb)) <= V(tol * S.bins);
   };
-  const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge, ctx, exact);
+  const V s = arc_s_for(S, h, count & !h.straight, straight_s(S, h), near_edge);
   return formula::density_bin(s, bins);
 }
 
-/// Books the lanes in `count` in f_c's bin `bin` of time cell `cell`: the thread's counts, or the buffer that
-/// exact.density() empties (a weighted run).
-inline void book_density(const KernelScene& S, const Pack& g, const V& bin, const V& cell, const MV& count, void* ctx,
-                         const Exact& exact, DensityHit* buf, int& used) {
+/// Books the lanes in `count` in f_c's bin `bin` of time cell `cell`: the thread's counts (Exchange::counts), or
+/// the hits the caller adds up (a weighted run).
+inline void book_density(const KernelScene& S, const Pack& g, const V& bin, const V& cell, const MV& count,
+                         Exchange& x) {
   const V bins(static_cast<double>(S.bins));
   const unsigned in = bits(count);
-  if (exact.counts) {
+  if (x.counts) {
     alignas(sizeof(B)) double index[N];
     store(fma(cell, bins, bin), index);  // exact: small integers
     if (in == kAllLanes) {               // the common case (a window covering most of the run): no mask walk
-      for (int i = 0; i < N; ++i) ++exact.counts[static_cast<std::uint32_t>(index[i])];
+      for (int i = 0; i < N; ++i) ++x.counts[static_cast<std::uint32_t>(index[i])];
     } else {
-      for_lanes(in, [&](int i) { ++exact.counts[static_cast<std::uint32_t>(index[i])]; });
+      for_lanes(in, [&](int i) { ++x.counts[static_cast<std::uint32_t>(index[i])]; });
     }
     return;
   }
   alignas(sizeof(B)) double cells[N], bin_of[N];
   store(cell, cells), store(bin, bin_of);
   for_lanes(in, [&](int i) {
-    if (used == kDensityBuffer) {
-      exact.density(ctx, buf, used);
-      used = 0;
-    }
-    buf[used++] = {static_cast<std::uint32_t>(cells[i]), static_cast<std::uint32_t>(bin_of[i]), g.L.w[i]};
+    x.hits[x.n_hits++] = {static_cast<std::uint32_t>(cells[i]), static_cast<std::uint32_t>(bin_of[i]), g.L.w[i]};
   });
 }
 
 inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes& h, const V& t, const MV& count,
-                            void* ctx, const Exact& exact, DensityHit* buf, int& used) {
-  book_density(S, g, density_bin_of(S, h, count, ctx, exact), time_cell(S, t), count, ctx, exact, buf, used);
+                            Exchange& x) {
+  book_density(S, g, density_bin_of(S, h, count), time_cell(S, t), count, x);
 }
 
-/// Reports the lanes in `done` to finish() and refills them from next() (or parks them).
+/// Reports the lanes in `done` (Exchange::ends) and refills them from its starts (or parks them).
 void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, const MV& esc, const MV& stuck,
-            const MV& over, const MV& handoff, void* ctx, NextParticle next, Finish finish) {
+            const MV& over, const MV& handoff, Exchange& x) {
   Lanes& L = g.L;
-  store(g.qx, L.qx), store(g.qy, L.qy), store(g.vx, L.vx), store(g.vy, L.vy);
-  store(g.t, L.t);
+  unload(g);
   const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), hm = bits(handoff);
   const unsigned straight_m = bits(h.straight), up_m = bits(h.up), right_m = bits(h.right);
   for_lanes(bits(done) & g.live_mask, [&](int i) {
-    End e;
+    End& e = x.ends[x.n_ends++];
     e.fate = ((om >> i) & 1)   ? LaneEnd::survived
              : ((em >> i) & 1) ? LaneEnd::escaped
              : ((sm >> i) & 1) ? LaneEnd::stuck
@@ -403,11 +416,21 @@ void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, co
     e.vx = L.vx[i];
     e.vy = L.vy[i];
     e.piece = ((straight_m >> i) & 1) ? (((up_m >> i) & 1) ? 0 : 2) : (((right_m >> i) & 1) ? 1 : 3);
+    e.leak = 0;
     e.collisions = L.base[i] + g.steps - ((om >> i) & 1);
-    finish(ctx, L.id[i], e);
-    take(S, g, i, ctx, next);
+    e.id = L.id[i];
+    take(S, g, i, x);
   });
   reload(g);
+}
+
+/// Whether the pack may take another step in this call: a lane that wants a start, or buffers that might not hold
+/// a step's ends and counted collisions, send it back to the caller (the Pause).
+inline bool pause(const Pack& g, const Exchange& x, Pause& why) {
+  if (g.hungry) return why = Pause::starts, true;
+  if (x.n_ends + N > x.end_capacity) return why = Pause::ends, true;
+  if (x.hits && x.n_hits + N > x.hit_capacity) return why = Pause::hits, true;
+  return false;
 }
 
 /// One collision for the lanes of g, in the scalar core's order (particle.hpp advance): next hit,
@@ -415,8 +438,7 @@ void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, co
 /// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
 /// collision before it. A separate instantiation (the branch cost time where no lane took it); flattened.
 template <bool KeepLast>
-ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, void* ctx, NextParticle next, Finish finish,
-                                        const Exact& exact, DensityHit* buf, int& used) {
+ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, Exchange& x) {
   const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
   const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
@@ -427,9 +449,9 @@ ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, void* ctx
     // within the windows' span [first from, last to]; a time in a gap between windows has a cell
     // that no window holds, so it is counted nowhere
     const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & !over;
-    if (bits(count)) observe_density(S, g, h, t, count, ctx, exact, buf, used);
+    if (bits(count)) observe_density(S, g, h, t, count, x);
   }
-  const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over, ctx, exact) : in_stationary_leak(S, h)) & !over;
+  const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over) : in_stationary_leak(S, h)) & !over;
 
   // formula::reflect's pieces, every lane computing the arc's reflection
   const V wx = formula::from_centre(h.x, h.cx);
@@ -458,27 +480,28 @@ ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, void* ctx
       // a lane past t_max keeps the state of its last collision before it (where a split run goes on)
       g.qx = select(over, g.qx, h.x), g.qy = select(over, g.qy, h.y), g.t = select(over, g.t, t);
       g.vx = select(over, vx, g.vx), g.vy = select(over, vy, g.vy);
-      retire(S, g, h, done, esc, stuck, over, handoff, ctx, next, finish);
+      retire(S, g, h, done, esc, stuck, over, handoff, x);
     } else {
       g.qx = h.x, g.qy = h.y, g.t = t;
     }
   } else {
-    if (bits(done) & g.live_mask) retire(S, g, h, done, esc, stuck, over, handoff, ctx, next, finish);
+    if (bits(done) & g.live_mask) retire(S, g, h, done, esc, stuck, over, handoff, x);
   }
 }
 
 }  // namespace
 
-void run_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
-  Pack g;
-  DensityHit buf[kDensityBuffer];
-  int used = 0;
-  fill(S, g, ctx, next);
-  if (S.keep_last)
-    while (g.live_mask) step<true>(S, g, ctx, next, finish, exact, buf, used);
-  else
-    while (g.live_mask) step<false>(S, g, ctx, next, finish, exact, buf, used);
-  if (used) exact.density(ctx, buf, used);
+Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x) {
+  Pack& g = pack_of(state);
+  fill(S, g, x);
+  Pause why = Pause::idle;
+  if (S.keep_last) {
+    while (g.live_mask && !pause(g, x, why)) step<true>(S, g, x);
+  } else {
+    while (g.live_mask && !pause(g, x, why)) step<false>(S, g, x);
+  }
+  if (!g.live_mask) return g.hungry ? Pause::starts : Pause::idle;
+  return why;
 }
 
 ROTLEAK_KERNEL_FLATTEN double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
@@ -515,8 +538,7 @@ void cell_kernel(const KernelScene& S, const double* t, double* out, std::size_t
   }
 }
 
-void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n, void* ctx,
-                  const Exact& exact) {
+void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, std::size_t n) {
   alignas(sizeof(B)) double piece[N], x[N], y[N], t[N], bin[N], leak[N];
   for (std::size_t i = 0; i < n; i += N) {
     const std::size_t m = n - i < N ? n - i : N;
@@ -531,8 +553,8 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
     h.right = pc == V(1.0);
     h.x = load(x), h.y = load(y), h.t = V(0.0), h.cx = select(h.right, V(S.half_d), V(-S.half_d));
     const MV all(true);
-    store(density_bin_of(S, h, all, ctx, exact), bin);
-    const MV in = S.rotating ? in_moving_leak(S, h, load(t), all, ctx, exact) : in_stationary_leak(S, h);
+    store(density_bin_of(S, h, all), bin);
+    const MV in = S.rotating ? in_moving_leak(S, h, load(t), all) : in_stationary_leak(S, h);
     store(select(in, V(1.0), V(0.0)), leak);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = {bin[k], leak[k] != 0};
   }

@@ -12,7 +12,7 @@
 // - the leak: the leaks in order, the first that takes the hit; a stationary one by its windows, a moving one by
 //   the exact phase, may_touch and the hit's s;
 // - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from libm's atan2, the core's own
-//   function (the same bits; no host callback);
+//   function (the same bits);
 // - the reflection: one formula about w, the arc's radius vector or the segment's rounded normal (Table::reflect).
 // So a lane's trajectory, fate, time, collisions and leak are the scalar engine's bit for bit
 // (tests/test_table_runs.cpp). What this path leaves out: the stadium's filtered fast paths (its convex next hit,
@@ -136,8 +136,7 @@ inline V table_leak_of(const KernelTable& T, const TableLanes& h, const V& t, co
 /// f_c of the lanes in `count`: bin floor(share bins) of the boundary's share (Table::boundary_share) of the hit,
 /// booked in its time cell.
 inline void observe_table_density(const KernelScene& S, const KernelTable& T, const Pack& g, const TableLanes& h,
-                                  const V& t, const MV& count, void* ctx, const Exact& exact, DensityHit* buf,
-                                  int& used) {
+                                  const V& t, const MV& count, Exchange& x) {
   V share = table_s(T, h, count);
   if (T.loops > 1) {
     V out(0.0);
@@ -149,22 +148,20 @@ inline void observe_table_density(const KernelScene& S, const KernelTable& T, co
     }
     share = out;
   }
-  book_density(S, g, formula::density_bin(share, V(static_cast<double>(S.bins))), time_cell(S, t), count, ctx, exact,
-               buf, used);
+  book_density(S, g, formula::density_bin(share, V(static_cast<double>(S.bins))), time_cell(S, t), count, x);
 }
 
-/// Reports the lanes in `done` to finish() (their piece and leak; a lane whose flight met nothing or passed t_max
-/// made no collision in this step) and refills them from next() (or parks them).
+/// Reports the lanes in `done` (Exchange::ends: their piece and leak; a lane whose flight met nothing or passed
+/// t_max made no collision in this step) and refills them from its starts (or parks them).
 void table_retire(const KernelScene& S, Pack& g, const TableLanes& h, const V& leak, const MV& done, const MV& esc,
-                  const MV& stuck, const MV& over, const MV& lost, void* ctx, NextParticle next, Finish finish) {
+                  const MV& stuck, const MV& over, const MV& lost, Exchange& x) {
   Lanes& L = g.L;
-  store(g.qx, L.qx), store(g.qy, L.qy), store(g.vx, L.vx), store(g.vy, L.vy);
-  store(g.t, L.t);
+  unload(g);
   alignas(sizeof(B)) double piece[N], leaks[N];
   store(h.piece, piece), store(leak, leaks);
   const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), none = bits(over | lost);
   for_lanes(bits(done) & g.live_mask, [&](int i) {
-    End e;
+    End& e = x.ends[x.n_ends++];
     e.fate = ((om >> i) & 1)   ? LaneEnd::survived
              : ((em >> i) & 1) ? LaneEnd::escaped
              : ((sm >> i) & 1) ? LaneEnd::stuck
@@ -175,8 +172,8 @@ void table_retire(const KernelScene& S, Pack& g, const TableLanes& h, const V& l
     e.piece = static_cast<int>(piece[i]);
     e.leak = ((em >> i) & 1) ? static_cast<int>(leaks[i]) : 0;
     e.collisions = L.base[i] + g.steps - ((none >> i) & 1);
-    finish(ctx, L.id[i], e);
-    take(S, g, i, ctx, next);
+    e.id = L.id[i];
+    take(S, g, i, x);
   });
   reload(g);
 }
@@ -185,8 +182,7 @@ void table_retire(const KernelScene& S, Pack& g, const TableLanes& h, const V& l
 /// that finds no piece is stuck where it is), time check, f_c, leak test, reflection, zero-flight count.
 /// KeepLast as step's: a lane past t_max reports its last collision's state.
 template <bool KeepLast>
-ROTLEAK_KERNEL_FLATTEN inline void table_step(const KernelScene& S, Pack& g, void* ctx, NextParticle next,
-                                              Finish finish, const Exact& exact, DensityHit* buf, int& used) {
+ROTLEAK_KERNEL_FLATTEN inline void table_step(const KernelScene& S, Pack& g, Exchange& x) {
   const KernelTable& T = *S.table;
   const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
   const V vx = g.vx, vy = g.vy;
@@ -197,7 +193,7 @@ ROTLEAK_KERNEL_FLATTEN inline void table_step(const KernelScene& S, Pack& g, voi
   ++g.steps;
   if (S.density_windows > 0) {
     const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & hit;
-    if (bits(count)) observe_table_density(S, T, g, h, t, count, ctx, exact, buf, used);
+    if (bits(count)) observe_table_density(S, T, g, h, t, count, x);
   }
   const V leak = table_leak_of(T, h, t, hit);
   const MV esc = hit & (leak >= ZERO);
@@ -217,19 +213,20 @@ ROTLEAK_KERNEL_FLATTEN inline void table_step(const KernelScene& S, Pack& g, voi
   const MV stay = KeepLast ? over | lost : lost;
   g.qx = select(stay, g.qx, h.x), g.qy = select(stay, g.qy, h.y), g.t = select(stay, g.t, t);
   if constexpr (KeepLast) g.vx = select(over, vx, g.vx), g.vy = select(over, vy, g.vy);
-  if (bits(done) & g.live_mask) table_retire(S, g, h, leak, done, esc, stuck, over, lost, ctx, next, finish);
+  if (bits(done) & g.live_mask) table_retire(S, g, h, leak, done, esc, stuck, over, lost, x);
 }
 
 }  // namespace
 
-void run_table_kernel(const KernelScene& S, void* ctx, NextParticle next, Finish finish, const Exact& exact) {
-  Pack g;
-  DensityHit buf[kDensityBuffer];
-  int used = 0;
-  fill(S, g, ctx, next);
-  if (S.keep_last)
-    while (g.live_mask) table_step<true>(S, g, ctx, next, finish, exact, buf, used);
-  else
-    while (g.live_mask) table_step<false>(S, g, ctx, next, finish, exact, buf, used);
-  if (used) exact.density(ctx, buf, used);
+Pause run_table_kernel(const KernelScene& S, KernelState& state, Exchange& x) {
+  Pack& g = pack_of(state);
+  fill(S, g, x);
+  Pause why = Pause::idle;
+  if (S.keep_last) {
+    while (g.live_mask && !pause(g, x, why)) table_step<true>(S, g, x);
+  } else {
+    while (g.live_mask && !pause(g, x, why)) table_step<false>(S, g, x);
+  }
+  if (!g.live_mask) return g.hungry ? Pause::starts : Pause::idle;
+  return why;
 }
