@@ -188,12 +188,11 @@ class Table {
   /// The nearest outward crossing within the pieces' spans widened by tol (next_hit's first look: tol 0; its
   /// second: slack()).
   TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
+    NearestCrossing<R> n{};
+    n.piece = -1, n.found = false;
+    nearest_crossing(piece_, n_pieces_, q.x, q.y, v.x, v.y, tol, true, n);
     TableHit<R> best;
-    for (int k = 0; k < n_pieces_; ++k) {
-      Crossing<R> c{};
-      if (!crossing(piece_[k], q.x, q.y, v.x, v.y, tol, c)) continue;
-      if (best.piece < 0 || c.t < best.t) best = {c.t, k, {c.x, c.y}};
-    }
+    if (n.found) best = {n.t, n.piece, {n.x, n.y}};
     return best;
   }
 

@@ -9,6 +9,8 @@
 // Header-only, no container and no exact type: a device compiler can take it whole.
 #pragma once
 
+#include <type_traits>
+
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
 #include "geometry/vec2.hpp"
@@ -115,6 +117,45 @@ template <class T, class R>
   if (p.full) return ok;
   return both(ok,
               [&] { return formula::on_arc(c.wx, c.wy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)); });
+}
+
+/// A piece's index as a flight's number type holds it: an int for one number, a pack of lane values for a pack.
+template <class T>
+using piece_index_of = std::conditional_t<std::is_same_v<mask_of<T>, bool>, int, T>;
+
+/// The nearest crossing so far: time, point, reflection axis (Crossing's), the piece (-1: none) and whether one was
+/// found.
+template <class T>
+struct NearestCrossing {
+  T t, x, y, wx, wy;
+  piece_index_of<T> piece;
+  mask_of<T> found;
+};
+
+/// Table::nearest, written once for one number of any tier (Table<R>::next_hit) and for a pack of lanes (the
+/// vectorised kernel's table step): for the lanes of `want`, every piece's outward crossing within its span widened
+/// by tol, the nearest kept in `best` (the first piece on a tie: a later one only when strictly nearer). `best`
+/// comes in with found false (or with what an earlier look found). One number asks every piece (`want` true).
+template <class T, class R>
+[[gnu::always_inline]] inline void nearest_crossing(const TablePiece<R>* pieces, int n, const T& qx, const T& qy,
+                                                    const T& vx, const T& vy, const R& tol, const mask_of<T>& want,
+                                                    NearestCrossing<T>& best) {
+  using M = mask_of<T>;
+  using I = piece_index_of<T>;
+  for (int k = 0; k < n; ++k) {
+    Crossing<T> c;  // set where a lane crosses (one number: set in full first; a pack's zeroing costs time)
+    if constexpr (std::is_same_v<M, bool>) c = {};
+    const M ok = M(want & crossing(pieces[k], qx, qy, vx, vy, tol, c));  // a lambda here: a call per piece
+    if (none(ok)) continue;
+    const M take = both(ok, [&] {
+      return choose(
+          best.found, [&] { return M(c.t < best.t); }, [] { return M(true); });
+    });
+    best.t = select(take, c.t, best.t), best.x = select(take, c.x, best.x), best.y = select(take, c.y, best.y);
+    best.wx = select(take, c.wx, best.wx), best.wy = select(take, c.wy, best.wy);
+    best.piece = select(take, I(k), best.piece);
+    best.found = M(best.found | take);
+  }
 }
 
 /// s of a point of segment p (its loop's 1 / length inv_L), in [0, 1).

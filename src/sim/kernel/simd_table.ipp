@@ -5,10 +5,10 @@
 // The physics is not written here either: each lane performs Table<double>'s and LeakList<double>'s operations in
 // their order, through the templates they call themselves (geometry/table_piece.hpp: a piece's crossing, the
 // reflection, s; leak/leak_window.hpp: a window's test; leak/leak_formulas.hpp: the phase, may_touch, in_leak)
-// instantiated on the pack, with the piece's numbers broadcast. What is here is the loop over pieces and leaks:
-// - the next hit: every piece's outward crossing within its span for every lane, the nearest kept per lane (the
-//   first piece on a tie, as Table::nearest's loop), and the second look with the spans widened by the table's
-//   slack for the lanes that found none;
+// instantiated on the pack, with the piece's numbers broadcast. The next hit is Table::nearest's own loop over the
+// pieces (nearest_crossing, geometry/table_piece.hpp: every piece's outward crossing, the nearest kept per lane), a
+// first look and a second with the spans widened by the table's slack for the lanes that found none, as
+// Table::next_hit. What is here is the loop over leaks and the step's order:
 // - the leak: the leaks in order, the first that takes the hit; a stationary one by its windows, a moving one by
 //   the exact phase, may_touch and the hit's s;
 // - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from libm's atan2, the core's own
@@ -20,36 +20,17 @@
 
 namespace {
 
-/// Where the lanes next meet the table: flight time, point, the reflection's w, the piece (its index as a double;
-/// -1: none, a flight through a gap the rounding opened) and whether one was found.
-struct TableLanes {
-  V t, x, y, wx, wy, piece;
-  MV found;
-};
-
-/// Table::nearest for the lanes of `want`, the spans widened by tol: every piece's crossing (geometry/table_piece.hpp,
-/// the scalar core's own template on the pack), the nearest kept (the first piece on a tie, as Table::nearest's loop).
-inline void table_nearest(const KernelTable& T, const V& qx, const V& qy, const V& vx, const V& vy, double tol,
-                          const MV& want, TableLanes& best) {
-  for (int k = 0; k < T.pieces; ++k) {
-    Crossing<V> c;  // set in full where some lane crosses
-    const MV ok = want & crossing(T.piece[k], qx, qy, vx, vy, tol, c);
-    if (!bits(ok)) continue;
-    const MV take = ok & ((!best.found) | (c.t < best.t));
-    best.t = select(take, c.t, best.t), best.x = select(take, c.x, best.x), best.y = select(take, c.y, best.y);
-    best.wx = select(take, c.wx, best.wx), best.wy = select(take, c.wy, best.wy);
-    best.piece = select(take, V(static_cast<double>(k)), best.piece);
-    best.found = best.found | take;
-  }
-}
+/// Where the lanes next meet the table (geometry/table_piece.hpp): flight time, point, the reflection's w, the piece
+/// (its index as a double; -1: none, a flight through a gap the rounding opened) and whether one was found.
+using TableLanes = NearestCrossing<V>;
 
 /// Table::next_hit for every lane: the first look, then the second (spans widened by the slack) for the lanes
 /// that found no piece.
 inline TableLanes table_next_hit(const KernelTable& T, const V& qx, const V& qy, const V& vx, const V& vy) {
   const V ZERO(0.0);
   TableLanes h{ZERO, ZERO, ZERO, ZERO, ZERO, V(-1.0), MV(false)};
-  table_nearest(T, qx, qy, vx, vy, 0.0, MV(true), h);
-  if (const MV lost = !h.found; bits(lost)) table_nearest(T, qx, qy, vx, vy, T.slack, lost, h);
+  nearest_crossing(T.piece, T.pieces, qx, qy, vx, vy, 0.0, MV(true), h);
+  if (const MV lost = !h.found; bits(lost)) nearest_crossing(T.piece, T.pieces, qx, qy, vx, vy, T.slack, lost, h);
   return h;
 }
 
