@@ -25,6 +25,7 @@ TABLES = [
     ("mushroom", '[table]\nkind = "mushroom"\nradius = "1"\nstem_width = "1/2"\nstem_height = "1"\n'),
     ("annulus", '[table]\nkind = "annulus"\nradius = "1"\ninner_radius = "1/4"\noffset = "-1/3"\n'),
     ("lemon", '[table]\nkind = "lemon"\nradius = "1"\ndistance = "1"\n'),
+    ("lorentz", '[table]\nkind = "lorentz"\nradius = "0.45"\n'),
     ("polygon", '[table]\nkind = "polygon"\nvertices = [["0", "0"], ["0", "1"], ["2", "1/3"]]\n'),
     ("circle", '[table]\nkind = "circle"\nradius = "1"\n'),
 ]

@@ -49,6 +49,10 @@ std::vector<Standard> standard_tables() {
       {"annulus", [] { return annulus_table(q("1"), q("3/10"), q("2/5")); }, pi * (1 - 0.09), 2 * pi * 1.3},
       {"lemon", [] { return lemon_table(q("1"), q("3/5")); }, 2 * lemon_half - 0.3 * std::sqrt(4 - 0.36),
        4 * lemon_half},
+      // the unit triangle less three 60-degree sectors of radius 9/20; its sides less two radii, its arcs a sixth of
+      // a circle each
+      {"lorentz", [] { return lorentz_table(q("9/20")); }, std::sqrt(3.0) / 4 - pi * 0.45 * 0.45 / 2,
+       3 * (1 - 0.9) + pi * 0.45},
       {"polygon",
        [] {
          return polygon_table({{q("0"), q("0")}, {q("0"), q("2")}, {q("3"), q("1")}, {q("2"), q("-1")}});
@@ -86,6 +90,7 @@ TEST(Table, BadTablesAreRefusedNamingWhatIsWrong) {
   says([] { sinai_table(q("1"), q("1/2")); }, "table sinai: needs 0 < radius < side / 2");
   says([] { annulus_table(q("1"), q("1/2"), q("1/2")); }, "table annulus: needs inner_radius > 0 and |offset|");
   says([] { lemon_table(q("1"), q("2")); }, "table lemon: needs 0 < distance < 2 radius");
+  says([] { lorentz_table(q("1/2")); }, "table lorentz: needs 0 < radius < 1/2 (radius 1/2)");
   says([] { polygon_table({{q("0"), q("0")}, {q("1"), q("1")}}); }, "table polygon: 2 vertices; a polygon needs 3");
   // anticlockwise vertices: the table would lie on the left
   says(

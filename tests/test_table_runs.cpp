@@ -31,6 +31,7 @@ std::vector<std::string> other_tables() {
       "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
       "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",
       "[table]\nkind = \"lemon\"\nradius = \"1\"\ndistance = \"1\"\n",
+      "[table]\nkind = \"lorentz\"\nradius = \"0.45\"\n",
       "[table]\nkind = \"polygon\"\nvertices = [[\"0\", \"0\"], [\"0\", \"1\"], [\"2\", \"1/3\"]]\n",
   };
 }

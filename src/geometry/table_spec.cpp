@@ -219,6 +219,26 @@ TableSpec lemon_table(const ExactReal& R, const ExactReal& delta) {
   return t;
 }
 
+TableSpec lorentz_table(const ExactReal& r) {
+  TableSpec t;
+  t.name = "lorentz";
+  t.params = {{"radius", r}};
+  const ExactReal half = num("1/2");
+  if (sign_of(r) <= 0 || sign_of(half - r) <= 0) bad(t, "needs 0 < radius < 1/2 (radius " + r.text() + ")");
+  // the triangle (-1/2, 0), (0, h), (1/2, 0), h = sqrt(3)/2, less a disc of radius r about each vertex: each corner
+  // an arc of that disc run anticlockwise about its centre (dispersing), each side the segment between two discs
+  const ExactReal z, h = ExactReal::sqrt(num("3")) / num("2"), rx = r / num("2"), ry = r * h;
+  t.begin_loop(r * ExactReal::pi() / num("6"));  // the top arc's midpoint
+  t.arc(z, h, r, -rx, h - ry, rx, h - ry, false);
+  t.segment(rx, h - ry, half - rx, ry);
+  t.arc(half, z, r, half - rx, ry, half - r, z, false);
+  t.segment(half - r, z, r - half, z);
+  t.arc(-half, z, r, r - half, z, rx - half, ry, false);
+  t.segment(rx - half, ry, -rx, h - ry);
+  t.finish();
+  return t;
+}
+
 namespace {
 
 /// Whether sides i and j of a polygon, on one line, overlap (share a point): their ranges along x, or along y for a
@@ -286,6 +306,7 @@ const std::vector<TableKind>& table_kinds() {
        {"radius", "inner_radius", "offset"},
        [](const std::vector<ExactReal>& v) { return annulus_table(v[0], v[1], v[2]); }},
       {"lemon", {"radius", "distance"}, [](const std::vector<ExactReal>& v) { return lemon_table(v[0], v[1]); }},
+      {"lorentz", {"radius"}, [](const std::vector<ExactReal>& v) { return lorentz_table(v[0]); }},
       {"polygon", {}, nullptr},
   };
   return kinds;

@@ -1,9 +1,9 @@
 // A billiard table as data, exact: closed loops of straight segments and circular arcs (the outer boundary and
 // any scatterers inside it), each loop with its own arc-length coordinate s in [0, 1) from a stated origin. Every
 // value is an ExactReal, so each tier rounds it once (Table<R>, geometry/table.hpp). The standard tables are
-// short constructors (stadium, circle, mushroom, Sinai, annulus, lemon, polygon); docs/tables.md draws each and
-// docs/model.md ("Tables") states the conventions: every loop runs with the table on its right (the outer
-// boundary clockwise, a scatterer anticlockwise).
+// short constructors (stadium, circle, mushroom, Sinai, annulus, lemon, Lorentz triangle, polygon); docs/tables.md
+// draws each and docs/model.md ("Tables") states the conventions: every loop runs with the table on its right (the
+// outer boundary clockwise, a scatterer anticlockwise).
 #pragma once
 
 #include <string>
@@ -87,6 +87,11 @@ TableSpec annulus_table(const ExactReal& R, const ExactReal& rho, const ExactRea
 /// A lemon: the overlap of two discs of radius R whose centres (+-delta/2, 0) lie delta apart (0 < delta < 2 R);
 /// s = 0 at its top corner (0, h), clockwise.
 TableSpec lemon_table(const ExactReal& R, const ExactReal& delta);
+/// The triangular Lorentz gas's fundamental domain: the equilateral triangle (-1/2, 0), (0, sqrt(3)/2), (1/2, 0)
+/// (side 1, the lattice's spacing) less a disc of radius r about each vertex (0 < r < 1/2): three dispersing arcs
+/// and three segments, whose reflections unfold it into the gas; finite horizon for r > sqrt(3)/4. s = 0 at the
+/// top arc's midpoint, clockwise.
+TableSpec lorentz_table(const ExactReal& r);
 /// A polygon from its vertices in clockwise order (at least 3, at most kMaxTablePieces); s = 0 at the first.
 TableSpec polygon_table(const std::vector<std::pair<ExactReal, ExactReal>>& vertices);
 
@@ -97,7 +102,7 @@ struct TableKind {
   std::vector<std::string> params;
   TableSpec (*build)(const std::vector<ExactReal>& values) = nullptr;
 };
-/// Every standard table: stadium, circle, mushroom, sinai, annulus, lemon, polygon.
+/// Every standard table: stadium, circle, mushroom, sinai, annulus, lemon, lorentz, polygon.
 const std::vector<TableKind>& table_kinds();
 /// The kind named `name`, or null.
 const TableKind* find_table_kind(const std::string& name);

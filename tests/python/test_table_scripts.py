@@ -2,7 +2,7 @@
 
 scripts/table_engines.py must find every example table's files byte-identical between the scalar engine and the
 vectorised kernel (it exits 1 otherwise); scripts/table_rates.py must write one row per table and hole width with a
-positive small-hole rate. ROTLEAK_BINARY names the rotleak binary of the build (its folder is the scripts' BUILD).
+positive small-hole rate; scripts/small_hole_limit.py one row per table and width. ROTLEAK_BINARY names the rotleak binary of the build (its folder is the scripts' BUILD).
 """
 import csv
 import os
@@ -18,6 +18,8 @@ BUILD = os.path.dirname(os.environ["ROTLEAK_BINARY"])
 ENGINES = ["table", "lanes", "scalar_collisions_per_s", "simd_collisions_per_s", "ratio", "identical"]
 RATES = ["table", "width", "kappa0", "kappa", "kappa_err", "kappa_syst", "ratio", "ratio_err", "P_3T", "P_3T_err",
          "particles", "collisions"]
+LIMIT = ["table", "width", "kappa0", "kappa", "kappa_err", "kappa_syst", "ratio", "ratio_err", "particles",
+         "collisions"]
 
 
 def script(name, *args):
@@ -51,9 +53,26 @@ class TableScripts(unittest.TestCase):
                 rows = list(csv.DictReader(f))
             frame = pandas.read_csv(out, dtype={"width": str})
         self.assertEqual(list(frame.columns), RATES)
-        self.assertEqual(len(rows), 14)  # 7 tables, 2 widths
+        self.assertEqual(len(rows), 16)  # 8 tables, 2 widths
         self.assertEqual(sorted(set(frame["width"])), ["0.01", "0.02"])
         self.assertTrue((frame["kappa0"] > 0).all() and (frame["particles"] == 3000).all())
+
+    def test_small_hole_limit_writes_a_row_per_table_and_width(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "limit.csv")
+            printed = script("small_hole_limit.py", out, "3000").stdout
+            with open(out, newline="") as f:
+                rows = list(csv.DictReader(f))
+            frame = pandas.read_csv(out, dtype={"width": str})
+        self.assertEqual(list(frame.columns), LIMIT)
+        self.assertEqual(sorted(set(r["table"] for r in rows)), ["lorentz", "sinai"])
+        self.assertEqual(sorted(set(frame["width"])), ["0.0025", "0.005", "0.01", "0.02"])
+        self.assertTrue((frame["kappa0"] > 0).all() and (frame["ratio_err"] > 0).all())
+        # kappa0 is proportional to the hole: halving lambda halves it, to rounding
+        for t in ("lorentz", "sinai"):
+            k0 = frame[frame["table"] == t].set_index("width")["kappa0"]
+            self.assertAlmostEqual(k0["0.02"] / k0["0.01"], 2.0, places=12)
+        self.assertEqual(printed.count("| lorentz |"), 1 + 2)  # its ratios, then its two fits
 
 
 if __name__ == "__main__":
