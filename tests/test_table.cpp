@@ -313,14 +313,15 @@ TEST(Table, EveryTablesLeakWindowsDecideAsItsBoundaryCoordinate) {
           std::tuple{1, "1/4", "0.9"}, std::tuple{1, "0.6", "0.2"}}) {
       if (loop >= t.loops()) continue;
       SCOPED_TRACE(std::to_string(loop) + " " + width + " " + start);
-      const TableLeak<double> leak(t, {loop, q(width), q(start), q("0")});
+      const LeakList<double> list(t, std::vector<LeakSpec>{{loop, q(width), q(start), q("0")}});
+      const LeakView<double>& leak = list[0];
       int taken = 0, near_end = 0;
       for (int i = 0; i < 20000; ++i) {
         const TableFrame<double> f = t.at(loop, u(gen));
         const double s = t.s_of(f.piece, f.q);
-        const bool by_s = formula::in_leak(s, leak.schedule().start(), leak.half_width());
-        const bool by_window = leak.hit(t, f.piece, f.q, 0.0);
-        if (formula::distance_to_leak_end(s, leak.schedule().start(), leak.half_width()) < 1e-12) {
+        const bool by_s = formula::in_leak(s, leak.start, leak.half_width);
+        const bool by_window = list.hit(t, f.piece, f.q, 0.0) == 0;
+        if (formula::distance_to_leak_end(s, leak.start, leak.half_width) < 1e-12) {
           ++near_end;
           continue;
         }

@@ -18,6 +18,11 @@
 
 namespace rotleak {
 
+/// The most pieces and loops a table may have (a polygon of up to 30 sides, up to 7 scatterers): the engines
+/// hold a table in fixed arrays, with no allocation on the path a particle takes.
+inline constexpr int kMaxTablePieces = 32;
+inline constexpr int kMaxTableLoops = 8;
+
 enum class PieceKind : int { segment = 0, arc = 1 };
 
 /// One piece rounded into R (the fields of its kind; the others stay 0).

@@ -15,11 +15,6 @@
 
 namespace rotleak {
 
-/// The most pieces and loops a table may have (a polygon of up to 30 sides, up to 7 scatterers): the engines
-/// hold a table in fixed arrays, with no allocation on the path a particle takes.
-inline constexpr int kMaxTablePieces = 32;
-inline constexpr int kMaxTableLoops = 8;
-
 /// One piece of a loop, exact. A segment runs from a to b. An arc of the circle (c, rho) runs from a to b,
 /// clockwise or not; a whole circle has a == b and full set.
 struct PieceSpec {

@@ -71,29 +71,7 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   return s;
 }
 
-namespace {
-
-simd::KernelLeak kernel_leak(const Table<double>& table, const TableLeak<double>& l) {
-  simd::KernelLeak k{};
-  k.first = table.loop_first(l.loop());
-  k.count = table.loop_count(l.loop());
-  k.rotating = l.schedule().rotating();
-  k.omega_hi = l.schedule().omega_terms().hi, k.omega_lo = l.schedule().omega_terms().lo;
-  k.start = l.schedule().start();
-  k.half_width = l.half_width();
-  for (int p = k.first; p < k.first + k.count; ++p) {
-    k.mid[p] = l.piece_mid(p), k.reach[p] = l.reach(p);
-    const auto& pw = l.windows(p);
-    for (int w = 0; w < pw.n; ++w) k.window[k.n_windows++] = {p, pw.w[w]};
-  }
-  return k;
-}
-
-}  // namespace
-
 void kernel_table(const TableModel<double>& m, simd::KernelTable& out) {
-  static_assert(simd::kKernelPieces >= kMaxTablePieces && simd::kKernelLoops >= kMaxTableLoops &&
-                simd::kKernelLeaks >= kMaxLeaks);
   const Table<double>& t = m.table;
   out = {};
   out.pieces = t.pieces(), out.loops = t.loops(), out.leaks = m.leaks.size();
@@ -104,7 +82,7 @@ void kernel_table(const TableModel<double>& m, simd::KernelTable& out) {
     out.loop_offset[l] = t.loop_offset(l);
   }
   out.perimeter = t.perimeter(), out.slack = t.slack(), out.two_pi = t.two_pi();
-  for (int j = 0; j < m.leaks.size(); ++j) out.leak[j] = kernel_leak(t, m.leaks[j]);
+  for (int j = 0; j < m.leaks.size(); ++j) out.leak[j] = m.leaks[j];
 }
 
 simd::KernelScene simd_scene(const TableModel<double>& m, const simd::KernelTable& table) {

@@ -20,26 +20,10 @@ inline constexpr int kMaxWindows = 3;
 inline constexpr int kMaxDensityWindows = 8;
 
 /// Pieces, loops and leaks a table the kernel runs may have (Table's and LeakList's own limits).
-inline constexpr int kKernelPieces = 32, kKernelLoops = 8, kKernelLeaks = 8;
-/// Stationary windows one leak may hold in all (up to six per piece: TableLeak::PieceWindows).
-inline constexpr int kKernelLeakWindows = 6 * kKernelPieces;
+inline constexpr int kKernelPieces = kMaxTablePieces, kKernelLoops = kMaxTableLoops, kKernelLeaks = kMaxLeaks;
 
-/// A stationary leak's window on piece `piece` (TableLeak<double>'s, leak/leak_window.hpp).
-struct KernelWindow {
-  int piece;
-  LeakWindow<double> w;
-};
-
-/// One leak of a table (TableLeak<double>): the pieces of its loop, its schedule, its windows when stationary, and
-/// each piece's middle and reach (may_touch) when it moves.
-struct KernelLeak {
-  int first, count;
-  bool rotating;
-  double omega_hi, omega_lo, start, half_width;
-  int n_windows;
-  KernelWindow window[kKernelLeakWindows];
-  double mid[kKernelPieces], reach[kKernelPieces];
-};
+/// One leak of a table: LeakList<double>'s own plain numbers (leak/leak_window.hpp).
+using KernelLeak = LeakView<double>;
 
 /// A table and its leaks (Table<double>, LeakList<double>) in plain numbers: what the kernel's table step reads.
 struct KernelTable {

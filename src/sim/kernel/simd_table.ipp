@@ -4,15 +4,15 @@
 //
 // The physics is not written here either: each lane performs Table<double>'s and LeakList<double>'s operations in
 // their order, through the templates they call themselves (geometry/table_piece.hpp: a piece's crossing, the
-// reflection, s; leak/leak_window.hpp: a window's test; leak/leak_formulas.hpp: the phase, may_touch, in_leak)
+// reflection, s; leak/leak_window.hpp: the leak test; leak/leak_formulas.hpp: the phase, may_touch, in_leak)
 // instantiated on the pack, with the piece's numbers broadcast. The next hit is Table::nearest's own loop over the
 // pieces (nearest_crossing, geometry/table_piece.hpp: every piece's outward crossing, the nearest kept per lane), a
 // first look and a second with the spans widened by the table's slack for the lanes that found none, as
-// Table::next_hit. What is here is the loop over leaks and the step's order:
-// - the leak: the leaks in order, the first that takes the hit; a stationary one by its windows, a moving one by
-//   the exact phase, may_touch and the hit's s;
+// Table::next_hit. The leak test is LeakList::hit's own loop over the leaks (first_leak, leak/leak_window.hpp: the
+// first leak that takes the hit; a stationary one by its windows, a moving one by the exact phase, may_touch and
+// the hit's s). What is here is the step's order and s:
 // - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from libm's atan2, the core's own
-//   function (the same bits);
+//   function (the same bits), each lane's once a step;
 // - the reflection: one formula about w, the arc's radius vector or the segment's rounded normal (Table::reflect).
 // So a lane's trajectory, fate, time, collisions and leak are the scalar engine's bit for bit
 // (tests/test_table_runs.cpp). What this path leaves out: the stadium's filtered fast paths (its convex next hit,
@@ -66,52 +66,22 @@ inline V table_s(const KernelTable& T, const TableLanes& h, const MV& need) {
   return s;
 }
 
-/// The leak's exact centre at t (formula::leak_phase), as LeakSchedule::phase takes it.
-inline V table_phase(const KernelLeak& l, const V& t) {
-  return formula::leak_phase(V(l.omega_hi), V(l.omega_lo), V(l.start), t, [](const V& a, const V& b, const V& p) {
-    V err;  // the exact error of a b: a true fused multiply-subtract
-    each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
-    return err;
-  });
-}
-
-/// The lanes of `look` whose hit a stationary leak's windows hold (TableLeak::in_windows: leak/leak_window.hpp).
-inline MV in_table_windows(const KernelTable& T, const KernelLeak& l, const TableLanes& h, const MV& look) {
-  MV in(false);
-  for (int i = 0; i < l.n_windows; ++i) {
-    const KernelWindow& w = l.window[i];
-    const MV on = on_piece(h, w.piece, look);
-    if (bits(on)) in = in | (on & in_window(T.piece[w.piece], w.w, h.x, h.y));
-  }
-  return in;
-}
-
-/// LeakList::hit for the lanes of `look`: the index of the first leak that takes the hit at time t (-1: none). A
-/// moving leak asks the hit's s (table_s, once for every lane that needs it) where its loop's piece is a segment or
-/// an arc it may touch now (formula::may_touch).
+/// LeakList::hit for the lanes of `look`: first_leak (leak/leak_window.hpp), the index of the first leak that takes
+/// the hit at time t (-1: none). The hit's s comes from table_s for the lanes a moving leak asks, each lane's once;
+/// the exact error of the phase's product from a true fused multiply-subtract.
 inline V table_leak_of(const KernelTable& T, const TableLanes& h, const V& t, const MV& look) {
-  V ph[kKernelLeaks];
-  MV asks[kKernelLeaks], need(false);
-  for (int j = 0; j < T.leaks; ++j) {
-    const KernelLeak& l = T.leak[j];
-    asks[j] = MV(false);
-    if (!l.rotating) continue;
-    ph[j] = table_phase(l, t);
-    for (int k = l.first; k < l.first + l.count; ++k) {
-      const MV on = on_piece(h, k, look);
-      if (!bits(on)) continue;
-      asks[j] = asks[j] | (T.piece[k].kind == PieceKind::arc ? on & formula::may_touch(V(l.mid[k]), ph[j], V(l.reach[k])) : on);
-    }
-    need = need | asks[j];
-  }
-  const V s = bits(need) ? table_s(T, h, need) : V(0.0);
-  V leak(-1.0);
-  for (int j = 0; j < T.leaks; ++j) {
-    const KernelLeak& l = T.leak[j];
-    const MV in = l.rotating ? asks[j] & formula::in_leak(s, ph[j], V(l.half_width)) : in_table_windows(T, l, h, look);
-    leak = select(in & (leak < V(0.0)), V(static_cast<double>(j)), leak);
-  }
-  return leak;
+  V s(0.0);
+  MV have(false);
+  const auto s_of = [&](const MV& ask) -> const V& {
+    if (const MV more = ask & !have; bits(more)) s = select(more, table_s(T, h, more), s), have = have | more;
+    return s;
+  };
+  return first_leak(T.leak, T.leaks, T.piece, h.piece, h.x, h.y, t, look, s_of,
+                    [](const V& a, const V& b, const V& p) {
+                      V err;  // the exact error of a b
+                      each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
+                      return err;
+                    });
 }
 
 /// f_c of the lanes in `count`: bin floor(share bins) of the boundary's share (Table::boundary_share) of the hit,
