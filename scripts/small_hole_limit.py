@@ -18,7 +18,6 @@ its error and (a - 1) / error, with the fit's chi^2, and each form's fit with a 
 
 Usage: scripts/small_hole_limit.py BUILD_DIR OUT.csv [PARTICLES]   (default 1000000)
 """
-import csv
 import math
 import os
 import shutil
@@ -26,7 +25,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from table_rates import run  # noqa: E402  (one run and its fit, as the small-hole table's)
+from table_rates import rate_row, run, write_csv  # noqa: E402  (one run, its fit and its row, as the small-hole table's)
 
 TABLES = [
     ("lorentz", '[table]\nkind = "lorentz"\nradius = "0.45"\n'),
@@ -65,14 +64,11 @@ def main():
             rows = []
             for width in WIDTHS:
                 s, k0, _ = run(build, work, name, table, width, particles)
-                k = s["kappa"]
-                err = math.hypot(k["error"], k["window_systematic"]) / k0
-                rows.append({"table": name, "width": width, "kappa0": k0, "kappa": k["value"],
-                             "kappa_err": k["error"], "kappa_syst": k["window_systematic"],
-                             "ratio": k["value"] / k0, "ratio_err": err, "particles": particles,
-                             "collisions": s["collisions"]})
+                row = rate_row(name, width, s, k0)
+                row.update({"particles": particles, "collisions": s["collisions"]})
+                rows.append(row)
                 print("%-8s lambda %-6s kappa0 %.5g  kappa %.5g  ratio %.4f +- %.4f" % (
-                    name, width, k0, k["value"], k["value"] / k0, err), flush=True)
+                    name, width, k0, row["kappa"], row["ratio"], row["ratio_err"]), flush=True)
             xs, ys, es = [float(r["width"]) for r in rows], [r["ratio"] for r in rows], [r["ratio_err"] for r in rows]
             logs = [x * math.log(1 / x) for x in xs]
             fits.append((name, (line_fit(xs, ys, es), through_one(xs, ys, es)),
@@ -80,12 +76,7 @@ def main():
             lines += rows
     finally:
         shutil.rmtree(work)
-    tmp = out_csv + ".tmp"
-    with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(lines[0]))
-        w.writeheader()
-        w.writerows(lines)
-    os.replace(tmp, out_csv)
+    write_csv(out_csv, lines)
     print("\n| table | " + " | ".join("lambda = %s" % x for x in WIDTHS) + " |\n" + "|---" * (len(WIDTHS) + 1) + "|")
     for name, _, _ in fits:
         print("| %s | %s |" % (name, " | ".join("%.4f +- %.4f" % (r["ratio"], r["ratio_err"]) for r in lines

@@ -60,6 +60,25 @@ def run(build, work, name, table, width, particles):
     return s, k0, p3
 
 
+def rate_row(name, width, s, k0):
+    """A run's fitted kappa against kappa0: the CSV row's columns from `table` to `ratio_err` (docs/output.md)."""
+    k = s["kappa"]
+    ratio = k["value"] / k0 if k["value"] is not None else float("nan")
+    err = math.hypot(k["error"], k["window_systematic"]) / k0 if k["value"] is not None else float("nan")
+    return {"table": name, "width": width, "kappa0": k0, "kappa": k["value"], "kappa_err": k["error"],
+            "kappa_syst": k["window_systematic"], "ratio": ratio, "ratio_err": err}
+
+
+def write_csv(path, rows):
+    """The rows as CSV with their keys as the header: a temporary name, then a rename (never half a file)."""
+    tmp = path + ".tmp"
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(tmp, path)
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -71,24 +90,17 @@ def main():
         for name, table in TABLES:
             for width in WIDTHS:
                 s, k0, p3 = run(build, work, name, table, width, particles)
+                row = rate_row(name, width, s, k0)
+                row.update({"P_3T": float(p3["P"]), "P_3T_err": float(p3["P_err"])})
+                row.update({"particles": particles, "collisions": s["collisions"]})
+                lines.append(row)
                 k = s["kappa"]
-                ratio = k["value"] / k0 if k["value"] is not None else float("nan")
-                err = math.hypot(k["error"], k["window_systematic"]) / k0 if k["value"] is not None else float("nan")
-                lines.append({"table": name, "width": width, "kappa0": k0, "kappa": k["value"],
-                              "kappa_err": k["error"], "kappa_syst": k["window_systematic"], "ratio": ratio,
-                              "ratio_err": err, "P_3T": float(p3["P"]), "P_3T_err": float(p3["P_err"]),
-                              "particles": particles, "collisions": s["collisions"]})
                 print("%-9s lambda %s: kappa0 %.5g  kappa %.5g +- %.2g  ratio %.3f +- %.3f  P(3T) %.4f" % (
-                    name, width, k0, k["value"] or float("nan"), k["error"] or float("nan"), ratio, err,
-                    float(p3["P"])), flush=True)
+                    name, width, k0, k["value"] or float("nan"), k["error"] or float("nan"), row["ratio"],
+                    row["ratio_err"], float(p3["P"])), flush=True)
     finally:
         shutil.rmtree(work)
-    tmp = out_csv + ".tmp"
-    with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(lines[0]))
-        w.writeheader()
-        w.writerows(lines)
-    os.replace(tmp, out_csv)
+    write_csv(out_csv, lines)
     print("\n| table | lambda | kappa0 | kappa / kappa0 | P(3 / kappa0) |\n|---|---|---|---|---|")
     for r in lines:
         print("| %s | %s | %.4g | %.3f +- %.3f | %.4f +- %.4f |" % (r["table"], r["width"], r["kappa0"], r["ratio"],
