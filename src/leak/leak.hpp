@@ -5,7 +5,9 @@
 #include <cmath>
 
 #include "geometry/stadium.hpp"
+#include "geometry/table_piece.hpp"
 #include "leak/leak_formulas.hpp"
+#include "leak/leak_window.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 
@@ -48,64 +50,82 @@ using formula::circular_offset;
 
 /// The leak on a given stadium: decides escape at a collision. Two paths that must agree (tests
 /// check it): a precomputed per-piece window test for a stationary leak (no transcendental calls),
-/// and the phase + s test for a moving one.
+/// and the phase + s test for a moving one. Its windows are the stadium's own (built here from the stadium's
+/// junctions); the test is the one every table's leak list takes (first_leak, leak/leak_window.hpp), on the
+/// stadium's four pieces as that test reads them (a straight edge's x, an arc's centre).
 template <class R>
 class Leak {
  public:
   Leak(const Stadium<R>& stadium, const ExactReal& width, const ExactReal& start, const ExactReal& omega)
-      : stadium_(stadium), schedule_(start, omega), half_width_(round_exact<R>(width / ExactReal::parse("2"))) {
+      : stadium_(stadium), schedule_(start, omega) {
+    view_.first = 0, view_.count = 4;
+    view_.rotating = schedule_.rotating();
+    view_.omega_hi = schedule_.omega_terms().hi, view_.omega_lo = schedule_.omega_terms().lo;
+    view_.start = schedule_.start();
+    view_.half_width = round_exact<R>(width / ExactReal::parse("2"));
     // s-ranges of the pieces, with the top edge unwrapped to [j3 - 1, j0].
     piece_lo_ = {stadium.junction(3) - 1, stadium.junction(0), stadium.junction(1), stadium.junction(2)};
     piece_hi_ = {stadium.junction(0), stadium.junction(1), stadium.junction(2), stadium.junction(3)};
     for (int k = 0; k < 4; ++k) {
-      piece_mid_[k] = (piece_lo_[k] + piece_hi_[k]) / 2;
-      reach_[k] = (piece_hi_[k] - piece_lo_[k]) / 2 + half_width_;
+      view_.mid[k] = (piece_lo_[k] + piece_hi_[k]) / 2;
+      view_.reach[k] = (piece_hi_[k] - piece_lo_[k]) / 2 + view_.half_width;
+      TablePiece<R>& p = piece_[k];
+      p.kind = k == 0 || k == 2 ? PieceKind::segment : PieceKind::arc;
+      p.along_x = true;
+      if (p.kind == PieceKind::arc) p.cx = stadium.arc_centre_x(static_cast<Piece>(k));
     }
     if (!schedule_.rotating()) build_windows();
   }
 
   const LeakSchedule<R>& schedule() const { return schedule_; }
-  const R& half_width() const { return half_width_; }
-  /// Piece k's middle in s and how far from it the leak's centre can be while touching the piece.
-  const R& piece_mid(int k) const { return piece_mid_[static_cast<std::size_t>(k)]; }
-  const R& reach(int k) const { return reach_[static_cast<std::size_t>(k)]; }
+  const R& half_width() const { return view_.half_width; }
+  /// Piece k's middle in s and how far from it the leak centre can be while touching the piece.
+  const R& piece_mid(int k) const { return view_.mid[k]; }
+  const R& reach(int k) const { return view_.reach[k]; }
 
-  /// Escape test at a collision at point q of piece p at time t.
+  /// Escape test at a collision at point q of piece p at time t (first_leak on this one leak; the hit's s, the
+  /// stadium's, only where a moving leak asks for it).
   bool hit(Piece p, const Vec2<R>& q, const R& t) const {
-    if (!schedule_.rotating()) return in_windows(p, q);
-    const R c = schedule_.phase(t);
-    // on an arc, skip the atan2 unless the leak overlaps this arc now
-    if ((p == Piece::right_arc || p == Piece::left_arc) &&
-        !formula::may_touch(piece_mid_[static_cast<std::size_t>(p)], c, reach_[static_cast<std::size_t>(p)]))
-      return false;
-    return formula::in_leak(stadium_.s_of(p, q), c, half_width_);
+    bool have = false;
+    R s{0};
+    const auto s_of = [&](bool) -> const R& {
+      if (!have) s = stadium_.s_of(p, q), have = true;
+      return s;
+    };
+    const auto product_error = [](const R& a, const R& b, const R& prod) {
+      return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
+    };
+    return first_leak(&view_, 1, piece_, static_cast<int>(p), q.x, q.y, t, true, s_of, product_error) == 0;
   }
 
-  /// A stationary leak's part on one piece: an x range (straight pieces) or the two directions from
-  /// the arc's centre that bound the sub-arc, clockwise (arcs).
-  struct Window {
-    R lo{0}, hi{0};
-    Vec2<R> from, to;
-  };
+  /// A stationary leak's part on one piece (empty for a moving leak): an x range (straight pieces) or the two
+  /// directions from the arc's centre that bound the sub-arc, clockwise (arcs), in the order they lie along it.
   struct PieceWindows {
-    std::array<Window, 3> w;
-    int n = 0;
+    const PieceWindow<R>* first;
+    int n;
+    const LeakWindow<R>& operator[](int i) const { return first[i].w; }
   };
-  /// The stationary windows of piece p (empty for a moving leak).
-  const PieceWindows& windows(Piece p) const { return windows_[static_cast<int>(p)]; }
+  PieceWindows windows(Piece p) const {
+    const int k = static_cast<int>(p);
+    return {view_.window + view_.win_first[k], view_.win_count[k]};
+  }
 
  private:
   void build_windows() {
     using std::cos;
     using std::sin;
-    const R c = schedule_.start();
+    const R& c = view_.start;
+    const R& hw = view_.half_width;
     for (int k = 0; k < 4; ++k) {
+      view_.win_first[k] = view_.n_windows;
       for (int shift = -1; shift <= 1; ++shift) {
-        const R a = c - half_width_ + R(shift), b = c + half_width_ + R(shift);
+        const R a = c - hw + R(shift), b = c + hw + R(shift);
         const R lo = a > piece_lo_[k] ? a : piece_lo_[k];
         const R hi = b < piece_hi_[k] ? b : piece_hi_[k];
         if (lo > hi) continue;
-        Window w;
+        PieceWindow<R>& pw = view_.window[view_.n_windows++];
+        pw.piece = k;
+        LeakWindow<R>& w = pw.w;
         const R L = stadium_.perimeter();
         switch (static_cast<Piece>(k)) {
           case Piece::top:
@@ -126,31 +146,16 @@ class Leak {
             break;
           }
         }
-        windows_[k].w[windows_[k].n++] = w;
       }
+      view_.win_count[k] = view_.n_windows - view_.win_first[k];
     }
-  }
-
-  bool in_windows(Piece p, const Vec2<R>& q) const {
-    const PieceWindows& pw = windows_[static_cast<int>(p)];
-    if (pw.n == 0) return false;
-    if (p == Piece::top || p == Piece::bottom) {
-      for (int i = 0; i < pw.n; ++i)
-        if (formula::in_x_window(q.x, pw.w[i].lo, pw.w[i].hi)) return true;
-      return false;
-    }
-    const Vec2<R> rel{formula::from_centre(q.x, stadium_.arc_centre_x(p)), q.y};
-    for (int i = 0; i < pw.n; ++i)  // each sub-arc spans at most pi: two half-plane tests
-      if (formula::in_arc_window(rel, pw.w[i].from, pw.w[i].to)) return true;
-    return false;
   }
 
   Stadium<R> stadium_;
   LeakSchedule<R> schedule_;
-  R half_width_;
   std::array<R, 4> piece_lo_{}, piece_hi_{};
-  std::array<R, 4> piece_mid_{}, reach_{};  ///< the leak centre can touch piece k only within reach_ of its middle
-  std::array<PieceWindows, 4> windows_{};
+  LeakView<R, 4> view_{};   ///< the leak as first_leak reads it (its windows: at most 3 a piece here)
+  TablePiece<R> piece_[4];  ///< the four pieces as the test reads them: kind, x along the edges, arc centres
 };
 
 }  // namespace rotleak

@@ -19,10 +19,6 @@ namespace rotleak {
 
 /// The most leaks a table may have.
 inline constexpr int kMaxLeaks = 8;
-/// The stationary windows one leak may hold in all: up to six a piece (the leak and its images one turn either
-/// side; an arc's window of more than a half turn in two).
-inline constexpr int kMaxLeakWindows = 6 * kMaxTablePieces;
-
 /// A window: the coordinate range [lo, hi] on a segment; on an arc the directions from its centre that bound the
 /// sub-arc, clockwise from `from` to `to` (at most a half turn).
 template <class R>
@@ -40,17 +36,19 @@ struct PieceWindow {
 
 /// One leak of a table in plain numbers: the pieces of its loop [first, first + count), its schedule (omega as
 /// hi + lo, its centre's s at t = 0 in [0, 1)), its half width, its windows when stationary (the windows of a piece
-/// in the order they lie along it, and where each piece's begin), and each piece's middle in s and how far from it the
-/// leak's centre can be while touching it (may_touch) when it moves.
-template <class R>
+/// in the order they lie along it, and where each piece's begin: up to six a piece, the leak and its images one turn
+/// either side, an arc's window of more than a half turn in two), and each piece's middle in s and how far from it
+/// the leak's centre can be while touching it (may_touch) when it moves. P: the pieces it has room for (a table's
+/// most; the stadium's four).
+template <class R, int P = kMaxTablePieces>
 struct LeakView {
   int first = 0, count = 0;
   bool rotating = false;
   R omega_hi{0}, omega_lo{0}, start{0}, half_width{0};
   int n_windows = 0;
-  PieceWindow<R> window[kMaxLeakWindows];
-  int win_first[kMaxTablePieces], win_count[kMaxTablePieces];  ///< piece k's windows: [win_first, + win_count)
-  R mid[kMaxTablePieces], reach[kMaxTablePieces];
+  PieceWindow<R> window[6 * P];
+  int win_first[P], win_count[P];  ///< piece k's windows: [win_first, + win_count)
+  R mid[P], reach[P];
 };
 
 /// Does window w of piece p hold the point (x, y) of that piece?
@@ -84,17 +82,17 @@ template <class I, class M, class F>
 /// cache), for the lanes a moving leak asks. A leak is asked only about the lanes no earlier leak took, so one
 /// number stops at the first leak that takes it, as an interval tier must (a later leak's undecided comparison is
 /// never made).
-template <class T, class R, class SOf, class ProductError>
-[[gnu::always_inline]] inline piece_index_of<T> first_leak(const LeakView<R>* leaks, int n, const TablePiece<R>* pieces,
-                                                           const piece_index_of<T>& piece, const T& x, const T& y,
-                                                           const T& t, const mask_of<T>& look, SOf& s_of,
-                                                           const ProductError& product_error) {
+template <class T, class R, int P, class SOf, class ProductError>
+[[gnu::always_inline]] inline piece_index_of<T> first_leak(const LeakView<R, P>* leaks, int n,
+                                                           const TablePiece<R>* pieces, const piece_index_of<T>& piece,
+                                                           const T& x, const T& y, const T& t, const mask_of<T>& look,
+                                                           SOf& s_of, const ProductError& product_error) {
   using M = mask_of<T>;
   using I = piece_index_of<T>;
   I taken(-1);
   M open = look;
   for (int j = 0; j < n; ++j) {
-    const LeakView<R>& l = leaks[j];
+    const LeakView<R, P>& l = leaks[j];
     const M here = M(open & (piece >= I(l.first)) & (piece < I(l.first + l.count)));
     if (none(here)) continue;
     M in(false);

@@ -43,12 +43,12 @@ simd::KernelScene simd_scene(const Model<double>& m) {
     const auto& pw = m.leak.windows(static_cast<Piece>(p));
     s.n_windows[p] = pw.n;
     for (int w = 0; w < pw.n; ++w) {
-      s.lo[p][w] = pw.w[w].lo;
-      s.hi[p][w] = pw.w[w].hi;
-      s.from_x[p][w] = pw.w[w].from.x;
-      s.from_y[p][w] = pw.w[w].from.y;
-      s.to_x[p][w] = pw.w[w].to.x;
-      s.to_y[p][w] = pw.w[w].to.y;
+      s.lo[p][w] = pw[w].lo;
+      s.hi[p][w] = pw[w].hi;
+      s.from_x[p][w] = pw[w].from.x;
+      s.from_y[p][w] = pw[w].from.y;
+      s.to_x[p][w] = pw[w].to.x;
+      s.to_y[p][w] = pw[w].to.y;
     }
   }
   s.omega_hi = m.leak.schedule().omega_terms().hi;

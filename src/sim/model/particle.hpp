@@ -263,7 +263,7 @@ long first_window_bounce(const Model<R>& m, const Stretch<R>& s, long J) {
     const auto& pw = m.leak.windows(s.piece(parity));
     for (int w = 0; w < pw.n; ++w) {
       // x_j in [lo, hi] is an interval of j (monotone x_j); search it among j = parity, parity + 2, ...
-      const R lo = pw.w[w].lo, hi = pw.w[w].hi;
+      const R lo = pw[w].lo, hi = pw[w].hi;
       auto before = [&](long j) {  // x_j has not reached the window yet (in the direction of motion)
         const R v = s.x_at(j);
         return s.dx > 0 ? v < lo : v > hi;
