@@ -51,7 +51,7 @@ using formula::circular_offset;
 /// The leak on a given stadium: decides escape at a collision. Two paths that must agree (tests
 /// check it): a precomputed per-piece window test for a stationary leak (no transcendental calls),
 /// and the phase + s test for a moving one. Its windows are the stadium's own (built here from the stadium's
-/// junctions); the test is the one every table's leak list takes (first_leak, leak/leak_window.hpp), on the
+/// junctions); the test is the one every table's leak takes (leak_takes, leak/leak_window.hpp), on the
 /// stadium's four pieces as that test reads them (a straight edge's x, an arc's centre).
 template <class R>
 class Leak {
@@ -82,20 +82,23 @@ class Leak {
   /// Piece k's middle in s and how far from it the leak centre can be while touching the piece.
   const R& piece_mid(int k) const { return view_.mid[k]; }
   const R& reach(int k) const { return view_.reach[k]; }
+  /// The leak and the stadium's four pieces as leak_takes reads them (what the vectorised kernel copies).
+  const LeakView<R, 4>& view() const { return view_; }
+  const TablePiece<R>* pieces() const { return piece_; }
 
-  /// Escape test at a collision at point q of piece p at time t (first_leak on this one leak; the hit's s, the
+  /// Escape test at a collision at point q of piece p at time t (leak_takes on this one leak; the hit's s, the
   /// stadium's, only where a moving leak asks for it).
-  bool hit(Piece p, const Vec2<R>& q, const R& t) const {
+  [[gnu::always_inline]] bool hit(Piece p, const Vec2<R>& q, const R& t) const {
     bool have = false;
     R s{0};
-    const auto s_of = [&](bool) -> const R& {
+    const auto s_of = [&](bool, const R&, const R&) -> const R& {
       if (!have) s = stadium_.s_of(p, q), have = true;
       return s;
     };
     const auto product_error = [](const R& a, const R& b, const R& prod) {
       return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
     };
-    return first_leak(&view_, 1, piece_, static_cast<int>(p), q.x, q.y, t, true, s_of, product_error) == 0;
+    return leak_takes(view_, piece_, static_cast<int>(p), q.x, q.y, t, true, s_of, product_error);
   }
 
   /// A stationary leak's part on one piece (empty for a moving leak): an x range (straight pieces) or the two
@@ -154,7 +157,7 @@ class Leak {
   Stadium<R> stadium_;
   LeakSchedule<R> schedule_;
   std::array<R, 4> piece_lo_{}, piece_hi_{};
-  LeakView<R, 4> view_{};   ///< the leak as first_leak reads it (its windows: at most 3 a piece here)
+  LeakView<R, 4> view_{};   ///< the leak as leak_takes reads it (its windows: at most 3 a piece here)
   TablePiece<R> piece_[4];  ///< the four pieces as the test reads them: kind, x along the edges, arc centres
 };
 

@@ -59,29 +59,77 @@ inline mask_of<T> in_window(const TablePiece<R>& p, const LeakWindow<R>& w, cons
   return formula::in_arc_window(rel, Vec2<T>{T(w.from.x), T(w.from.y)}, Vec2<T>{T(w.to.x), T(w.to.y)});
 }
 
+/// The lanes of `on` on piece k. `piece`: each lane's piece index (one number: its piece), or a function k -> the
+/// mask of the lanes on piece k (a kernel that knows its pieces by cheaper masks than an index).
+template <class M, class PieceOf>
+[[gnu::always_inline]] inline M lanes_on(const PieceOf& piece, int k, const M& on) {
+  if constexpr (std::is_invocable_v<const PieceOf&, int>)
+    return M(on & piece(k));
+  else
+    return M(on & (piece == PieceOf(k)));
+}
+
 /// f(k, lanes) for each piece k of [first, first + count) that a lane of `on` lies on (the lanes that do): one
 /// number calls f once, with its own piece.
-template <class I, class M, class F>
-[[gnu::always_inline]] inline void each_piece(const I& piece, int first, int count, const M& on, const F& f) {
+template <class PieceOf, class M, class F>
+[[gnu::always_inline]] inline void each_piece(const PieceOf& piece, int first, int count, const M& on, const F& f) {
   if constexpr (std::is_same_v<M, bool>) {
     f(piece, on);
   } else {
     for (int k = first; k < first + count; ++k) {
-      const M here = M(on & (piece == I(k)));
+      const M here = lanes_on(piece, k, on);
       if (!none(here)) f(k, here);
     }
   }
 }
 
-/// The leak test written once, for one number of any tier (LeakList<R>::hit) and for a pack of lanes (the kernel's
-/// table step): of leaks [0, n), the index of the first that takes a hit on piece `piece` at (x, y) at time t, for
-/// the lanes of `look` (-1: none). A stationary leak decides by its windows of that piece; a moving one by its
-/// exact centre at t (formula::leak_phase, the exact error of omega_hi t from `product_error`), then, on an arc,
-/// whether it can touch the arc now (formula::may_touch), then the hit's s (formula::in_leak). `s_of(lanes)` gives
-/// the hit's s for the lanes that ask: one number computes it once, when first asked; a pack each lane's once (its
-/// cache), for the lanes a moving leak asks. A leak is asked only about the lanes no earlier leak took, so one
-/// number stops at the first leak that takes it, as an interval tier must (a later leak's undecided comparison is
-/// never made).
+/// The leak test of one leak, written once for one number of any tier and for a pack of lanes: the lanes of `here`
+/// (hits on the leak's loop, on piece `piece` -- see lanes_on -- at (x, y) at time t) that leak l takes. A stationary
+/// leak decides by its windows of that piece; a moving one by its exact centre at t (formula::leak_phase, the exact
+/// error of omega_hi t from `product_error`), then, on an arc, whether it can touch the arc now (formula::may_touch),
+/// then the hit's s (formula::in_leak). `s_of(lanes, c, hw)` gives the hit's s for the lanes that ask, exact enough
+/// that in_leak(s, c, hw) decides as with the exact s (the decision's edges are c -+ hw: a filtered s, such as the
+/// stadium kernel's cascade of angles, refines only the lanes near them): one number computes it once, when first
+/// asked; a pack each lane's once (its cache), for the lanes a moving leak asks. One number stops at the first window
+/// that holds it (an interval's undecided comparison with a later window is never made).
+template <class T, class R, int P, class PieceOf, class SOf, class ProductError>
+[[gnu::always_inline]] inline mask_of<T> leak_takes(const LeakView<R, P>& l, const TablePiece<R>* pieces,
+                                                    const PieceOf& piece, const T& x, const T& y, const T& t,
+                                                    const mask_of<T>& here, SOf& s_of,
+                                                    const ProductError& product_error) {
+  using M = mask_of<T>;
+  M in(false);
+  if (!l.rotating) {
+    // one number looks at its piece's windows only; a pack at every window, lane by lane
+    int from = 0, to = l.n_windows;
+    if constexpr (std::is_same_v<M, bool>) from = l.win_first[piece], to = from + l.win_count[piece];
+    for (int i = from; i < to; ++i) {
+      const PieceWindow<R>& w = l.window[i];
+      const M on = lanes_on(piece, w.piece, here);  // one number: always its own piece's window
+      in = M(in | (on & in_window(pieces[w.piece], w.w, x, y)));
+      if constexpr (std::is_same_v<M, bool>)
+        if (in) break;
+    }
+    return in;
+  }
+  const T c = formula::leak_phase(T(l.omega_hi), T(l.omega_lo), T(l.start), t, product_error);
+  M asks(false);
+  each_piece(piece, l.first, l.count, here, [&](int k, const M& on) {
+    const bool arc = pieces[k].kind == PieceKind::arc;
+    asks = M(asks | (arc ? M(on & formula::may_touch(T(l.mid[k]), c, T(l.reach[k]))) : on));
+  });
+  if (!none(asks)) {
+    const T hw(l.half_width);
+    in = M(asks & formula::in_leak(s_of(asks, c, hw), c, hw));
+  }
+  return in;
+}
+
+/// The leak test of a list, for one number of any tier (LeakList<R>::hit) and for a pack of lanes (the kernel's table
+/// step): of leaks [0, n), the index of the first that takes a hit on piece `piece` (an index) at (x, y) at time t,
+/// for the lanes of `look` (-1: none); each leak by leak_takes, asked only about the lanes on its loop that no earlier
+/// leak took, so one number stops at the first leak that takes it, as an interval tier must (a later leak's
+/// undecided comparison is never made).
 template <class T, class R, int P, class SOf, class ProductError>
 [[gnu::always_inline]] inline piece_index_of<T> first_leak(const LeakView<R, P>* leaks, int n,
                                                            const TablePiece<R>* pieces, const piece_index_of<T>& piece,
@@ -95,28 +143,7 @@ template <class T, class R, int P, class SOf, class ProductError>
     const LeakView<R, P>& l = leaks[j];
     const M here = M(open & (piece >= I(l.first)) & (piece < I(l.first + l.count)));
     if (none(here)) continue;
-    M in(false);
-    if (!l.rotating) {
-      // one number looks at its piece's windows only; a pack at every window, lane by lane
-      int from = 0, to = l.n_windows;
-      if constexpr (std::is_same_v<M, bool>) from = l.win_first[piece], to = from + l.win_count[piece];
-      for (int i = from; i < to; ++i) {
-        const PieceWindow<R>& w = l.window[i];
-        const M on = M(here & (piece == I(w.piece)));
-        if (none(on)) continue;
-        in = M(in | (on & in_window(pieces[w.piece], w.w, x, y)));
-        if constexpr (std::is_same_v<M, bool>)
-          if (in) break;  // one number asks no further window (an interval's undecided comparison is not made)
-      }
-    } else {
-      const T c = formula::leak_phase(T(l.omega_hi), T(l.omega_lo), T(l.start), t, product_error);
-      M asks(false);
-      each_piece(piece, l.first, l.count, here, [&](int k, const M& on) {
-        const bool arc = pieces[k].kind == PieceKind::arc;
-        asks = M(asks | (arc ? M(on & formula::may_touch(T(l.mid[k]), c, T(l.reach[k]))) : on));
-      });
-      if (!none(asks)) in = M(asks & formula::in_leak(s_of(asks), c, T(l.half_width)));
-    }
+    const M in = leak_takes(l, pieces, piece, x, y, t, here, s_of, product_error);
     if constexpr (std::is_same_v<M, bool>) {
       if (in) return j;
     } else {

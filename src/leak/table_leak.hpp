@@ -118,7 +118,7 @@ class LeakList {
   int hit(const Table<R>& table, int k, const Vec2<R>& q, const R& t) const {
     bool have = false;
     R s{0};
-    const auto s_of = [&](bool) -> const R& {
+    const auto s_of = [&](bool, const R&, const R&) -> const R& {
       if (!have) s = table.s_of(k, q), have = true;
       return s;
     };

@@ -14,12 +14,13 @@ namespace {
 /// half length |omega| t_max / 2 about start + omega t_max / 2, and touches arc k within arc_reach[k] of its
 /// middle; 1e-9 covers this double arithmetic's roundings and the rough phase's bound many times over.
 bool arcs_reachable(const simd::KernelScene& s) {
-  if (!s.rotating) return false;
-  const double sweep = (std::abs(s.omega_hi) + std::abs(s.omega_lo)) * s.t_max / 2;
+  const simd::StadiumLeak& l = s.leak;
+  if (!l.rotating) return false;
+  const double sweep = (std::abs(l.omega_hi) + std::abs(l.omega_lo)) * s.t_max / 2;
   if (!(sweep < 0.5)) return true;
-  const double centre = s.start + s.omega_hi * s.t_max / 2;
+  const double centre = l.start + l.omega_hi * s.t_max / 2;
   for (int k = 1; k <= 3; k += 2)
-    if (std::abs(formula::circular_offset(s.arc_mid[k], centre)) <= s.arc_reach[k] + sweep + 1e-9) return true;
+    if (std::abs(formula::circular_offset(l.mid[k], centre)) <= l.reach[k] + sweep + 1e-9) return true;
   return false;
 }
 
@@ -38,32 +39,14 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   s.L_over_r = st.L_over_r();
   s.pi = st.pi();
   for (int k = 0; k < 4; ++k) s.junction[k] = st.junction(k);
-  s.rotating = m.leak.schedule().rotating();
-  for (int p = 0; p < 4; ++p) {
-    const auto& pw = m.leak.windows(static_cast<Piece>(p));
-    s.n_windows[p] = pw.n;
-    for (int w = 0; w < pw.n; ++w) {
-      s.lo[p][w] = pw[w].lo;
-      s.hi[p][w] = pw[w].hi;
-      s.from_x[p][w] = pw[w].from.x;
-      s.from_y[p][w] = pw[w].from.y;
-      s.to_x[p][w] = pw[w].to.x;
-      s.to_y[p][w] = pw[w].to.y;
-    }
-  }
-  s.omega_hi = m.leak.schedule().omega_terms().hi;
-  s.omega_lo = m.leak.schedule().omega_terms().lo;
-  s.start = m.leak.schedule().start();
-  s.half_width = m.leak.half_width();
-  for (int k = 0; k < 4; ++k) {
-    s.arc_mid[k] = m.leak.piece_mid(k);
-    s.arc_reach[k] = m.leak.reach(k);
-  }
+  s.leak = m.leak.view();
+  for (int k = 0; k < 4; ++k) s.leak_piece[k] = m.leak.pieces()[k];
   s.arcs_reachable = arcs_reachable(s);
   s.margin = 1e-12;
   // the rough phase pays only where its bound leaves few lanes to the exact one (and far from s's wrap at 1/2)
-  const double bound = formula::rough_phase_bound(s.omega_hi, s.omega_lo, s.t_max);
-  s.phase_bound = s.rotating && s.half_width <= 0.25 && bound <= s.half_width / 64 ? bound : 0;
+  const double bound = formula::rough_phase_bound(s.leak.omega_hi, s.leak.omega_lo, s.t_max);
+  const double hw = s.leak.half_width;
+  s.phase_bound = s.leak.rotating && hw <= 0.25 && bound <= hw / 64 ? bound : 0;
   s.density_windows = 0;
   s.bins = 1;
   // a jump costs a few hundred ns, about 40 vectorised bounces: hand over only long phases

@@ -15,15 +15,15 @@
 
 namespace rotleak::simd {
 
-inline constexpr int kMaxWindows = 3;
 /// Time windows of the f_c observer the kernel takes (more: the scalar engine runs).
 inline constexpr int kMaxDensityWindows = 8;
 
 /// Pieces, loops and leaks a table the kernel runs may have (Table's and LeakList's own limits).
 inline constexpr int kKernelPieces = kMaxTablePieces, kKernelLoops = kMaxTableLoops, kKernelLeaks = kMaxLeaks;
 
-/// One leak of a table: LeakList<double>'s own plain numbers (leak/leak_window.hpp).
+/// One leak of a table: LeakList<double>'s own plain numbers (leak/leak_window.hpp); the stadium's, Leak<double>'s.
 using KernelLeak = LeakView<double>;
+using StadiumLeak = LeakView<double, 4>;
 
 /// A table and its leaks (Table<double>, LeakList<double>) in plain numbers: what the kernel's table step reads.
 struct KernelTable {
@@ -42,17 +42,11 @@ struct KernelScene {
   double r, half_d, t_max;
   double L, inv_L, r_over_L, L_over_r, pi;
   double junction[4];
-  bool rotating;
-  // stationary leak: windows per piece (0 top, 1 right arc, 2 bottom, 3 left arc)
-  int n_windows[4];
-  double lo[4][kMaxWindows], hi[4][kMaxWindows];          // straight pieces: x ranges
-  double from_x[4][kMaxWindows], from_y[4][kMaxWindows];  // arcs: bounding directions
-  double to_x[4][kMaxWindows], to_y[4][kMaxWindows];
-  // moving leak: phase = frac(start + omega t), omega = hi + lo
-  double omega_hi, omega_lo, start, half_width;
-  /// the arcs (pieces 1, 3): the leak can touch an arc only when its centre lies within reach of
-  /// the arc's middle (Leak::hit skips the angle otherwise)
-  double arc_mid[4], arc_reach[4];
+  /// The leak as the scalar core's Leak<double> holds it (leak/leak_window.hpp: its windows when stationary, its
+  /// schedule, half width, each piece's mid and reach) and the four pieces (0 top, 1 right arc, 2 bottom, 3 left
+  /// arc) as the leak test, first_leak, reads them: the kernel's leak test is that template on its packs.
+  StadiumLeak leak;
+  TablePiece<double> leak_piece[4];
   /// false: the leak's centre never comes within reach of an arc for t in [0, t_max] (a slow leak on a straight
   /// edge), so the first look takes no arc lane's angle
   bool arcs_reachable;
@@ -176,7 +170,7 @@ struct Probe {
 };
 struct ProbeResult {
   double bin;    ///< f_c's bin floor(s S.bins), from the kernel's s
-  bool in_leak;  ///< the kernel's leak test (the moving one when S.rotating)
+  bool in_leak;  ///< the kernel's leak test (the moving one when S.leak.rotating)
 };
 /// The kernel's own decisions at given collision points, for the ulp-edge probe test: each point's f_c bin and
 /// whether it is in the leak, by the kernel of S.lanes lanes, computed as run() computes them (the same

@@ -149,25 +149,31 @@ inline HitLanes next_hit(const KernelScene& S, const V& qx, const V& qy, const V
   return h;
 }
 
-/// Stationary leak: the precomputed windows of Leak::in_windows, an x range on a straight edge and
-/// two half-plane tests from the arc's centre on an arc (no transcendental function per hit).
-inline MV in_stationary_leak(const KernelScene& S, const HitLanes& h) {
-  MV in(false);
-  for (int w = 0; w < S.n_windows[0]; ++w)
-    in = in | (h.straight & h.up & formula::in_x_window(h.x, V(S.lo[0][w]), V(S.hi[0][w])));
-  for (int w = 0; w < S.n_windows[2]; ++w)
-    in = in | (h.straight & !h.up & formula::in_x_window(h.x, V(S.lo[2][w]), V(S.hi[2][w])));
-  if (S.n_windows[1] + S.n_windows[3] == 0) return in;  // no window on an arc (a leak on a straight edge)
-  const Vec2<V> rel{formula::from_centre(h.x, h.cx), h.y};
-  for (int p = 1; p <= 3; p += 2) {
-    if (S.n_windows[p] == 0) continue;
-    const MV on = (!h.straight) & (p == 1 ? h.right : !h.right);
-    for (int w = 0; w < S.n_windows[p]; ++w) {
-      const Vec2<V> from{V(S.from_x[p][w]), V(S.from_y[p][w])}, to{V(S.to_x[p][w]), V(S.to_y[p][w])};
-      in = in | (on & formula::in_arc_window(rel, from, to));
-    }
-  }
-  return in;
+/// The exact error of a b = p, lane by lane: a true fused multiply-subtract (the leak phase's product error, as
+/// num_traits<double>::product_error gives the scalar core).
+constexpr auto fms_error = [](const V& a, const V& b, const V& p) {
+  V err;
+  each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
+  return err;
+};
+
+/// The leak test of the lanes of `look`, Leak::hit's own: leak_takes (leak/leak_window.hpp) on the stadium's leak
+/// and its four pieces (0 top, 1 right arc, 2 bottom, 3 left arc: the lanes on each from next_hit's masks), with
+/// `s_of(lanes, c, hw)` the hit's s for the lanes a moving leak asks.
+template <class SOf>
+[[gnu::always_inline]] inline MV stadium_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& look,
+                                              SOf& s_of) {
+  const auto on_piece = [&](int k) {
+    return k == 0 ? h.straight & h.up : k == 2 ? h.straight & !h.up : k == 1 ? h.right & !h.straight : !(h.right | h.straight);
+  };
+  return leak_takes(S.leak, S.leak_piece, on_piece, h.x, h.y, t, look, s_of, fms_error);
+}
+
+/// Stationary leak: its windows (an x range on a straight edge, two half-plane tests from the arc's centre on an
+/// arc: no transcendental function per hit); no lane asks for s.
+inline MV in_stationary_leak(const KernelScene& S, const HitLanes& h, const MV& look) {
+  const auto no_s = [](const MV&, const V&, const V&) { return V(0.0); };
+  return stadium_leak(S, h, V(0.0), look, no_s);
 }
 
 /// The boundary coordinate s of the straight hits (formula::straight_s; arc lanes: junk).
@@ -269,28 +275,20 @@ inline V arc_s_for(const KernelScene& S, const HitLanes& h, const MV& arcs, V s,
   return fine_arc_s(S, h, fine, s, near);
 }
 
-/// The leak's exact centre at t (formula::leak_phase), as Leak::hit takes it.
-inline V exact_phase(const KernelScene& S, const V& t) {
-  return formula::leak_phase(V(S.omega_hi), V(S.omega_lo), V(S.start), t, [](const V& a, const V& b, const V& p) {
-    V err;  // the exact error of a b: a true fused multiply-subtract
-    each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
-    return err;
-  });
+/// The s of the hits of the lanes in `asks` for a moving leak's decision against centre c and half width hw: a
+/// straight hit's formula::straight_s, an arc hit's from the cascade with the leak's two ends as its edges; the
+/// other lanes keep `s`.
+[[gnu::always_inline]] inline V moving_leak_s(const KernelScene& S, const HitLanes& h, const MV& asks, const V& s,
+                                              const V& c, const V& hw) {
+  const auto near_end = [&](const V& x, double tol) { return formula::distance_to_leak_end(x, c, hw) <= V(tol); };
+  return select(asks & h.straight, straight_s(S, h), arc_s_for(S, h, asks & !h.straight, s, near_end));
 }
 
-/// Moving leak, Leak::hit with the exact phase: on an arc nothing unless the leak can touch it now
-/// (formula::may_touch), else s against the leak (formula::in_leak), the arc lanes' s from the cascade
-/// with the leak's two ends as its edges.
+/// Moving leak, Leak::hit's decision at every lane of `live`: the exact phase, may_touch on an arc, s from
+/// moving_leak_s.
 inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V& t, const MV& live) {
-  const V ph = exact_phase(S, t);
-  const MV near_arc = (!h.straight) &
-                      formula::may_touch(select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3])), ph,
-                                         select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]))) &
-                      live;
-  const V hw(S.half_width);
-  const auto near_end = [&](const V& s, double tol) { return formula::distance_to_leak_end(s, ph, hw) <= V(tol); };
-  const V s = arc_s_for(S, h, near_arc, straight_s(S, h), near_end);
-  return (h.straight | near_arc) & formula::in_leak(s, ph, hw);
+  const auto s_of = [&](const MV& asks, const V& c, const V& hw) { return moving_leak_s(S, h, asks, V(0.0), c, hw); };
+  return stadium_leak(S, h, t, live, s_of);
 }
 
 /// A cheap s of the straight hits for the first look: x / L on the top edge, unwrapped (the leak test takes s
@@ -313,30 +311,30 @@ inline MV in_moving_leak_exact(const KernelScene& S, const HitLanes& h, const V&
 inline MV in_moving_leak(const KernelScene& S, const HitLanes& h, const V& t, const MV& live) {
   if (S.phase_bound == 0) return in_moving_leak_exact(S, h, t, live);
   const double b = S.phase_bound;
-  const V c = formula::rough_leak_phase(V(S.omega_hi), V(S.start), t);
+  const V c = formula::rough_leak_phase(V(S.leak.omega_hi), V(S.leak.start), t);
   const MV arc = (!h.straight) & live;
   V s = rough_straight_s(S, h);
   if (S.arcs_reachable && bits(arc)) s = select(arc, rough_arc_s(S, h), s);
   // s - c less its nearest integer (formula::circular_offset takes floor(x + 1/2): the two differ only at offsets
   // near 1/2, far from a leak of half width <= 1/4), one rounding instruction shorter
   const V delta = s - c;
-  const V gap = abs(delta - nearbyint(delta)) - V(S.half_width);  // <= 0: inside
+  const V gap = abs(delta - nearbyint(delta)) - V(S.leak.half_width);  // <= 0: inside
   const MV looked = S.arcs_reachable ? live : h.straight & live;
   const V tol(kRoughAngleSafety * kRoughAngleError * S.r_over_L + b);
   MV in = looked & (gap <= V(0.0));
   const MV unsure = looked & (abs(gap) <= tol);
   if (bits(unsure)) {
-    const V ph = exact_phase(S, t);
-    const V hw(S.half_width);
-    const MV fine = unsure & arc;
-    if (bits(fine))
-      s = fine_arc_s(S, h, fine, s,
-                     [&](const V& x, double e) { return formula::distance_to_leak_end(x, ph, hw) <= V(e); });
-    s = select(unsure & h.straight, straight_s(S, h), s);
-    const V mid = select(h.right, V(S.arc_mid[1]), V(S.arc_mid[3]));
-    const V reach = select(h.right, V(S.arc_reach[1]), V(S.arc_reach[3]));
-    const MV touches = h.straight | formula::may_touch(mid, ph, reach);
-    in = select(unsure, touches & formula::in_leak(s, ph, hw), in);
+    // Leak::hit's own decision, the arc lanes' s refined from the rough one
+    const auto s_of = [&](const MV& asks, const V& ph, const V& hw) {
+      const MV fine = asks & arc;
+      return select(asks & h.straight, straight_s(S, h),
+                    bits(fine) ? fine_arc_s(S, h, fine, s,
+                                            [&](const V& x, double e) {
+                                              return formula::distance_to_leak_end(x, ph, hw) <= V(e);
+                                            })
+                               : s);
+    };
+    in = select(unsure, stadium_leak(S, h, t, unsure, s_of), in);
   }
   return in;
 }
@@ -451,7 +449,7 @@ ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, Exchange&
     const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & !over;
     if (bits(count)) observe_density(S, g, h, t, count, x);
   }
-  const MV esc = (S.rotating ? in_moving_leak(S, h, t, !over) : in_stationary_leak(S, h)) & !over;
+  const MV esc = S.leak.rotating ? in_moving_leak(S, h, t, !over) : in_stationary_leak(S, h, !over);
 
   // formula::reflect's pieces, every lane computing the arc's reflection
   const V wx = formula::from_centre(h.x, h.cx);
@@ -554,7 +552,7 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
     h.x = load(x), h.y = load(y), h.t = V(0.0), h.cx = select(h.right, V(S.half_d), V(-S.half_d));
     const MV all(true);
     store(density_bin_of(S, h, all), bin);
-    const MV in = S.rotating ? in_moving_leak(S, h, load(t), all) : in_stationary_leak(S, h);
+    const MV in = S.leak.rotating ? in_moving_leak(S, h, load(t), all) : in_stationary_leak(S, h, all);
     store(select(in, V(1.0), V(0.0)), leak);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = {bin[k], leak[k] != 0};
   }

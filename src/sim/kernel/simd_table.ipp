@@ -72,16 +72,11 @@ inline V table_s(const KernelTable& T, const TableLanes& h, const MV& need) {
 inline V table_leak_of(const KernelTable& T, const TableLanes& h, const V& t, const MV& look) {
   V s(0.0);
   MV have(false);
-  const auto s_of = [&](const MV& ask) -> const V& {
+  const auto s_of = [&](const MV& ask, const V&, const V&) -> const V& {
     if (const MV more = ask & !have; bits(more)) s = select(more, table_s(T, h, more), s), have = have | more;
     return s;
   };
-  return first_leak(T.leak, T.leaks, T.piece, h.piece, h.x, h.y, t, look, s_of,
-                    [](const V& a, const V& b, const V& p) {
-                      V err;  // the exact error of a b
-                      each([&](int i) { err.b[i] = fused_fms(a.b[i], b.b[i], p.b[i]); });
-                      return err;
-                    });
+  return first_leak(T.leak, T.leaks, T.piece, h.piece, h.x, h.y, t, look, s_of, fms_error);
 }
 
 /// f_c of the lanes in `count`: bin floor(share bins) of the boundary's share (Table::boundary_share) of the hit,
