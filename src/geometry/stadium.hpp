@@ -115,7 +115,7 @@ class Stadium {
   static formula::SinCos<R> sin_cos(const R& angle) { return formula::tier_sin_cos(angle); }
 
   /// Boundary coordinate s in [0,1) of a point q on piece p (the formulas of geometry/formulas.hpp).
-  R s_of(Piece p, const Vec2<R>& q) const {
+  [[gnu::always_inline]] R s_of(Piece p, const Vec2<R>& q) const {
     using std::atan2;
     if (p == Piece::top || p == Piece::bottom)
       return formula::straight_s(p == Piece::top, q.x, half_d_, inv_L_, junction_[1]);

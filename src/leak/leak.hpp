@@ -89,12 +89,7 @@ class Leak {
   /// Escape test at a collision at point q of piece p at time t (leak_takes on this one leak; the hit's s, the
   /// stadium's, only where a moving leak asks for it).
   [[gnu::always_inline]] bool hit(Piece p, const Vec2<R>& q, const R& t) const {
-    bool have = false;
-    R s{0};
-    const auto s_of = [&](bool, const R&, const R&) -> const R& {
-      if (!have) s = stadium_.s_of(p, q), have = true;
-      return s;
-    };
+    const auto s_of = [&](bool, const R&, const R&) { return stadium_.s_of(p, q); };  // asked once at most
     const auto product_error = [](const R& a, const R& b, const R& prod) {
       return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
     };
