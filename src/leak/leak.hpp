@@ -79,9 +79,6 @@ class Leak {
 
   const LeakSchedule<R>& schedule() const { return schedule_; }
   const R& half_width() const { return view_.half_width; }
-  /// Piece k's middle in s and how far from it the leak centre can be while touching the piece.
-  const R& piece_mid(int k) const { return view_.mid[k]; }
-  const R& reach(int k) const { return view_.reach[k]; }
   /// The leak and the stadium's four pieces as leak_takes reads them (what the vectorised kernel copies).
   const LeakView<R, 4>& view() const { return view_; }
   const TablePiece<R>* pieces() const { return piece_; }

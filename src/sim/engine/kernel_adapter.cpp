@@ -11,8 +11,8 @@ namespace rotleak {
 namespace {
 
 /// Can the moving leak touch an arc for some t in [0, t_max]? Its centre start + omega t sweeps an interval of
-/// half length |omega| t_max / 2 about start + omega t_max / 2, and touches arc k within arc_reach[k] of its
-/// middle; 1e-9 covers this double arithmetic's roundings and the rough phase's bound many times over.
+/// half length |omega| t_max / 2 about start + omega t_max / 2, and touches arc k within the leak's reach[k] of the
+/// arc's middle mid[k]; 1e-9 covers this double arithmetic's roundings and the rough phase's bound many times over.
 bool arcs_reachable(const simd::KernelScene& s) {
   const simd::StadiumLeak& l = s.leak;
   if (!l.rotating) return false;

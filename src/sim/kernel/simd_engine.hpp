@@ -44,7 +44,7 @@ struct KernelScene {
   double junction[4];
   /// The leak as the scalar core's Leak<double> holds it (leak/leak_window.hpp: its windows when stationary, its
   /// schedule, half width, each piece's mid and reach) and the four pieces (0 top, 1 right arc, 2 bottom, 3 left
-  /// arc) as the leak test, first_leak, reads them: the kernel's leak test is that template on its packs.
+  /// arc) as the leak test, leak_takes, reads them: the kernel's leak test is that template on its packs.
   StadiumLeak leak;
   TablePiece<double> leak_piece[4];
   /// false: the leak's centre never comes within reach of an arc for t in [0, t_max] (a slow leak on a straight
