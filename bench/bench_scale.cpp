@@ -54,7 +54,7 @@ double plain_rate(const Scene& s, int threads, std::uint64_t& collisions) {
   base.t_max = s.t_max;
   if (s.collision_density) {
     base.bins = s.collision_density->bins;
-    for (const auto& w : s.collision_density->windows) base.windows.push_back({w.from, w.to});
+    for (const auto& w : s.collision_density->windows) base.add_window(w.from, w.to);
   }
   collisions = 0;
   const auto t0 = Clock::now();
@@ -62,7 +62,8 @@ double plain_rate(const Scene& s, int threads, std::uint64_t& collisions) {
 #pragma omp parallel num_threads(threads) reduction(+ : total)
   {
     bench::PlainScene p = base;
-    std::vector<std::uint64_t> density(p.windows.size() * static_cast<std::size_t>(std::max(p.bins, 1)));
+    std::vector<std::uint64_t> density(static_cast<std::size_t>(p.n_windows) *
+                                       static_cast<std::size_t>(std::max(p.bins, 1)));
     if (s.collision_density) p.density = density.data();
 #pragma omp for schedule(dynamic, 4096)
     for (std::uint64_t id = 0; id < s.particles; ++id) {

@@ -1,28 +1,35 @@
 // The plain scalar simulator: what one writes first, independent of the core (unit velocity
 // renormalised after each arc reflection, a branch per piece, the leak decided from s, which on the
 // arcs needs an atan2 at every collision, f_c binned from the same s). The baseline the engine's
-// speed is measured against (bench_speed, bench_scale).
+// speed is measured against (bench_speed, bench_scale), and on a GPU, compiled for the device as it is
+// (one thread a particle: bench_gpu), the GPU engine's.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <utility>
-#include <vector>
+
+#include "numeric/device.hpp"
 
 namespace rotleak::bench {
 
 /// Stadium d = 2, r = 1, leak width `width` centred at frac(start + omega t). `density`: when not
 /// null, collisions with t in window w counted in bins w * bins + floor(s bins).
 struct PlainScene {
+  static constexpr int kMaxWindows = 8;
+  struct Window {
+    double first, second;  ///< the window [first, second]
+  };
   double omega = 0, start = 0, width = 0.01, t_max = 20000;
   std::uint64_t* density = nullptr;
   int bins = 0;
-  std::vector<std::pair<double, double>> windows;
+  Window windows[kMaxWindows] = {};
+  int n_windows = 0;
+  void add_window(double from, double to) { windows[n_windows++] = {from, to}; }
 };
 
 /// Collisions of one particle until it escapes or passes t_max.
-inline std::uint64_t plain_particle(double qx, double qy, double vx, double vy, double t, const PlainScene& p) {
+ROTLEAK_HD inline std::uint64_t plain_particle(double qx, double qy, double vx, double vy, double t, const PlainScene& p) {
   const double hd = 1, r = 1, L = 4 + 2 * M_PI, half = p.width / 2;
   std::uint64_t n = 0;
   for (;;) {
@@ -55,9 +62,16 @@ inline std::uint64_t plain_particle(double qx, double qy, double vx, double vy, 
     else
       s = (3 * hd + M_PI * r + r * std::atan2(-(hx + hd), -hy)) / L;
     if (p.density)
-      for (std::size_t w = 0; w < p.windows.size(); ++w)
-        if (t >= p.windows[w].first && t <= p.windows[w].second)
-          ++p.density[w * static_cast<std::size_t>(p.bins) + static_cast<std::size_t>(std::min(p.bins - 1, static_cast<int>(s * p.bins)))];
+      for (int w = 0; w < p.n_windows; ++w)
+        if (t >= p.windows[w].first && t <= p.windows[w].second) {
+          std::uint64_t* count = p.density + static_cast<std::size_t>(w) * static_cast<std::size_t>(p.bins) +
+                                 static_cast<std::size_t>(std::min(p.bins - 1, static_cast<int>(s * p.bins)));
+#ifdef __CUDA_ARCH__
+          atomicAdd(reinterpret_cast<unsigned long long*>(count), 1ULL);
+#else
+          ++*count;
+#endif
+        }
     double off = s - (p.start + p.omega * t);
     off -= std::floor(off + 0.5);
     if (std::abs(off) <= half) return n;

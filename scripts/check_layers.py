@@ -11,10 +11,10 @@ four top-level folders, which are layers in the same order:
 so no include runs from a folder up to a later one (checked too, and named as such). Inside src/sim the
 folders are layers of their own, in the same way:
 
-    sim/model <- sim/kernel <- sim/tally <- sim/engine
+    sim/model <- sim/kernel <- sim/tally <- sim/gpu <- sim/engine
 
 (the scene and one particle's physics; the vectorised kernel's plain interface; the tallies, the f_c
-observer and the survival curve; the engines that run blocks and lines). The Python package is layered
+observer and the survival curve; the GPU engine's launches; the engines that run blocks and lines). The Python package is layered
 too: rotleak.readers <- rotleak (its __init__) <- rotleak.plot, checked on its relative imports.
 Prints every violation (file, line, include, the two layers) and exits 1 if there is one; prints a
 one-line summary otherwise. Reads .hpp, .cpp, .h and .ipp files (the kernel's body is an .ipp) and
@@ -45,7 +45,7 @@ def folder_of(layer):
             return name
     return None
 # src/sim's folders, lowest first: an include from one to a later one points up
-SIM_FOLDERS = ["model", "kernel", "tally", "engine"]
+SIM_FOLDERS = ["model", "kernel", "tally", "gpu", "engine"]
 # the Python package's modules, lowest first (the build backend imports none of them)
 PY_LAYERS = ["readers", "__init__", "plot"]
 PY_IMPORT = re.compile(r"^\s*from\s+(\.+)([\w.]*)\s+import\s+([\w, ()]+)")

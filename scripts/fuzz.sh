@@ -15,7 +15,7 @@ read -r -a targets <<<"${FUZZ_TARGETS:-fuzz_scene fuzz_tally fuzz_survival_csv f
 bash scripts/setup.sh
 bash scripts/ninja_tree.sh build-fuzz
 cmake -G Ninja -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROTLEAK_FUZZ=ON \
-  -DROTLEAK_TESTS=OFF -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_WARNINGS=OFF >/dev/null
+  -DROTLEAK_TESTS=OFF -DROTLEAK_BENCH=OFF -DROTLEAK_PYTHON_MODULE=OFF -DROTLEAK_MPI=OFF -DROTLEAK_GPU=OFF -DROTLEAK_WARNINGS=OFF >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

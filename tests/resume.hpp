@@ -1,5 +1,5 @@
 // A run stopped after its first checkpoint, its tallies carried through the tally file's bytes as a resume reads
-// them, and resumed on one thread: what the checkpoint tests compare with the whole run.
+// them, and resumed on one thread (on the engine asked for): what the checkpoint tests compare with the whole run.
 #pragma once
 
 #include <atomic>
@@ -16,11 +16,12 @@ struct StopAndResume {
   RunResult resumed;  ///< the rest of the blocks from it, on 1 thread
 };
 
-inline StopAndResume stop_and_resume(const Scene& scene) {
+inline StopAndResume stop_and_resume(const Scene& scene, Engine engine = Engine::automatic) {
   StopAndResume out;
   std::atomic<bool> stop{false};
   RunOptions first;
   first.threads = 2;
+  first.engine = engine;
   first.checkpoint_seconds = 1e-9;
   first.stop = &stop;
   TallyFile saved{simulation_inputs(scene, "auto"), scene.particles, 0, scene.particles, {}, {}, {}};
@@ -35,6 +36,7 @@ inline StopAndResume stop_and_resume(const Scene& scene) {
   const IntervalSet todo = out.read.done.complement_in(0, block_count(scene.particles));
   RunOptions rest;
   rest.threads = 1;
+  rest.engine = engine;
   rest.blocks = &todo;
   rest.start_done = &out.read.done;
   rest.start = &out.read.tally;

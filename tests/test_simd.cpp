@@ -94,7 +94,7 @@ TEST(Simd, OneAndTwoThreadsGiveIdenticalFiles) {
   EXPECT_TRUE(test::same_text(escapes_csv(0, a.records), escapes_csv(0, b.records)));
 }
 
-// A moving leak computes atan2 (SLEEF's in the kernel, libm's in the core); lanes within 1e-12 of a
+// A moving leak computes atan2 (SLEEF's in the kernel, formula::atan2_of in the core); lanes within 1e-12 of a
 // leak end ask the core, so the runs are the same particle by particle. The escape-time
 // distributions are compared too (KS, alpha = 1e-3), and kappa.
 TEST(Simd, RotatingLeaksBitIdenticalToTheScalarCore) {

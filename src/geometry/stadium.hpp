@@ -8,6 +8,8 @@
 
 #include "geometry/formulas.hpp"
 #include "geometry/vec2.hpp"
+#include "numeric/atan2.hpp"
+#include "numeric/device.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 #include "numeric/sin_cos.hpp"
@@ -58,35 +60,35 @@ class Stadium {
     pi_ = num_traits<R>::pi();
   }
 
-  const R& d() const { return d_; }
-  const R& r() const { return r_; }
-  const R& half_d() const { return half_d_; }
-  const R& perimeter() const { return L_; }
+  ROTLEAK_HD const R& d() const { return d_; }
+  ROTLEAK_HD const R& r() const { return r_; }
+  ROTLEAK_HD const R& half_d() const { return half_d_; }
+  ROTLEAK_HD const R& perimeter() const { return L_; }
   /// 1 / L and r / L, each rounded once from its exact value (not 1 / fl(L)): s of a straight-edge point
   /// is (x +- ...) inv_perimeter(), of an arc point its angle times r_over_perimeter() (formula::straight_s,
   /// formula::arc_s). Every engine takes them from here, so that every engine computes the same s.
-  const R& inv_perimeter() const { return inv_L_; }
-  const R& r_over_perimeter() const { return r_over_L_; }
+  ROTLEAK_HD const R& inv_perimeter() const { return inv_L_; }
+  ROTLEAK_HD const R& r_over_perimeter() const { return r_over_L_; }
   /// L / r, an arc point's angle per unit of s (formula::arc_angle_of), rounded once from its exact value.
-  const R& L_over_r() const { return L_over_r_; }
-  const R& area() const { return area_; }
+  ROTLEAK_HD const R& L_over_r() const { return L_over_r_; }
+  ROTLEAK_HD const R& area() const { return area_; }
   /// The billiard flow's mean free path, pi area / L (Santalo), rounded once from its exact value.
-  const R& mean_free_path() const { return mean_free_path_; }
-  const R& pi() const { return pi_; }
+  ROTLEAK_HD const R& mean_free_path() const { return mean_free_path_; }
+  ROTLEAK_HD const R& pi() const { return pi_; }
   /// s of the start of piece k+1: right arc, bottom, left arc, top-left half of the top edge.
-  const R& junction(int k) const { return junction_[k]; }
+  ROTLEAK_HD const R& junction(int k) const { return junction_[k]; }
   /// Whether s in [0, 1) lies on a straight edge (the top: s < junction(0) or s >= junction(3); the bottom:
   /// junction(1) <= s < junction(2)), as at() places it.
-  bool on_straight(const R& s) const {
+  ROTLEAK_HD bool on_straight(const R& s) const {
     return s < junction_[0] || s >= junction_[3] || (s >= junction_[1] && s < junction_[2]);
   }
 
   /// Centre x of an arc piece.
-  R arc_centre_x(Piece p) const { return p == Piece::right_arc ? half_d_ : R(-half_d_); }
+  ROTLEAK_HD R arc_centre_x(Piece p) const { return p == Piece::right_arc ? half_d_ : R(-half_d_); }
 
   /// Point and frame at boundary coordinate s in [0,1) (the formulas of geometry/formulas.hpp; an arc's sine
   /// and cosine by sin_cos below).
-  BoundaryPoint<R> at(const R& s) const {
+  ROTLEAK_HD BoundaryPoint<R> at(const R& s) const {
     BoundaryPoint<R> b;
     formula::Frame<R> f;
     if (s < junction_[0] || s >= junction_[3]) {
@@ -112,19 +114,18 @@ class Stadium {
 
   /// sin and cos of an angle in [0, 2 pi] (formula::tier_sin_cos: the shared formula in the double tier, which
   /// the vectorised kernel evaluates too, the tier's own in every other).
-  static formula::SinCos<R> sin_cos(const R& angle) { return formula::tier_sin_cos(angle); }
+  ROTLEAK_HD static formula::SinCos<R> sin_cos(const R& angle) { return formula::tier_sin_cos(angle); }
 
   /// Boundary coordinate s in [0,1) of a point q on piece p (the formulas of geometry/formulas.hpp).
-  [[gnu::always_inline]] R s_of(Piece p, const Vec2<R>& q) const {
-    using std::atan2;
+  [[gnu::always_inline]] ROTLEAK_HD R s_of(Piece p, const Vec2<R>& q) const {
     if (p == Piece::top || p == Piece::bottom)
       return formula::straight_s(p == Piece::top, q.x, half_d_, inv_L_, junction_[1]);
     const bool right = p == Piece::right_arc;
-    const R angle = atan2(formula::arc_angle_y(right, q.x, half_d_), formula::arc_angle_x(right, q.y));
+    const R angle = formula::tier_atan2(formula::arc_angle_y(right, q.x, half_d_), formula::arc_angle_x(right, q.y));
     return formula::arc_s(angle, right ? junction_[0] : junction_[2], r_over_L_, pi_);
   }
 
-  Vec2<R> tangent(Piece p, const Vec2<R>& q) const {
+  ROTLEAK_HD Vec2<R> tangent(Piece p, const Vec2<R>& q) const {
     switch (p) {
       case Piece::top:
         return {R(1), R(0)};
@@ -134,7 +135,7 @@ class Stadium {
         return {q.y * inv_r_, R(-(q.x - arc_centre_x(p)) * inv_r_)};
     }
   }
-  Vec2<R> inward_normal(Piece p, const Vec2<R>& q) const {
+  ROTLEAK_HD Vec2<R> inward_normal(Piece p, const Vec2<R>& q) const {
     switch (p) {
       case Piece::top:
         return {R(0), R(-1)};
@@ -147,7 +148,7 @@ class Stadium {
 
   /// Where the ray q + t v (|v| = 1, q inside or on the boundary) next meets the boundary
   /// (formula::next_exit: the straight edges decide first, at most one quadratic is solved).
-  Hit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
+  ROTLEAK_HD Hit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
     const formula::Exit<R> e = formula::next_exit(r_, half_d_, q.x, q.y, v.x, v.y);
     Hit<R> h;
     h.t = e.t;
@@ -158,16 +159,16 @@ class Stadium {
 
   /// Specular reflection of velocity v at point q of piece p (formula::reflect: about the radius
   /// vector as it is, on an arc).
-  Vec2<R> reflect(Piece p, const Vec2<R>& q, const Vec2<R>& v) const {
+  ROTLEAK_HD Vec2<R> reflect(Piece p, const Vec2<R>& q, const Vec2<R>& v) const {
     const bool straight = p == Piece::top || p == Piece::bottom;
     return formula::reflect(straight, straight ? R(0) : arc_centre_x(p), q.x, q.y, v.x, v.y);
   }
 
   /// Birkhoff momentum p = sin(theta) = v_out . T of an outgoing velocity at a collision.
-  R birkhoff_p(Piece p, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(p, q)); }
+  ROTLEAK_HD R birkhoff_p(Piece p, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(p, q)); }
 
   /// Outgoing unit velocity for Birkhoff (s, p): sqrt(1-p^2) n_in + p T (formula::birkhoff_velocity).
-  Vec2<R> velocity(const BoundaryPoint<R>& b, const R& p) const {
+  ROTLEAK_HD Vec2<R> velocity(const BoundaryPoint<R>& b, const R& p) const {
     return formula::birkhoff_velocity(formula::Frame<R>{b.q, b.tangent, b.normal}, p);
   }
 

@@ -15,6 +15,8 @@
 #include "geometry/table_formulas.hpp"
 #include "geometry/table_spec.hpp"
 #include "geometry/vec2.hpp"
+#include "numeric/atan2.hpp"
+#include "numeric/device.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 #include "numeric/sin_cos.hpp"
@@ -42,34 +44,34 @@ class Table {
  public:
   explicit Table(const TableSpec& spec);
 
-  int pieces() const { return n_pieces_; }
-  int loops() const { return n_loops_; }
-  const TablePiece<R>& piece(int k) const { return piece_[k]; }
+  ROTLEAK_HD int pieces() const { return n_pieces_; }
+  ROTLEAK_HD int loops() const { return n_loops_; }
+  ROTLEAK_HD const TablePiece<R>& piece(int k) const { return piece_[k]; }
   /// loop k's length, and its first piece and count
-  const R& loop_length(int k) const { return loop_length_[k]; }
-  int loop_first(int k) const { return loop_first_[k]; }
-  int loop_count(int k) const { return loop_count_[k]; }
+  ROTLEAK_HD const R& loop_length(int k) const { return loop_length_[k]; }
+  ROTLEAK_HD int loop_first(int k) const { return loop_first_[k]; }
+  ROTLEAK_HD int loop_count(int k) const { return loop_count_[k]; }
   /// 1 / loop k's length and the loops' lengths before it (rounded once from their exact values)
-  const R& inv_loop_length(int k) const { return inv_loop_length_[k]; }
-  const R& loop_offset(int k) const { return loop_offset_[k]; }
+  ROTLEAK_HD const R& inv_loop_length(int k) const { return inv_loop_length_[k]; }
+  ROTLEAK_HD const R& loop_offset(int k) const { return loop_offset_[k]; }
   /// the second look's widening of every span (kSpanSlack ulps of the scale), and 2 pi rounded once
-  const R& slack() const { return slack_; }
-  const R& two_pi() const { return two_pi_; }
-  const R& area() const { return area_; }
+  ROTLEAK_HD const R& slack() const { return slack_; }
+  ROTLEAK_HD const R& two_pi() const { return two_pi_; }
+  ROTLEAK_HD const R& area() const { return area_; }
   /// |boundary|: every loop's length
-  const R& perimeter() const { return perimeter_; }
+  ROTLEAK_HD const R& perimeter() const { return perimeter_; }
   /// The billiard flow's mean free path, pi area / |boundary| (Santalo), rounded once from its exact value.
-  const R& mean_free_path() const { return mean_free_path_; }
+  ROTLEAK_HD const R& mean_free_path() const { return mean_free_path_; }
   /// pi, rounded once.
-  const R& pi() const { return pi_; }
+  ROTLEAK_HD const R& pi() const { return pi_; }
   /// The largest |coordinate| of the table: the scale of its rounding errors.
-  const R& scale() const { return scale_; }
+  ROTLEAK_HD const R& scale() const { return scale_; }
 
   /// Where the flight from q along unit v (q inside the table or on its boundary) next meets the boundary: of the
   /// pieces it crosses outward, within each piece's span, the nearest. Where rounding leaves a flight between two
   /// pieces' spans (at a corner or a junction, within a few ulps) a second look widens every span by
   /// kSpanSlack ulps of the table's scale; piece -1 if that finds nothing either.
-  TableHit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
+  ROTLEAK_HD TableHit<R> next_hit(const Vec2<R>& q, const Vec2<R>& v) const {
     TableHit<R> h = nearest(q, v, R(0));
     if (h.piece < 0) h = nearest(q, v, slack_);
     return h;
@@ -77,21 +79,20 @@ class Table {
 
   /// Specular reflection of v at q on piece k: about the radius vector as it is on an arc (formula::reflect_factor),
   /// about the inward normal (e.y, -e.x) as rounded on a segment (so |v'| = |v| whatever |n| is).
-  Vec2<R> reflect(int k, const Vec2<R>& q, const Vec2<R>& v) const {
+  ROTLEAK_HD Vec2<R> reflect(int k, const Vec2<R>& q, const Vec2<R>& v) const {
     return reflect_about(reflection_axis(piece_[k], q.x, q.y), v);
   }
 
   /// Boundary coordinate s in [0, 1) of a point q of piece k, in the piece's loop.
-  R s_of(int k, const Vec2<R>& q) const {
-    using std::atan2;
+  ROTLEAK_HD R s_of(int k, const Vec2<R>& q) const {
     const TablePiece<R>& p = piece_[k];
     if (p.kind == PieceKind::segment) return segment_point_s(p, q.x, q.y, inv_length(p.loop));
     const Vec2<R> a = arc_angle_args(p, q.x, q.y);
-    return arc_point_s(p, R(atan2(a.y, a.x)), two_pi_);
+    return arc_point_s(p, formula::tier_atan2(a.y, a.x), two_pi_);
   }
 
   /// The point of loop `loop` at s in [0, 1), with its frame.
-  TableFrame<R> at(int loop, const R& s) const {
+  ROTLEAK_HD TableFrame<R> at(int loop, const R& s) const {
     const int k = piece_at(loop, s);
     const TablePiece<R>& p = piece_[k];
     const R u = s >= p.s1 ? R(s - R(1)) : s;  // unwrapped into [s0, s1)
@@ -114,7 +115,7 @@ class Table {
   }
 
   /// The unit tangent (towards growing s) at a point q of piece k.
-  Vec2<R> tangent(int k, const Vec2<R>& q) const {
+  ROTLEAK_HD Vec2<R> tangent(int k, const Vec2<R>& q) const {
     const TablePiece<R>& p = piece_[k];
     if (p.kind == PieceKind::segment) return {p.ex, p.ey};
     // as the stadium's: the radius vector times 1 / rho, turned a quarter along the travel
@@ -123,15 +124,15 @@ class Table {
   }
 
   /// Birkhoff momentum p = v_out . T of an outgoing velocity at a collision on piece k.
-  R birkhoff_p(int k, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(k, q)); }
+  ROTLEAK_HD R birkhoff_p(int k, const Vec2<R>& q, const Vec2<R>& v_out) const { return dot(v_out, tangent(k, q)); }
 
   /// The outgoing unit velocity of Birkhoff momentum p at a boundary point: sqrt(1 - p^2) n + p T.
-  Vec2<R> velocity(const TableFrame<R>& f, const R& p) const {
+  ROTLEAK_HD Vec2<R> velocity(const TableFrame<R>& f, const R& p) const {
     return formula::birkhoff_velocity(formula::Frame<R>{f.q, f.tangent, f.normal}, p);
   }
 
   /// The piece of loop `loop` that holds s in [0, 1).
-  int piece_at(int loop, const R& s) const {
+  ROTLEAK_HD int piece_at(int loop, const R& s) const {
     const int first = loop_first_[loop], last = first + loop_count_[loop] - 1;
     for (int k = first; k <= last; ++k) {
       const TablePiece<R>& p = piece_[k];
@@ -143,7 +144,7 @@ class Table {
   /// Whether q lies inside the table (inside the outer loop, outside every scatterer): the parity of the
   /// boundary's crossings by the ray from q along +x. Points on the boundary may go either way (a start drawn at
   /// random lands on one with probability 0).
-  bool contains(const Vec2<R>& q) const {
+  ROTLEAK_HD bool contains(const Vec2<R>& q) const {
     using std::sqrt;
     bool inside = false;
     for (int k = 0; k < n_pieces_; ++k) {
@@ -165,12 +166,12 @@ class Table {
   }
 
   /// The outer loop's bounding box: lo, hi corners (a start drawn from the flow is drawn in it and kept if inside).
-  const Vec2<R>& box_lo() const { return box_lo_; }
-  const Vec2<R>& box_hi() const { return box_hi_; }
+  ROTLEAK_HD const Vec2<R>& box_lo() const { return box_lo_; }
+  ROTLEAK_HD const Vec2<R>& box_hi() const { return box_hi_; }
 
   /// A share sigma in [0, 1) of the whole boundary (the loops laid end to end, in order) as a loop and its s:
   /// sigma itself on a table of one loop.
-  std::pair<int, R> loop_s(const R& sigma) const {
+  ROTLEAK_HD std::pair<int, R> loop_s(const R& sigma) const {
     if (n_loops_ == 1) return {0, sigma};
     const R x = sigma * perimeter_;
     int l = 0;
@@ -180,14 +181,14 @@ class Table {
     return {l, s};
   }
   /// The inverse: the share of the boundary before s of loop `loop` (s itself on a table of one loop).
-  R boundary_share(int loop, const R& s) const {
+  ROTLEAK_HD R boundary_share(int loop, const R& s) const {
     if (n_loops_ == 1) return s;
     return (loop_offset_[loop] + s * loop_length_[loop]) / perimeter_;
   }
 
   /// The nearest outward crossing within the pieces' spans widened by tol (next_hit's first look: tol 0; its
   /// second: slack()).
-  TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
+  ROTLEAK_HD TableHit<R> nearest(const Vec2<R>& q, const Vec2<R>& v, const R& tol) const {
     NearestCrossing<R> n{};
     n.piece = -1, n.found = false;
     nearest_crossing(piece_, n_pieces_, q.x, q.y, v.x, v.y, tol, true, n);
@@ -200,7 +201,7 @@ class Table {
   static constexpr int kSpanSlack = 64;
 
  private:
-  const R& inv_length(int loop) const { return inv_loop_length_[loop]; }
+  ROTLEAK_HD const R& inv_length(int loop) const { return inv_loop_length_[loop]; }
   /// scale_ = max(scale_, x) (x >= 0).
   void grow_scale(const R& x);
   /// Rounds piece e (of `loop`, whose length before it is `before`; `first` in its loop) into p, and grows scale_.
@@ -273,7 +274,8 @@ void Table<R>::round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec&
   const bool holds_origin = first && loop.origin.sign() != 0;
   p.s0 = holds_origin ? R(round_exact<R>(s0 + ExactReal::parse("1")) - R(1)) : round_exact<R>(s0);
   p.s1 = round_exact<R>((before + e.length - loop.origin) / loop.length);
-  for (const R& x : {p.ax, p.ay, p.bx, p.by}) grow_scale(abs(x));
+  const R ends[] = {p.ax, p.ay, p.bx, p.by};
+  for (const R& x : ends) grow_scale(abs(x));
   if (e.kind == PieceKind::segment) {
     const ExactReal ex = (e.bx - e.ax) / e.length, ey = (e.by - e.ay) / e.length;
     p.ex = round_exact<R>(ex), p.ey = round_exact<R>(ey);

@@ -14,6 +14,7 @@
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
 #include "geometry/vec2.hpp"
+#include "numeric/device.hpp"
 #include "numeric/select.hpp"
 
 namespace rotleak {
@@ -46,17 +47,17 @@ struct TablePiece {
 
   /// Arc: the direction from the centre at angle a along the travel, f cos a + h sin a (h = f turned a quarter along
   /// the travel), from cs = cos a and sn = sin a; and the unit tangent there, h cos a - f sin a.
-  Vec2<R> arc_direction(const R& cs, const R& sn) const {
+  ROTLEAK_HD Vec2<R> arc_direction(const R& cs, const R& sn) const {
     const Vec2<R> h = turned();
     return {fx * cs + h.x * sn, fy * cs + h.y * sn};
   }
-  Vec2<R> arc_tangent(const R& cs, const R& sn) const {
+  ROTLEAK_HD Vec2<R> arc_tangent(const R& cs, const R& sn) const {
     const Vec2<R> h = turned();
     return {h.x * cs - fx * sn, h.y * cs - fy * sn};
   }
 
  private:
-  Vec2<R> turned() const { return clockwise ? Vec2<R>{fy, R(-fx)} : Vec2<R>{R(-fy), fx}; }
+  ROTLEAK_HD Vec2<R> turned() const { return clockwise ? Vec2<R>{fy, R(-fx)} : Vec2<R>{R(-fy), fx}; }
 };
 
 /// A flight's crossing of one piece: its time, point, and the reflection's axis there (reflection_axis).
@@ -68,14 +69,14 @@ struct Crossing {
 /// The axis a reflection at (x, y) on piece p takes (formula::reflect_factor's w): the segment's inward normal
 /// (e.y, -e.x) as rounded, the arc's radius vector.
 template <class T, class R>
-inline Vec2<T> reflection_axis(const TablePiece<R>& p, const T& x, const T& y) {
+ROTLEAK_HD inline Vec2<T> reflection_axis(const TablePiece<R>& p, const T& x, const T& y) {
   if (p.kind == PieceKind::segment) return {T(p.ey), T(-p.ex)};
   return {formula::from_centre(x, T(p.cx)), formula::from_centre(y, T(p.cy))};
 }
 
 /// Specular reflection of v about the axis w (|v'| = |v| whatever |w| is).
 template <class T>
-inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
+ROTLEAK_HD inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
   const T k = formula::reflect_factor(w.x, w.y, v.x, v.y);
   return {formula::reflected(v.x, k, w.x), formula::reflected(v.y, k, w.y)};
 }
@@ -87,8 +88,8 @@ inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
 /// sign: from a point on the circle (c = 0 up to rounding: an interval tier cannot decide c's sign) it is clearly
 /// positive, and decides alone.
 template <class T, class R>
-[[gnu::always_inline]] inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy, const T& vx,
-                                                  const T& vy, const R& tol, Crossing<T>& c) {
+[[gnu::always_inline]] ROTLEAK_HD inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy,
+                                                             const T& vx, const T& vy, const R& tol, Crossing<T>& c) {
   using M = mask_of<T>;
   const T zero(0);
   if (p.kind == PieceKind::segment) {
@@ -142,9 +143,9 @@ struct NearestCrossing {
 /// by tol, the nearest kept in `best` (the first piece on a tie: a later one only when strictly nearer). `best`
 /// comes in with found false (or with what an earlier look found). One number asks every piece (`want` true).
 template <class T, class R>
-[[gnu::always_inline]] inline void nearest_crossing(const TablePiece<R>* pieces, int n, const T& qx, const T& qy,
-                                                    const T& vx, const T& vy, const R& tol, const mask_of<T>& want,
-                                                    NearestCrossing<T>& best) {
+[[gnu::always_inline]] ROTLEAK_HD inline void nearest_crossing(const TablePiece<R>* pieces, int n, const T& qx,
+                                                               const T& qy, const T& vx, const T& vy, const R& tol,
+                                                               const mask_of<T>& want, NearestCrossing<T>& best) {
   using M = mask_of<T>;
   using I = piece_index_of<T>;
   for (int k = 0; k < n; ++k) {
@@ -165,20 +166,20 @@ template <class T, class R>
 
 /// s of a point of segment p (its loop's 1 / length inv_L), in [0, 1).
 template <class T, class R>
-inline T segment_point_s(const TablePiece<R>& p, const T& x, const T& y, const R& inv_L) {
+ROTLEAK_HD inline T segment_point_s(const TablePiece<R>& p, const T& x, const T& y, const R& inv_L) {
   return formula::segment_piece_s(x, y, p.rx, p.ry, p.ex, p.ey, p.s_ref, inv_L);
 }
 
 /// The arguments (y, x) of the atan2 that gives the angle of (x, y) along arc p from its start.
 template <class T, class R>
-inline Vec2<T> arc_angle_args(const TablePiece<R>& p, const T& x, const T& y) {
+ROTLEAK_HD inline Vec2<T> arc_angle_args(const TablePiece<R>& p, const T& x, const T& y) {
   const T rx = formula::from_centre(x, T(p.cx)), ry = formula::from_centre(y, T(p.cy));
   return {formula::arc_param_x(rx, ry, p.fx, p.fy), formula::arc_param_y(rx, ry, p.fx, p.fy, p.clockwise)};
 }
 
 /// s in [0, 1) of the point of arc p at `angle` (atan2 of arc_angle_args) along it.
 template <class T, class R>
-inline T arc_point_s(const TablePiece<R>& p, const T& angle, const R& two_pi) {
+ROTLEAK_HD inline T arc_point_s(const TablePiece<R>& p, const T& angle, const R& two_pi) {
   return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi));
 }
 

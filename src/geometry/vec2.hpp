@@ -1,5 +1,7 @@
 #pragma once
 
+#include "numeric/device.hpp"
+
 namespace rotleak {
 
 template <class R>
@@ -8,24 +10,24 @@ struct Vec2 {
 };
 
 template <class R>
-inline Vec2<R> operator+(const Vec2<R>& a, const Vec2<R>& b) {
+ROTLEAK_HD inline Vec2<R> operator+(const Vec2<R>& a, const Vec2<R>& b) {
   return {a.x + b.x, a.y + b.y};
 }
 template <class R>
-inline Vec2<R> operator-(const Vec2<R>& a, const Vec2<R>& b) {
+ROTLEAK_HD inline Vec2<R> operator-(const Vec2<R>& a, const Vec2<R>& b) {
   return {a.x - b.x, a.y - b.y};
 }
 template <class R>
-inline Vec2<R> operator*(const R& k, const Vec2<R>& a) {
+ROTLEAK_HD inline Vec2<R> operator*(const R& k, const Vec2<R>& a) {
   return {k * a.x, k * a.y};
 }
 template <class R>
-inline R dot(const Vec2<R>& a, const Vec2<R>& b) {
+ROTLEAK_HD inline R dot(const Vec2<R>& a, const Vec2<R>& b) {
   return a.x * b.x + a.y * b.y;
 }
 /// z-component of a x b: positive when b lies counter-clockwise of a.
 template <class R>
-inline R cross(const Vec2<R>& a, const Vec2<R>& b) {
+ROTLEAK_HD inline R cross(const Vec2<R>& a, const Vec2<R>& b) {
   return a.x * b.y - a.y * b.x;
 }
 

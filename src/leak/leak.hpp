@@ -8,6 +8,7 @@
 #include "geometry/table_piece.hpp"
 #include "leak/leak_formulas.hpp"
 #include "leak/leak_window.hpp"
+#include "numeric/device.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 
@@ -29,11 +30,11 @@ class LeakSchedule {
     if (start_ < 0) start_ += 1;
   }
 
-  bool rotating() const { return rotating_; }
-  const two_term<R>& omega_terms() const { return omega_; }
-  const R& start() const { return start_; }
+  ROTLEAK_HD bool rotating() const { return rotating_; }
+  ROTLEAK_HD const two_term<R>& omega_terms() const { return omega_; }
+  ROTLEAK_HD const R& start() const { return start_; }
 
-  R phase(const R& t) const {
+  ROTLEAK_HD R phase(const R& t) const {
     if (!rotating_) return start_;
     return formula::leak_phase(omega_.hi, omega_.lo, start_, t, [](const R& a, const R& b, const R& prod) {
       return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
@@ -77,15 +78,15 @@ class Leak {
     if (!schedule_.rotating()) build_windows();
   }
 
-  const LeakSchedule<R>& schedule() const { return schedule_; }
-  const R& half_width() const { return view_.half_width; }
+  ROTLEAK_HD const LeakSchedule<R>& schedule() const { return schedule_; }
+  ROTLEAK_HD const R& half_width() const { return view_.half_width; }
   /// The leak and the stadium's four pieces as leak_takes reads them (what the vectorised kernel copies).
-  const LeakView<R, 4>& view() const { return view_; }
-  const TablePiece<R>* pieces() const { return piece_; }
+  ROTLEAK_HD const LeakView<R, 4>& view() const { return view_; }
+  ROTLEAK_HD const TablePiece<R>* pieces() const { return piece_; }
 
   /// Escape test at a collision at point q of piece p at time t (leak_takes on this one leak; the hit's s, the
   /// stadium's, only where a moving leak asks for it).
-  [[gnu::always_inline]] bool hit(Piece p, const Vec2<R>& q, const R& t) const {
+  [[gnu::always_inline]] ROTLEAK_HD bool hit(Piece p, const Vec2<R>& q, const R& t) const {
     const auto s_of = [&](bool, const R&, const R&) { return stadium_.s_of(p, q); };  // asked once at most
     const auto product_error = [](const R& a, const R& b, const R& prod) {
       return num_traits<R>::product_error(a, b, prod);  // exact: a b = prod + error
@@ -98,15 +99,15 @@ class Leak {
   struct PieceWindows {
     const PieceWindow<R>* first;
     int n;
-    const LeakWindow<R>& operator[](int i) const { return first[i].w; }
+    ROTLEAK_HD const LeakWindow<R>& operator[](int i) const { return first[i].w; }
   };
-  PieceWindows windows(Piece p) const {
+  ROTLEAK_HD PieceWindows windows(Piece p) const {
     const int k = static_cast<int>(p);
     return {view_.window + view_.win_first[k], view_.win_count[k]};
   }
 
  private:
-  void build_windows() {
+  ROTLEAK_HD void build_windows() {
     using std::cos;
     using std::sin;
     const R& c = view_.start;

@@ -13,6 +13,7 @@
 #include "geometry/table_piece.hpp"
 #include "geometry/vec2.hpp"
 #include "leak/leak_formulas.hpp"
+#include "numeric/device.hpp"
 #include "numeric/select.hpp"
 
 namespace rotleak {
@@ -53,7 +54,7 @@ struct LeakView {
 
 /// Does window w of piece p hold the point (x, y) of that piece?
 template <class T, class R>
-inline mask_of<T> in_window(const TablePiece<R>& p, const LeakWindow<R>& w, const T& x, const T& y) {
+ROTLEAK_HD inline mask_of<T> in_window(const TablePiece<R>& p, const LeakWindow<R>& w, const T& x, const T& y) {
   if (p.kind == PieceKind::segment) return formula::in_x_window(p.along_x ? x : y, T(w.lo), T(w.hi));
   const Vec2<T> rel{formula::from_centre(x, T(p.cx)), formula::from_centre(y, T(p.cy))};
   return formula::in_arc_window(rel, Vec2<T>{T(w.from.x), T(w.from.y)}, Vec2<T>{T(w.to.x), T(w.to.y)});
@@ -62,7 +63,7 @@ inline mask_of<T> in_window(const TablePiece<R>& p, const LeakWindow<R>& w, cons
 /// The lanes of `on` on piece k. `piece`: each lane's piece index (one number: its piece), or a function k -> the
 /// mask of the lanes on piece k (a kernel that knows its pieces by cheaper masks than an index).
 template <class M, class PieceOf>
-[[gnu::always_inline]] inline M lanes_on(const PieceOf& piece, int k, const M& on) {
+[[gnu::always_inline]] ROTLEAK_HD inline M lanes_on(const PieceOf& piece, int k, const M& on) {
   if constexpr (std::is_invocable_v<const PieceOf&, int>)
     return M(on & piece(k));
   else
@@ -72,7 +73,8 @@ template <class M, class PieceOf>
 /// f(k, lanes) for each piece k of [first, first + count) that a lane of `on` lies on (the lanes that do): one
 /// number calls f once, with its own piece.
 template <class PieceOf, class M, class F>
-[[gnu::always_inline]] inline void each_piece(const PieceOf& piece, int first, int count, const M& on, const F& f) {
+[[gnu::always_inline]] ROTLEAK_HD inline void each_piece(const PieceOf& piece, int first, int count, const M& on,
+                                                         const F& f) {
   if constexpr (std::is_same_v<M, bool>) {
     f(piece, on);
   } else {
@@ -93,10 +95,10 @@ template <class PieceOf, class M, class F>
 /// asked; a pack each lane's once (its cache), for the lanes a moving leak asks. One number stops at the first window
 /// that holds it (an interval's undecided comparison with a later window is never made).
 template <class T, class R, int P, class PieceOf, class SOf, class ProductError>
-[[gnu::always_inline]] inline mask_of<T> leak_takes(const LeakView<R, P>& l, const TablePiece<R>* pieces,
-                                                    const PieceOf& piece, const T& x, const T& y, const T& t,
-                                                    const mask_of<T>& here, SOf& s_of,
-                                                    const ProductError& product_error) {
+[[gnu::always_inline]] ROTLEAK_HD inline mask_of<T> leak_takes(const LeakView<R, P>& l, const TablePiece<R>* pieces,
+                                                               const PieceOf& piece, const T& x, const T& y, const T& t,
+                                                               const mask_of<T>& here, SOf& s_of,
+                                                               const ProductError& product_error) {
   using M = mask_of<T>;
   M in(false);
   if (!l.rotating) {
@@ -131,10 +133,11 @@ template <class T, class R, int P, class PieceOf, class SOf, class ProductError>
 /// leak took, so one number stops at the first leak that takes it, as an interval tier must (a later leak's
 /// undecided comparison is never made).
 template <class T, class R, int P, class SOf, class ProductError>
-[[gnu::always_inline]] inline piece_index_of<T> first_leak(const LeakView<R, P>* leaks, int n,
-                                                           const TablePiece<R>* pieces, const piece_index_of<T>& piece,
-                                                           const T& x, const T& y, const T& t, const mask_of<T>& look,
-                                                           SOf& s_of, const ProductError& product_error) {
+[[gnu::always_inline]] ROTLEAK_HD inline piece_index_of<T> first_leak(const LeakView<R, P>* leaks, int n,
+                                                                      const TablePiece<R>* pieces,
+                                                                      const piece_index_of<T>& piece, const T& x,
+                                                                      const T& y, const T& t, const mask_of<T>& look,
+                                                                      SOf& s_of, const ProductError& product_error) {
   using M = mask_of<T>;
   using I = piece_index_of<T>;
   I taken(-1);

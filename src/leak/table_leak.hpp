@@ -14,6 +14,7 @@
 #include "leak/leak.hpp"
 #include "leak/leak_formulas.hpp"
 #include "leak/leak_window.hpp"
+#include "numeric/device.hpp"
 #include "numeric/exact.hpp"
 #include "numeric/num_traits.hpp"
 
@@ -110,12 +111,12 @@ class LeakList {
   LeakList(const Table<R>& table, const Specs& specs) {
     for (const LeakSpec& s : specs) leak_[n_++] = table_leak(table, s);
   }
-  int size() const { return n_; }
-  const LeakView<R>& operator[](int i) const { return leak_[i]; }
+  ROTLEAK_HD int size() const { return n_; }
+  ROTLEAK_HD const LeakView<R>& operator[](int i) const { return leak_[i]; }
 
   /// The leak that takes a particle hitting piece k at q at time t, or -1 (first_leak, leak/leak_window.hpp: the
   /// kernel's own test); the hit's s is computed once, if a moving leak asks for it.
-  int hit(const Table<R>& table, int k, const Vec2<R>& q, const R& t) const {
+  ROTLEAK_HD int hit(const Table<R>& table, int k, const Vec2<R>& q, const R& t) const {
     bool have = false;
     R s{0};
     const auto s_of = [&](bool, const R&, const R&) -> const R& {

@@ -7,15 +7,17 @@
 #include <cmath>
 #include <cstdint>
 
+#include "numeric/device.hpp"
+
 namespace rotleak {
 
 /// std::ilogb(x): the exponent e with |x| in [2^e, 2^(e+1)) (x finite, non-zero; libm's answers otherwise).
 template <class R>
-inline int binade_of(R x) {
+ROTLEAK_HD inline int binade_of(R x) {
   return std::ilogb(x);
 }
 template <>
-inline int binade_of<double>(double x) {
+ROTLEAK_HD inline int binade_of<double>(double x) {
   const int biased = static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff);
   if (biased == 0 || biased == 0x7ff) return std::ilogb(x);  // zero, subnormal, infinite, NaN
   return biased - 1023;
@@ -23,11 +25,11 @@ inline int binade_of<double>(double x) {
 
 /// std::ldexp(R(1), e): 2^e.
 template <class R>
-inline R pow2(int e) {
+ROTLEAK_HD inline R pow2(int e) {
   return std::ldexp(R(1), e);
 }
 template <>
-inline double pow2<double>(int e) {
+ROTLEAK_HD inline double pow2<double>(int e) {
   if (e < -1022 || e > 1023) return std::ldexp(1.0, e);  // subnormal, or out of range
   return std::bit_cast<double>(static_cast<std::uint64_t>(e + 1023) << 52);
 }

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include "numeric/device.hpp"
 #include "numeric/exact.hpp"
 
 namespace rotleak {
@@ -36,10 +37,10 @@ struct rounded_from_mpfr {
 template <class R, mpfr_prec_t Bits, class Traits>
 struct ieee_traits : rounded_from_mpfr<R, Traits> {
   static constexpr mpfr_prec_t bits() { return Bits; }
-  static R epsilon() { return std::numeric_limits<R>::epsilon(); }
-  static double to_double(R x) { return static_cast<double>(x); }
+  ROTLEAK_HD static R epsilon() { return std::numeric_limits<R>::epsilon(); }
+  ROTLEAK_HD static double to_double(R x) { return static_cast<double>(x); }
   /// e with a*b = prod + e exactly (prod = fl(a*b)).
-  static R product_error(R a, R b, R prod) {
+  ROTLEAK_HD static R product_error(R a, R b, R prod) {
     using std::fma;
     return fma(a, b, -prod);
   }

@@ -15,26 +15,28 @@
 
 #include <type_traits>
 
+#include "numeric/device.hpp"
+
 namespace rotleak {
 
 template <class T>
-inline T select(bool c, const T& a, const std::type_identity_t<T>& b) {
+ROTLEAK_HD inline T select(bool c, const T& a, const std::type_identity_t<T>& b) {
   return c ? a : b;
 }
 
 template <class F, class G>
-inline auto choose(bool c, const F& a, const G& b) -> decltype(a()) {
+ROTLEAK_HD inline auto choose(bool c, const F& a, const G& b) -> decltype(a()) {
   if (c) return a();
   return b();
 }
 
 template <class F>
-inline bool both(bool c, const F& f) {
+ROTLEAK_HD inline bool both(bool c, const F& f) {
   return c && f();
 }
 
 /// Whether c holds for no lane: for one number, !c (a pack: no lane of its mask).
-inline bool none(bool c) { return !c; }
+ROTLEAK_HD inline bool none(bool c) { return !c; }
 
 /// What comparing two T gives: bool for a number, a lane mask for a pack.
 template <class T>

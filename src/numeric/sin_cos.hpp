@@ -20,6 +20,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "numeric/device.hpp"
 #include "numeric/select.hpp"
 
 namespace rotleak::formula {
@@ -37,7 +38,7 @@ inline constexpr double kPio2_2t = 2.02226624879595063154e-21;  ///< pi/2 - (kPi
 
 /// fdlibm's __kernel_sin(y0, y1) for |y0 + y1| <= pi/4 (k_sin.c, the form with a tail).
 template <class T>
-inline T kernel_sin(const T& x, const T& y) {
+ROTLEAK_HD inline T kernel_sin(const T& x, const T& y) {
   const T S1(-1.66666666666666324348e-01), S2(8.33333333332248946124e-03), S3(-1.98412698298579493134e-04),
       S4(2.75573137070700676789e-06), S5(-2.50507602534068634195e-08), S6(1.58969099521155010221e-10);
   const T z = x * x;
@@ -49,7 +50,7 @@ inline T kernel_sin(const T& x, const T& y) {
 
 /// fdlibm's __kernel_cos(y0, y1) for |y0 + y1| <= pi/4 (FreeBSD k_cos.c).
 template <class T>
-inline T kernel_cos(const T& x, const T& y) {
+ROTLEAK_HD inline T kernel_cos(const T& x, const T& y) {
   const T C1(4.16666666666666019037e-02), C2(-1.38888888888741095749e-03), C3(2.48015872894767294178e-05),
       C4(-2.75573143513906633035e-07), C5(2.08757232129817482790e-09), C6(-1.13596475577881948265e-11);
   const T z = x * x;
@@ -63,7 +64,7 @@ inline T kernel_cos(const T& x, const T& y) {
 
 /// sin x and cos x for |x| <= 8, within 1 ulp of the correctly rounded values (see above).
 template <class T>
-inline SinCos<T> sin_cos(const T& x) {
+ROTLEAK_HD inline SinCos<T> sin_cos(const T& x) {
   using std::floor;
   using std::nearbyint;
   using namespace sin_cos_detail;
@@ -90,7 +91,7 @@ inline SinCos<T> sin_cos(const T& x) {
 /// sin and cos of an angle in [0, 2 pi] in a tier: the shared formula above in the double tier (which the
 /// vectorised kernel evaluates too), in every other tier the tier's own (MPFR's correctly rounded ones).
 template <class R>
-inline SinCos<R> tier_sin_cos(const R& angle) {
+ROTLEAK_HD inline SinCos<R> tier_sin_cos(const R& angle) {
   if constexpr (std::is_same_v<R, double>) {
     return sin_cos(angle);
   } else {

@@ -20,6 +20,7 @@
 #include "numeric/tier_dispatch.hpp"
 #include "sim/engine/kernel_adapter.hpp"
 #include "sim/engine/population.hpp"
+#include "sim/gpu/gpu_engine.hpp"
 #include "sim/kernel/simd_engine.hpp"
 #include "sim/model/particle.hpp"
 #include "sim/model/sampling.hpp"
@@ -77,6 +78,7 @@ struct RunSetup {
         cells = simd_density(kernel, scene);
         kernel.lanes = p.simd_lanes();
       }
+    if (engine == Engine::gpu) cells = scene_density_cells(scene);
   }
 
   static Model<R> model_of(const RunPlan& p) {
@@ -130,7 +132,8 @@ class Worker {
     if (s.table)
       table_density_ = {&s.table->table, sc.collision_density ? &sc.collision_density->windows : nullptr,
                         sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data()};
-    if (s.engine == Engine::simd && sc.collision_density) {  // f_c by time cell (DensityCells), folded in flush()
+    if ((s.engine == Engine::simd || s.engine == Engine::gpu) && sc.collision_density) {
+      // f_c by time cell (DensityCells), folded in flush()
       const auto n = static_cast<std::size_t>(s.cells.cells()) * static_cast<std::size_t>(s.cells.bins);
       cell_counts_.assign(n, 0);
       if (local.weighted()) cell_sums_.assign(n, FixedSum{});
@@ -146,6 +149,22 @@ class Worker {
       s_.cells.fold(cell_counts_.data(), cell_sums_.empty() ? nullptr : cell_sums_.data(),
                     local.collision_density.data(), local.weighted() ? local.collision_density_w.data() : nullptr);
   }
+
+  /// The GPU engine's ends of particles [lo, lo + n) into the tallies, in id order, each with its weight (weights:
+  /// their draws', when the run is weighted; else 1).
+  void record_ends(std::uint64_t lo, std::uint64_t n, const gpu::End* ends, const double* weights) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+      ParticleEnd e;
+      e.fate = static_cast<Fate>(ends[i].fate);
+      e.t = ends[i].t, e.s = ends[i].s, e.collisions = ends[i].collisions, e.leak = ends[i].leak;
+      e.weight = weights ? weights[i] : 1.0;
+      record(lo + i, e);
+    }
+  }
+  /// f_c's counts by time cell (cells x bins), where the GPU engine adds its own; null without f_c.
+  std::uint64_t* cell_counts() { return cell_counts_.empty() ? nullptr : cell_counts_.data(); }
+  /// and their weights' exact sums (weighted runs), or null
+  FixedSum* cell_sums() { return cell_sums_.empty() ? nullptr : cell_sums_.data(); }
 
   /// Particles (ids first_id + [lo, hi)), or the lines they start.
   void run_block(std::uint64_t lo, std::uint64_t hi) {
@@ -267,6 +286,74 @@ class Worker {
   std::vector<simd::Start> starts_;         ///< a split run's members, as the kernel takes them
 };
 
+/// Blocks a GPU launch takes at most (2^20 particles: the device's threads several times over, its buffers 64 MB).
+constexpr std::uint64_t kGpuBatchBlocks = 256;
+
+/// The GPU engine's lifecycle: the todo blocks in order, one launch for each run of consecutive blocks (at most
+/// kGpuBatchBlocks), the ends recorded on this thread in id order into one Worker's tallies; progress after each
+/// launch, a checkpoint every checkpoint_seconds, a stop between launches. The draws are the device's own for the
+/// uniform Birkhoff scheme, else the sampler's, made here on all threads (each by its id: no order to keep).
+void run_gpu(const RunSetup<double>& setup, RunResult& result, const IntervalSet& todo, std::uint64_t goal) {
+  const RunOptions& opt = setup.opt;
+  const std::uint64_t n = setup.scene.particles, total = todo.size();
+  const DensityCells* cells = setup.scene.collision_density ? &setup.cells : nullptr;
+  const bool weighted = result.tally.weighted();
+  gpu::Device device =
+      setup.table ? gpu::Device(*setup.table, cells, weighted) : gpu::Device(setup.model, cells, weighted);
+  const InitialConditions* uniform = opt.draws ? nullptr : setup.sampler->uniform_birkhoff();
+  std::vector<InitialDraw> draws;
+  std::vector<double> weights;
+  std::vector<gpu::End> ends;
+  std::optional<Worker<double>> worker(std::in_place, setup, result.records);
+  const auto merge = [&] {
+    worker->flush();
+    result.tally.merge(worker->local);
+    worker.emplace(setup, result.records);
+  };
+  result.threads = 1;
+  std::uint64_t done = particles_in(result.done, n);
+  auto deadline = epoch_deadline(opt.checkpoint_seconds);
+  for (std::uint64_t at = 0; at < total;) {
+    std::uint64_t end = at + 1;  // todo positions [at, end): consecutive blocks
+    while (end < total && end - at < kGpuBatchBlocks && todo.nth(end) == todo.nth(end - 1) + 1) ++end;
+    const std::uint64_t lo = todo.nth(at) * kBlockSize, hi = std::min(n, (todo.nth(end - 1) + 1) * kBlockSize);
+    const std::uint64_t count = hi - lo;
+    gpu::Batch batch{opt.first_id + lo, count, nullptr, 0, 0};
+    if (uniform) {
+      batch.seed = uniform->seed(), batch.creation_window = uniform->creation_window();
+    } else {
+      draws.resize(count);
+      weights.resize(weighted ? count : 0);
+      const auto m = static_cast<std::int64_t>(count);
+#pragma omp parallel for schedule(static)
+      for (std::int64_t i = 0; i < m; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        draws[k] = setup.source(lo + k);
+        if (weighted) weights[k] = setup.source.weight(draws[k]);
+      }
+      batch.draws = draws.data();
+      if (weighted) batch.weights = weights.data();
+    }
+    ends.resize(count);
+    device.run(batch, ends.data());
+    if (std::uint64_t* counts = worker->cell_counts()) device.take_density(counts, worker->cell_sums());
+    worker->record_ends(lo, count, ends.data(), weighted ? weights.data() : nullptr);
+    result.done.insert(todo.slice(at, end));
+    at = end, done += count;
+    if (opt.progress) opt.progress(done, goal, result.tally.collisions + worker->local.collisions, false);
+    if (at < total && ((opt.stop && opt.stop->load()) || std::chrono::steady_clock::now() >= deadline)) {
+      merge();
+      if (opt.checkpoint) opt.checkpoint(result.tally, result.done, result.records);
+      if (opt.stop && opt.stop->load()) {  // read after the checkpoint, which may ask for the stop (as the CPU's)
+        result.complete = false;
+        return;
+      }
+      deadline = epoch_deadline(opt.checkpoint_seconds);
+    }
+  }
+  merge();
+}
+
 /// The batch lifecycle: set up, run epochs of blocks on all threads (each block taken once, in todo
 /// order), merge the threads' exact tallies, checkpoint between epochs, check conservation.
 template <class R>
@@ -280,9 +367,11 @@ RunResult run_tier(const RunPlan& plan, const RunOptions& opt) {
   std::atomic<std::uint64_t> done{particles_in(result.done, n)}, collisions_done{result.tally.collisions};
   const int threads = plan.threads() > 0 ? plan.threads() : omp_get_max_threads();
   const auto t0 = std::chrono::steady_clock::now();
+  if constexpr (std::is_same_v<R, double>)
+    if (setup.engine == Engine::gpu) run_gpu(setup, result, todo, goal);
   // Epochs: threads take blocks in todo order from a shared counter until all are taken, a stop is
   // asked for, or the checkpoint time has come; then the tallies are merged and checkpointed.
-  for (std::uint64_t at = 0;;) {  // the blocks todo.nth(0 .. at) are done
+  for (std::uint64_t at = 0; setup.engine != Engine::gpu;) {  // the blocks todo.nth(0 .. at) are done
     const auto deadline = epoch_deadline(opt.checkpoint_seconds);
     std::atomic<std::uint64_t> next{at};
     std::atomic<bool> halt{false};

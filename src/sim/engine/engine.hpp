@@ -81,7 +81,7 @@ int default_simd_lanes();
 Engine resolve_engine(Engine requested, const Scene& scene);
 std::string to_string(Engine e);
 
-/// Engine by name (auto, scalar, simd); an InputError naming `key` otherwise.
+/// Engine by name (auto, scalar, simd, gpu); an InputError naming `key` otherwise.
 Engine parse_engine(const std::string& key, const std::string& name);
 /// An InputError naming `key` unless engine `e` runs this scene on this CPU.
 void check_engine(const std::string& key, Engine e, const Scene& scene);

@@ -77,16 +77,22 @@ simd::KernelScene simd_scene(const TableModel<double>& m, const simd::KernelTabl
   return s;
 }
 
-DensityCells simd_density(simd::KernelScene& s, const Scene& scene) {
+DensityCells scene_density_cells(const Scene& scene) {
   if (!scene.collision_density) return {};
   const auto& windows = scene.collision_density->windows;
   double from[simd::kMaxDensityWindows], to[simd::kMaxDensityWindows];
   const int n = static_cast<int>(windows.size());
   for (int w = 0; w < n; ++w)
     from[w] = windows[static_cast<std::size_t>(w)].from, to[w] = windows[static_cast<std::size_t>(w)].to;
-  set_density_windows(s, n, from, to);
-  s.bins = scene.collision_density->bins;
-  return DensityCells::of(s.bins, s.density_windows, s.win_from, s.win_to);
+  return DensityCells::of(scene.collision_density->bins, n, from, to);
+}
+
+DensityCells simd_density(simd::KernelScene& s, const Scene& scene) {
+  if (!scene.collision_density) return {};
+  const DensityCells cells = scene_density_cells(scene);
+  set_density_windows(s, cells.n_windows, cells.from, cells.to);
+  s.bins = cells.bins;
+  return cells;
 }
 
 void set_density_windows(simd::KernelScene& s, int n, const double* from, const double* to) {

@@ -39,6 +39,8 @@ simd::KernelScene simd_scene(const TableModel<double>& m, const simd::KernelTabl
 /// from the scene's one spec (observe.collision_density): the kernel's plain copy and the cells that
 /// fold its counts into windows cannot disagree. Empty cells when the scene observes no f_c.
 DensityCells simd_density(simd::KernelScene& s, const Scene& scene);
+/// The scene's f_c time cells alone (empty when it observes no f_c): what the GPU engine counts in.
+DensityCells scene_density_cells(const Scene& scene);
 
 /// The kernel's f_c time windows [from[w], to[w]] (n of them, at most simd::kMaxDensityWindows): the windows,
 /// their span, and the edges a counted collision's time cell depends on (KernelScene::cell_base).

@@ -11,6 +11,7 @@
 #include "numeric/input.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/engine/population.hpp"
+#include "sim/gpu/gpu_engine.hpp"
 #include "sim/kernel/simd_engine.hpp"
 
 namespace rotleak {
@@ -23,6 +24,8 @@ std::string to_string(Engine e) {
       return "scalar";
     case Engine::simd:
       return "simd";
+    case Engine::gpu:
+      return "gpu";
   }
   return "?";
 }
@@ -46,6 +49,14 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
   const bool fits = scene.tier == Tier::double_ &&
                     (!scene.collision_density ||
                      scene.collision_density->windows.size() <= static_cast<std::size_t>(simd::kMaxDensityWindows));
+  if (requested == Engine::gpu) {  // the scalar core on the device: the double tier, unsplit
+    if (const std::string why = gpu::unavailable(); !why.empty()) throw std::runtime_error(why);
+    if (scene.splitting.on) throw std::runtime_error("the GPU engine does not run split runs yet (run.splitting)");
+    if (!fits)
+      throw std::runtime_error("the GPU engine runs the double tier (with at most " +
+                               std::to_string(simd::kMaxDensityWindows) + " collision_density windows)");
+    return Engine::gpu;
+  }
   if (requested == Engine::simd) {
     if (!simd::available()) throw std::runtime_error("--engine simd: this CPU lacks AVX2 and FMA");
     if (!fits)
@@ -58,8 +69,12 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
 }
 
 Engine parse_engine(const std::string& key, const std::string& name) {
-  if (name != "auto" && name != "scalar" && name != "simd") throw InputError(key, name, "allowed: auto, scalar, simd");
-  return name == "scalar" ? Engine::scalar : name == "simd" ? Engine::simd : Engine::automatic;
+  if (name != "auto" && name != "scalar" && name != "simd" && name != "gpu")
+    throw InputError(key, name, "allowed: auto, scalar, simd, gpu");
+  return name == "scalar" ? Engine::scalar
+         : name == "simd" ? Engine::simd
+         : name == "gpu"  ? Engine::gpu
+                          : Engine::automatic;
 }
 
 void check_engine(const std::string& key, Engine e, const Scene& scene) {

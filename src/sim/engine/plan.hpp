@@ -13,9 +13,9 @@
 
 namespace rotleak {
 
-/// Which double engine runs: the generic scalar core, or the vectorised one (AVX2, 4 lanes a register,
-/// or AVX-512, 8).
-enum class Engine { automatic, scalar, simd };
+/// Which double engine runs: the generic scalar core, the vectorised one (AVX2, 4 lanes a register,
+/// or AVX-512, 8), or the scalar core on a GPU (sim/gpu; only when asked for).
+enum class Engine { automatic, scalar, simd, gpu };
 
 struct RunOptions;
 
@@ -26,7 +26,7 @@ class RunPlan {
   const Scene& scene() const { return scene_; }
   /// The stadium in double, rounded once from the scene's exact d and r: the one every part of a run uses.
   const Stadium<double>& stadium() const { return *stadium_; }
-  /// The engine that runs: scalar or simd (automatic while the tier is auto).
+  /// The engine that runs: scalar, simd or gpu (automatic while the tier is auto).
   Engine engine() const { return engine_; }
   /// The kernel's lanes a register (simd: 4 or 8; scalar: 0).
   int simd_lanes() const { return lanes_; }

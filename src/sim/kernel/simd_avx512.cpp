@@ -11,6 +11,7 @@
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
 #include "leak/leak_formulas.hpp"
+#include "numeric/atan2.hpp"
 #include "numeric/sin_cos.hpp"
 #include "sim/kernel/flatten.hpp"
 #include "sim/kernel/simd_engine.hpp"

@@ -22,12 +22,12 @@
 //   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
 //   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
 // - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle, and
-//   the kernel has two cheaper ones than libm's: a rough polynomial (rough_arc_s, within 1e-5 rad) and
-//   SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; libm's is
-//   within 1 ulp, so the two differ by < 2e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
+//   the kernel has two cheaper ones than the core's (formula::atan2_of): a rough polynomial (rough_arc_s, within
+//   1e-5 rad) and SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; the
+//   core's is within 2 ulp, so the two differ by < 3e-15 in [0, pi] and s by < 1e-15). A decision on s (inside
 //   the leak or not; which f_c bin) can differ from the core's only within that error of an edge, so
 //   arc_s_for takes the rough s where it is far from every edge, SLEEF's where it is not, and the
-//   core's own s (libm's atan2, lane by lane) within `margin` (1e-12) of one: every decision is the core's.
+//   core's own s (formula::atan2_of, lane by lane) within `margin` (1e-12) of one: every decision is the core's.
 // The deliberate FMAs: the exact product error of the leak phase, as in the scalar core, and the rough s
 // (rough_arc_s), whose bits decide nothing (only its error bound does).
 //
@@ -246,8 +246,8 @@ struct RoughArc {
 }
 
 /// The cascade's second half: the lanes of `fine` take SLEEF's s, which they keep beyond KernelScene::margin of
-/// every edge of near(s, tol), else the core's own s (Stadium::s_of: libm's atan2 of the same arguments, lane by
-/// lane, then formula::arc_s); the other lanes keep `s`.
+/// every edge of near(s, tol), else the core's own s (Stadium::s_of: the double tier's atan2, formula::atan2_scalar, of
+/// the same arguments, lane by lane, then formula::arc_s); the other lanes keep `s`.
 template <class Near>
 inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s, const Near& near) {
   s = sleef_arc_s(S, h, fine, s);
@@ -255,7 +255,7 @@ inline V fine_arc_s(const KernelScene& S, const HitLanes& h, const MV& fine, V s
   if (const unsigned m = bits(ask)) {
     alignas(sizeof(B)) double y[N], x[N], angle[N] = {};
     store(formula::arc_angle_y(h.right, h.x, V(S.half_d)), y), store(formula::arc_angle_x(h.right, h.y), x);
-    for_lanes(m, [&](int i) { angle[i] = std::atan2(y[i], x[i]); });
+    for_lanes(m, [&](int i) { angle[i] = formula::atan2_scalar(y[i], x[i]); });
     s = select(ask, arc_s_from(S, h, load(angle)), s);
   }
   return s;

@@ -11,8 +11,8 @@
 // Table::next_hit. The leak test is LeakList::hit's own loop over the leaks (first_leak, leak/leak_window.hpp: the
 // first leak that takes the hit; a stationary one by its windows, a moving one by the exact phase, may_touch and
 // the hit's s). What is here is the step's order and s:
-// - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from libm's atan2, the core's own
-//   function (the same bits), each lane's once a step;
+// - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from formula::atan2_of, the core's
+//   own function (the same bits), each lane's once a step;
 // - the reflection: one formula about w, the arc's radius vector or the segment's rounded normal (Table::reflect).
 // So a lane's trajectory, fate, time, collisions and leak are the scalar engine's bit for bit
 // (tests/test_table_runs.cpp). What this path leaves out: the stadium's filtered fast paths (its convex next hit,
@@ -37,8 +37,8 @@ inline TableLanes table_next_hit(const KernelTable& T, const V& qx, const V& qy,
 /// The lanes of `m` on piece k.
 inline MV on_piece(const TableLanes& h, int k, const MV& m) { return m & (h.piece == V(static_cast<double>(k))); }
 
-/// Table::s_of of the hits of the lanes in `need` (the others: 0): a segment's by its template, an arc's from libm's
-/// atan2 (the core's own function) of its template's arguments, lane by lane.
+/// Table::s_of of the hits of the lanes in `need` (the others: 0): a segment's by its template, an arc's from the
+/// double tier's atan2 (formula::atan2_scalar, the core's own function) of its template's arguments, lane by lane.
 inline V table_s(const KernelTable& T, const TableLanes& h, const MV& need) {
   V s(0.0), ay(0.0), ax(1.0);
   MV arcs(false);
@@ -57,7 +57,7 @@ inline V table_s(const KernelTable& T, const TableLanes& h, const MV& need) {
   if (!bits(arcs)) return s;
   alignas(sizeof(B)) double y[N], x[N], angle[N] = {};
   store(ay, y), store(ax, x);
-  for_lanes(bits(arcs), [&](int i) { angle[i] = std::atan2(y[i], x[i]); });
+  for_lanes(bits(arcs), [&](int i) { angle[i] = formula::atan2_scalar(y[i], x[i]); });
   const V a = load(angle);
   for (int k = 0; k < T.pieces; ++k) {
     const MV on = on_piece(h, k, arcs);

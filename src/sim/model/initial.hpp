@@ -10,6 +10,7 @@
 
 #include "geometry/stadium.hpp"
 #include "geometry/table.hpp"
+#include "numeric/device.hpp"
 #include "sim/model/scene.hpp"
 
 namespace rotleak {
@@ -38,14 +39,29 @@ class InitialConditions {
   double creation_window() const { return window_; }
 
   /// Uniform double in [0,1) from the top 53 bits.
-  static double unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
+  ROTLEAK_HD static double unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
   /// Uniform in the open interval (-1, 1), symmetric and exact: (2m + 1 - 2^53) / 2^53.
-  static double symmetric(std::uint64_t bits) {
+  ROTLEAK_HD static double symmetric(std::uint64_t bits) {
     const std::int64_t m = static_cast<std::int64_t>(bits >> 11);
     return static_cast<double>(2 * m + 1 - (std::int64_t(1) << 53)) * 0x1p-53;
   }
 
+  /// Particle id's Birkhoff start (init = birkhoff: one try, counter word 1 = 0) under seed and creation window:
+  /// what draw() returns for it, and what the GPU engine draws on the device.
+  ROTLEAK_HD static InitialDraw birkhoff_draw(std::uint64_t seed, double window, std::uint64_t id) {
+    r123::Philox4x64 gen;
+    const r123::Philox4x64::key_type key = {{seed, kStreamInitial}};
+    const r123::Philox4x64::ctr_type ctr = {{id, 0, 0, 0}};
+    const auto w = gen(ctr, key);
+    InitialDraw out;
+    out.tau = window * unit(w[3]);
+    out.s = unit(w[0]);
+    out.p = symmetric(w[1]);
+    return out;
+  }
+
   InitialDraw draw(std::uint64_t id) const {
+    if (kind_ == InitKind::birkhoff) return birkhoff_draw(seed_, window_, id);
     r123::Philox4x64 gen;
     r123::Philox4x64::key_type key = {{seed_, kStreamInitial}};
     InitialDraw out;
@@ -53,11 +69,6 @@ class InitialConditions {
       r123::Philox4x64::ctr_type ctr = {{id, k, 0, 0}};
       const auto w = gen(ctr, key);
       out.tau = window_ * unit(w[3]);
-      if (kind_ == InitKind::birkhoff) {
-        out.s = unit(w[0]);
-        out.p = symmetric(w[1]);
-        return out;
-      }
       // Flow: rejection from the bounding box; each try uses the next counter.
       out.flow = true;
       out.u = unit(w[2]);
@@ -101,7 +112,7 @@ struct ParticleState {
 /// The same on any table: a Birkhoff start's s is a share of the whole boundary (Table::loop_s), its p taken about
 /// that point's inward normal; a flow start's direction is the angle 2 pi u.
 template <class R>
-ParticleState<R> initial_state(const Table<R>& table, const InitialDraw& dr) {
+ROTLEAK_HD ParticleState<R> initial_state(const Table<R>& table, const InitialDraw& dr) {
   ParticleState<R> ps;
   ps.t = R(dr.tau);
   if (!dr.flow) {
@@ -118,7 +129,7 @@ ParticleState<R> initial_state(const Table<R>& table, const InitialDraw& dr) {
 }
 
 template <class R>
-ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
+ROTLEAK_HD ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
   ParticleState<R> ps;
   ps.t = R(dr.tau);
   if (!dr.flow) {

@@ -13,6 +13,7 @@
 #include "leak/leak.hpp"
 #include "leak/table_leak.hpp"
 #include "numeric/binade.hpp"
+#include "numeric/device.hpp"
 #include "sim/model/fate.hpp"
 #include "sim/model/initial.hpp"
 
@@ -44,14 +45,14 @@ struct Model {
   using real_type = R;
   using hit_type = Hit<R>;
   /// the stadium's convex shortcut: the straight edges decide first (formula::next_exit)
-  hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return stadium.next_hit(q, v); }
-  static constexpr bool lost(const hit_type&) { return false; }  ///< the stadium's next hit is always found
+  ROTLEAK_HD hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return stadium.next_hit(q, v); }
+  ROTLEAK_HD static constexpr bool lost(const hit_type&) { return false; }  ///< the stadium's next hit is always found
   /// the leak that takes the hit at time t (0: the one leak), or -1
-  int leak_of(const hit_type& h, const R& t) const { return leak.hit(h.piece, h.q, t) ? 0 : -1; }
-  R s_of(const hit_type& h) const { return stadium.s_of(h.piece, h.q); }
-  Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return stadium.reflect(h.piece, h.q, v); }
+  ROTLEAK_HD int leak_of(const hit_type& h, const R& t) const { return leak.hit(h.piece, h.q, t) ? 0 : -1; }
+  ROTLEAK_HD R s_of(const hit_type& h) const { return stadium.s_of(h.piece, h.q); }
+  ROTLEAK_HD Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return stadium.reflect(h.piece, h.q, v); }
   /// a hit from which a bouncing-ball phase may start (fast_forward)
-  bool jumps_from(const hit_type& h) const {
+  ROTLEAK_HD bool jumps_from(const hit_type& h) const {
     return fast_forward && (h.piece == Piece::top || h.piece == Piece::bottom);
   }
 };
@@ -71,13 +72,13 @@ struct TableModel {
 
   using real_type = R;
   using hit_type = TableHit<R>;
-  hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return table.next_hit(q, v); }
+  ROTLEAK_HD hit_type next_hit(const Vec2<R>& q, const Vec2<R>& v) const { return table.next_hit(q, v); }
   /// a flight that met no piece (through a gap that rounding opened at a corner): the particle is stuck there
-  static bool lost(const hit_type& h) { return h.piece < 0; }
-  int leak_of(const hit_type& h, const R& t) const { return leaks.hit(table, h.piece, h.q, t); }
-  R s_of(const hit_type& h) const { return table.s_of(h.piece, h.q); }
-  Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return table.reflect(h.piece, h.q, v); }
-  static constexpr bool jumps_from(const hit_type&) { return false; }
+  ROTLEAK_HD static bool lost(const hit_type& h) { return h.piece < 0; }
+  ROTLEAK_HD int leak_of(const hit_type& h, const R& t) const { return leaks.hit(table, h.piece, h.q, t); }
+  ROTLEAK_HD R s_of(const hit_type& h) const { return table.s_of(h.piece, h.q); }
+  ROTLEAK_HD Vec2<R> reflect(const hit_type& h, const Vec2<R>& v) const { return table.reflect(h.piece, h.q, v); }
+  ROTLEAK_HD static constexpr bool jumps_from(const hit_type&) { return false; }
 };
 
 /// One bounce of a fast-forwarded stretch, as an observer with a ball_run() method is shown it.
@@ -98,13 +99,13 @@ struct Stretch {
   R r;  ///< the edges' |y|
   bool top_even;
 
-  Piece piece(long j) const { return ((j % 2) == 0) == top_even ? Piece::top : Piece::bottom; }
+  ROTLEAK_HD Piece piece(long j) const { return ((j % 2) == 0) == top_even ? Piece::top : Piece::bottom; }
   /// x_j, bit for bit: x + fl(j dx) rounds to the exact x + j dx, since x and x_j share a binade, so
   /// j dx = x_j - x lies below it and is rounded by at most a quarter of x_j's ulp (for j up to n)
-  R x_at(long j) const { return x + R(static_cast<double>(j)) * dx; }
-  R t_at(long j) const { return t + R(static_cast<double>(j)) * dt; }  ///< t_j, as x_j
+  ROTLEAK_HD R x_at(long j) const { return x + R(static_cast<double>(j)) * dx; }
+  ROTLEAK_HD R t_at(long j) const { return t + R(static_cast<double>(j)) * dt; }  ///< t_j, as x_j
   /// bounce j, any j in 0 .. n
-  Bounce<R> operator()(long j) const {
+  ROTLEAK_HD Bounce<R> operator()(long j) const {
     const Piece p = piece(j);
     return {p, Vec2<R>{x_at(j), p == Piece::top ? r : R(-r)}, t_at(j)};
   }
@@ -149,7 +150,7 @@ struct BallRun {
 template <class R>
 struct NoCollisionObserver {
   static constexpr bool active = false;
-  void operator()(Piece, const Vec2<R>&, const R&) {}
+  ROTLEAK_HD void operator()(Piece, const Vec2<R>&, const R&) {}
 };
 
 struct ParticleEnd {
@@ -176,7 +177,7 @@ struct Flight {
 /// The first i in [lo, hi) where pred holds (hi if none), for a pred that is false and then true over
 /// [lo, hi): bisection, looking at both ends first.
 template <class P>
-long first_true(long lo, long hi, const P& pred) {
+ROTLEAK_HD long first_true(long lo, long hi, const P& pred) {
   if (lo >= hi || pred(lo)) return lo;
   if (!pred(hi - 1)) return hi;
   ++lo, --hi;  // pred(lo - 1) is false, pred(hi) is true: the answer lies in [lo, hi]
@@ -204,7 +205,7 @@ struct SumRun {
 };
 
 template <class R>
-SumRun<R> next_run(R x, R d, long cap) {
+ROTLEAK_HD SumRun<R> next_run(R x, R d, long cap) {
   using std::abs;
   const R x1 = x + d;
   const R inc = x1 - x;
@@ -239,7 +240,7 @@ namespace fast_forward_steps {
 /// (why 2); {J + 1, 0}: none. x_j and t_j are monotone in j (a fixed increment, exact): so "left the
 /// straight edges" and "past t_max" are false up to some j and true after, and bisection finds it.
 template <class R>
-std::pair<long, int> first_edge_or_time(const Model<R>& m, const Stretch<R>& s, long J) {
+ROTLEAK_HD std::pair<long, int> first_edge_or_time(const Model<R>& m, const Stretch<R>& s, long J) {
   const R half_d = m.stadium.half_d();
   const long j_arc = first_true(1, J + 1, [&](long j) {
     const R v = s.x_at(j);
@@ -257,7 +258,7 @@ std::pair<long, int> first_edge_or_time(const Model<R>& m, const Stretch<R>& s, 
 /// bounces of one parity meet one edge's windows, at monotone x, so the first bounce inside a window is
 /// again a bisection -- no per-bounce test over millions of bounces.
 template <class R>
-long first_window_bounce(const Model<R>& m, const Stretch<R>& s, long J) {
+ROTLEAK_HD long first_window_bounce(const Model<R>& m, const Stretch<R>& s, long J) {
   long stop = J + 1;
   for (int parity = 1; parity <= 2; ++parity) {
     const auto& pw = m.leak.windows(s.piece(parity));
@@ -289,7 +290,7 @@ long first_window_bounce(const Model<R>& m, const Stretch<R>& s, long J) {
 /// The first bounce of the stretch s (1 .. upto) that a moving leak covers; upto + 1: none. A moving
 /// leak has no fixed windows: the phase at every bounce time is tested (no geometry, a few flops each).
 template <class R>
-long first_moving_leak_bounce(const Model<R>& m, const Stretch<R>& s, long upto) {
+ROTLEAK_HD long first_moving_leak_bounce(const Model<R>& m, const Stretch<R>& s, long upto) {
   for (long j = 1; j <= upto; ++j) {
     const Bounce<R> b = s(j);
     if (m.leak.hit(b.piece, b.q, b.t)) return j;
@@ -300,7 +301,7 @@ long first_moving_leak_bounce(const Model<R>& m, const Stretch<R>& s, long upto)
 /// Bounces 1 .. s.n of the stretch shown to the observer: with the rest of the phase (observers that take
 /// a BallRun) or one by one.
 template <class R, class Observer, class PhaseHeld>
-void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
+ROTLEAK_HD void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
   if constexpr (Observer::active) {
     if (!observe) return;
     if constexpr (std::is_same_v<PhaseHeld, BallRun<R>>) {
@@ -321,7 +322,7 @@ void show(Observer* observe, PhaseHeld& phase, const Stretch<R>& s) {
 /// edge, its k bounces counted. Returns false when that bounce is in the leak (an escape); otherwise the
 /// next step meets the arc, or t > t_max, as stepping would.
 template <class R>
-bool land(const Model<R>& m, Flight<R>& f, long k, R x, R t, bool top) {
+ROTLEAK_HD bool land(const Model<R>& m, Flight<R>& f, long k, R x, R t, bool top) {
   const Stadium<R>& st = m.stadium;
   ParticleState<R>& ps = f.ps;
   const Piece piece = top ? Piece::top : Piece::bottom;
@@ -348,7 +349,7 @@ bool land(const Model<R>& m, Flight<R>& f, long k, R x, R t, bool top) {
 /// geometry). Skipped bounces count as collisions, and an active observer sees each of them (as
 /// stepping would show them: f_c counts every collision). Returns false when the particle ended.
 template <class R, class Observer = NoCollisionObserver<R>>
-bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) {
+ROTLEAK_HD bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) {
   if constexpr (!std::is_floating_point_v<R>) {
     return true;  // exact emulation needs IEEE binary arithmetic
   } else {
@@ -403,7 +404,7 @@ bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe = nullptr) 
 /// fast-forward; TableModel: any table and its leaks). The scalar engine calls it for one particle after another
 /// (interleaving flights measured slower there); the vectorised kernel performs the same operations per lane.
 template <class M, class Observer>
-inline bool advance(const M& m, Flight<typename M::real_type>& f, Observer& observe) {
+ROTLEAK_HD inline bool advance(const M& m, Flight<typename M::real_type>& f, Observer& observe) {
   using R = typename M::real_type;
   const typename M::hit_type h = m.next_hit(f.ps.q, f.ps.v);
   if (m.lost(h)) {
@@ -446,7 +447,7 @@ inline bool advance(const M& m, Flight<typename M::real_type>& f, Observer& obse
 /// A whole life, one particle at a time: the reference loop, which the scalar engine runs and whose
 /// operations the vectorised kernel performs per lane.
 template <class M, class Observer>
-ParticleEnd run_particle(const M& m, const ParticleState<typename M::real_type>& ps, Observer& observe) {
+ROTLEAK_HD ParticleEnd run_particle(const M& m, const ParticleState<typename M::real_type>& ps, Observer& observe) {
   Flight<typename M::real_type> f{ps, {}, 0};
   while (advance(m, f, observe)) {
   }
@@ -457,7 +458,7 @@ ParticleEnd run_particle(const M& m, const ParticleState<typename M::real_type>&
 /// (TableModel). Every caller that starts a particle from its draw (the scalar engine, the trace, the enclosures)
 /// takes it here.
 template <class M>
-ParticleState<typename M::real_type> initial_state(const M& model, const InitialDraw& draw) {
+ROTLEAK_HD ParticleState<typename M::real_type> initial_state(const M& model, const InitialDraw& draw) {
   if constexpr (requires { model.stadium; })
     return initial_state(model.stadium, draw);
   else

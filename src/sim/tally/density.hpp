@@ -12,6 +12,7 @@
 #include "sim/kernel/simd_engine.hpp"
 #include "sim/model/particle.hpp"
 #include "sim/model/scene.hpp"
+#include "sim/tally/density_bin.hpp"
 
 namespace rotleak {
 
@@ -275,8 +276,8 @@ struct DensityObserver {
     run(a, hi, e.bin[static_cast<std::size_t>(k)]);
   }
 
-  int bin(Piece p, const Vec2<R>& q) const { return bin_of(num_traits<R>::to_double(stadium->s_of(p, q))); }
-  int bin_of(double s) const { return static_cast<int>(formula::density_bin(s, static_cast<double>(bins))); }
+  int bin(Piece p, const Vec2<R>& q) const { return density_bin_of(*stadium, p, q, bins); }
+  int bin_of(double s) const { return density_bin_of(s, bins); }
   /// n bounces into bin b of row `row` (a window, or a time cell when `cells` is set)
   void add(std::size_t row, int b, std::uint64_t n) {
     const std::size_t k = row * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
@@ -302,11 +303,7 @@ struct TableDensityObserver {
     int b = -1;  // the bin, worked out at the first window that holds t
     for (std::size_t i = 0; i < windows->size(); ++i) {
       if (!(tt >= (*windows)[i].from && tt <= (*windows)[i].to)) continue;
-      if (b < 0) {
-        const int loop = table->piece(piece).loop;
-        const R share = table->boundary_share(loop, table->s_of(piece, q));
-        b = static_cast<int>(formula::density_bin(num_traits<R>::to_double(share), static_cast<double>(bins)));
-      }
+      if (b < 0) b = density_bin_of(*table, piece, q, bins);
       ++counts[i * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)];
     }
   }

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# The GPU engine's checks on a machine with a CUDA device, from a build made on a machine without one
+# (docs/performance.md, "The GPU engine"). Two steps:
+#   scripts/gpu_check.sh pack [BUILD]   here: the build's rotleak, test_gpu and bench_gpu, and every library they load
+#                                       that is not the C library's or the CUDA driver's, into .gpu-carry/ (git
+#                                       ignores it)
+#   scripts/gpu_check.sh run [OUT]      there, in a copy of this tree with .gpu-carry/ beside it: the device, the GPU
+#                                       tests, byte comparisons of run directories (--engine gpu against the CPU's
+#                                       engine: every file, and summary.json less its execution and command), and
+#                                       bench_gpu (BENCH_PARTICLES a scene, default 10^8); its log and bench_gpu's
+#                                       output under OUT (default gpu-check-out)
+# The run step takes about 3 minutes on an H200 with 16 cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+carry=.gpu-carry
+case "${1:-}" in
+  pack)
+    build=${2:-build}
+    rm -rf "$carry"
+    mkdir -p "$carry/bin" "$carry/lib"
+    grep -qx "/$carry/" .git/info/exclude 2>/dev/null || echo "/$carry/" >>.git/info/exclude
+    for b in "$build/rotleak" "$build/tests/test_gpu" "$build/bench/bench_gpu"; do
+      cp "$b" "$carry/bin/"
+      strip "$carry/bin/$(basename "$b")"
+      ldd "$b" | awk '/=> \// {print $3}' | while read -r lib; do
+        case "$(basename "$lib")" in
+          libc.so* | libm.so* | libpthread.so* | libdl.so* | librt.so* | ld-linux* | libcuda.so*) ;;
+          *) cp -L "$lib" "$carry/lib/" ;;
+        esac
+      done
+    done
+    # the tests and the command find the source tree's data where the build was configured
+    grep -m1 '^CMAKE_HOME_DIRECTORY' "$build/CMakeCache.txt" | cut -d= -f2 >"$carry/source_dir"
+    du -sh "$carry" | sed 's/^/packed: /'
+    ;;
+  run)
+    out=${2:-gpu-check-out}
+    mkdir -p "$out"
+    exec > >(tee "$out/gpu_check.log") 2>&1
+    [[ -d $carry/bin ]] || { echo "gpu_check: no $carry/ here: run 'scripts/gpu_check.sh pack' where the build is"; exit 2; }
+    export LD_LIBRARY_PATH="$PWD/$carry/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+    src=$(cat "$carry/source_dir")
+    if [[ $src != "$PWD" && ! -e $src ]]; then mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; fi
+    rl=$PWD/$carry/bin/rotleak
+    nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader || true
+    echo "cores: $(nproc)"
+    echo "== test_gpu"
+    "$carry/bin/test_gpu" >"$out/test_gpu.log" 2>&1 || true
+    tail -n 30 "$out/test_gpu.log"
+    echo "== byte comparisons: --engine gpu against --engine simd (${CPU_THREADS:-all} cores)"
+    same() {  # name scene particles overrides...: one run on each engine, then every file compared
+      local name=$1 scene=$2 n=$3
+      shift 3
+      local sets=()
+      for s in "$@"; do sets+=(--set "$s"); done
+      local a=$out/$name.cpu b=$out/$name.gpu
+      rm -rf "$a" "$b"
+      local e
+      for e in simd gpu; do
+        local dir=$a
+        [[ $e == gpu ]] && dir=$b
+        if ! "$rl" simulate "$scene" --particles "$n" "${sets[@]}" --engine $e --out "$dir" --no-progress \
+          >"$out/$name.$e.log" 2>&1; then
+          echo "$name: the $e run failed: $(tail -n 2 "$out/$name.$e.log")"
+          return 0
+        fi
+        rm -f "$out/$name.$e.log"
+      done
+      local verdict=identical
+      for f in "$a"/*; do
+        local g=$b/$(basename "$f")
+        if [[ $(basename "$f") == summary.json ]]; then
+          python3 - "$f" "$g" <<'PY' || verdict="DIFFER (summary.json)"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for d in (a, b):
+    d.pop("execution", None), d.pop("command", None)
+sys.exit(0 if a == b else 1)
+PY
+        elif ! cmp -s "$f" "$g"; then
+          verdict="DIFFER ($(basename "$f"))"
+        fi
+      done
+      python3 - "$b/summary.json" "$a/summary.json" "$name" "$verdict" <<'PY'
+import json, sys
+g, c = (json.load(open(p))["execution"] for p in sys.argv[1:3])
+print(f"{sys.argv[3]:<28} {sys.argv[4]:<12} gpu {g['collisions_per_second']:.3g} coll/s ({g['wall_seconds']:.2f} s), "
+      f"cpu {c['collisions_per_second']:.3g} coll/s ({c['wall_seconds']:.2f} s, {c['threads']} threads)")
+PY
+      rm -rf "$a" "$b"
+    }
+    same quickstart_fc data/scenes/quickstart.toml 1000000
+    same omega_2_3_mupo data/scenes/rotating.toml 1000000 leak.omega=2/3 ensemble.sampling=mupo
+    same stationary_sL_0.25_flow data/scenes/stationary_sL_0.25.toml 1000000 ensemble.init=flow
+    same stadium_two_leaks data/scenes/tables/stadium_two_leaks.toml 1000000
+    same sinai data/scenes/tables/sinai.toml 1000000
+    same mushroom data/scenes/tables/mushroom.toml 300000
+    echo "== bench_gpu ${BENCH_PARTICLES:=100000000} particles a scene, 3 rounds"
+    "$carry/bin/bench_gpu" "$BENCH_PARTICLES" 3 "$((BENCH_PARTICLES / 10))" | tee "$out/bench_gpu.txt"
+    ;;
+  *)
+    echo "usage: scripts/gpu_check.sh pack [BUILD] | run [OUT]" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,23 @@
+// The GPU engine in a build without a CUDA compiler: no device backend, and the one line that says why (the
+// emulation on the host, gpu_host.cpp, is still there for the tests).
+#include <stdexcept>
+#include <string>
+
+#include "sim/gpu/gpu_backend.hpp"
+
+namespace rotleak::gpu {
+
+std::string cuda_unavailable() {
+  return "this build has no GPU engine: CMake found no CUDA compiler (nvcc) when it was configured "
+         "(ROTLEAK_GPU=OFF, or no CUDA toolkit)";
+}
+std::string device_name() { return emulated() ? "the host's cores (ROTLEAK_GPU_EMULATE)" : cuda_unavailable(); }
+
+std::unique_ptr<Device::Backend> cuda_backend(const Model<double>&, const DensityCells*, bool) {
+  throw std::runtime_error("--engine gpu: " + cuda_unavailable());
+}
+std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>&, const DensityCells*, bool) {
+  throw std::runtime_error("--engine gpu: " + cuda_unavailable());
+}
+
+}  // namespace rotleak::gpu

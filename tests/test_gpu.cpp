@@ -1,0 +1,178 @@
+// The GPU engine (sim/gpu): its name and its one-line refusals everywhere; on a machine with a CUDA device, the same
+// ends as the CPU's scalar core, particle for particle, on the stadium (f_c, a moving leak with mupo weights) and on
+// other tables (several leaks, dispersing and mixed boundaries). Without a device the device tests skip, saying why
+// in one line; scripts/gpu_check.sh runs them where a device is.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "io/scene_file.hpp"
+#include "numeric/input.hpp"
+#include "paths.hpp"
+#include "resume.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/gpu/gpu_engine.hpp"
+
+using namespace rotleak;
+
+namespace {
+
+Scene scene_of(const std::string& file, std::vector<std::string> overrides) {
+  return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/" + file, overrides);
+}
+
+RunResult run_on(const Scene& scene, Engine engine) {
+  RunOptions opt;
+  opt.engine = engine;
+  return run_ensemble(scene, opt);
+}
+
+/// Every integer tally, the weighted f_c's exact sums and every particle's end of the GPU engine's run of each scene
+/// (its overrides, `particles` each) equal the scalar core's. Error model: none -- the step runs the scalar core's
+/// operations in its order (-fmad=false on a device), so nothing may differ.
+void expect_same_as_scalar(const std::vector<std::pair<std::string, std::vector<std::string>>>& scenes,
+                           std::uint64_t particles) {
+  for (const auto& [file, overrides] : scenes) {
+    std::vector<std::string> set = overrides;
+    set.push_back("ensemble.particles=" + std::to_string(particles));
+    set.push_back("observe.escapes=true");
+    const Scene scene = scene_of(file, set);
+    const RunResult cpu = run_on(scene, Engine::scalar), gpu = run_on(scene, Engine::gpu);
+    EXPECT_EQ(gpu.engine, Engine::gpu);
+    EXPECT_EQ(cpu.tally.collisions, gpu.tally.collisions) << file;
+    EXPECT_EQ(cpu.tally.escaped, gpu.tally.escaped) << file;
+    EXPECT_EQ(cpu.tally.stuck, gpu.tally.stuck) << file;
+    EXPECT_EQ(cpu.tally.escapes_per_bin, gpu.tally.escapes_per_bin) << file;
+    EXPECT_EQ(cpu.tally.escapes_by_leak, gpu.tally.escapes_by_leak) << file;
+    EXPECT_EQ(cpu.tally.collision_density, gpu.tally.collision_density) << file;
+    EXPECT_TRUE(cpu.tally.collision_density_w == gpu.tally.collision_density_w) << file << ": the weighted f_c";
+    ASSERT_EQ(cpu.records.size(), gpu.records.size()) << file;
+    std::size_t differ = 0, s_differ = 0;
+    for (std::size_t i = 0; i < cpu.records.size(); ++i) {
+      const EscapeRecord &a = cpu.records[i], &b = gpu.records[i];
+      if (a.t != b.t || a.collisions != b.collisions || a.fate != b.fate || a.leak != b.leak) ++differ;
+      if (a.s != b.s) ++s_differ;
+    }
+    EXPECT_EQ(differ, 0u) << file << ": particles whose time, collisions, fate or leak differ";
+    EXPECT_EQ(s_differ, 0u) << file << ": particles whose escape's s differs";
+  }
+}
+
+const std::vector<std::pair<std::string, std::vector<std::string>>> kScenes = {
+    {"quickstart.toml", {}},
+    {"rotating.toml", {"leak.omega=2/3", "ensemble.sampling=mupo"}},
+    {"stationary_sL_0.25.toml", {"ensemble.init=flow"}},
+    {"tables/stadium_two_leaks.toml", {}},
+    {"tables/sinai.toml", {}},
+    {"tables/mushroom.toml", {}},
+    {"tables/lemon.toml", {"leak.omega=1/3"}},
+};
+
+/// ROTLEAK_GPU_EMULATE=1 while it lives: the engine's launches on this machine's cores.
+struct Emulated {
+  Emulated() { setenv("ROTLEAK_GPU_EMULATE", "1", 1); }
+  ~Emulated() { unsetenv("ROTLEAK_GPU_EMULATE"); }
+  Emulated(const Emulated&) = delete;
+  Emulated& operator=(const Emulated&) = delete;
+};
+
+}  // namespace
+
+TEST(GpuEngine, IsNamedAndRefusedInOneLineWhereItCannotRun) {
+  EXPECT_EQ(parse_engine("--engine", "gpu"), Engine::gpu);
+  EXPECT_EQ(to_string(Engine::gpu), "gpu");
+  const std::string why = gpu::unavailable();
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+  Scene scene = scene_of("quickstart.toml", {"ensemble.particles=100"});
+  RunOptions opt;
+  opt.engine = Engine::gpu;
+  if (!why.empty()) {  // no device (or no CUDA build): --engine gpu says why, naming the key
+    try {
+      plan_run(scene, opt);
+      FAIL() << "--engine gpu ran without a device";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key(), "--engine");
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+  // where it runs (here emulated): what it does not run yet is refused by name, and a bad emulation switch too
+  const Emulated on;
+  scene = scene_of("quickstart.toml", {"ensemble.particles=100", "ensemble.sampling=mupo", "run.splitting=true"});
+  try {
+    plan_run(scene, opt);
+    FAIL() << "a split run went to the GPU engine";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "--engine");
+    EXPECT_NE(std::string(e.what()).find("run.splitting"), std::string::npos) << e.what();
+  }
+  setenv("ROTLEAK_GPU_EMULATE", "yes", 1);
+  try {
+    gpu::unavailable();
+    FAIL() << "ROTLEAK_GPU_EMULATE=yes was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "ROTLEAK_GPU_EMULATE");
+  }
+}
+
+TEST(GpuEngine, EndsEveryParticleAsTheScalarCoreDoes) {
+  if (const std::string why = gpu::unavailable(); !why.empty()) GTEST_SKIP() << why;
+  expect_same_as_scalar(kScenes, 20000);
+}
+
+TEST(GpuEngine, EmulatedOnTheHostEndsEveryParticleAsTheScalarCoreDoes) {
+  // the engine's host side -- batches, draws made here or there, records in id order, f_c's cells and the weighted
+  // f_c's digits into exact sums -- with the kernel's code run on this machine's cores
+  const Emulated on;
+  EXPECT_EQ(gpu::unavailable(), "");
+  expect_same_as_scalar(kScenes, 1500);
+}
+
+TEST(GpuEngine, EmulatedStopAndResumeGiveTheWholeRun) {
+  // a run of three launches stopped at its first checkpoint and resumed from the checkpoint's bytes: the tallies of
+  // one uninterrupted pass
+  const Emulated on;
+  const Scene scene =
+      scene_of("rotating.toml", {"leak.omega=2/3", "ensemble.sampling=mupo", "run.t_max=40",
+                                 "observe.collision_density={ bins = 100, windows = [[0, 40], [10, 40]] }",
+                                 "fit.kappa_window=[0, 30]", "ensemble.particles=2097153"});
+  RunOptions opt;
+  opt.engine = Engine::gpu;
+  const RunResult once = run_ensemble(scene, opt);
+  const rotleak::test::StopAndResume r = rotleak::test::stop_and_resume(scene, Engine::gpu);
+  EXPECT_FALSE(r.part.complete);
+  EXPECT_EQ(r.read.done.size(), 256u);  // the first launch's blocks
+  EXPECT_TRUE(r.resumed.complete);
+  EXPECT_EQ(once.tally.escapes_per_bin, r.resumed.tally.escapes_per_bin);
+  EXPECT_EQ(once.tally.collision_density, r.resumed.tally.collision_density);
+  EXPECT_TRUE(once.tally.collision_density_w == r.resumed.tally.collision_density_w);
+  EXPECT_EQ(once.tally.collisions, r.resumed.tally.collisions);
+}
+
+TEST(GpuEngine, CheckpointsBetweenLaunchesChangeNothing) {
+  if (const std::string why = gpu::unavailable(); !why.empty()) GTEST_SKIP() << why;
+  // three launches (a launch takes 256 blocks of 4096 ids at most), a checkpoint after each of the first two: the
+  // tallies merged at each checkpoint, then the rest added, give what one pass gives
+  const Scene scene = scene_of("quickstart.toml", {"ensemble.particles=2200000", "observe.escapes=false"});
+  RunOptions plain;
+  plain.engine = Engine::gpu;
+  const RunResult once = run_ensemble(scene, plain);
+  RunOptions opt = plain;
+  opt.checkpoint_seconds = 1e-9;
+  int checkpoints = 0;
+  std::uint64_t last_done = 0;
+  opt.checkpoint = [&](const Tally& t, const IntervalSet& done, const std::vector<EscapeRecord>&) {
+    ++checkpoints;
+    EXPECT_EQ(t.escaped + t.survived + t.stuck, std::min<std::uint64_t>(done.size() * kBlockSize, scene.particles));
+    EXPECT_GT(done.size(), last_done);
+    last_done = done.size();
+  };
+  const RunResult split = run_ensemble(scene, opt);
+  EXPECT_EQ(checkpoints, 2);
+  EXPECT_TRUE(split.complete);
+  EXPECT_EQ(once.tally.escapes_per_bin, split.tally.escapes_per_bin);
+  EXPECT_EQ(once.tally.collision_density, split.tally.collision_density);
+  EXPECT_EQ(once.tally.collisions, split.tally.collisions);
+}
