@@ -50,7 +50,7 @@ Command add_calibrate(CLI::App& app) {
   sub->add_option("--particles", args->particles, "Override ensemble.particles (100000, 1e5)");
   sub->add_option("--threads", args->threads, "OpenMP threads per seed (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key for every seed: section.key=value");
-  sub->add_option("--engine", args->engine, "auto, scalar, simd");
+  sub->add_option("--engine", args->engine, "auto, scalar, simd, gpu");
   sub->add_flag("--force", args->request.force, "Redo every seed, complete or not");
   sub->add_flag("--plot", args->plot, "Draw calibration.png (rotleak plot DIR)");
   sub->add_flag("--json", args->json_out, "Print calibration.json on stdout");

@@ -65,7 +65,7 @@ Command add_scan(CLI::App& app) {
       ->each([args](const std::string&) { args->particles_given = true; });
   sub->add_option("--threads", args->threads, "OpenMP threads per point (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key for every point: section.key=value");
-  sub->add_option("--engine", args->engine, "auto, scalar, simd");
+  sub->add_option("--engine", args->engine, "auto, scalar, simd, gpu");
   sub->add_flag("--force", args->request.force, "Redo every point, complete or not");
   sub->add_flag("--json", args->json_out, "Print scan.json on stdout");
   sub->add_flag("--no-progress", args->no_progress, "No progress lines");

@@ -115,7 +115,8 @@ Command add_simulate(CLI::App& app) {
   sub->add_option("--threads", args->threads, "OpenMP threads (default: all cores)");
   sub->add_option("--set", args->request.overrides, "Override a scene key: section.key=value (repeatable)");
   sub->add_option("--engine", args->engine,
-                  "auto (vectorised when the CPU has AVX2+FMA and the scene allows), scalar, simd");
+                  "auto (vectorised when the CPU has AVX2+FMA and the scene allows), scalar, simd, gpu (a CUDA "
+                  "device: docs/model.md, \"The GPU engine\")");
   sub->add_flag("--force", args->request.force, "Replace an existing run directory");
   sub->add_flag("--json", args->json_out, "Print summary.json on stdout (nothing else there)");
   sub->add_flag("--plot", args->plot, "Draw the PNGs (rotleak plot) after the run");
