@@ -21,21 +21,19 @@ struct TraceStep {
 
 /// Follows the particle from state ps through at most `max_collisions` collisions (or until t_max, or a flight
 /// that meets no piece), calling on(step) after each (its velocity may be changed there: a test's perturbation):
-/// the model's own next hit, leak test and reflection (Model: the stadium; TableModel: any table), the operations
-/// of the collision step (sim/model/particle.hpp advance) without stopping at the leak. Returns the number of
-/// collisions traced.
+/// the collision step's own flight and reflection (fly, bounce: sim/model/particle.hpp, as advance takes them) and
+/// the model's leak test (Model: the stadium; TableModel: any table), without stopping at the leak. Returns the number
+/// of collisions traced.
 template <class M, class On>
 std::size_t trace_from(const M& model, ParticleState<typename M::real_type> ps, std::size_t max_collisions, On&& on) {
   using R = typename M::real_type;
   using P = decltype(std::declval<typename M::hit_type>().piece);
   for (std::size_t k = 1; k <= max_collisions; ++k) {
-    const typename M::hit_type h = model.next_hit(ps.q, ps.v);
-    if (model.lost(h)) return k - 1;
-    ps.t += h.t;
-    if (ps.t > model.t_max) return k - 1;
+    const Flown<M> f = fly(model, ps);
+    if (f.end != FlightEnd::hit) return k - 1;
+    const typename M::hit_type& h = f.h;
     const bool leak = model.leak_of(h, ps.t) >= 0;
-    ps.v = model.reflect(h, ps.v);
-    ps.q = h.q;
+    bounce(model, h, ps);
     if (!on(TraceStep<R, P>{k, ps.t, h.piece, ps.q, ps.v, leak})) return k;
   }
   return max_collisions;

@@ -19,8 +19,9 @@
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp, tests/test_stadiums.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
-//   rounding per operation (the build has -ffp-contract=off), and the escape test is the same window
-//   test, so per-particle results, escape records and tallies equal the scalar engine's exactly.
+//   rounding per operation (the build has -ffp-contract=off), and the escape test is the core's own
+//   (leak_takes, leak/leak_window.hpp, on the windows the kernel copies from Leak<double>), so per-particle
+//   results, escape records and tallies equal the scalar engine's exactly.
 // - Moving leak and f_c: the same bits too. The boundary coordinate of an arc hit needs an angle, and
 //   the kernel has two cheaper ones than the core's (formula::atan2_of): a rough polynomial (rough_arc_s, within
 //   1e-5 rad) and SLEEF's vector atan2 (Sleef_atan2d4_u35avx2 / Sleef_atan2d8_u35avx512f, within 3.5 ulp; the

@@ -399,27 +399,64 @@ ROTLEAK_HD bool fast_forward(const Model<R>& m, Flight<R>& f, Observer* observe 
   }
 }
 
-/// One collision: next_hit, time check, leak test, reflect. Returns false once the particle has
+/// How the collision step's flight ends (fly).
+enum class FlightEnd { lost, past_t_max, hit };
+
+template <class M>
+struct Flown {
+  typename M::hit_type h;
+  FlightEnd end;
+};
+
+/// The collision step's flight, in the order every scalar loop takes it (advance below; trace_from,
+/// verify/trace.hpp): the model's next hit from ps; a flight that meets no piece ends `lost`, one that passes t_max
+/// `past_t_max` (ps unchanged: the state stays at the last collision); else the clock moves to the hit (`hit`), where
+/// the caller takes the leak test (M::leak_of) and the reflection (bounce).
+template <class M>
+[[gnu::always_inline]] ROTLEAK_HD inline Flown<M> fly(const M& m, ParticleState<typename M::real_type>& ps) {
+  using R = typename M::real_type;
+  Flown<M> f{m.next_hit(ps.q, ps.v), FlightEnd::hit};
+  if (m.lost(f.h)) {
+    f.end = FlightEnd::lost;
+    return f;
+  }
+  const R t_hit = ps.t + f.h.t;
+  if (t_hit > m.t_max) {
+    f.end = FlightEnd::past_t_max;
+    return f;
+  }
+  ps.t = t_hit;
+  return f;
+}
+
+/// The collision's reflection: the outgoing velocity at hit h, and the particle at the hit.
+template <class M>
+[[gnu::always_inline]] ROTLEAK_HD inline void bounce(const M& m, const typename M::hit_type& h,
+                                                     ParticleState<typename M::real_type>& ps) {
+  ps.v = m.reflect(h, ps.v);
+  ps.q = h.q;
+}
+
+/// One collision: fly (next hit, lost, t_max, clock), leak test, bounce. Returns false once the particle has
 /// ended (f.end says how). Written once for every model (Model: the stadium, with its convex shortcut and the
 /// fast-forward; TableModel: any table and its leaks). The scalar engine calls it for one particle after another
 /// (interleaving flights measured slower there); the vectorised kernel performs the same operations per lane.
 template <class M, class Observer>
 ROTLEAK_HD inline bool advance(const M& m, Flight<typename M::real_type>& f, Observer& observe) {
   using R = typename M::real_type;
-  const typename M::hit_type h = m.next_hit(f.ps.q, f.ps.v);
-  if (m.lost(h)) {
+  const Flown<M> fl = fly(m, f.ps);
+  const typename M::hit_type& h = fl.h;
+  if (fl.end == FlightEnd::lost) {
     f.end.fate = Fate::stuck;
     f.end.t = num_traits<R>::to_double(f.ps.t);
     return false;
   }
-  const R t_hit = f.ps.t + h.t;
-  if (t_hit > m.t_max) {  // the state stays at the last collision
+  if (fl.end == FlightEnd::past_t_max) {  // the state stays at the last collision
     f.end.fate = Fate::survived;
     f.end.t = num_traits<R>::to_double(m.t_max);
     if constexpr (std::is_same_v<R, double>) f.end.last = f.ps;
     return false;
   }
-  f.ps.t = t_hit;
   ++f.end.collisions;
   if constexpr (Observer::active) observe(h.piece, h.q, f.ps.t);
   if (const int leak = m.leak_of(h, f.ps.t); leak >= 0) {
@@ -429,8 +466,7 @@ ROTLEAK_HD inline bool advance(const M& m, Flight<typename M::real_type>& f, Obs
     f.end.s = num_traits<R>::to_double(m.s_of(h));
     return false;
   }
-  f.ps.v = m.reflect(h, f.ps.v);
-  f.ps.q = h.q;
+  bounce(m, h, f.ps);
   if constexpr (requires { m.stadium; }) {
     if (m.jumps_from(h) && !fast_forward(m, f, &observe)) return false;
   }
