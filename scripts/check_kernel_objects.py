@@ -10,11 +10,12 @@ scalar code. So: no weak symbols there, but the personality routine's reference 
 
 Second, the kernel's hot loop must be one function: GCC 12 once left the pack's own operators and lambdas,
 next_hit and the leak tests as calls inside it (a call passes its packs through memory), and whether it did
-changed with any function added elsewhere in the file. step and flights_kernel are [[gnu::flatten]], and
-run_kernel's ordinary step is inlined into it; run_kernel, flights_kernel and the step instantiations may
-call nothing of the kernel's own but a split run's step (itself flattened), only SLEEF and libm (the core's own
-atan2 near an edge). The same for the step on other tables: run_table_kernel and table_step (flattened) call no
-function of the kernel's own but a table_step (libm's atan2 is not the kernel's).
+changed with any function added elsewhere in the file. The collision step (lane_step, written once for every
+table: src/sim/kernel/simd_lanes.ipp; one instantiation for the stadium, one for any table, each with and without
+KeepLast) and flights_kernel are [[gnu::flatten]]; the step's loop (run_lanes) calls the step. run_kernel,
+run_table_kernel, run_lanes, flights_kernel and the step instantiations call nothing of the kernel's own but
+run_lanes and a step, only SLEEF and libm's or the core's own atan2 (near an edge; formula::atan2_scalar is out of
+line in numeric/atan2.cpp, not the kernel's).
 
 usage: check_kernel_objects.py OBJECT...   (exit 1, naming each weak symbol or call left, when any is found)
        check_kernel_objects.py --selftest  (the call finder on a canned disassembly, which it must flag)
@@ -34,7 +35,7 @@ def weak_symbols(path):
     return found
 
 
-HOT = ("run_kernel(", "run_table_kernel(", "flights_kernel(", "::step<", "::table_step<")
+HOT = ("run_kernel(", "run_table_kernel(", "flights_kernel(", "::lane_step<", "::run_lanes<")
 SELFTEST = """0000000000000000 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)>:
    0:	call   10 <rotleak::simd::avx2_kernel::(anonymous namespace)::next_hit(rotleak::simd::KernelScene const&)>
    5:	call   0 <rotleak::simd::avx2_kernel::run_kernel(rotleak::simd::KernelScene const&)+0x5>
@@ -62,7 +63,7 @@ def hot_calls(disassembly):
         call = re.search(r"\bcall\s+[0-9a-f]+ <(.*)>", line)
         if call:
             target = re.sub(r"\+0x[0-9a-f]+$", "", call.group(1))
-            if "(anonymous namespace)::" in target and "::step<" not in target and "::table_step<" not in target:
+            if "(anonymous namespace)::" in target and "::lane_step<" not in target and "::run_lanes<" not in target:
                 pending = (current, target)
     if pending is not None:
         found.append(pending)

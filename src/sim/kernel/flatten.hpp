@@ -1,8 +1,8 @@
-// ROTLEAK_KERNEL_FLATTEN, the attribute of the kernel's step and flights_kernel (sim/kernel/simd_kernel.ipp):
-// [[gnu::flatten]], every call inlined into the one hot loop (docs/performance.md, "Why the kernel is written
-// as it is"), but nothing under AddressSanitizer: there each inlined call keeps its own poisoned stack slots,
-// and the flattened kernel ran the sanitized tests hundreds of times slower than the Release build and took
-// a quarter of an hour to compile. Sanitized builds check memory, not inlining.
+// ROTLEAK_KERNEL_FLATTEN, the attribute of the kernel's collision step (lane_step, sim/kernel/simd_lanes.ipp) and
+// flights_kernel: [[gnu::flatten]], every call inlined into the one hot loop (docs/performance.md, "Why the kernel is
+// written as it is"), but nothing under AddressSanitizer: there each inlined call keeps its own poisoned stack slots,
+// and the flattened kernel ran the sanitized tests hundreds of times slower than the Release build and took a quarter
+// of an hour to compile. Sanitized builds check memory, not inlining.
 #pragma once
 
 #if defined(__SANITIZE_ADDRESS__)

@@ -46,7 +46,9 @@ bool available() {
 
 // the pack, then the kernel over it
 #include "sim/kernel/simd_pack.ipp"
-//
+// the lanes and their collision step, written once for every table
+#include "sim/kernel/simd_lanes.ipp"
+// the stadium's part of the step
 #include "sim/kernel/simd_kernel.ipp"
 // and on any other table
 #include "sim/kernel/simd_table.ipp"

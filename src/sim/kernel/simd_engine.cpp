@@ -58,7 +58,9 @@ inline U mul_wide(const U& a, const U& b) {
 }  // namespace
 // the pack, then the kernel over it
 #include "sim/kernel/simd_pack.ipp"
-//
+// the lanes and their collision step, written once for every table
+#include "sim/kernel/simd_lanes.ipp"
+// the stadium's part of the step
 #include "sim/kernel/simd_kernel.ipp"
 // and on any other table
 #include "sim/kernel/simd_table.ipp"

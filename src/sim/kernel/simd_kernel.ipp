@@ -9,9 +9,10 @@
 // The physics is not written here: every expression of a flight, a collision, a boundary coordinate and
 // the leak is a call into the shared formulas (geometry/formulas.hpp, leak/leak_formulas.hpp), the
 // ones Stadium<R> and Leak<R> call, instantiated on this file's pack V with its lane masks MV and the
-// selection hook below (select, choose, both). What is here: the pack, the lanes' lifecycle (refill,
-// retire, hand-off), the two approximate angles and the cascade that decides which one a lane may
-// trust (arc_s_for), and f_c's binning. Keep it self-contained otherwise: the formulas are templates
+// selection hook below (select, choose, both). What is here: the stadium's part of the collision step
+// (StadiumStep: the convex next hit, the leak test, the reflection, the fast-forward's hand-off), the two approximate
+// angles and the cascade that decides which one a lane may trust (arc_s_for), and f_c's binning. The pack's lanes
+// and the step's order, written once for every table, are sim/kernel/simd_lanes.ipp (lane_step). Keep it self-contained otherwise: the formulas are templates
 // instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
 // copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
 // objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
@@ -47,78 +48,6 @@ constexpr double kRoughAngleError = 1e-5;
 constexpr double kRoughAngleSafety = 2;
 
 namespace {
-
-struct Lanes {
-  alignas(sizeof(B)) double qx[N], qy[N], vx[N], vy[N], t[N], zero[N], w[N];
-  std::uint64_t id[N];
-  /// a lane's collisions are counted by the pack's steps (each step is one collision of every lane, but
-  /// the flight past t_max that ends it): base = its start's collisions - the pack's steps when it came
-  std::uint64_t base[N];
-};
-
-/// N particles in registers, with their bookkeeping in memory for the rare lane changes.
-struct Pack {
-  Lanes L{};
-  V qx, qy, vx, vy, t;
-  unsigned live_mask = 0;   ///< bit k: lane k holds a particle (parked lanes sit past t_max and must not retire)
-  std::uint64_t steps = 0;  ///< steps taken (Lanes::base)
-  bool zeros = false;       ///< some lane's count of zero-length flights in a row (Lanes::zero) is not 0
-  bool hungry = false;      ///< a lane found no start, and more will come (Pause::starts)
-};
-static_assert(N <= kMaxPackLanes && sizeof(Pack) <= sizeof(KernelState::pack) && alignof(Pack) <= 64);
-
-/// The pack a state holds: made on its first call (every lane idle), the same object on every later one.
-Pack& pack_of(KernelState& state) {
-  if (!state.started) {
-    new (state.pack) Pack{};
-    state.started = true;
-  }
-  return *std::launder(reinterpret_cast<Pack*>(state.pack));
-}
-
-void park(const KernelScene& S, Lanes& L, int k) {
-  // an idle lane: parked far past t_max, never reported (its bit of live_mask is clear)
-  L.qx[k] = 0, L.qy[k] = 0, L.vx[k] = 0, L.vy[k] = -1, L.t[k] = 2 * S.t_max + 1;
-  L.w[k] = 0;
-}
-
-void reload(Pack& g) {
-  g.qx = load(g.L.qx), g.qy = load(g.L.qy), g.vx = load(g.L.vx), g.vy = load(g.L.vy), g.t = load(g.L.t);
-}
-
-/// Lane k takes the next start, or is parked when there is none (its bit of live_mask follows; Pack::hungry when
-/// more will come).
-void take(const KernelScene& S, Pack& g, int k, Exchange& x) {
-  Lanes& L = g.L;
-  L.zero[k] = 0;
-  if (x.taken == x.n_starts) {
-    park(S, L, k);
-    g.live_mask &= ~(1u << k);
-    g.hungry = g.hungry || !x.last;
-    return;
-  }
-  const Start& st = x.starts[x.taken++];
-  L.id[k] = st.id;
-  g.live_mask |= 1u << k;
-  L.qx[k] = st.qx, L.qy[k] = st.qy, L.vx[k] = st.vx, L.vy[k] = st.vy, L.t[k] = st.t;
-  L.base[k] = st.collisions - g.steps;
-  L.w[k] = st.weight;
-}
-
-/// The lanes' registers into their memory (before lanes change).
-[[gnu::always_inline]] inline void unload(Pack& g) {
-  store(g.qx, g.L.qx), store(g.qy, g.L.qy), store(g.vx, g.L.vx), store(g.vy, g.L.vy), store(g.t, g.L.t);
-}
-
-/// A call's start: every idle lane takes a start (or stays parked).
-[[gnu::always_inline]] inline void fill(const KernelScene& S, Pack& g, Exchange& x) {
-  g.hungry = false;
-  unload(g);
-  for (int k = 0; k < N; ++k)
-    if (!((g.live_mask >> k) & 1)) take(S, g, k, x);
-  reload(g);
-}
-
 /// Where the lanes next meet the boundary: formula::next_exit, as Stadium::next_hit.
 using HitLanes = formula::Exit<V>;
 
@@ -394,114 +323,40 @@ inline void observe_density(const KernelScene& S, const Pack& g, const HitLanes&
   book_density(S, g, density_bin_of(S, h, count), time_cell(S, t), count, x);
 }
 
-/// Reports the lanes in `done` (Exchange::ends) and refills them from its starts (or parks them).
-void retire(const KernelScene& S, Pack& g, const HitLanes& h, const MV& done, const MV& esc, const MV& stuck,
-            const MV& over, const MV& handoff, Exchange& x) {
-  Lanes& L = g.L;
-  unload(g);
-  const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), hm = bits(handoff);
-  const unsigned straight_m = bits(h.straight), up_m = bits(h.up), right_m = bits(h.right);
-  for_lanes(bits(done) & g.live_mask, [&](int i) {
-    End& e = x.ends[x.n_ends++];
-    e.fate = ((om >> i) & 1)   ? LaneEnd::survived
-             : ((em >> i) & 1) ? LaneEnd::escaped
-             : ((sm >> i) & 1) ? LaneEnd::stuck
-             : ((hm >> i) & 1) ? LaneEnd::handed_back
-                               : LaneEnd::survived;
-    e.t = L.t[i];
-    e.weight = L.w[i];
-    e.qx = L.qx[i];
-    e.qy = L.qy[i];
-    e.vx = L.vx[i];
-    e.vy = L.vy[i];
-    e.piece = ((straight_m >> i) & 1) ? (((up_m >> i) & 1) ? 0 : 2) : (((right_m >> i) & 1) ? 1 : 3);
-    e.leak = 0;
-    e.collisions = L.base[i] + g.steps - ((om >> i) & 1);
-    e.id = L.id[i];
-    take(S, g, i, x);
-  });
-  reload(g);
-}
-
-/// Whether the pack may take another step in this call: a lane that wants a start, or buffers that might not hold
-/// a step's ends and counted collisions, send it back to the caller (the Pause).
-inline bool pause(const Pack& g, const Exchange& x, Pause& why) {
-  if (g.hungry) return why = Pause::starts, true;
-  if (x.n_ends + N > x.end_capacity) return why = Pause::ends, true;
-  if (x.hits && x.n_hits + N > x.hit_capacity) return why = Pause::hits, true;
-  return false;
-}
-
-/// One collision for the lanes of g, in the scalar core's order (particle.hpp advance): next hit,
-/// time check, escape test, reflection, zero-flight count; lanes that end are reported and refilled.
-/// KeepLast (KernelScene::keep_last, a split run's epochs): a lane past t_max reports the state of its last
-/// collision before it. A separate instantiation (the branch cost time where no lane took it); flattened.
-template <bool KeepLast>
-ROTLEAK_KERNEL_FLATTEN inline void step(const KernelScene& S, Pack& g, Exchange& x) {
-  const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
-  const V vx = g.vx, vy = g.vy;
-  const HitLanes h = next_hit(S, g.qx, g.qy, vx, vy);
-  const V t = g.t + h.t;
-  const MV over = t > TMAX;
-  ++g.steps;                    // a collision of every lane (a flight past t_max is not one: Lanes::base)
-  if (S.density_windows > 0) {  // parked lanes sit past t_max: `over` excludes them
-    // within the windows' span [first from, last to]; a time in a gap between windows has a cell
-    // that no window holds, so it is counted nowhere
-    const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & !over;
-    if (bits(count)) observe_density(S, g, h, t, count, x);
+/// The stadium's part of the step (lane_step): formula::next_exit's convex next hit, the filtered leak test
+/// (in_stationary_leak, in_moving_leak), formula::reflect's pieces and the fast-forward's hand-off.
+struct StadiumStep {
+  const KernelScene& S;
+  static constexpr bool can_lose = false, hands_off = true;
+  HitLanes hit(const V& qx, const V& qy, const V& vx, const V& vy) const { return next_hit(S, qx, qy, vx, vy); }
+  Taken leak(const HitLanes& h, const V& t, const MV& look) const {
+    return {S.leak.rotating ? in_moving_leak(S, h, t, look) : in_stationary_leak(S, h, look), V(0.0)};
   }
-  const MV esc = S.leak.rotating ? in_moving_leak(S, h, t, !over) : in_stationary_leak(S, h, !over);
-
-  // formula::reflect's pieces, every lane computing the arc's reflection
-  const V wx = formula::from_centre(h.x, h.cx);
-  const V k = formula::reflect_factor(wx, h.y, vx, vy);
-  g.vx = select(h.straight, vx, formula::reflected(vx, k, wx));
-  g.vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
-  // zero-length flights in a row (a lane that makes too many is stuck): counted in memory, and only in
-  // a step that has one or follows one (nearly never)
-  const MV moved = h.t > ZERO;
-  MV stuck(false);
-  if (g.zeros || bits(moved) != kAllLanes) {
-    const V zero = select(moved, ZERO, load(g.L.zero) + ONE);
-    store(zero, g.L.zero);
-    stuck = zero > V(static_cast<double>(kMaxZeroFlights));
-    g.zeros = bits(zero != ZERO) != 0;
+  /// formula::reflect's pieces, every lane computing the arc's reflection
+  void reflect(const HitLanes& h, const V& vx, const V& vy, Pack& g) const {
+    const V wx = formula::from_centre(h.x, h.cx);
+    const V k = formula::reflect_factor(wx, h.y, vx, vy);
+    g.vx = select(h.straight, vx, formula::reflected(vx, k, wx));
+    g.vy = select(h.straight, -vy, formula::reflected(vy, k, h.y));
   }
-  if constexpr (!KeepLast) g.qx = h.x, g.qy = h.y, g.t = t;
-  // a long run between the straight edges ahead: handed back to the fast-forward
-  MV handoff(false);
-  if (S.handoff_bounces > 0)
-    handoff = h.straight & !over & !esc &
-              formula::straight_run_at_least(h.x, g.vx, g.vy, V(S.half_d), V(S.r), V(S.handoff_bounces));
-  const MV done = over | esc | stuck | handoff;
-  if constexpr (KeepLast) {
-    if (bits(done) & g.live_mask) {
-      // a lane past t_max keeps the state of its last collision before it (where a split run goes on)
-      g.qx = select(over, g.qx, h.x), g.qy = select(over, g.qy, h.y), g.t = select(over, g.t, t);
-      g.vx = select(over, vx, g.vx), g.vy = select(over, vy, g.vy);
-      retire(S, g, h, done, esc, stuck, over, handoff, x);
-    } else {
-      g.qx = h.x, g.qy = h.y, g.t = t;
-    }
-  } else {
-    if (bits(done) & g.live_mask) retire(S, g, h, done, esc, stuck, over, handoff, x);
+  void observe(const Pack& g, const HitLanes& h, const V& t, const MV& count, Exchange& x) const {
+    observe_density(S, g, h, t, count, x);
   }
-}
+  /// a long run between the straight edges ahead: handed back to the fast-forward
+  MV handoff(const HitLanes& h, const Pack& g, const MV& over, const MV& esc) const {
+    if (S.handoff_bounces <= 0) return MV(false);
+    return h.straight & !over & !esc &
+           formula::straight_run_at_least(h.x, g.vx, g.vy, V(S.half_d), V(S.r), V(S.handoff_bounces));
+  }
+  /// Piece's numbering: 0 the top edge, 1 the right arc, 2 the bottom edge, 3 the left arc
+  static V piece(const HitLanes& h) {
+    return select(h.straight, select(h.up, V(0.0), V(2.0)), select(h.right, V(1.0), V(3.0)));
+  }
+};
 
 }  // namespace
 
-Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x) {
-  Pack& g = pack_of(state);
-  fill(S, g, x);
-  Pause why = Pause::idle;
-  if (S.keep_last) {
-    while (g.live_mask && !pause(g, x, why)) step<true>(S, g, x);
-  } else {
-    while (g.live_mask && !pause(g, x, why)) step<false>(S, g, x);
-  }
-  if (!g.live_mask) return g.hungry ? Pause::starts : Pause::idle;
-  return why;
-}
+Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x) { return run_lanes(S, StadiumStep{S}, state, x); }
 
 ROTLEAK_KERNEL_FLATTEN double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   Lanes L{};

@@ -1,6 +1,6 @@
 // The kernel's pack (sim/kernel/simd_kernel.ipp): N = W G lanes in G registers, every operation the
 // register's own applied to each of them side by side, the lane masks, the selection hook the shared
-// formulas take (numeric/select.hpp), loads and stores. Included, before simd_kernel.ipp, inside the
+// formulas take (numeric/select.hpp), loads and stores. Included, before simd_lanes.ipp, inside the
 // namespace of each instruction set's kernel (simd_engine.cpp: AVX2; simd_avx512.cpp: AVX-512), after its
 // definitions of B, M, W, G and bits(M).
 

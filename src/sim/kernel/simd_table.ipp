@@ -1,6 +1,7 @@
 // The vectorised kernel on any table (KernelScene::table: a TableModel<double> in plain numbers), included after
-// sim/kernel/simd_kernel.ipp by each instruction set's translation unit: it shares the pack, the lanes' lifecycle
-// and the f_c time cells with the stadium's step. Everything here has internal linkage but run_table_kernel.
+// sim/kernel/simd_kernel.ipp by each instruction set's translation unit: the table's part (TableStep) of the
+// collision step that sim/kernel/simd_lanes.ipp writes once (lane_step: the pack, the lanes' lifecycle, the step's
+// order), with the f_c time cells of simd_kernel.ipp. Everything here has internal linkage but run_table_kernel.
 //
 // The physics is not written here either: each lane performs Table<double>'s and LeakList<double>'s operations in
 // their order, through the templates they call themselves (geometry/table_piece.hpp: a piece's crossing, the
@@ -97,82 +98,31 @@ inline void observe_table_density(const KernelScene& S, const KernelTable& T, co
   book_density(S, g, formula::density_bin(share, V(static_cast<double>(S.bins))), time_cell(S, t), count, x);
 }
 
-/// Reports the lanes in `done` (Exchange::ends: their piece and leak; a lane whose flight met nothing or passed
-/// t_max made no collision in this step) and refills them from its starts (or parks them).
-void table_retire(const KernelScene& S, Pack& g, const TableLanes& h, const V& leak, const MV& done, const MV& esc,
-                  const MV& stuck, const MV& over, const MV& lost, Exchange& x) {
-  Lanes& L = g.L;
-  unload(g);
-  alignas(sizeof(B)) double piece[N], leaks[N];
-  store(h.piece, piece), store(leak, leaks);
-  const unsigned em = bits(esc), sm = bits(stuck), om = bits(over), none = bits(over | lost);
-  for_lanes(bits(done) & g.live_mask, [&](int i) {
-    End& e = x.ends[x.n_ends++];
-    e.fate = ((om >> i) & 1)   ? LaneEnd::survived
-             : ((em >> i) & 1) ? LaneEnd::escaped
-             : ((sm >> i) & 1) ? LaneEnd::stuck
-                               : LaneEnd::survived;
-    e.t = L.t[i];
-    e.weight = L.w[i];
-    e.qx = L.qx[i], e.qy = L.qy[i], e.vx = L.vx[i], e.vy = L.vy[i];
-    e.piece = static_cast<int>(piece[i]);
-    e.leak = ((em >> i) & 1) ? static_cast<int>(leaks[i]) : 0;
-    e.collisions = L.base[i] + g.steps - ((none >> i) & 1);
-    e.id = L.id[i];
-    take(S, g, i, x);
-  });
-  reload(g);
-}
-
-/// One collision of the lanes of g on the table, in advance()'s order (sim/model/particle.hpp): next hit (a lane
-/// that finds no piece is stuck where it is), time check, f_c, leak test, reflection, zero-flight count.
-/// KeepLast as step's: a lane past t_max reports its last collision's state.
-template <bool KeepLast>
-ROTLEAK_KERNEL_FLATTEN inline void table_step(const KernelScene& S, Pack& g, Exchange& x) {
-  const KernelTable& T = *S.table;
-  const V TMAX(S.t_max), ZERO(0.0), ONE(1.0);
-  const V vx = g.vx, vy = g.vy;
-  const TableLanes h = table_next_hit(T, g.qx, g.qy, vx, vy);
-  const MV lost = !h.found;
-  const V t = g.t + h.t;
-  const MV over = (t > TMAX) & h.found, hit = h.found & !over;
-  ++g.steps;
-  if (S.density_windows > 0) {
-    const MV count = (t >= V(S.win_span_from)) & (t <= V(S.win_span_to)) & hit;
-    if (bits(count)) observe_table_density(S, T, g, h, t, count, x);
+/// The table's part of the step (lane_step, sim/kernel/simd_lanes.ipp): Table::next_hit (a flight may meet no piece:
+/// lost), LeakList::hit, Table::reflect (one formula about w, the arc's radius vector or the segment's rounded
+/// normal), f_c by the boundary's share; no hand-off (the fast-forward is the stadium's).
+struct TableStep {
+  const KernelScene& S;
+  const KernelTable& T;
+  static constexpr bool can_lose = true, hands_off = false;
+  TableLanes hit(const V& qx, const V& qy, const V& vx, const V& vy) const { return table_next_hit(T, qx, qy, vx, vy); }
+  static MV found(const TableLanes& h) { return h.found; }
+  Taken leak(const TableLanes& h, const V& t, const MV& look) const {
+    const V leak = table_leak_of(T, h, t, look);
+    return {look & (leak >= V(0.0)), leak};
   }
-  const V leak = table_leak_of(T, h, t, hit);
-  const MV esc = hit & (leak >= ZERO);
-  const Vec2<V> v = reflect_about(Vec2<V>{h.wx, h.wy}, Vec2<V>{vx, vy});  // Table::reflect's
-  g.vx = v.x, g.vy = v.y;
-  const MV moved = h.t > ZERO;
-  MV stuck = lost;
-  if (g.zeros || bits(moved) != kAllLanes) {
-    const V zero = select(moved, ZERO, load(g.L.zero) + ONE);
-    store(zero, g.L.zero);
-    stuck = stuck | (zero > V(static_cast<double>(kMaxZeroFlights)));
-    g.zeros = bits(zero != ZERO) != 0;
+  static void reflect(const TableLanes& h, const V& vx, const V& vy, Pack& g) {
+    const Vec2<V> v = reflect_about(Vec2<V>{h.wx, h.wy}, Vec2<V>{vx, vy});  // Table::reflect's
+    g.vx = v.x, g.vy = v.y;
   }
-  const MV done = over | esc | stuck;
-  // where each lane now is: the hit, but a lost lane stays (the scalar core's stuck particle ends at its last t),
-  // and with KeepLast a lane past t_max keeps its last collision's state
-  const MV stay = KeepLast ? over | lost : lost;
-  g.qx = select(stay, g.qx, h.x), g.qy = select(stay, g.qy, h.y), g.t = select(stay, g.t, t);
-  if constexpr (KeepLast) g.vx = select(over, vx, g.vx), g.vy = select(over, vy, g.vy);
-  if (bits(done) & g.live_mask) table_retire(S, g, h, leak, done, esc, stuck, over, lost, x);
-}
+  void observe(const Pack& g, const TableLanes& h, const V& t, const MV& count, Exchange& x) const {
+    observe_table_density(S, T, g, h, t, count, x);
+  }
+  static V piece(const TableLanes& h) { return h.piece; }
+};
 
 }  // namespace
 
 Pause run_table_kernel(const KernelScene& S, KernelState& state, Exchange& x) {
-  Pack& g = pack_of(state);
-  fill(S, g, x);
-  Pause why = Pause::idle;
-  if (S.keep_last) {
-    while (g.live_mask && !pause(g, x, why)) table_step<true>(S, g, x);
-  } else {
-    while (g.live_mask && !pause(g, x, why)) table_step<false>(S, g, x);
-  }
-  if (!g.live_mask) return g.hungry ? Pause::starts : Pause::idle;
-  return why;
+  return run_lanes(S, TableStep{S, *S.table}, state, x);
 }
