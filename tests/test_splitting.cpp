@@ -345,6 +345,50 @@ TEST(Splitting, SceneKeysAreChecked) {
   const Scene s = scene_of("stationary_sL_0.toml", {"run.splitting=true", mupo});
   EXPECT_NEAR(s.splitting.every, 151.23, 0.01);  // ln 2 / (lambda L / (pi Area)) for the default stadium
   EXPECT_EQ(s.splitting.delta, 1e-12);
+  // on any other table splitting runs uniform draws; its f_c (weighted) is not counted there yet
+  const auto table_refused = [](std::vector<std::string> sets, const std::string& key) {
+    EXPECT_THROW(scene_of("tables/sinai.toml", sets), InputError) << sets.back();
+    try {
+      scene_of("tables/sinai.toml", sets);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  table_refused({"run.splitting=true", "observe.collision_density={bins=10}"}, "run.splitting = true");
+  EXPECT_TRUE(scene_of("tables/sinai.toml", {"run.splitting=true"}).splits_every_member());
+}
+
+// Any other table (docs/tables.md): every member splits ("all"), so no line stays unsplit past the first split time
+// and P's error is the lines' spread alone (no allowance for unsplit lines not drawn). The split run of 20000 lines
+// agrees with a plain uniform run of 2*10^5 particles (independent seeds) on four tables and the two-leak stadium at
+// 7 times each, where both resolve P: at most 35 comparisons at 4 combined errors, so a correct engine fails with
+// probability <= 35 x 6.3e-5 = 2.2e-3. And the scalar core on 1 thread and the kernel on 2 give the same bytes.
+TEST(Splitting, OnAnyTableAgreesWithPlainRunsAndSplitsEveryMember) {
+  int comparisons = 0;
+  for (const char* table : {"circle", "sinai", "mushroom", "lemon", "stadium_two_leaks"}) {
+    const std::string file = std::string("tables/") + table + ".toml";
+    const Outcome plain = run(scene_of(file, {"run.t_max=1000", "ensemble.particles=200000", "ensemble.seed=101"}));
+    const Scene split_scene =
+        scene_of(file, {"run.t_max=1000", "ensemble.particles=20000", "ensemble.seed=202", "run.splitting=true"});
+    const Outcome split = run(split_scene);
+    EXPECT_GT(split.result.tally.as<LinesEstimator>().splits, 10000u) << table;
+    for (const SurvivalCurve::UnsplitGroup& g : split.curve.unsplit) {  // none left after the first split time
+      EXPECT_EQ(g.lines.at(split.curve.first_split), 0u) << table;
+      EXPECT_FALSE(g.allowance) << table;
+    }
+    EXPECT_FALSE(split.curve.allowance_unresolved_from) << table;
+    for (double t : {50, 100, 200, 300, 500, 750, 1000})
+      comparisons += compare(split.curve, plain.curve, at_time(split.curve, t), table);
+  }
+  EXPECT_GE(comparisons, 25) << "too few times resolved by both runs to test anything";
+  const Scene scene =
+      scene_of("tables/mushroom.toml", {"run.t_max=1000", "ensemble.particles=3000", "run.splitting=true"});
+  RunOptions scalar, kernel;
+  scalar.engine = Engine::scalar, scalar.threads = 1;
+  kernel.engine = Engine::simd, kernel.threads = 2;
+  const Outcome a = run(scene, scalar), b = run(scene, kernel);
+  EXPECT_TRUE(test::same_text(survival_csv(a.curve), survival_csv(b.curve)));
+  EXPECT_EQ(a.result.tally.as<LinesEstimator>().splits, b.result.tally.as<LinesEstimator>().splits);
 }
 
 }  // namespace

@@ -197,6 +197,37 @@ class Table {
     return best;
   }
 
+  /// The piece nearest a point q (a collision's point, where a split copy's turn needs the normal:
+  /// sim/engine/population.cpp) and its distance from q: the least distance from q to each piece (a segment's nearest
+  /// point; an arc's circle where q lies within its span, else its nearer end); the first piece on a tie (a corner).
+  std::pair<int, R> piece_nearest(const Vec2<R>& q) const {
+    using std::sqrt;
+    int best = 0;
+    R best_d(0);
+    for (int k = 0; k < n_pieces_; ++k) {
+      const TablePiece<R>& p = piece_[k];
+      const R ex = p.bx - p.ax, ey = p.by - p.ay;
+      const R to_a = sqrt((q.x - p.ax) * (q.x - p.ax) + (q.y - p.ay) * (q.y - p.ay));
+      const R to_b = sqrt((q.x - p.bx) * (q.x - p.bx) + (q.y - p.by) * (q.y - p.by));
+      R d = to_a < to_b ? to_a : to_b;
+      if (p.kind == PieceKind::segment) {
+        const R u = ((q.x - p.ax) * ex + (q.y - p.ay) * ey) / (ex * ex + ey * ey);
+        if (u > R(0) && u < R(1)) {
+          const R dx = q.x - (p.ax + u * ex), dy = q.y - (p.ay + u * ey);
+          d = sqrt(dx * dx + dy * dy);
+        }
+      } else {
+        const R rx = q.x - p.cx, ry = q.y - p.cy;
+        if (p.full || formula::on_arc(rx, ry, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(0))) {
+          const R off = sqrt(rx * rx + ry * ry) - p.rho;
+          d = off < R(0) ? R(-off) : off;
+        }
+      }
+      if (k == 0 || d < best_d) best = k, best_d = d;
+    }
+    return {best, best_d};
+  }
+
   /// How many ulps of the table's scale the second look widens every span by.
   static constexpr int kSpanSlack = 64;
 

@@ -421,12 +421,13 @@ void read_fit(const Reader& in, Scene& s) {
       "must be in (0, 1): the weakest tail weight a regime claims to exclude");
 }
 
-/// What splitting needs of the rest of the scene: the double tier, mupo draws, no escape records.
+/// What splitting needs of the rest of the scene: the double tier, mupo draws on the stadium (any other table: its
+/// uniform draws, scene_table.cpp), no escape records.
 void check_splitting_needs(const Scene& s) {
   if (s.splitting.on && s.tier != Tier::double_)
     throw InputError("run.splitting", "true",
                      "runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
-  if (s.splitting.on && s.sampling.kind != SamplingKind::mupo)
+  if (s.splitting.on && s.sampling.kind != SamplingKind::mupo && !s.on_table())
     throw InputError("run.splitting", "true",
                      "needs ensemble.sampling = \"mupo\": uniform draws start few lines on the bouncing-ball family "
                      "that carries the tail, and when they die the lines' spread cannot see it (P(t_max) = 2e-38 "

@@ -211,9 +211,10 @@ void check_table_needs(const Scene& s) {
     throw InputError("run.tier", "\"auto\"",
                      "the audit that picks a tier runs the stadium with one leak only (here " + here +
                          "): name one of \"float\", \"double\", \"long_double\"");
-  if (s.splitting.on)
+  if (s.splitting.on && s.collision_density)
     throw InputError("run.splitting", "true",
-                     "the population engine runs the stadium with one leak only so far (here " + here + ")");
+                     "a split run's f_c is weighted, which f_c on a table does not count yet (here " + here +
+                         "): drop observe.collision_density or the splitting");
 }
 
 }  // namespace scene_detail

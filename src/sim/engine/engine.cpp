@@ -174,7 +174,7 @@ class Worker {
             s_.plan, *s_.sampler, *s_.split_rule, s_.opt.first_id + lo, s_.opt.first_id + hi,
             [this](const std::vector<Member>& m, const std::vector<double>& w, double stop,
                    std::vector<ParticleEnd>& ends) { advance_members(m, w, stop, ends); },
-            local);
+            local, s_.table ? &*s_.table : nullptr);
     } else if (s_.engine == Engine::simd) {
       if constexpr (std::is_same_v<R, double>) {
         SimdContext ctx = context(s_.model, lo, hi, local.weighted(),
@@ -246,6 +246,8 @@ class Worker {
     if constexpr (std::is_same_v<R, double>) {
       Model<double> epoch = s_.model;
       epoch.t_max = stop;
+      std::optional<TableModel<double>> epoch_table;
+      if (s_.table) epoch_table.emplace(*s_.table), epoch_table->t_max = stop;
       if (s_.engine == Engine::simd) {
         simd::KernelScene ks = s_.kernel;
         ks.t_max = stop;
@@ -257,22 +259,32 @@ class Worker {
         }
         SimdContext ctx =
             context(epoch, 0, members.size(), true, [&ends](std::uint64_t i, const ParticleEnd& e) { ends[i] = e; });
+        if (epoch_table) ctx.table = &*epoch_table;
         ctx.members = &starts_;
         simd_run(ks, ctx);
+      } else if (epoch_table) {
+        advance_each(*epoch_table, table_density_, members, weights, ends);
       } else {
-        for (std::size_t i = 0; i < members.size(); ++i) {
-          Flight<double> f{members[i].ps, {}, 0};
-          f.end.collisions = members[i].collisions;
-          density_.weight = weights[i];
-          if (s_.scene.collision_density)
-            while (advance(epoch, f, density_)) {
-            }
-          else
-            while (advance(epoch, f, none_)) {
-            }
-          ends[i] = f.end;
-        }
+        advance_each(epoch, density_, members, weights, ends);
       }
+    }
+  }
+
+  /// The members one after the other on the scalar core, with f_c's observer (when the scene asks for f_c).
+  template <class M, class Density>
+  void advance_each(const M& epoch, Density& density, const std::vector<Member>& members,
+                    const std::vector<double>& weights, std::vector<ParticleEnd>& ends) {
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      Flight<double> f{members[i].ps, {}, 0};
+      f.end.collisions = members[i].collisions;
+      density.weight = weights[i];
+      if (s_.scene.collision_density)
+        while (advance(epoch, f, density)) {
+        }
+      else
+        while (advance(epoch, f, none_)) {
+        }
+      ends[i] = f.end;
     }
   }
 

@@ -37,19 +37,43 @@ class ChaoticSplit final : public SplitRule {
   double r_, half_d_, p_bb_;
 };
 
+/// Every member splits: the rule on a table other than the stadium (no bouncing-ball family singled out).
+class SplitAll final : public SplitRule {
+ public:
+  int copies(const Member&) const override { return 2; }
+  std::string name() const override { return "all"; }
+};
+
+/// v turned by theta (cos c, sin s), the sign of theta flipped where the turn would carry v across the boundary's
+/// tangent at a member on the boundary (n its normal there; n = 0: not on the boundary).
+Vec2<double> turned_about(const Vec2<double>& v0, double c, double s, const Vec2<double>& n) {
+  Vec2<double> v{v0.x * c - v0.y * s, v0.x * s + v0.y * c};
+  const double before = v0.x * n.x + v0.y * n.y, after = v.x * n.x + v.y * n.y;
+  if ((before > 0 && after <= 0) || (before < 0 && after >= 0)) v = {v0.x * c + v0.y * s, -v0.x * s + v0.y * c};
+  return v;
+}
+
 /// The copy's direction: v turned by theta, the sign of theta flipped where the turn would point a
 /// boundary member out of the stadium (a graze within theta of the tangent).
 Vec2<double> turned(const ParticleState<double>& ps, double theta, double r, double half_d) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  Vec2<double> v{ps.v.x * c - ps.v.y * s, ps.v.x * s + ps.v.y * c};
   Vec2<double> n{0, 0};  // inward normal where the member sits on the boundary
   if (std::abs(ps.q.x) <= half_d && (ps.q.y == r || ps.q.y == -r))
     n = {0, ps.q.y > 0 ? -1.0 : 1.0};
   else if (std::abs(ps.q.x) > half_d)
     n = {(ps.q.x > 0 ? half_d : -half_d) - ps.q.x, -ps.q.y};
-  const double before = ps.v.x * n.x + ps.v.y * n.y, after = v.x * n.x + v.y * n.y;
-  if ((before > 0 && after <= 0) || (before < 0 && after >= 0)) v = {ps.v.x * c + ps.v.y * s, -ps.v.x * s + ps.v.y * c};
-  return v;
+  return turned_about(ps.v, std::cos(theta), std::sin(theta), n);
+}
+
+/// The same on any table: a member within the table's slack of a piece (it sits at a collision) keeps to the side
+/// of that piece's tangent it points to; one inside the table (a flow start) turns freely.
+Vec2<double> turned(const ParticleState<double>& ps, double theta, const Table<double>& table) {
+  const auto [k, d] = table.piece_nearest(ps.q);
+  Vec2<double> n{0, 0};
+  if (d <= table.slack()) {
+    const Vec2<double> tg = table.tangent(k, ps.q);
+    n = {tg.y, -tg.x};
+  }
+  return turned_about(ps.v, std::cos(theta), std::sin(theta), n);
 }
 
 /// One line's living weight as a function of time, booked as it changes: members alive (in flight,
@@ -100,10 +124,11 @@ class LineBook {
 class LinesRun {
  public:
   LinesRun(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
-           Tally& t)
+           Tally& t, const TableModel<double>* table)
       : scene_(plan.scene()),
         rule_(rule),
         st_(plan.stadium()),
+        table_(table),
         lo_(lo),
         t_(t),
         e_(t.as<LinesEstimator>()),
@@ -117,7 +142,7 @@ class LinesRun {
       const double w0 = w0_[id - lo] = sampler.weight(d);
       e_.start_line(w0);
       books_.emplace_back(w0, nbins_ + 1);
-      pop_.push_back({initial_state(st_, d), 0, id, 0, 0});
+      pop_.push_back({table ? initial_state(table->table, d) : initial_state(st_, d), 0, id, 0, 0});
     }
   }
 
@@ -210,7 +235,7 @@ class LinesRun {
       copy.index = index++;
       const auto w = split_words(scene_.seed, line, k + 1, copy.index, kPurposeTurn);
       const double theta = scene_.splitting.delta * (2 * InitialConditions::unit(w[0]) - 1);
-      copy.ps.v = turned(m.ps, theta, st_.r(), st_.half_d());
+      copy.ps.v = table_ ? turned(m.ps, theta, table_->table) : turned(m.ps, theta, st_.r(), st_.half_d());
       next_.push_back(m);
       next_.push_back(copy);
       e_.split(bin_of(stop));
@@ -284,6 +309,7 @@ class LinesRun {
   const Scene& scene_;
   const SplitRule& rule_;
   const Stadium<double>& st_;
+  const TableModel<double>* table_;  ///< any other table (null: the stadium)
   const std::uint64_t lo_;
   Tally& t_;
   LinesEstimator& e_;
@@ -301,12 +327,13 @@ class LinesRun {
 }  // namespace
 
 std::unique_ptr<SplitRule> make_split_rule(const Scene& scene, const Stadium<double>& st) {
+  if (scene.splits_every_member()) return std::make_unique<SplitAll>();
   return std::make_unique<ChaoticSplit>(st.r(), st.half_d(), scene.sampling.p_max);
 }
 
 void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
-               const AdvanceMembers& advance, Tally& t) {
-  LinesRun(plan, sampler, rule, lo, hi, t).run(advance);
+               const AdvanceMembers& advance, Tally& t, const TableModel<double>* table) {
+  LinesRun(plan, sampler, rule, lo, hi, t, table).run(advance);
 }
 
 }  // namespace rotleak

@@ -51,6 +51,7 @@ class SplitRule {
 /// The scene's rule: every member splits in two but those in a bouncing-ball stretch -- on a
 /// straight edge with |v_x| < p_bb (the mupo scheme's p_max, 0.05 by default) -- whose copies would
 /// stay together for thousands of time units and whose number would grow with the algebraic tail.
+/// On any other table (Scene::on_table) every member splits in two ("all").
 std::unique_ptr<SplitRule> make_split_rule(const Scene& scene, const Stadium<double>& st);
 
 /// Advances every member to `stop` (a split time, or t_max): ends[i] is member i's end; a member that
@@ -59,8 +60,9 @@ using AdvanceMembers = std::function<void(const std::vector<Member>& members, co
                                           double stop, std::vector<ParticleEnd>& ends)>;
 
 /// Runs the lines of ids [lo, hi) of the plan's scene to t_max and books them in t: every member's end through
-/// Tally::add_end, the lines' weights and the split statistics in its LinesEstimator.
+/// Tally::add_end, the lines' weights and the split statistics in its LinesEstimator. table: the model of any other
+/// table than the stadium (its starts and the copies' turns), null for the stadium.
 void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
-               const AdvanceMembers& advance, Tally& t);
+               const AdvanceMembers& advance, Tally& t, const TableModel<double>* table = nullptr);
 
 }  // namespace rotleak

@@ -131,6 +131,10 @@ struct Scene {
   /// sim/model/particle.hpp), and what only the stadium has (mupo draws, the fast-forward, the tail model) is
   /// refused.
   bool on_table() const { return table.has_value() || !leaks.empty(); }
+  /// Whether a split run's rule splits every member at every split time (the rule on any table but the stadium with
+  /// one leak: sim/engine/population.cpp). No line then stays unsplit past the first split time, so the allowance
+  /// for unsplit lines not drawn (docs/model.md, "Splitting") has nothing to stand for.
+  bool splits_every_member() const { return on_table(); }
 
   /// Number of survival bins, ceil(t_max / survival_dt).
   std::size_t survival_bins() const;

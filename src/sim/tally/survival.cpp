@@ -228,7 +228,7 @@ void finish_lines_curve(const Scene& scene, SurvivalCurve& c) {
     }
   }
   if (!rest.classes.empty()) c.unsplit.push_back(std::move(rest));
-  add_unsplit_allowance(c);
+  if (!scene.splits_every_member()) add_unsplit_allowance(c);
 }
 
 namespace {
