@@ -7,6 +7,7 @@
 #include "io/scene_file.hpp"
 #include "numeric/input.hpp"
 #include "numeric/tiers.hpp"
+#include "paths.hpp"
 #include "run/pipeline.hpp"
 #include "sim/engine/engine.hpp"
 #include "verify/audit.hpp"
@@ -230,6 +231,37 @@ TEST(Extremes, SimulateWarnsWhereTheAuditWouldNotTrustItsTier) {
   ASSERT_TRUE(a.tier_choice.has_value());
   EXPECT_NE(summary_text(a).find("tier  : auto chose " + to_string(a.scene.tier)), std::string::npos)
       << summary_text(a);
+}
+
+// The same rule on a table with a list of leaks (docs/tables.md): the scalars are judged by the leak whose phase is
+// resolved least well. On the two-leak stadium with its second leak at omega = 1e15 the audit trusts no ensemble
+// tier and run.tier = auto refuses; with both leaks stationary (and on the Sinai table) auto runs a trusted tier.
+TEST(Extremes, OneTrustVerdictOnATableWithALeakList) {
+  const std::string dir = std::string(rotleak::test::source_dir()) + "/data/scenes/tables/";
+  const Scene fast =
+      load_scene(dir + "stadium_two_leaks.toml", {"leaks.1.omega=1e15", "ensemble.particles=4000", "run.t_max=2000"});
+  const ScalarCheck sc = scalar_check(fast, "double");
+  EXPECT_FALSE(sc.phase_resolved);
+  EXPECT_EQ(sc.note.rfind("leaks.1 (the least resolved of 2)", 0), 0u) << sc.note;
+  const AuditReport rep = audit(fast, small_audit());
+  expect_one_rule(fast, rep);
+  for (const Verdict& v : rep.verdicts) {
+    if (v.statistic == "trajectories" || v.tier == "dd" || v.tier == "float128") continue;
+    EXPECT_EQ(v.verdict, "not trusted") << v.tier << " " << v.statistic << ": " << v.reason;
+  }
+  RunOptions o;
+  Scene auto_fast = fast;
+  auto_fast.tier = Tier::auto_;
+  EXPECT_THROW(run_scene(plan_run(auto_fast, o), o), InputError);
+  for (const char* file : {"stadium_two_leaks.toml", "sinai.toml"}) {
+    Scene slow = load_scene(dir + file, {"ensemble.particles=4000", "run.t_max=1000"});
+    EXPECT_TRUE(scalar_check(slow, "double").phase_resolved) << file;
+    slow.tier = Tier::auto_;
+    const RunSummary a = run_scene(plan_run(slow, o), o);
+    ASSERT_TRUE(a.tier_choice.has_value()) << file;
+    EXPECT_NE(summary_text(a).find("tier  : auto chose " + to_string(a.scene.tier)), std::string::npos)
+        << summary_text(a);
+  }
 }
 
 TEST(Extremes, LongRunsCoarsenFloatTime) {

@@ -121,7 +121,8 @@ struct AuditReport {
 void check_auditable(const Scene& scene);
 AuditReport audit(const Scene& scene, const AuditOptions& options);
 
-/// The checks on the scene's scalars alone (no simulation): phase resolution and omega's representation.
+/// The checks on the scene's scalars alone (no simulation): phase resolution and omega's representation (a list of
+/// leaks: the leak whose phase is resolved least well against its width, named in the note).
 ScalarCheck scalar_check(const Scene& scene, const std::string& tier);
 /// The one rule on a tier's scalars, which the audit's verdicts, run.tier = auto and simulate's warning all
 /// apply: why the tier cannot be trusted on this scene whatever its ensembles show (a moving leak's phase

@@ -27,7 +27,6 @@ struct AuditArgs {
 
 int run_audit(const AuditArgs& a) {
   const Scene scene = load_scene(a.scene, a.sets);
-  require_stadium(scene, "rotleak audit");
   check_auditable(scene);
   if (a.sample < 4 || a.sample > 1000000)
     throw InputError("--sample", std::to_string(a.sample), "must be in [4, 10^6]");

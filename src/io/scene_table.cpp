@@ -207,10 +207,6 @@ void check_table_needs(const Scene& s) {
   if (s.fast_forward)
     throw InputError("run.fast_forward", "true",
                      "jumps the stadium's bouncing-ball phases: the stadium with one leak only (here " + here + ")");
-  if (s.tier.automatic())
-    throw InputError("run.tier", "\"auto\"",
-                     "the audit that picks a tier runs the stadium with one leak only (here " + here +
-                         "): name one of \"float\", \"double\", \"long_double\"");
   if (s.splitting.on && s.collision_density)
     throw InputError("run.splitting", "true",
                      "a split run's f_c is weighted, which f_c on a table does not count yet (here " + here +
