@@ -23,6 +23,8 @@ struct Device::Backend {
 
 /// "" when a CUDA device is visible to this build, else why not.
 std::string cuda_unavailable();
+/// The CUDA device's name and size, or why none is visible.
+std::string cuda_device_name();
 std::unique_ptr<Device::Backend> cuda_backend(const Model<double>& m, const DensityCells* d, bool weighted);
 std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>& m, const DensityCells* d, bool weighted);
 std::unique_ptr<Device::Backend> host_backend(const Model<double>& m, const DensityCells* d, bool weighted);

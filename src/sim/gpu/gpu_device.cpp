@@ -19,6 +19,7 @@ bool emulated() {
 }
 
 std::string unavailable() { return emulated() ? "" : cuda_unavailable(); }
+std::string device_name() { return emulated() ? "the host's cores (ROTLEAK_GPU_EMULATE)" : cuda_device_name(); }
 
 Device::Device(const Model<double>& model, const DensityCells* density, bool weighted)
     : impl_(emulated() ? host_backend(model, density, weighted) : cuda_backend(model, density, weighted)),

@@ -119,8 +119,7 @@ std::string cuda_unavailable() {
   return "";
 }
 
-std::string device_name() {
-  if (emulated()) return "the host's cores (ROTLEAK_GPU_EMULATE)";
+std::string cuda_device_name() {
   const std::string why = cuda_unavailable();
   if (!why.empty()) return why;
   cudaDeviceProp p{};

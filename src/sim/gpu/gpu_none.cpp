@@ -11,7 +11,7 @@ std::string cuda_unavailable() {
   return "this build has no GPU engine: CMake found no CUDA compiler (nvcc) when it was configured "
          "(ROTLEAK_GPU=OFF, or no CUDA toolkit)";
 }
-std::string device_name() { return emulated() ? "the host's cores (ROTLEAK_GPU_EMULATE)" : cuda_unavailable(); }
+std::string cuda_device_name() { return cuda_unavailable(); }
 
 std::unique_ptr<Device::Backend> cuda_backend(const Model<double>&, const DensityCells*, bool) {
   throw std::runtime_error("--engine gpu: " + cuda_unavailable());
