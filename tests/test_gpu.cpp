@@ -13,6 +13,7 @@
 #include "numeric/input.hpp"
 #include "paths.hpp"
 #include "resume.hpp"
+#include "same_run.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/gpu/gpu_engine.hpp"
 
@@ -42,22 +43,7 @@ void expect_same_as_scalar(const std::vector<std::pair<std::string, std::vector<
     const Scene scene = scene_of(file, set);
     const RunResult cpu = run_on(scene, Engine::scalar), gpu = run_on(scene, Engine::gpu);
     EXPECT_EQ(gpu.engine, Engine::gpu);
-    EXPECT_EQ(cpu.tally.collisions, gpu.tally.collisions) << file;
-    EXPECT_EQ(cpu.tally.escaped, gpu.tally.escaped) << file;
-    EXPECT_EQ(cpu.tally.stuck, gpu.tally.stuck) << file;
-    EXPECT_EQ(cpu.tally.escapes_per_bin, gpu.tally.escapes_per_bin) << file;
-    EXPECT_EQ(cpu.tally.escapes_by_leak, gpu.tally.escapes_by_leak) << file;
-    EXPECT_EQ(cpu.tally.collision_density, gpu.tally.collision_density) << file;
-    EXPECT_TRUE(cpu.tally.collision_density_w == gpu.tally.collision_density_w) << file << ": the weighted f_c";
-    ASSERT_EQ(cpu.records.size(), gpu.records.size()) << file;
-    std::size_t differ = 0, s_differ = 0;
-    for (std::size_t i = 0; i < cpu.records.size(); ++i) {
-      const EscapeRecord &a = cpu.records[i], &b = gpu.records[i];
-      if (a.t != b.t || a.collisions != b.collisions || a.fate != b.fate || a.leak != b.leak) ++differ;
-      if (a.s != b.s) ++s_differ;
-    }
-    EXPECT_EQ(differ, 0u) << file << ": particles whose time, collisions, fate or leak differ";
-    EXPECT_EQ(s_differ, 0u) << file << ": particles whose escape's s differs";
+    test::expect_same_run(cpu, gpu, file);
   }
 }
 

@@ -11,6 +11,7 @@
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
 #include "resume.hpp"
+#include "same_run.hpp"
 #include "scene_error.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/kernel/simd_engine.hpp"
@@ -191,26 +192,6 @@ TEST(TableRun, FlowStartsLieInsideAndTheTallyFileKeepsTheLeaks) {
   EXPECT_EQ(back.tally.escapes_per_bin, r.tally.escapes_per_bin);
 }
 
-namespace {
-
-/// Every count of two runs of one scene, and every escape record, equal.
-void expect_same_run(const RunResult& a, const RunResult& b, const std::string& what) {
-  EXPECT_EQ(a.tally.escapes_per_bin, b.tally.escapes_per_bin) << what;
-  EXPECT_EQ(a.tally.escapes_by_leak, b.tally.escapes_by_leak) << what;
-  EXPECT_EQ(a.tally.collision_density, b.tally.collision_density) << what;
-  EXPECT_EQ(a.tally.collisions, b.tally.collisions) << what;
-  EXPECT_EQ(a.tally.survived, b.tally.survived) << what;
-  EXPECT_EQ(a.tally.stuck, b.tally.stuck) << what;
-  ASSERT_EQ(a.records.size(), b.records.size()) << what;
-  for (std::size_t i = 0; i < a.records.size(); ++i) {
-    const EscapeRecord &x = a.records[i], &y = b.records[i];
-    ASSERT_TRUE(x.t == y.t && x.s == y.s && x.collisions == y.collisions && x.fate == y.fate)
-        << what << ": particle " << i << " t " << x.t << " vs " << y.t << ", s " << x.s << " vs " << y.s;
-  }
-}
-
-}  // namespace
-
 TEST(TableRun, TheVectorisedEngineRunsEveryTableAsTheScalarOneBitForBit) {
   // every standard table with a stationary leak and a moving one (on the scatterer where there is one), f_c and
   // escape records, Birkhoff and flow starts: the kernel of every width this CPU runs against the scalar engine
@@ -238,7 +219,7 @@ TEST(TableRun, TheVectorisedEngineRunsEveryTableAsTheScalarOneBitForBit) {
         o.simd_lanes = lanes;
         const RunResult b = run_ensemble(s, o);
         ASSERT_EQ(b.engine, Engine::simd);
-        expect_same_run(a, b, t + init + " lanes " + std::to_string(lanes));
+        test::expect_same_run(a, b, t + init + " lanes " + std::to_string(lanes));
       }
     }
   }
@@ -276,7 +257,7 @@ TEST(TableRun, TheVectorisedEngineTakesTheSecondLookAtCornersAsTheScalarOne) {
     scalar.draws = vector.draws = &draws;
     const RunResult a = run_ensemble(s, scalar), b = run_ensemble(s, vector);
     ASSERT_EQ(b.engine, Engine::simd);
-    expect_same_run(a, b, std::string(table) + " (" + std::to_string(second) + " second looks)");
+    test::expect_same_run(a, b, std::string(table) + " (" + std::to_string(second) + " second looks)");
   }
 }
 
@@ -296,7 +277,7 @@ TEST(TableRun, TheKernelsTableStepOnTheStadiumIsItsStadiumStep) {
     ASSERT_TRUE(s.on_table());
     const RunResult table = run_ensemble(s, o);
     ASSERT_EQ(table.engine, Engine::simd);
-    expect_same_run(stadium, table, std::string("omega ") + omega);
+    test::expect_same_run(stadium, table, std::string("omega ") + omega);
   }
 }
 
