@@ -345,16 +345,8 @@ TEST(Splitting, SceneKeysAreChecked) {
   const Scene s = scene_of("stationary_sL_0.toml", {"run.splitting=true", mupo});
   EXPECT_NEAR(s.splitting.every, 151.23, 0.01);  // ln 2 / (lambda L / (pi Area)) for the default stadium
   EXPECT_EQ(s.splitting.delta, 1e-12);
-  // on any other table splitting runs uniform draws; its f_c (weighted) is not counted there yet
-  const auto table_refused = [](std::vector<std::string> sets, const std::string& key) {
-    EXPECT_THROW(scene_of("tables/sinai.toml", sets), InputError) << sets.back();
-    try {
-      scene_of("tables/sinai.toml", sets);
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
-  };
-  table_refused({"run.splitting=true", "observe.collision_density={bins=10}"}, "run.splitting = true");
+  // on any other table splitting runs uniform draws, and f_c (weighted by the members' weights)
+  EXPECT_NO_THROW(scene_of("tables/sinai.toml", {"run.splitting=true", "observe.collision_density={bins=10}"}));
   EXPECT_TRUE(scene_of("tables/sinai.toml", {"run.splitting=true"}).splits_every_member());
 }
 
@@ -362,7 +354,8 @@ TEST(Splitting, SceneKeysAreChecked) {
 // and P's error is the lines' spread alone (no allowance for unsplit lines not drawn). The split run of 20000 lines
 // agrees with a plain uniform run of 2*10^5 particles (independent seeds) on four tables and the two-leak stadium at
 // 7 times each, where both resolve P: at most 35 comparisons at 4 combined errors, so a correct engine fails with
-// probability <= 35 x 6.3e-5 = 2.2e-3. And the scalar core on 1 thread and the kernel on 2 give the same bytes.
+// probability <= 35 x 6.3e-5 = 2.2e-3. And the scalar core on 1 thread and the kernel on 2 give the same bytes, f_c
+// (weighted by the members' weights) included.
 TEST(Splitting, OnAnyTableAgreesWithPlainRunsAndSplitsEveryMember) {
   int comparisons = 0;
   for (const char* table : {"circle", "sinai", "mushroom", "lemon", "stadium_two_leaks"}) {
@@ -382,12 +375,15 @@ TEST(Splitting, OnAnyTableAgreesWithPlainRunsAndSplitsEveryMember) {
   }
   EXPECT_GE(comparisons, 25) << "too few times resolved by both runs to test anything";
   const Scene scene =
-      scene_of("tables/mushroom.toml", {"run.t_max=1000", "ensemble.particles=3000", "run.splitting=true"});
+      scene_of("tables/mushroom.toml", {"run.t_max=1000", "ensemble.particles=3000", "run.splitting=true",
+                                        "observe.collision_density={bins=20, windows=[[0,1000],[500,1000]]}"});
   RunOptions scalar, kernel;
   scalar.engine = Engine::scalar, scalar.threads = 1;
   kernel.engine = Engine::simd, kernel.threads = 2;
   const Outcome a = run(scene, scalar), b = run(scene, kernel);
   EXPECT_TRUE(test::same_text(survival_csv(a.curve), survival_csv(b.curve)));
+  EXPECT_TRUE(test::same_text(density_csv(scene, a.result.tally), density_csv(scene, b.result.tally)));
+  EXPECT_FALSE(a.result.tally.collision_density_w.empty());  // f_c weighted by the members' weights
   EXPECT_EQ(a.result.tally.as<LinesEstimator>().splits, b.result.tally.as<LinesEstimator>().splits);
 }
 

@@ -96,8 +96,7 @@ TEST(TableScene, BadTablesAndLeakListsAreRefusedWithTheirKey) {
       {std::string(kTwoLeaks) + "[[leaks]]\nwidth = \"0.1\"\nside = 2\n", "leaks.2.side"},
       {std::string(kMushroom) + "[ensemble]\nsampling = \"mupo\"\n", "ensemble.sampling"},
       {std::string(kTwoLeaks) + "[run]\nfast_forward = true\n", "run.fast_forward"},
-      {std::string(kMushroom) + "[run]\nsplitting = true\n[observe]\ncollision_density = {bins = 10}\n",
-       "run.splitting"},  // a split run's f_c is weighted: not counted on a table yet
+      {std::string(kMushroom) + "[run]\nsplitting = true\nsplit_every = 0\n", "run.split_every"},
   };
   for (const auto& [toml, key] : cases) {
     const std::string msg = error_of(toml);

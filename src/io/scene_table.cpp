@@ -207,10 +207,6 @@ void check_table_needs(const Scene& s) {
   if (s.fast_forward)
     throw InputError("run.fast_forward", "true",
                      "jumps the stadium's bouncing-ball phases: the stadium with one leak only (here " + here + ")");
-  if (s.splitting.on && s.collision_density)
-    throw InputError("run.splitting", "true",
-                     "a split run's f_c is weighted, which f_c on a table does not count yet (here " + here +
-                         "): drop observe.collision_density or the splitting");
 }
 
 }  // namespace scene_detail

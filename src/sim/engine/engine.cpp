@@ -131,7 +131,8 @@ class Worker {
                 local.weighted() ? local.collision_density_w.data() : nullptr};
     if (s.table)
       table_density_ = {&s.table->table, sc.collision_density ? &sc.collision_density->windows : nullptr,
-                        sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data()};
+                        sc.collision_density ? sc.collision_density->bins : 0, local.collision_density.data(),
+                        local.weighted() ? local.collision_density_w.data() : nullptr};
     if ((s.engine == Engine::simd || s.engine == Engine::gpu) && sc.collision_density) {
       // f_c by time cell (DensityCells), folded in flush()
       const auto n = static_cast<std::size_t>(s.cells.cells()) * static_cast<std::size_t>(s.cells.bins);

@@ -296,7 +296,8 @@ struct TableDensityObserver {
   const std::vector<TimeWindow>* windows = nullptr;
   int bins = 0;
   std::uint64_t* counts = nullptr;
-  double weight = 1;  ///< unused: tables run unweighted draws so far (ensemble.sampling = "uniform")
+  FixedSum* weighted_counts = nullptr;  ///< weighted runs (a split run's members): sums of the particle's weight
+  double weight = 1;                    ///< of the particle in flight
 
   void operator()(int piece, const Vec2<R>& q, const R& t) {
     const double tt = num_traits<R>::to_double(t);
@@ -304,7 +305,9 @@ struct TableDensityObserver {
     for (std::size_t i = 0; i < windows->size(); ++i) {
       if (!(tt >= (*windows)[i].from && tt <= (*windows)[i].to)) continue;
       if (b < 0) b = density_bin_of(*table, piece, q, bins);
-      ++counts[i * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)];
+      const std::size_t k = i * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b);
+      ++counts[k];
+      if (weighted_counts) weighted_counts[k].add(weight);
     }
   }
 };
