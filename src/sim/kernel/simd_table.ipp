@@ -17,8 +17,8 @@
 // - the reflection: one formula about w, the arc's radius vector or the segment's rounded normal (Table::reflect).
 // So a lane's trajectory, fate, time, collisions and leak are the scalar engine's bit for bit
 // (tests/test_table_runs.cpp). What this path leaves out: the stadium's filtered fast paths (its convex next hit,
-// the rough angle and phase) and the fast-forward hand-off. f_c is weighted by the lanes' weights where the run is (a split
-// run's members: book_density's hits).
+// the rough angle and phase) and the fast-forward hand-off. f_c is weighted by the lanes' weights where the run is
+// (a split run's members: book_density's hits).
 
 namespace {
 
