@@ -9,14 +9,14 @@
 // The physics is not written here: every expression of a flight, a collision, a boundary coordinate and
 // the leak is a call into the shared formulas (geometry/formulas.hpp, leak/leak_formulas.hpp), the
 // ones Stadium<R> and Leak<R> call, instantiated on this file's pack V with its lane masks MV and the
-// selection hook below (select, choose, both). What is here: the stadium's part of the collision step
-// (StadiumStep: the convex next hit, the leak test, the reflection, the fast-forward's hand-off), the two approximate
-// angles and the cascade that decides which one a lane may trust (arc_s_for), and f_c's binning. The pack's lanes
-// and the step's order, written once for every table, are sim/kernel/simd_lanes.ipp (lane_step). Keep it self-contained otherwise: the formulas are templates
-// instantiated on V alone (internal linkage); no std algorithm or shared inline function whose vector
-// copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the
-// objects); everything here has internal linkage but run_kernel, rough_kernel, cell_kernel,
-// probe_kernel, flights_kernel, pack_size, birkhoff_kernel and flow_kernel.
+// selection hook below (select, choose, both). What is here: the stadium's part of the collision step (StadiumStep: the
+// convex next hit, the leak test, the reflection, the fast-forward's hand-off), the two approximate angles and the
+// cascade that decides which one a lane may trust (arc_s_for), and f_c's binning. The pack's lanes and the step's
+// order, written once for every table, are sim/kernel/simd_lanes.ipp (lane_step). Keep it self-contained otherwise: the
+// formulas are templates instantiated on V alone (internal linkage); no std algorithm or shared inline function whose
+// vector copy the linker could hand to scalar code (ctest Layers.KernelObjectsShareNoInlineCode checks the objects);
+// everything here has internal linkage but run_kernel, rough_kernel, cell_kernel, probe_kernel, flights_kernel,
+// pack_size, birkhoff_kernel and flow_kernel.
 //
 // What matches the scalar core, as the tests check it (tests/test_simd.cpp, tests/test_stadiums.cpp):
 // - Stationary leak: bit-identical. The formulas are evaluated in the scalar core's order with one
@@ -356,7 +356,9 @@ struct StadiumStep {
 
 }  // namespace
 
-Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x) { return run_lanes(S, StadiumStep{S}, state, x); }
+Pause run_kernel(const KernelScene& S, KernelState& state, Exchange& x) {
+  return run_lanes(S, StadiumStep{S}, state, x);
+}
 
 ROTLEAK_KERNEL_FLATTEN double flights_kernel(const KernelScene& S, const Start* starts, std::uint64_t steps) {
   Lanes L{};
