@@ -28,6 +28,7 @@ TABLES = [
     ("lorentz", '[table]\nkind = "lorentz"\nradius = "0.45"\n'),
     ("polygon", '[table]\nkind = "polygon"\nvertices = [["0", "0"], ["0", "1"], ["2", "1/3"]]\n'),
     ("circle", '[table]\nkind = "circle"\nradius = "1"\n'),
+    ("ellipse", '[table]\nkind = "ellipse"\na = "2"\nb = "1"\n'),
 ]
 WIDTHS = ("0.02", "0.01")
 

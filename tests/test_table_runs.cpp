@@ -28,6 +28,7 @@ const char* kTwoLeaks = "[[leaks]]\nwidth = \"0.02\"\nstart = \"0\"\n\n[[leaks]]
 std::vector<std::string> other_tables() {
   return {
       "[table]\nkind = \"circle\"\nradius = \"1\"\n",
+      "[table]\nkind = \"ellipse\"\na = \"3/2\"\nb = \"1\"\n",
       kMushroom,
       "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n",
       "[table]\nkind = \"annulus\"\nradius = \"1\"\ninner_radius = \"1/4\"\noffset = \"-1/3\"\n",

@@ -198,7 +198,7 @@ TEST(Certify, OnEveryTableEscapesAreProvenAndEncloseTheTruth) {
   // MPFR at 1024 bits traces (its collision the same). The lemon's equal corner coordinates once left every
   // particle undecided (an interval cannot order equal values: Table::grow_scale).
   for (const char* name :
-       {"sinai", "mushroom", "annulus", "lemon", "lorentz", "polygon", "circle", "stadium_two_leaks"}) {
+       {"sinai", "mushroom", "annulus", "lemon", "lorentz", "polygon", "circle", "ellipse", "stadium_two_leaks"}) {
     Scene scene = load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/tables/" + name + ".toml");
     scene.t_max = 150;
     const InitialConditions ic = initial_conditions(scene);

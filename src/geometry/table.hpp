@@ -18,6 +18,7 @@
 #include "numeric/atan2.hpp"
 #include "numeric/device.hpp"
 #include "numeric/exact.hpp"
+#include "numeric/mpfi_ops.hpp"
 #include "numeric/num_traits.hpp"
 #include "numeric/sin_cos.hpp"
 
@@ -87,6 +88,7 @@ class Table {
   ROTLEAK_HD R s_of(int k, const Vec2<R>& q) const {
     const TablePiece<R>& p = piece_[k];
     if (p.kind == PieceKind::segment) return segment_point_s(p, q.x, q.y, inv_length(p.loop));
+    if (p.kind == PieceKind::ellipse) return ellipse_point_s(p, q.x, q.y, inv_length(p.loop));
     const Vec2<R> a = arc_angle_args(p, q.x, q.y);
     return arc_point_s(p, formula::tier_atan2(a.y, a.x), two_pi_);
   }
@@ -104,6 +106,10 @@ class Table {
       if (p.horizontal) f.q.y = p.ry;
       if (p.vertical) f.q.x = p.rx;
       f.tangent = {p.ex, p.ey};
+    } else if (p.kind == PieceKind::ellipse) {
+      const formula::SinCos<R> sc = formula::tier_sin_cos(ellipse_angle(p, s));
+      f.q = ellipse_point(p, sc.cos, sc.sin);
+      f.tangent = ellipse_tangent(p, sc.cos, sc.sin);
     } else {
       const formula::SinCos<R> sc = formula::tier_sin_cos(formula::arc_angle_of(u, p.s0, p.L_over_rho));
       const Vec2<R> d = p.arc_direction(sc.cos, sc.sin);
@@ -118,6 +124,11 @@ class Table {
   ROTLEAK_HD Vec2<R> tangent(int k, const Vec2<R>& q) const {
     const TablePiece<R>& p = piece_[k];
     if (p.kind == PieceKind::segment) return {p.ex, p.ey};
+    if (p.kind == PieceKind::ellipse) {  // the gradient turned a quarter along the travel
+      using std::sqrt;
+      const R gx = (q.x - p.cx) * p.ga, gy = (q.y - p.cy) * p.gb, n = sqrt(gx * gx + gy * gy);
+      return p.clockwise ? Vec2<R>{R(gy / n), R(-(gx / n))} : Vec2<R>{R(-(gy / n)), R(gx / n)};
+    }
     // as the stadium's: the radius vector times 1 / rho, turned a quarter along the travel
     const R rx = (q.x - p.cx) * p.inv_rho, ry = (q.y - p.cy) * p.inv_rho;
     return p.clockwise ? Vec2<R>{ry, R(-rx)} : Vec2<R>{R(-ry), rx};
@@ -153,6 +164,13 @@ class Table {
         if ((p.ay > q.y) == (p.by > q.y)) continue;  // half-open in y: a vertex on the ray counts once
         const R x = p.ax + (q.y - p.ay) * (p.bx - p.ax) / (p.by - p.ay);
         inside ^= x > q.x;
+        continue;
+      }
+      if (p.kind == PieceKind::ellipse) {
+        const R dy = (q.y - p.cy) * p.inv_eb, h2 = R(1) - dy * dy;
+        if (!(h2 > R(0))) continue;
+        const R h = p.ea * sqrt(h2);
+        for (const R dx : {R(-h), h}) inside ^= p.cx + dx > q.x;
         continue;
       }
       const R dy = q.y - p.cy, h2 = p.rho * p.rho - dy * dy;
@@ -210,7 +228,11 @@ class Table {
       const R to_a = sqrt((q.x - p.ax) * (q.x - p.ax) + (q.y - p.ay) * (q.y - p.ay));
       const R to_b = sqrt((q.x - p.bx) * (q.x - p.bx) + (q.y - p.by) * (q.y - p.by));
       R d = to_a < to_b ? to_a : to_b;
-      if (p.kind == PieceKind::segment) {
+      if (p.kind == PieceKind::ellipse) {  // |F| / |grad F| of F = X^2 + Y^2 - 1 (X, Y scaled): first order
+        const R X = (q.x - p.cx) * p.inv_ea, Y = (q.y - p.cy) * p.inv_eb;
+        const R gx = (q.x - p.cx) * p.ga, gy = (q.y - p.cy) * p.gb, f = X * X + Y * Y - R(1);
+        d = (f < R(0) ? R(-f) : f) / (R(2) * sqrt(gx * gx + gy * gy));
+      } else if (p.kind == PieceKind::segment) {
         const R u = ((q.x - p.ax) * ex + (q.y - p.ay) * ey) / (ex * ex + ey * ey);
         if (u > R(0) && u < R(1)) {
           const R dx = q.x - (p.ax + u * ex), dy = q.y - (p.ay + u * ey);
@@ -226,6 +248,50 @@ class Table {
       if (k == 0 || d < best_d) best = k, best_d = d;
     }
     return {best, best_d};
+  }
+
+  /// The angle psi from its top, in the direction of travel, of the point of ellipse p at s in [0, 1) (its loop's):
+  /// psi lies in the quarter [k, k + 1] pi / 2 with k = floor(4 s) (the quarters' ends are the vertices, at s = k / 4
+  /// exactly); Newton's method on ellipse_point_s from the circle's angle 2 pi s, kept in the quarter by bisection,
+  /// to a few ulps. An interval tier iterates on midpoints, then encloses the root by the mean value theorem: the arc
+  /// grows at a speed between the semi-axes, so psi* lies in psi - (s(psi) - s) L [1 / max, 1 / min].
+  ROTLEAK_HD R ellipse_angle(const TablePiece<R>& p, const R& s) const {
+    using std::abs;
+    using std::floor;
+    using std::sqrt;
+    constexpr bool interval = carlson::is_interval<R>;
+    const auto mid = [](const R& x) -> R {  // the comparisons' value: an interval's midpoint
+      if constexpr (interval)
+        return midpoint(x);
+      else
+        return x;
+    };
+    const R L = loop_length_[p.loop], inv_L = inv_loop_length_[p.loop], quarter = pi_ / R(2);
+    const R k = floor(mid(s * R(4)));
+    const R lo = mid(k * quarter), hi = mid(lo + quarter);
+    const auto offset = [&](const R& psi) {  // s(psi) - s, wrapped into [-1/2, 1/2)
+      const formula::SinCos<R> sc = formula::tier_sin_cos(psi);
+      const Vec2<R> q = ellipse_point(p, sc.cos, sc.sin);
+      R d = ellipse_point_s(p, q.x, q.y, inv_L) - s;
+      if (mid(d) >= R(0.5))
+        d = d - R(1);
+      else if (mid(d) < R(-0.5))
+        d = d + R(1);
+      return d;
+    };
+    const R tol = R(4) * num_traits<R>::epsilon();
+    R psi = mid(lo + (s * R(4) - k) * quarter);
+    for (int i = 0; i < 200; ++i) {
+      const R d = mid(offset(psi));
+      const formula::SinCos<R> sc = formula::tier_sin_cos(psi);
+      R next = mid(psi - d * L / sqrt(p.ea2 * (sc.cos * sc.cos) + p.eb2 * (sc.sin * sc.sin)));
+      if (next < lo || next > hi) next = mid((psi + (d > R(0) ? lo : hi)) / R(2));
+      const R step = mid(abs(next - psi));
+      psi = next;
+      if (step <= mid(tol * (R(1) + psi))) break;
+    }
+    if constexpr (interval) psi = psi - offset(psi) * L * hull(p.inv_ea, p.inv_eb);
+    return psi;
   }
 
   /// How many ulps of the table's scale the second look widens every span by.
@@ -281,10 +347,12 @@ Table<R>::Table(const TableSpec& spec) {
   box_lo_ = {piece_[0].ax, piece_[0].ay}, box_hi_ = box_lo_;
   for (int k = loop_first_[0]; k < loop_first_[0] + loop_count_[0]; ++k) {
     const TablePiece<R>& p = piece_[k];
-    const R lx = p.kind == PieceKind::arc ? R(p.cx - p.rho) : std::min(p.ax, p.bx);
-    const R hx = p.kind == PieceKind::arc ? R(p.cx + p.rho) : std::max(p.ax, p.bx);
-    const R ly = p.kind == PieceKind::arc ? R(p.cy - p.rho) : std::min(p.ay, p.by);
-    const R hy = p.kind == PieceKind::arc ? R(p.cy + p.rho) : std::max(p.ay, p.by);
+    const bool arc = p.kind == PieceKind::arc, ellipse = p.kind == PieceKind::ellipse;
+    const R rx = ellipse ? p.ea : p.rho, ry = ellipse ? p.eb : p.rho;
+    const R lx = arc || ellipse ? R(p.cx - rx) : std::min(p.ax, p.bx);
+    const R hx = arc || ellipse ? R(p.cx + rx) : std::max(p.ax, p.bx);
+    const R ly = arc || ellipse ? R(p.cy - ry) : std::min(p.ay, p.by);
+    const R hy = arc || ellipse ? R(p.cy + ry) : std::max(p.ay, p.by);
     box_lo_ = {std::min(box_lo_.x, lx), std::min(box_lo_.y, ly)};
     box_hi_ = {std::max(box_hi_.x, hx), std::max(box_hi_.y, hy)};
   }
@@ -322,6 +390,17 @@ void Table<R>::round_piece(TablePiece<R>& p, const PieceSpec& e, const LoopSpec&
     } else {
       p.rx = p.ax, p.ry = p.ay, p.s_ref = p.s0;
     }
+    return;
+  }
+  if (e.kind == PieceKind::ellipse) {
+    const ExactReal one = ExactReal::parse("1");
+    p.cx = round_exact<R>(e.cx), p.cy = round_exact<R>(e.cy);
+    p.ea = round_exact<R>(e.ea), p.eb = round_exact<R>(e.eb);
+    p.inv_ea = round_exact<R>(one / e.ea), p.inv_eb = round_exact<R>(one / e.eb);
+    p.ea2 = round_exact<R>(e.ea * e.ea), p.eb2 = round_exact<R>(e.eb * e.eb);
+    p.ga = round_exact<R>(one / (e.ea * e.ea)), p.gb = round_exact<R>(one / (e.eb * e.eb));
+    p.span = round_exact<R>(e.span);
+    for (const R& x : {R(abs(p.cx) + p.ea), R(abs(p.cy) + p.eb)}) grow_scale(x);
     return;
   }
   p.cx = round_exact<R>(e.cx), p.cy = round_exact<R>(e.cy), p.rho = round_exact<R>(e.rho);

@@ -14,6 +14,7 @@
 #include "geometry/formulas.hpp"
 #include "geometry/table_formulas.hpp"
 #include "geometry/vec2.hpp"
+#include "numeric/carlson.hpp"
 #include "numeric/device.hpp"
 #include "numeric/select.hpp"
 
@@ -24,7 +25,7 @@ namespace rotleak {
 inline constexpr int kMaxTablePieces = 32;
 inline constexpr int kMaxTableLoops = 8;
 
-enum class PieceKind : int { segment = 0, arc = 1 };
+enum class PieceKind : int { segment = 0, arc = 1, ellipse = 2 };
 
 /// One piece rounded into R (the fields of its kind; the others stay 0).
 template <class R>
@@ -43,7 +44,11 @@ struct TablePiece {
   R fx{0}, fy{0};                             ///< arc: the direction of its start from the centre
   R cw_fx{0}, cw_fy{0}, cw_gx{0}, cw_gy{0};   ///< arc: its ends' directions in clockwise order (on_arc)
   R span{0}, rho_over_L{0}, L_over_rho{0};
-  R s0{0}, s1{0};  ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
+  R ea{0}, eb{0};          ///< ellipse (centre cx, cy): its semi-axes along x and y
+  R inv_ea{0}, inv_eb{0};  ///< ellipse: 1 / its semi-axes
+  R ea2{0}, eb2{0};        ///< ellipse: the semi-axes squared
+  R ga{0}, gb{0};          ///< ellipse: 1 / ea^2, 1 / eb^2 (its gradient's scale: the reflection's axis)
+  R s0{0}, s1{0};          ///< its s range in its loop, unwrapped (s0 < 0 for the piece that holds the origin)
 
   /// Arc: the direction from the centre at angle a along the travel, f cos a + h sin a (h = f turned a quarter along
   /// the travel), from cs = cos a and sn = sin a; and the unit tangent there, h cos a - f sin a.
@@ -67,11 +72,13 @@ struct Crossing {
 };
 
 /// The axis a reflection at (x, y) on piece p takes (formula::reflect_factor's w): the segment's inward normal
-/// (e.y, -e.x) as rounded, the arc's radius vector.
+/// (e.y, -e.x) as rounded, the arc's radius vector, the ellipse's gradient (x / a^2, y / b^2) from its centre.
 template <class T, class R>
 ROTLEAK_HD inline Vec2<T> reflection_axis(const TablePiece<R>& p, const T& x, const T& y) {
   if (p.kind == PieceKind::segment) return {T(p.ey), T(-p.ex)};
-  return {formula::from_centre(x, T(p.cx)), formula::from_centre(y, T(p.cy))};
+  const T dx = formula::from_centre(x, T(p.cx)), dy = formula::from_centre(y, T(p.cy));
+  if (p.kind == PieceKind::ellipse) return {T(dx * T(p.ga)), T(dy * T(p.gb))};
+  return {dx, dy};
 }
 
 /// Specular reflection of v about the axis w (|v'| = |v| whatever |w| is).
@@ -86,7 +93,8 @@ ROTLEAK_HD inline Vec2<T> reflect_about(const Vec2<T>& w, const Vec2<T>& v) {
 /// (cross(v, e) < 0) at t >= 0; a focusing arc (the table inside its circle) where the flight leaves the circle, a
 /// dispersing one where it enters it (b < 0), on the arc's part of the circle. The discriminant comes before c's
 /// sign: from a point on the circle (c = 0 up to rounding: an interval tier cannot decide c's sign) it is clearly
-/// positive, and decides alone.
+/// positive, and decides alone. An ellipse is a unit circle in the coordinates scaled by its semi-axes: the same
+/// quadratic there, t^2 + 2 b t + c = 0 divided by |V|^2 (V the scaled velocity), crossed as an arc is.
 template <class T, class R>
 [[gnu::always_inline]] ROTLEAK_HD inline mask_of<T> crossing(const TablePiece<R>& p, const T& qx, const T& qy,
                                                              const T& vx, const T& vy, const R& tol, Crossing<T>& c) {
@@ -105,7 +113,14 @@ template <class T, class R>
     return both(ok, [&] { return formula::in_span(p.along_x ? c.x : c.y, p.lo, p.hi, tol); });
   }
   const T dx = formula::from_centre(qx, T(p.cx)), dy = formula::from_centre(qy, T(p.cy));
-  const T b = formula::arc_b(dx, dy, vx, vy), cc = formula::arc_c(dx, dy, T(p.rho));
+  T b, cc;
+  if (p.kind == PieceKind::ellipse) {
+    const T X = dx * T(p.inv_ea), Y = dy * T(p.inv_eb), VX = vx * T(p.inv_ea), VY = vy * T(p.inv_eb);
+    const T vv = VX * VX + VY * VY;
+    b = formula::arc_b(X, Y, VX, VY) / vv, cc = formula::arc_c(X, Y, T(1)) / vv;
+  } else {
+    b = formula::arc_b(dx, dy, vx, vy), cc = formula::arc_c(dx, dy, T(p.rho));
+  }
   M ok;
   if (p.clockwise) {  // focusing: from outside the circle, and missing it, no crossing
     ok = !both(M(b * b - cc < zero), [&] { return M(cc > zero); });
@@ -119,7 +134,8 @@ template <class T, class R>
   ok = both(ok, [&] { return M(c.t >= zero); });
   if (none(ok)) return ok;
   c.x = formula::along(qx, vx, c.t), c.y = formula::along(qy, vy, c.t);
-  c.wx = formula::from_centre(c.x, T(p.cx)), c.wy = formula::from_centre(c.y, T(p.cy));
+  const Vec2<T> w = reflection_axis(p, c.x, c.y);
+  c.wx = w.x, c.wy = w.y;
   if (p.full) return ok;
   return both(ok,
               [&] { return formula::on_arc(c.wx, c.wy, p.cw_fx, p.cw_fy, p.cw_gx, p.cw_gy, p.wide, R(tol * p.rho)); });
@@ -181,6 +197,48 @@ ROTLEAK_HD inline Vec2<T> arc_angle_args(const TablePiece<R>& p, const T& x, con
 template <class T, class R>
 ROTLEAK_HD inline T arc_point_s(const TablePiece<R>& p, const T& angle, const R& two_pi) {
   return formula::wrap_unit(formula::arc_piece_s(angle, p.s0, p.span, p.rho_over_L, p.wide, two_pi));
+}
+
+/// s in [0, 1) of a point (x, y) of ellipse p (its loop's 1 / length inv_L), s = 0 at its top, the quarters 1/4,
+/// 1/2, 3/4 at its vertices (exactly: each quarter is a quarter of the length) in the direction of travel, for one
+/// number of any tier (a pack's lanes call it one by one). In the scaled coordinates (X, Y) = (dx / a, dy / b) the
+/// point is (sin psi, cos psi), psi its angle from the top clockwise; the arc is measured from the nearer vertex in
+/// psi (from the top or bottom where |sin psi| <= |cos psi|, with P = a, Q = b and u = |sin psi|; else from the side
+/// vertex, P = b, Q = a, u = |cos psi|), so u <= 1/sqrt(2) and the arc (carlson::ellipse_arc) is well conditioned.
+template <class T, class R>
+ROTLEAK_HD inline T ellipse_point_s(const TablePiece<R>& p, const T& x, const T& y, const R& inv_L) {
+  using std::abs;
+  using std::sqrt;
+  const T X = formula::from_centre(x, T(p.cx)) * T(p.inv_ea), Y = formula::from_centre(y, T(p.cy)) * T(p.inv_eb);
+  const T n = sqrt(X * X + Y * Y);
+  const T sn = abs(X) / n, cs = abs(Y) / n;
+  const bool polar = sn <= cs;  // nearer the top or the bottom
+  const T J =
+      polar ? carlson::ellipse_arc(sn, cs, T(p.ea2), T(p.eb2)) : carlson::ellipse_arc(cs, sn, T(p.eb2), T(p.ea2));
+  const T share = J * T(inv_L);
+  // travel clockwise: top (s = 0), right vertex (1/4), bottom (1/2), left vertex (3/4); anticlockwise mirrored in x
+  const bool right = p.clockwise ? !(X < T(0)) : X < T(0), upper = !(Y < T(0));
+  T s;
+  if (polar)
+    s = upper ? (right ? share : T(T(1) - share)) : (right ? T(T(0.5) - share) : T(T(0.5) + share));
+  else
+    s = right ? (upper ? T(T(0.25) - share) : T(T(0.25) + share)) : (upper ? T(T(0.75) + share) : T(T(0.75) - share));
+  return s >= T(1) ? T(s - T(1)) : s;
+}
+
+/// The point of ellipse p at angle psi from its top in the direction of travel, from cs = cos psi and sn = sin psi,
+/// and the unit tangent there (the direction of travel).
+template <class R>
+ROTLEAK_HD inline Vec2<R> ellipse_point(const TablePiece<R>& p, const R& cs, const R& sn) {
+  const R x = p.clockwise ? R(p.ea * sn) : R(-(p.ea * sn));
+  return {p.cx + x, p.cy + p.eb * cs};
+}
+template <class R>
+ROTLEAK_HD inline Vec2<R> ellipse_tangent(const TablePiece<R>& p, const R& cs, const R& sn) {
+  using std::sqrt;
+  const R tx = p.ea * cs, ty = -(p.eb * sn);
+  const R n = sqrt(tx * tx + ty * ty);
+  return {p.clockwise ? R(tx / n) : R(-(tx / n)), R(ty / n)};
 }
 
 }  // namespace rotleak

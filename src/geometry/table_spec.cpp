@@ -33,6 +33,47 @@ int sign_of(const ExactReal& x) { return is_zero(x) ? 0 : x.sign(); }
   throw std::invalid_argument("table " + (t.name.empty() ? std::string("custom") : t.name) + ": " + what);
 }
 
+/// Works out piece p's angle (an arc, an ellipse) and length, checks it (its radius, its ends on its circle, an
+/// ellipse's semi-axes and that it is alone in its loop of `count` pieces), and returns its part of the loop's
+/// integral of x dy - y dx (Green's theorem: docs/model.md, "Tables").
+ExactReal measure_piece(const TableSpec& t, PieceSpec& p, int count, const std::string& piece) {
+  const ExactReal two_pi = num("2") * ExactReal::pi();
+  const ExactReal dx = p.bx - p.ax, dy = p.by - p.ay;
+  if (p.kind == PieceKind::ellipse) {
+    if (sign_of(p.ea) <= 0 || sign_of(p.eb) <= 0)
+      bad(t, piece + " is an ellipse with semi-axes " + p.ea.text() + ", " + p.eb.text() + ": both must be > 0");
+    if (count != 1) bad(t, piece + " is an ellipse: it must be alone in its loop");
+    p.span = two_pi;
+    p.length = num("4") * ExactReal::ellipse_quarter(p.ea, p.eb);
+    const ExactReal twice_area = two_pi * p.ea * p.eb;  // the loop's integral of x dy - y dx, unsigned
+    return p.clockwise ? -twice_area : twice_area;
+  }
+  if (p.kind == PieceKind::segment) {
+    if (is_zero(dx) && is_zero(dy)) bad(t, piece + " is a segment of length 0");
+    p.length = ExactReal::sqrt(dx * dx + dy * dy);
+    return p.ax * p.by - p.ay * p.bx;
+  }
+  if (sign_of(p.rho) <= 0) bad(t, piece + " has a radius " + p.rho.text() + ", not > 0");
+  const ExactReal fx = p.ax - p.cx, fy = p.ay - p.cy, gx = p.bx - p.cx, gy = p.by - p.cy;
+  const ExactReal r2 = p.rho * p.rho;
+  if (!is_zero(fx * fx + fy * fy - r2) || !is_zero(gx * gx + gy * gy - r2))
+    bad(t, piece + "'s ends do not lie on its circle (centre (" + p.cx.text() + ", " + p.cy.text() + "), radius " +
+               p.rho.text() + ")");
+  if (p.full) {
+    p.span = two_pi;
+  } else {
+    // the angle from f to g in the direction of travel: at most a half turn when g lies that way of f
+    const int cr = sign_of(fx * gy - fy * gx);  // > 0: g anticlockwise of f
+    const ExactReal c = ExactReal::acos((fx * gx + fy * gy) / r2);
+    if (cr == 0 && is_zero(dx) && is_zero(dy)) bad(t, piece + " is an arc of angle 0 (a whole circle is circle())");
+    const bool short_way = cr == 0 || (cr < 0) == p.clockwise;
+    p.span = short_way ? c : two_pi - c;
+  }
+  p.length = p.rho * p.span;
+  const ExactReal signed_span = p.clockwise ? -p.span : p.span;
+  return (p.cx * dy - p.cy * dx) + r2 * signed_span;
+}
+
 }  // namespace
 
 void TableSpec::begin_loop(const ExactReal& origin) {
@@ -67,9 +108,17 @@ void TableSpec::circle(const ExactReal& cx, const ExactReal& cy, const ExactReal
   pieces.back().full = true;
 }
 
+void TableSpec::ellipse(const ExactReal& cx, const ExactReal& cy, const ExactReal& a, const ExactReal& b,
+                        bool clockwise) {
+  if (loops.empty() || loops.back().count != 0) bad(*this, "an ellipse must be alone in its loop");
+  segment(cx, cy + b, cx, cy + b);
+  PieceSpec& p = pieces.back();
+  p.kind = PieceKind::ellipse;
+  p.cx = cx, p.cy = cy, p.ea = a, p.eb = b, p.clockwise = clockwise, p.full = true;
+}
+
 void TableSpec::finish() {
   if (loops.empty()) bad(*this, "no boundary");
-  const ExactReal two_pi = num("2") * ExactReal::pi();
   ExactReal area2;  // -2 area: the sum over every loop of the integral of x dy - y dx
   perimeter = ExactReal();
   for (std::size_t k = 0; k < loops.size(); ++k) {
@@ -83,33 +132,7 @@ void TableSpec::finish() {
       const std::string piece = which + ", piece " + std::to_string(i - loop.first + 1);
       if (!is_zero(p.bx - next.ax) || !is_zero(p.by - next.ay))
         bad(*this, piece + " ends at (" + p.bx.text() + ", " + p.by.text() + ") where the next piece does not start");
-      const ExactReal dx = p.bx - p.ax, dy = p.by - p.ay;
-      if (p.kind == PieceKind::segment) {
-        if (is_zero(dx) && is_zero(dy)) bad(*this, piece + " is a segment of length 0");
-        p.length = ExactReal::sqrt(dx * dx + dy * dy);
-        turn = turn + (p.ax * p.by - p.ay * p.bx);
-        continue;
-      }
-      if (sign_of(p.rho) <= 0) bad(*this, piece + " has a radius " + p.rho.text() + ", not > 0");
-      const ExactReal fx = p.ax - p.cx, fy = p.ay - p.cy, gx = p.bx - p.cx, gy = p.by - p.cy;
-      const ExactReal r2 = p.rho * p.rho;
-      if (!is_zero(fx * fx + fy * fy - r2) || !is_zero(gx * gx + gy * gy - r2))
-        bad(*this, piece + "'s ends do not lie on its circle (centre (" + p.cx.text() + ", " + p.cy.text() +
-                       "), radius " + p.rho.text() + ")");
-      if (p.full) {
-        p.span = two_pi;
-      } else {
-        // the angle from f to g in the direction of travel: at most a half turn when g lies that way of f
-        const int cr = sign_of(fx * gy - fy * gx);  // > 0: g anticlockwise of f
-        const ExactReal c = ExactReal::acos((fx * gx + fy * gy) / r2);
-        if (cr == 0 && is_zero(dx) && is_zero(dy))
-          bad(*this, piece + " is an arc of angle 0 (a whole circle is circle())");
-        const bool short_way = cr == 0 || (cr < 0) == p.clockwise;
-        p.span = short_way ? c : two_pi - c;
-      }
-      p.length = p.rho * p.span;
-      const ExactReal signed_span = p.clockwise ? -p.span : p.span;
-      turn = turn + (p.cx * dy - p.cy * dx) + r2 * signed_span;
+      turn = turn + measure_piece(*this, p, loop.count, piece);
     }
     for (int i = loop.first; i < loop.first + loop.count; ++i)
       length = length + pieces[static_cast<std::size_t>(i)].length;
@@ -146,6 +169,17 @@ TableSpec circle_table(const ExactReal& rho) {
   t.params = {{"radius", rho}};
   t.begin_loop();
   t.circle(ExactReal(), ExactReal(), rho, true);
+  t.finish();
+  return t;
+}
+
+TableSpec ellipse_table(const ExactReal& a, const ExactReal& b) {
+  TableSpec t;
+  t.name = "ellipse";
+  t.params = {{"a", a}, {"b", b}};
+  if (sign_of(a) <= 0 || sign_of(b) <= 0) bad(t, "needs a > 0 and b > 0 (a " + a.text() + ", b " + b.text() + ")");
+  t.begin_loop();
+  t.ellipse(ExactReal(), ExactReal(), a, b, true);
   t.finish();
   return t;
 }
@@ -298,6 +332,7 @@ const std::vector<TableKind>& table_kinds() {
   static const std::vector<TableKind> kinds = {
       {"stadium", {"d", "r"}, [](const std::vector<ExactReal>& v) { return stadium_table(v[0], v[1]); }},
       {"circle", {"radius"}, [](const std::vector<ExactReal>& v) { return circle_table(v[0]); }},
+      {"ellipse", {"a", "b"}, [](const std::vector<ExactReal>& v) { return ellipse_table(v[0], v[1]); }},
       {"mushroom",
        {"radius", "stem_width", "stem_height"},
        [](const std::vector<ExactReal>& v) { return mushroom_table(v[0], v[1], v[2]); }},

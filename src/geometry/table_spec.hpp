@@ -1,9 +1,9 @@
-// A billiard table as data, exact: closed loops of straight segments and circular arcs (the outer boundary and
-// any scatterers inside it), each loop with its own arc-length coordinate s in [0, 1) from a stated origin. Every
-// value is an ExactReal, so each tier rounds it once (Table<R>, geometry/table.hpp). The standard tables are
-// short constructors (stadium, circle, mushroom, Sinai, annulus, lemon, Lorentz triangle, polygon); docs/tables.md
-// draws each and docs/model.md ("Tables") states the conventions: every loop runs with the table on its right (the
-// outer boundary clockwise, a scatterer anticlockwise).
+// A billiard table as data, exact: closed loops of straight segments, circular arcs and whole ellipses (the outer
+// boundary and any scatterers inside it), each loop with its own arc-length coordinate s in [0, 1) from a stated
+// origin. Every value is an ExactReal, so each tier rounds it once (Table<R>, geometry/table.hpp). The standard tables
+// are short constructors (stadium, circle, ellipse, mushroom, Sinai, annulus, lemon, Lorentz triangle, polygon);
+// docs/tables.md draws each and docs/model.md ("Tables") states the conventions: every loop runs with the table on its
+// right (the outer boundary clockwise, a scatterer anticlockwise).
 #pragma once
 
 #include <string>
@@ -16,12 +16,14 @@
 namespace rotleak {
 
 /// One piece of a loop, exact. A segment runs from a to b. An arc of the circle (c, rho) runs from a to b,
-/// clockwise or not; a whole circle has a == b and full set.
+/// clockwise or not; a whole circle has a == b and full set. An ellipse is whole: centre c, semi-axes ea along x and
+/// eb along y, from its top (cx, cy + eb) round to it (a == b, full set).
 struct PieceSpec {
   PieceKind kind = PieceKind::segment;
   int loop = 0;  ///< 0: the outer boundary; k >= 1: scatterer k
   ExactReal ax, ay, bx, by;
-  ExactReal cx, cy, rho;  ///< arc
+  ExactReal cx, cy, rho;  ///< arc (cx, cy: an ellipse's centre too)
+  ExactReal ea, eb;       ///< ellipse: semi-axes along x and y
   bool clockwise = true;  ///< arc: runs clockwise about its centre
   bool full = false;      ///< arc: the whole circle
   ExactReal span;         ///< arc: its angle, (0, 2 pi]
@@ -59,6 +61,9 @@ class TableSpec {
            const ExactReal& bx, const ExactReal& by, bool clockwise);
   /// Appends a whole circle, starting (and ending) at its top (cx, cy + rho), clockwise or not.
   void circle(const ExactReal& cx, const ExactReal& cy, const ExactReal& rho, bool clockwise);
+  /// Appends a whole ellipse about (cx, cy) with semi-axes a along x and b along y, starting (and ending) at its top
+  /// (cx, cy + b), clockwise or not; alone in its loop, whose origin is that top.
+  void ellipse(const ExactReal& cx, const ExactReal& cy, const ExactReal& a, const ExactReal& b, bool clockwise);
   /// Checks the table (each loop closed, each arc's ends on its circle, the outer loop clockwise and every other
   /// anticlockwise, sizes within bounds) and works out the lengths, the area and the perimeter. Throws
   /// std::invalid_argument naming the table and what is wrong.
@@ -70,6 +75,8 @@ class TableSpec {
 TableSpec stadium_table(const ExactReal& d, const ExactReal& r);
 /// The circle of radius rho about the origin; s = 0 at its top, clockwise.
 TableSpec circle_table(const ExactReal& rho);
+/// The ellipse x^2 / a^2 + y^2 / b^2 <= 1; s = 0 at its top (0, b), clockwise, s = 1/4 at (a, 0).
+TableSpec ellipse_table(const ExactReal& a, const ExactReal& b);
 /// A mushroom (Bunimovich; Dettmann & Georgiou 2011): a half disc of radius R above y = 0 (the cap) on a stem of
 /// width w <= 2 R and height h below it, centred; s = 0 at the cap's top, clockwise.
 TableSpec mushroom_table(const ExactReal& R, const ExactReal& w, const ExactReal& h);
@@ -97,7 +104,7 @@ struct TableKind {
   std::vector<std::string> params;
   TableSpec (*build)(const std::vector<ExactReal>& values) = nullptr;
 };
-/// Every standard table: stadium, circle, mushroom, sinai, annulus, lemon, lorentz, polygon.
+/// Every standard table: stadium, circle, ellipse, mushroom, sinai, annulus, lemon, lorentz, polygon.
 const std::vector<TableKind>& table_kinds();
 /// The kind named `name`, or null.
 const TableKind* find_table_kind(const std::string& name);

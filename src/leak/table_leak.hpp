@@ -89,7 +89,10 @@ LeakView<R> table_leak(const Table<R>& table, const LeakSpec& spec) {
   LeakView<R> v{};
   v.first = table.loop_first(spec.loop);
   v.count = table.loop_count(spec.loop);
-  v.rotating = schedule.rotating();
+  // a leak on an ellipse decides by the hit's s even when it stands still (its phase is then its start, exactly):
+  // an ellipse's windows would need their ends' points, the inverse of its arc length, for no gain
+  const bool on_ellipse = table.piece(v.first).kind == PieceKind::ellipse;
+  v.rotating = schedule.rotating() || on_ellipse;
   v.omega_hi = schedule.omega_terms().hi, v.omega_lo = schedule.omega_terms().lo;
   v.start = schedule.start();
   v.half_width = round_exact<R>(spec.width / ExactReal::parse("2"));

@@ -6,10 +6,12 @@
 #include <limits>
 #include <utility>
 
+#include "numeric/ellipse_exact.hpp"
+
 namespace rotleak {
 
 struct ExactReal::Node {
-  enum class Kind { rational, pi, e, golden, ln, sqrt, acos, liouville, add, sub, mul, div, neg };
+  enum class Kind { rational, pi, e, golden, ln, sqrt, acos, liouville, ellipse_quarter, add, sub, mul, div, neg };
   Kind kind = Kind::rational;
   mpq_class q;             // value when kind == rational
   unsigned long base = 0;  // liouville base
@@ -85,6 +87,14 @@ NodePtr fold_acos(NodePtr a) {
   return make_node(Kind::acos, std::move(a));
 }
 
+/// The quarter perimeter of the ellipse with semi-axes a, b > 0: pi a / 2 where a == b (both rational).
+NodePtr fold_ellipse_quarter(NodePtr a, NodePtr b) {
+  if (is_rat(a) && sgn(a->q) <= 0) throw ExactParseError("ellipse_quarter of a semi-axis <= 0");
+  if (is_rat(b) && sgn(b->q) <= 0) throw ExactParseError("ellipse_quarter of a semi-axis <= 0");
+  if (is_rat(a) && is_rat(b) && a->q == b->q) return make_node(Kind::mul, make_node(Kind::pi), make_rational(a->q / 2));
+  return make_node(Kind::ellipse_quarter, std::move(a), std::move(b));
+}
+
 NodePtr fold_ln(NodePtr a) {
   if (is_rat(a)) {
     if (sgn(a->q) <= 0) throw ExactParseError("ln of a number <= 0");
@@ -135,7 +145,7 @@ class Parser {
   [[noreturn]] void fail(const std::string& what) const {
     throw ExactParseError(what + " at position " + std::to_string(pos_ + 1) +
                           "; expected a rational (1008/1009), a decimal (1e-4) or pi, e, golden, "
-                          "ln(..), sqrt(..), acos(..), liouville(b) combined with + - * / ( )");
+                          "ln(..), sqrt(..), acos(..), liouville(b), ellipse_quarter(a, b) combined with + - * / ( )");
   }
   void skip() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
@@ -236,6 +246,15 @@ class Parser {
     if (name == "pi") return make_node(Kind::pi);
     if (name == "e") return make_node(Kind::e);
     if (name == "golden") return make_node(Kind::golden);
+    if (name == "ellipse_quarter") {
+      if (!eat('(')) fail("'ellipse_quarter' needs two arguments in parentheses");
+      Nest nest(*this);
+      NodePtr a = expr();
+      if (!eat(',')) fail("'ellipse_quarter' needs two arguments, a and b");
+      NodePtr b = expr();
+      if (!eat(')')) fail("missing ')'");
+      return counted(fold_ellipse_quarter(a, b));
+    }
     if (name == "ln" || name == "log" || name == "sqrt" || name == "acos" || name == "liouville") {
       if (!eat('(')) fail("'" + name + "' needs an argument in parentheses");
       Nest nest(*this);
@@ -334,6 +353,15 @@ bool enclose_operation(Kind kind, mpfi_t out, mpfi_t a, mpfi_t b) {
       if (!mpfi_is_nonneg(a)) return false;
       mpfi_sqrt(out, a);
       return true;
+    case Kind::ellipse_quarter: {
+      // semi-axes decided > 0 (one enclosed <= 0 is an error), then Carlson's integrals on intervals at the same
+      // precision (numeric/carlson.hpp: a rigorous enclosure, no series)
+      if (mpfi_is_nonpos(a) > 0 || mpfi_is_nonpos(b) > 0)
+        throw std::domain_error("ellipse_quarter of a semi-axis <= 0");
+      if (!mpfi_is_strictly_pos(a) || !mpfi_is_strictly_pos(b)) return false;
+      enclose_ellipse_quarter(out, a, b);
+      return true;
+    }
     case Kind::acos: {
       // [-1, 1] decided: an enclosure past an end either proves the value outside (an error) or needs more bits
       if (mpfr_cmp_si(&a->right, -1) < 0 || mpfr_cmp_si(&a->left, 1) > 0)
@@ -385,6 +413,8 @@ std::string node_text(const Node& n) {
       return "sqrt(" + node_text(*n.a) + ")";
     case Kind::acos:
       return "acos(" + node_text(*n.a) + ")";
+    case Kind::ellipse_quarter:
+      return "ellipse_quarter(" + node_text(*n.a) + "," + node_text(*n.b) + ")";
     case Kind::neg:
       return "-(" + node_text(*n.a) + ")";
     case Kind::add:
@@ -402,49 +432,6 @@ std::string node_text(const Node& n) {
 constexpr mpfr_prec_t kMaxWorkingBits = mpfr_prec_t(1) << 16;
 
 }  // namespace
-
-mpq_class parse_decimal(std::string_view text) {
-  std::size_t i = 0;
-  bool negative = false;
-  if (i < text.size() && (text[i] == '+' || text[i] == '-')) negative = text[i++] == '-';
-  std::string mantissa;
-  long frac_digits = 0;
-  bool seen_digit = false, seen_dot = false;
-  for (; i < text.size(); ++i) {
-    const char c = text[i];
-    if (std::isdigit(static_cast<unsigned char>(c))) {
-      mantissa.push_back(c);
-      seen_digit = true;
-      if (seen_dot) ++frac_digits;
-    } else if (c == '.' && !seen_dot) {
-      seen_dot = true;
-    } else {
-      break;
-    }
-  }
-  if (!seen_digit) throw ExactParseError("not a decimal number: '" + std::string(text) + "'");
-  long exponent = 0;
-  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
-    ++i;
-    bool eneg = false;
-    if (i < text.size() && (text[i] == '+' || text[i] == '-')) eneg = text[i++] == '-';
-    std::size_t ndig = 0;
-    for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i, ++ndig) {
-      exponent = exponent * 10 + (text[i] - '0');
-      if (exponent > 100000) throw ExactParseError("decimal exponent too large (limit 1e+-100000)");
-    }
-    if (ndig == 0) throw ExactParseError("missing exponent digits in '" + std::string(text) + "'");
-    if (eneg) exponent = -exponent;
-  }
-  if (i != text.size()) throw ExactParseError("not a decimal number: '" + std::string(text) + "'");
-  mpz_class m(mantissa, 10);
-  const long e10 = exponent - frac_digits;
-  mpz_class p10;
-  mpz_ui_pow_ui(p10.get_mpz_t(), 10, static_cast<unsigned long>(e10 < 0 ? -e10 : e10));
-  mpq_class q = e10 >= 0 ? mpq_class(m * p10) : mpq_class(m, p10);
-  q.canonicalize();
-  return negative ? mpq_class(-q) : q;
-}
 
 mpq_class liouville_partial_sum(unsigned long base, unsigned K) {
   mpq_class sum(0);
@@ -469,6 +456,9 @@ ExactReal ExactReal::rational(const mpq_class& q) { return ExactReal(make_ration
 ExactReal ExactReal::pi() { return ExactReal(make_node(Kind::pi)); }
 ExactReal ExactReal::sqrt(const ExactReal& x) { return ExactReal(fold_sqrt(x.node_)); }
 ExactReal ExactReal::acos(const ExactReal& x) { return ExactReal(fold_acos(x.node_)); }
+ExactReal ExactReal::ellipse_quarter(const ExactReal& a, const ExactReal& b) {
+  return ExactReal(fold_ellipse_quarter(a.node_, b.node_));
+}
 
 bool ExactReal::is_rational() const { return is_rat(node_); }
 

@@ -34,6 +34,10 @@ class ExactReal {
   /// enclosed.
   static ExactReal sqrt(const ExactReal& x);
   static ExactReal acos(const ExactReal& x);
+  /// The quarter perimeter of the ellipse with semi-axes a, b > 0, int_0^(pi/2) sqrt(a^2 cos^2 t + b^2 sin^2 t) dt
+  /// (parsed as "ellipse_quarter(a, b)"; pi a / 2 where a == b): enclosed by Carlson's integrals on intervals
+  /// (numeric/carlson.hpp).
+  static ExactReal ellipse_quarter(const ExactReal& a, const ExactReal& b);
 
   ExactReal();  ///< zero
 

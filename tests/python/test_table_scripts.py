@@ -53,7 +53,7 @@ class TableScripts(unittest.TestCase):
                 rows = list(csv.DictReader(f))
             frame = pandas.read_csv(out, dtype={"width": str})
         self.assertEqual(list(frame.columns), RATES)
-        self.assertEqual(len(rows), 16)  # 8 tables, 2 widths
+        self.assertEqual(len(rows), 18)  # 9 tables, 2 widths
         self.assertEqual(sorted(set(frame["width"])), ["0.01", "0.02"])
         self.assertTrue((frame["kappa0"] > 0).all() and (frame["particles"] == 3000).all())
 

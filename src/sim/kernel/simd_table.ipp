@@ -13,7 +13,7 @@
 // first leak that takes the hit; a stationary one by its windows, a moving one by the exact phase, may_touch and
 // the hit's s). What is here is the step's order and s:
 // - s (a moving leak, f_c): a segment's by formula::segment_piece_s, an arc's from formula::atan2_of, the core's
-//   own function (the same bits), each lane's once a step;
+//   own function (the same bits), an ellipse's by the core's ellipse_point_s lane by lane, each lane's once a step;
 // - the reflection: one formula about w, the arc's radius vector or the segment's rounded normal (Table::reflect).
 // So a lane's trajectory, fate, time, collisions and leak are the scalar engine's bit for bit
 // (tests/test_table_runs.cpp). What this path leaves out: the stadium's filtered fast paths (its convex next hit,
@@ -50,6 +50,13 @@ inline V table_s(const KernelTable& T, const TableLanes& h, const MV& need) {
     const TablePiece<double>& p = T.piece[k];
     if (p.kind == PieceKind::segment) {
       s = select(on, segment_point_s(p, h.x, h.y, T.inv_length[p.loop]), s);
+      continue;
+    }
+    if (p.kind == PieceKind::ellipse) {  // the core's own function on each lane's double (the same bits)
+      alignas(sizeof(B)) double x[N], y[N], out[N] = {};
+      store(h.x, x), store(h.y, y);
+      for_lanes(bits(on), [&](int i) { out[i] = ellipse_point_s(p, x[i], y[i], T.inv_length[p.loop]); });
+      s = select(on, load(out), s);
       continue;
     }
     const Vec2<V> a = arc_angle_args(p, h.x, h.y);
