@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <random>
 #include <string>
 #include <utility>
-#include <random>
 #include <vector>
 
 #include "numeric/carlson.hpp"
@@ -141,8 +141,8 @@ TEST(Carlson, TheEllipsesPerimeterIsGausssArithmeticGeometricMean) {
     const double h = std::sqrt(0.5), a2 = a * a, b2 = b * b;
     const double quarter = carlson::ellipse_arc(h, h, a2, b2) + carlson::ellipse_arc(h, h, b2, a2);
     EXPECT_NEAR(4 * quarter, agm, 4 * 0x1p-52 * agm);
-    const ExactReal exact = ExactReal::ellipse_quarter(ExactReal::parse(std::to_string(a)),
-                                                       ExactReal::parse(std::to_string(b)));
+    const ExactReal exact =
+        ExactReal::ellipse_quarter(ExactReal::parse(std::to_string(a)), ExactReal::parse(std::to_string(b)));
     mpfi_t box;
     mpfi_init2(box, 300);
     exact.enclose(box, 300);

@@ -33,7 +33,9 @@ namespace rotleak::carlson {
 
 /// Whether R is an interval type (its comparisons may be undecided; it has hi()).
 template <class R>
-inline constexpr bool is_interval = requires(const R& r) { r.hi(); };
+inline constexpr bool is_interval = requires(const R& r) {
+  r.hi();
+};
 
 /// Duplication steps for a tier of `bits` bits: a point tier's (before its series), an interval tier's (before its
 /// monotone enclosure).
@@ -106,7 +108,8 @@ ROTLEAK_HD inline R rd(R x, R y, R z) {
 /// The arc length int_0^phi sqrt(P^2 cos^2 t + Q^2 sin^2 t) dt from t = 0 to the angle phi with sin(phi) = u,
 /// cos(phi) = w >= 0 (u^2 + w^2 = 1), from p2 = P^2 and q2 = Q^2: P E(phi | 1 - Q^2 / P^2) in Carlson's form (DLMF
 /// 19.25.9) made homogeneous,
-///   P^2 u R_F(x, y, P^2) - (P^2 - Q^2) P^2 u^3 R_D(x, y, P^2) / 3,   x = P^2 w^2, y = x + Q^2 u^2 (= P^2 - (P^2 - Q^2) u^2).
+///   P^2 u R_F(x, y, P^2) - (P^2 - Q^2) P^2 u^3 R_D(x, y, P^2) / 3,
+/// x = P^2 w^2, y = x + Q^2 u^2 (= P^2 - (P^2 - Q^2) u^2).
 /// On the ellipse (a sin psi, b cos psi) the arc from the top (0, b) is this with P = a, Q = b, u = sin psi; from the
 /// vertex (a, 0), with P = b, Q = a, u = its angle's sine. Well conditioned for u <= 1/sqrt(2) (the caller measures
 /// from the nearer vertex); u = 1 gives the quarter perimeter.
