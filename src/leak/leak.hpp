@@ -60,7 +60,7 @@ class Leak {
   Leak(const Stadium<R>& stadium, const ExactReal& width, const ExactReal& start, const ExactReal& omega)
       : stadium_(stadium), schedule_(start, omega) {
     view_.first = 0, view_.count = 4;
-    view_.rotating = schedule_.rotating();
+    view_.by_s = schedule_.rotating();
     view_.omega_hi = schedule_.omega_terms().hi, view_.omega_lo = schedule_.omega_terms().lo;
     view_.start = schedule_.start();
     view_.half_width = round_exact<R>(width / ExactReal::parse("2"));

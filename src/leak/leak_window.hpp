@@ -44,7 +44,7 @@ struct PieceWindow {
 template <class R, int P = kMaxTablePieces>
 struct LeakView {
   int first = 0, count = 0;
-  bool rotating = false;
+  bool by_s = false;  ///< decided by its phase and the hit's s (a moving leak; any leak on an ellipse), not by windows
   R omega_hi{0}, omega_lo{0}, start{0}, half_width{0};
   int n_windows = 0;
   PieceWindow<R> window[6 * P];
@@ -101,7 +101,7 @@ template <class T, class R, int P, class PieceOf, class SOf, class ProductError>
                                                                const ProductError& product_error) {
   using M = mask_of<T>;
   M in(false);
-  if (!l.rotating) {
+  if (!l.by_s) {
     // one number looks at its piece's windows only; a pack at every window, lane by lane
     int from = 0, to = l.n_windows;
     if constexpr (std::is_same_v<M, bool>) from = l.win_first[piece], to = from + l.win_count[piece];

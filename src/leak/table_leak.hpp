@@ -92,7 +92,7 @@ LeakView<R> table_leak(const Table<R>& table, const LeakSpec& spec) {
   // a leak on an ellipse decides by the hit's s even when it stands still (its phase is then its start, exactly):
   // an ellipse's windows would need their ends' points, the inverse of its arc length, for no gain
   const bool on_ellipse = table.piece(v.first).kind == PieceKind::ellipse;
-  v.rotating = schedule.rotating() || on_ellipse;
+  v.by_s = schedule.rotating() || on_ellipse;
   v.omega_hi = schedule.omega_terms().hi, v.omega_lo = schedule.omega_terms().lo;
   v.start = schedule.start();
   v.half_width = round_exact<R>(spec.width / ExactReal::parse("2"));
@@ -101,7 +101,7 @@ LeakView<R> table_leak(const Table<R>& table, const LeakSpec& spec) {
     v.mid[k] = (p.s0 + p.s1) / 2;
     v.reach[k] = (p.s1 - p.s0) / 2 + v.half_width;
   }
-  if (!v.rotating) detail::build_windows(table, spec.loop, v);
+  if (!v.by_s) detail::build_windows(table, spec.loop, v);
   return v;
 }
 

@@ -15,7 +15,7 @@ namespace {
 /// arc's middle mid[k]; 1e-9 covers this double arithmetic's roundings and the rough phase's bound many times over.
 bool arcs_reachable(const simd::KernelScene& s) {
   const simd::StadiumLeak& l = s.leak;
-  if (!l.rotating) return false;
+  if (!l.by_s) return false;
   const double sweep = (std::abs(l.omega_hi) + std::abs(l.omega_lo)) * s.t_max / 2;
   if (!(sweep < 0.5)) return true;
   const double centre = l.start + l.omega_hi * s.t_max / 2;
@@ -46,7 +46,7 @@ simd::KernelScene simd_scene(const Model<double>& m) {
   // the rough phase pays only where its bound leaves few lanes to the exact one (and far from s's wrap at 1/2)
   const double bound = formula::rough_phase_bound(s.leak.omega_hi, s.leak.omega_lo, s.t_max);
   const double hw = s.leak.half_width;
-  s.phase_bound = s.leak.rotating && hw <= 0.25 && bound <= hw / 64 ? bound : 0;
+  s.phase_bound = s.leak.by_s && hw <= 0.25 && bound <= hw / 64 ? bound : 0;
   s.density_windows = 0;
   s.bins = 1;
   // a jump costs a few hundred ns, about 40 vectorised bounces: hand over only long phases

@@ -170,7 +170,7 @@ struct Probe {
 };
 struct ProbeResult {
   double bin;    ///< f_c's bin floor(s S.bins), from the kernel's s
-  bool in_leak;  ///< the kernel's leak test (the moving one when S.leak.rotating)
+  bool in_leak;  ///< the kernel's leak test (the moving one when S.leak.by_s)
 };
 /// The kernel's own decisions at given collision points, for the ulp-edge probe test: each point's f_c bin and
 /// whether it is in the leak, by the kernel of S.lanes lanes, computed as run() computes them (the same

@@ -330,7 +330,7 @@ struct StadiumStep {
   static constexpr bool can_lose = false, hands_off = true;
   HitLanes hit(const V& qx, const V& qy, const V& vx, const V& vy) const { return next_hit(S, qx, qy, vx, vy); }
   Taken leak(const HitLanes& h, const V& t, const MV& look) const {
-    return {S.leak.rotating ? in_moving_leak(S, h, t, look) : in_stationary_leak(S, h, look), V(0.0)};
+    return {S.leak.by_s ? in_moving_leak(S, h, t, look) : in_stationary_leak(S, h, look), V(0.0)};
   }
   /// formula::reflect's pieces, every lane computing the arc's reflection
   void reflect(const HitLanes& h, const V& vx, const V& vy, Pack& g) const {
@@ -410,7 +410,7 @@ void probe_kernel(const KernelScene& S, const Probe* points, ProbeResult* out, s
     h.x = load(x), h.y = load(y), h.t = V(0.0), h.cx = select(h.right, V(S.half_d), V(-S.half_d));
     const MV all(true);
     store(density_bin_of(S, h, all), bin);
-    const MV in = S.leak.rotating ? in_moving_leak(S, h, load(t), all) : in_stationary_leak(S, h, all);
+    const MV in = S.leak.by_s ? in_moving_leak(S, h, load(t), all) : in_stationary_leak(S, h, all);
     store(select(in, V(1.0), V(0.0)), leak);
     for (std::size_t k = 0; k < m; ++k) out[i + k] = {bin[k], leak[k] != 0};
   }
