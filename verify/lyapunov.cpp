@@ -43,8 +43,8 @@ double jump_denominator(const TableModel<double>& model, const TraceStep<double,
   if (p.kind == PieceKind::segment) return 0;
   if (p.kind == PieceKind::ellipse) {
     // radius of curvature a^2 b^2 |g|^3 with g = (x / a^2, y / b^2) from the centre, cos(phi) = |v . g| / |g|
-    const double gx = (s.q.x - p.cx) * p.ga, gy = (s.q.y - p.cy) * p.gb, g2 = gx * gx + gy * gy;
-    const double rho_cos = p.ea2 * p.eb2 * g2 * std::abs(dot(s.v, Vec2<double>{gx, gy}));
+    const Vec2<double> g = reflection_axis(p, s.q.x, s.q.y);
+    const double rho_cos = p.ea2 * p.eb2 * dot(g, g) * std::abs(dot(s.v, g));
     return p.clockwise ? rho_cos : -rho_cos;
   }
   const double cos_phi = std::abs(dot(s.v, Vec2<double>{s.q.x - p.cx, s.q.y - p.cy})) * p.inv_rho;

@@ -124,10 +124,11 @@ class Table {
   ROTLEAK_HD Vec2<R> tangent(int k, const Vec2<R>& q) const {
     const TablePiece<R>& p = piece_[k];
     if (p.kind == PieceKind::segment) return {p.ex, p.ey};
-    if (p.kind == PieceKind::ellipse) {  // the gradient turned a quarter along the travel
+    if (p.kind == PieceKind::ellipse) {  // the gradient (the reflection's axis) turned a quarter along the travel
       using std::sqrt;
-      const R gx = (q.x - p.cx) * p.ga, gy = (q.y - p.cy) * p.gb, n = sqrt(gx * gx + gy * gy);
-      return p.clockwise ? Vec2<R>{R(gy / n), R(-(gx / n))} : Vec2<R>{R(-(gy / n)), R(gx / n)};
+      const Vec2<R> g = reflection_axis(p, q.x, q.y);
+      const R n = sqrt(g.x * g.x + g.y * g.y);
+      return p.clockwise ? Vec2<R>{R(g.y / n), R(-(g.x / n))} : Vec2<R>{R(-(g.y / n)), R(g.x / n)};
     }
     // as the stadium's: the radius vector times 1 / rho, turned a quarter along the travel
     const R rx = (q.x - p.cx) * p.inv_rho, ry = (q.y - p.cy) * p.inv_rho;
@@ -229,9 +230,9 @@ class Table {
       const R to_b = sqrt((q.x - p.bx) * (q.x - p.bx) + (q.y - p.by) * (q.y - p.by));
       R d = to_a < to_b ? to_a : to_b;
       if (p.kind == PieceKind::ellipse) {  // |F| / |grad F| of F = X^2 + Y^2 - 1 (X, Y scaled): first order
-        const R X = (q.x - p.cx) * p.inv_ea, Y = (q.y - p.cy) * p.inv_eb;
-        const R gx = (q.x - p.cx) * p.ga, gy = (q.y - p.cy) * p.gb, f = X * X + Y * Y - R(1);
-        d = (f < R(0) ? R(-f) : f) / (R(2) * sqrt(gx * gx + gy * gy));
+        const R X = (q.x - p.cx) * p.inv_ea, Y = (q.y - p.cy) * p.inv_eb, f = X * X + Y * Y - R(1);
+        const Vec2<R> g = reflection_axis(p, q.x, q.y);
+        d = (f < R(0) ? R(-f) : f) / (R(2) * sqrt(g.x * g.x + g.y * g.y));
       } else if (p.kind == PieceKind::segment) {
         const R u = ((q.x - p.ax) * ex + (q.y - p.ay) * ey) / (ex * ex + ey * ey);
         if (u > R(0) && u < R(1)) {
@@ -269,8 +270,7 @@ class Table {
     const R L = loop_length_[p.loop], inv_L = inv_loop_length_[p.loop], quarter = pi_ / R(2);
     const R k = floor(mid(s * R(4)));
     const R lo = mid(k * quarter), hi = mid(lo + quarter);
-    const auto offset = [&](const R& psi) {  // s(psi) - s, wrapped into [-1/2, 1/2)
-      const formula::SinCos<R> sc = formula::tier_sin_cos(psi);
+    const auto offset = [&](const formula::SinCos<R>& sc) {  // s(psi) - s from psi's sine and cosine, in [-1/2, 1/2)
       const Vec2<R> q = ellipse_point(p, sc.cos, sc.sin);
       R d = ellipse_point_s(p, q.x, q.y, inv_L) - s;
       if (mid(d) >= R(0.5))
@@ -282,15 +282,15 @@ class Table {
     const R tol = R(4) * num_traits<R>::epsilon();
     R psi = mid(lo + (s * R(4) - k) * quarter);
     for (int i = 0; i < 200; ++i) {
-      const R d = mid(offset(psi));
       const formula::SinCos<R> sc = formula::tier_sin_cos(psi);
+      const R d = mid(offset(sc));
       R next = mid(psi - d * L / sqrt(p.ea2 * (sc.cos * sc.cos) + p.eb2 * (sc.sin * sc.sin)));
       if (next < lo || next > hi) next = mid((psi + (d > R(0) ? lo : hi)) / R(2));
       const R step = mid(abs(next - psi));
       psi = next;
       if (step <= mid(tol * (R(1) + psi))) break;
     }
-    if constexpr (interval) psi = psi - offset(psi) * L * hull(p.inv_ea, p.inv_eb);
+    if constexpr (interval) psi = psi - offset(formula::tier_sin_cos(psi)) * L * hull(p.inv_ea, p.inv_eb);
     return psi;
   }
 
