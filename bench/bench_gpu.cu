@@ -151,10 +151,11 @@ int main(int argc, char** argv) {
     // the engine kernel's registers and occupancy, from one particle of the same model
     const Model<double> model = Model<double>::from(s);
     const DensityCells cells = scene_density_cells(s);
-    gpu::Device device(model, s.collision_density ? &cells : nullptr, false);
-    gpu::End end;
-    gpu::Batch one{0, 1, nullptr, nullptr, s.seed, s.creation_window};
-    device.run(one, &end);
+    gpu::Shape shape;
+    shape.density = s.collision_density ? &cells : nullptr;
+    gpu::Device device(model, shape);
+    gpu::Batch one{0, 1, nullptr, nullptr, s.seed, s.creation_window, nullptr};
+    device.run(one);
     const double ratio = median(engine) / median(plain);
     std::printf("| %s | %.3g | %.3g | %.2f | %.2f | %.2f | %.3g | %.1f | %d, %d | %d, %d |\n", cases[k].name,
                 median(engine), median(plain), ratio, median(engine_s), median(plain_s), cpu.rate,

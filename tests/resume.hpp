@@ -16,12 +16,14 @@ struct StopAndResume {
   RunResult resumed;  ///< the rest of the blocks from it, on 1 thread
 };
 
-inline StopAndResume stop_and_resume(const Scene& scene, Engine engine = Engine::automatic) {
+inline StopAndResume stop_and_resume(const Scene& scene, Engine engine = Engine::automatic,
+                                     std::uint64_t gpu_launch_blocks = 0) {
   StopAndResume out;
   std::atomic<bool> stop{false};
   RunOptions first;
   first.threads = 2;
   first.engine = engine;
+  first.gpu_launch_blocks = gpu_launch_blocks;
   first.checkpoint_seconds = 1e-9;
   first.stop = &stop;
   TallyFile saved{simulation_inputs(scene, "auto"), scene.particles, 0, scene.particles, {}, {}, {}};
@@ -37,6 +39,7 @@ inline StopAndResume stop_and_resume(const Scene& scene, Engine engine = Engine:
   RunOptions rest;
   rest.threads = 1;
   rest.engine = engine;
+  rest.gpu_launch_blocks = gpu_launch_blocks;
   rest.blocks = &todo;
   rest.start_done = &out.read.done;
   rest.start = &out.read.tally;

@@ -1,4 +1,5 @@
-// Bit-identity of two runs of one scene: every tally and every particle's escape record. What the engine tests
+// Bit-identity of two runs of one scene: every tally (the estimator's exact sums too) and every particle's escape
+// record. What the engine tests
 // share (tests/test_table_runs.cpp: the kernel against the scalar core on every table; tests/test_gpu.cpp: the GPU
 // engine against it). A failure counts the particles that differ, the escape's s apart from the rest (it alone
 // takes the atan2 of an arc hit, where two libraries' functions once differed).
@@ -22,6 +23,7 @@ inline void expect_same_run(const RunResult& a, const RunResult& b, const std::s
   EXPECT_EQ(a.tally.escapes_by_leak, b.tally.escapes_by_leak) << what;
   EXPECT_EQ(a.tally.collision_density, b.tally.collision_density) << what;
   EXPECT_TRUE(a.tally.collision_density_w == b.tally.collision_density_w) << what << ": the weighted f_c";
+  EXPECT_TRUE(a.tally.estimator == b.tally.estimator) << what << ": the survival estimator's sums";
   ASSERT_EQ(a.records.size(), b.records.size()) << what;
   std::size_t differ = 0, s_differ = 0, first = a.records.size();
   for (std::size_t i = 0; i < a.records.size(); ++i) {

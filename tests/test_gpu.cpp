@@ -1,6 +1,7 @@
-// The GPU engine (sim/gpu): its name and its one-line refusals everywhere; on a machine with a CUDA device, the same
-// ends as the CPU's scalar core, particle for particle, on the stadium (f_c, a moving leak with mupo weights) and on
-// other tables (several leaks, dispersing and mixed boundaries). Without a device the device tests skip, saying why
+// The GPU engine (sim/gpu): its name and its one-line refusals everywhere; on a machine with a CUDA device (and
+// emulated on this machine's cores everywhere), the same tallies and ends as the CPU's scalar core, particle for
+// particle, on the stadium (f_c, a moving leak with mupo weights) and on other tables (several leaks, dispersing and
+// mixed boundaries), and the same split runs. Without a device the device tests skip, saying why
 // in one line; scripts/gpu_check.sh runs them where a device is.
 #include <gtest/gtest.h>
 
@@ -35,16 +36,22 @@ RunResult run_on(const Scene& scene, Engine engine) {
 /// (its overrides, `particles` each) equal the scalar core's. Error model: none -- the step runs the scalar core's
 /// operations in its order (-fmad=false on a device), so nothing may differ.
 void expect_same_as_scalar(const std::vector<std::pair<std::string, std::vector<std::string>>>& scenes,
-                           std::uint64_t particles) {
-  for (const auto& [file, overrides] : scenes) {
-    std::vector<std::string> set = overrides;
-    set.push_back("ensemble.particles=" + std::to_string(particles));
-    set.push_back("observe.escapes=true");
-    const Scene scene = scene_of(file, set);
-    const RunResult cpu = run_on(scene, Engine::scalar), gpu = run_on(scene, Engine::gpu);
-    EXPECT_EQ(gpu.engine, Engine::gpu);
-    test::expect_same_run(cpu, gpu, file);
-  }
+                           std::uint64_t particles, std::uint64_t launch_blocks = 0) {
+  for (const auto& [file, overrides] : scenes)
+    for (const bool records : {true, false}) {  // with records the ends come back; without, only the tallies
+      if (records && std::find(overrides.begin(), overrides.end(), "run.splitting=true") != overrides.end())
+        continue;  // a split run keeps no escape records
+      std::vector<std::string> set = overrides;
+      set.push_back("ensemble.particles=" + std::to_string(particles));
+      set.push_back(std::string("observe.escapes=") + (records ? "true" : "false"));
+      const Scene scene = scene_of(file, set);
+      RunOptions opt;
+      opt.engine = Engine::gpu;
+      opt.gpu_launch_blocks = launch_blocks;
+      const RunResult cpu = run_on(scene, Engine::scalar), gpu = run_ensemble(scene, opt);
+      EXPECT_EQ(gpu.engine, Engine::gpu);
+      test::expect_same_run(cpu, gpu, file + (records ? " (escape records)" : ""));
+    }
 }
 
 const std::vector<std::pair<std::string, std::vector<std::string>>> kScenes = {
@@ -55,6 +62,17 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kScenes = {
     {"tables/sinai.toml", {}},
     {"tables/mushroom.toml", {}},
     {"tables/lemon.toml", {"leak.omega=1/3"}},
+};
+
+/// Split runs (population splitting; the members advanced on the device level by level): omega = 2/3 with mupo and
+/// a weighted f_c, the stadium's s_L = 0.25 and the Sinai table (every member splits).
+const std::vector<std::pair<std::string, std::vector<std::string>>> kSplitScenes = {
+    {"rotating.toml",
+     {"leak.omega=2/3", "ensemble.sampling=mupo", "run.splitting=true", "run.t_max=300", "fit.kappa_window=[0, 200]",
+      "observe.collision_density={ bins = 50, windows = [[0, 300], [100, 300]] }"}},
+    {"stationary_sL_0.25.toml",
+     {"ensemble.sampling=mupo", "run.splitting=true", "run.t_max=300", "fit.kappa_window=[0, 200]"}},
+    {"tables/sinai.toml", {"run.splitting=true", "run.t_max=200", "fit.kappa_window=[0, 150]"}},
 };
 
 /// ROTLEAK_GPU_EMULATE=1 while it lives: the engine's launches on this machine's cores.
@@ -84,16 +102,8 @@ TEST(GpuEngine, IsNamedAndRefusedInOneLineWhereItCannotRun) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
     }
   }
-  // where it runs (here emulated): what it does not run yet is refused by name, and a bad emulation switch too
+  // a bad emulation switch is refused naming it
   const Emulated on;
-  scene = scene_of("quickstart.toml", {"ensemble.particles=100", "ensemble.sampling=mupo", "run.splitting=true"});
-  try {
-    plan_run(scene, opt);
-    FAIL() << "a split run went to the GPU engine";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.key(), "--engine");
-    EXPECT_NE(std::string(e.what()).find("run.splitting"), std::string::npos) << e.what();
-  }
   setenv("ROTLEAK_GPU_EMULATE", "yes", 1);
   try {
     gpu::unavailable();
@@ -108,44 +118,59 @@ TEST(GpuEngine, EndsEveryParticleAsTheScalarCoreDoes) {
   expect_same_as_scalar(kScenes, 20000);
 }
 
+TEST(GpuEngine, SplitRunsAreTheScalarCoresOnTheDevice) {
+  if (const std::string why = gpu::unavailable(); !why.empty()) GTEST_SKIP() << why;
+  expect_same_as_scalar(kSplitScenes, 20000);
+}
+
 TEST(GpuEngine, EmulatedOnTheHostEndsEveryParticleAsTheScalarCoreDoes) {
-  // the engine's host side -- batches, draws made here or there, records in id order, f_c's cells and the weighted
-  // f_c's digits into exact sums -- with the kernel's code run on this machine's cores
+  // the engine's host side -- launches of several blocks (two here), draws made here or there, the tallies counted
+  // by the lanes into words and digits, drained into exact sums, escape records in id order -- with the kernel's code
+  // run on this machine's cores
   const Emulated on;
   EXPECT_EQ(gpu::unavailable(), "");
-  expect_same_as_scalar(kScenes, 1500);
+  expect_same_as_scalar(kScenes, 4096 * 3 + 17, 2);
+}
+
+TEST(GpuEngine, EmulatedSplitRunsAreTheScalarCores) {
+  // the lines of several blocks (4096 lines each) advanced together, one launch a split time, booked block by block:
+  // the tallies and the lines estimator's sums of the scalar core's run, block by block
+  const Emulated on;
+  expect_same_as_scalar(kSplitScenes, 4096 + 300, 0);
 }
 
 TEST(GpuEngine, EmulatedStopAndResumeGiveTheWholeRun) {
-  // a run of three launches stopped at its first checkpoint and resumed from the checkpoint's bytes: the tallies of
-  // one uninterrupted pass
+  // a run of three launches (4 blocks each at most) stopped at its first checkpoint and resumed from the
+  // checkpoint's bytes: the tallies of one uninterrupted pass
   const Emulated on;
   const Scene scene =
       scene_of("rotating.toml", {"leak.omega=2/3", "ensemble.sampling=mupo", "run.t_max=40",
                                  "observe.collision_density={ bins = 100, windows = [[0, 40], [10, 40]] }",
-                                 "fit.kappa_window=[0, 30]", "ensemble.particles=2097153"});
+                                 "fit.kappa_window=[0, 30]", "ensemble.particles=32769"});
   RunOptions opt;
   opt.engine = Engine::gpu;
   const RunResult once = run_ensemble(scene, opt);
-  const rotleak::test::StopAndResume r = rotleak::test::stop_and_resume(scene, Engine::gpu);
+  const rotleak::test::StopAndResume r = rotleak::test::stop_and_resume(scene, Engine::gpu, 4);
   EXPECT_FALSE(r.part.complete);
-  EXPECT_EQ(r.read.done.size(), 256u);  // the first launch's blocks
+  EXPECT_EQ(r.read.done.size(), 4u);  // the first launch's blocks
   EXPECT_TRUE(r.resumed.complete);
   EXPECT_EQ(once.tally.escapes_per_bin, r.resumed.tally.escapes_per_bin);
   EXPECT_EQ(once.tally.collision_density, r.resumed.tally.collision_density);
   EXPECT_TRUE(once.tally.collision_density_w == r.resumed.tally.collision_density_w);
+  EXPECT_TRUE(once.tally.estimator == r.resumed.tally.estimator);
   EXPECT_EQ(once.tally.collisions, r.resumed.tally.collisions);
 }
 
 TEST(GpuEngine, CheckpointsBetweenLaunchesChangeNothing) {
   if (const std::string why = gpu::unavailable(); !why.empty()) GTEST_SKIP() << why;
-  // three launches (a launch takes 256 blocks of 4096 ids at most), a checkpoint after each of the first two: the
-  // tallies merged at each checkpoint, then the rest added, give what one pass gives
+  // three launches (256 blocks of 4096 ids at most here), a checkpoint after each of the first two: the tallies
+  // drained from the device at each checkpoint, then the rest added, give what one pass gives
   const Scene scene = scene_of("quickstart.toml", {"ensemble.particles=2200000", "observe.escapes=false"});
   RunOptions plain;
   plain.engine = Engine::gpu;
   const RunResult once = run_ensemble(scene, plain);
   RunOptions opt = plain;
+  opt.gpu_launch_blocks = 256;
   opt.checkpoint_seconds = 1e-9;
   int checkpoints = 0;
   std::uint64_t last_done = 0;

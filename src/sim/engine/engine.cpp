@@ -151,16 +151,28 @@ class Worker {
                     local.collision_density.data(), local.weighted() ? local.collision_density_w.data() : nullptr);
   }
 
-  /// The GPU engine's ends of particles [lo, lo + n) into the tallies, in id order, each with its weight (weights:
-  /// their draws', when the run is weighted; else 1).
-  void record_ends(std::uint64_t lo, std::uint64_t n, const gpu::End* ends, const double* weights) {
-    for (std::uint64_t i = 0; i < n; ++i) {
-      ParticleEnd e;
-      e.fate = static_cast<Fate>(ends[i].fate);
-      e.t = ends[i].t, e.s = ends[i].s, e.collisions = ends[i].collisions, e.leak = ends[i].leak;
-      e.weight = weights ? weights[i] : 1.0;
-      record(lo + i, e);
-    }
+  /// The GPU engine's escape records of particles [lo, lo + n) (their tallies it counts on the device).
+  void record_ends(std::uint64_t lo, std::uint64_t n, const gpu::End* ends) {
+    for (std::uint64_t i = 0; i < n; ++i)
+      records_[lo + i] = {ends[i].t, ends[i].s, ends[i].collisions, static_cast<Fate>(ends[i].fate), ends[i].leak};
+  }
+  /// A split run's lines of ids first_id + [lo, hi) for each range, their members advanced on the GPU engine's
+  /// device level by level (all ranges' members in one launch), booked into the thread's tallies as run_block books
+  /// them.
+  void run_device_lines(gpu::Device& device, const std::vector<std::pair<std::uint64_t, std::uint64_t>>& ranges) {
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
+    for (const auto& [lo, hi] : ranges) ids.emplace_back(s_.opt.first_id + lo, s_.opt.first_id + hi);
+    std::vector<gpu::Start> starts;
+    const auto advance = [&](const std::vector<Member>& m, const std::vector<double>& w, double stop,
+                             std::vector<ParticleEnd>& ends) {
+      starts.resize(m.size());
+      for (std::size_t i = 0; i < m.size(); ++i) starts[i] = {m[i].ps, m[i].collisions};
+      device.set_t_max(stop);
+      gpu::Batch b;
+      b.count = m.size(), b.weights = w.data(), b.starts = starts.data();
+      device.run(b, nullptr, ends.data());
+    };
+    run_lines_together(s_.plan, *s_.sampler, *s_.split_rule, ids, advance, local, s_.table ? &*s_.table : nullptr);
   }
   /// f_c's counts by time cell (cells x bins), where the GPU engine adds its own; null without f_c.
   std::uint64_t* cell_counts() { return cell_counts_.empty() ? nullptr : cell_counts_.data(); }
@@ -299,61 +311,87 @@ class Worker {
   std::vector<simd::Start> starts_;         ///< a split run's members, as the kernel takes them
 };
 
-/// Blocks a GPU launch takes at most (2^20 particles: the device's threads several times over, its buffers 64 MB).
-constexpr std::uint64_t kGpuBatchBlocks = 256;
+/// Blocks a GPU launch takes at most: 2^23 particles, 30 or so times the threads a device holds at once (whose tail,
+/// the last particles' lives, is then a small part of a launch), their escape records 256 MB. A split run's launches
+/// take the members of 64 blocks' lines (2^18 lines) at a split time.
+constexpr std::uint64_t kGpuBatchBlocks = 2048;
+constexpr std::uint64_t kGpuSplitBlocks = 64;
+
+/// A GPU launch's draws, weights and escape records, kept from one launch to the next.
+struct GpuBuffers {
+  std::vector<InitialDraw> draws;
+  std::vector<double> weights;
+  std::vector<gpu::End> ends;
+};
+
+/// One launch of particles [lo, lo + count): the draws made here unless the device makes them (the uniform Birkhoff
+/// scheme), on all threads, each by its id; the escape records, when kept, written in id order.
+void launch_particles(const RunSetup<double>& setup, gpu::Device& device, Worker<double>& worker, std::uint64_t lo,
+                      std::uint64_t count, GpuBuffers& buf) {
+  const RunOptions& opt = setup.opt;
+  const bool weighted = worker.local.weighted();
+  gpu::Batch batch{opt.first_id + lo, count, nullptr, nullptr, 0, 0, nullptr};
+  if (const InitialConditions* uniform = opt.draws ? nullptr : setup.sampler->uniform_birkhoff()) {
+    batch.seed = uniform->seed(), batch.creation_window = uniform->creation_window();
+  } else {
+    buf.draws.resize(count);
+    buf.weights.resize(weighted ? count : 0);
+    const auto m = static_cast<std::int64_t>(count);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < m; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      buf.draws[k] = setup.source(lo + k);
+      if (weighted) buf.weights[k] = setup.source.weight(buf.draws[k]);
+    }
+    batch.draws = buf.draws.data();
+    if (weighted) batch.weights = buf.weights.data();
+  }
+  buf.ends.resize(setup.scene.escape_records ? count : 0);
+  device.run(batch, buf.ends.empty() ? nullptr : buf.ends.data());
+  if (!buf.ends.empty()) worker.record_ends(lo, count, buf.ends.data());
+}
 
 /// The GPU engine's lifecycle: the todo blocks in order, one launch for each run of consecutive blocks (at most
-/// kGpuBatchBlocks), the ends recorded on this thread in id order into one Worker's tallies; progress after each
-/// launch, a checkpoint every checkpoint_seconds, a stop between launches. The draws are the device's own for the
-/// uniform Birkhoff scheme, else the sampler's, made here on all threads (each by its id: no order to keep).
+/// kGpuBatchBlocks; for a split run, its lines' epochs for kGpuSplitBlocks), the tallies counted on the device and
+/// taken into one Worker's at each merge, escape records written here in id order; progress after each launch, a
+/// checkpoint every checkpoint_seconds, a stop between launches. The draws are the device's own for the uniform
+/// Birkhoff scheme, else the sampler's, made here on all threads (each by its id: no order to keep).
 void run_gpu(const RunSetup<double>& setup, RunResult& result, const IntervalSet& todo, std::uint64_t goal) {
   const RunOptions& opt = setup.opt;
   const std::uint64_t n = setup.scene.particles, total = todo.size();
   const DensityCells* cells = setup.scene.collision_density ? &setup.cells : nullptr;
-  const bool weighted = result.tally.weighted();
-  gpu::Device device =
-      setup.table ? gpu::Device(*setup.table, cells, weighted) : gpu::Device(setup.model, cells, weighted);
-  const InitialConditions* uniform = opt.draws ? nullptr : setup.sampler->uniform_birkhoff();
-  std::vector<InitialDraw> draws;
-  std::vector<double> weights;
-  std::vector<gpu::End> ends;
+  const bool split = setup.split_rule != nullptr;
+  const gpu::Shape shape = gpu::Shape::of(result.tally, setup.scene.survival_dt, cells);
+  gpu::Device device = setup.table ? gpu::Device(*setup.table, shape) : gpu::Device(setup.model, shape);
+  GpuBuffers buffers;
   std::optional<Worker<double>> worker(std::in_place, setup, result.records);
   const auto merge = [&] {
+    device.take(worker->local, worker->cell_counts(), worker->cell_sums());
     worker->flush();
     result.tally.merge(worker->local);
     worker.emplace(setup, result.records);
   };
   result.threads = 1;
   std::uint64_t done = particles_in(result.done, n);
+  const std::uint64_t most = opt.gpu_launch_blocks ? opt.gpu_launch_blocks : split ? kGpuSplitBlocks : kGpuBatchBlocks;
   auto deadline = epoch_deadline(opt.checkpoint_seconds);
   for (std::uint64_t at = 0; at < total;) {
     std::uint64_t end = at + 1;  // todo positions [at, end): consecutive blocks
-    while (end < total && end - at < kGpuBatchBlocks && todo.nth(end) == todo.nth(end - 1) + 1) ++end;
+    while (end < total && end - at < most && todo.nth(end) == todo.nth(end - 1) + 1) ++end;
     const std::uint64_t lo = todo.nth(at) * kBlockSize, hi = std::min(n, (todo.nth(end - 1) + 1) * kBlockSize);
     const std::uint64_t count = hi - lo;
-    gpu::Batch batch{opt.first_id + lo, count, nullptr, 0, 0};
-    if (uniform) {
-      batch.seed = uniform->seed(), batch.creation_window = uniform->creation_window();
+    if (split) {
+      std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;
+      for (std::uint64_t b = lo; b < hi; b += kBlockSize) ranges.emplace_back(b, std::min(hi, b + kBlockSize));
+      worker->run_device_lines(device, ranges);
     } else {
-      draws.resize(count);
-      weights.resize(weighted ? count : 0);
-      const auto m = static_cast<std::int64_t>(count);
-#pragma omp parallel for schedule(static)
-      for (std::int64_t i = 0; i < m; ++i) {
-        const auto k = static_cast<std::size_t>(i);
-        draws[k] = setup.source(lo + k);
-        if (weighted) weights[k] = setup.source.weight(draws[k]);
-      }
-      batch.draws = draws.data();
-      if (weighted) batch.weights = weights.data();
+      launch_particles(setup, device, *worker, lo, count, buffers);
     }
-    ends.resize(count);
-    device.run(batch, ends.data());
-    if (std::uint64_t* counts = worker->cell_counts()) device.take_density(counts, worker->cell_sums());
-    worker->record_ends(lo, count, ends.data(), weighted ? weights.data() : nullptr);
     result.done.insert(todo.slice(at, end));
     at = end, done += count;
-    if (opt.progress) opt.progress(done, goal, result.tally.collisions + worker->local.collisions, false);
+    if (opt.progress)
+      opt.progress(done, goal, result.tally.collisions + worker->local.collisions + (split ? 0 : device.collisions()),
+                   false);
     if (at < total && ((opt.stop && opt.stop->load()) || std::chrono::steady_clock::now() >= deadline)) {
       merge();
       if (opt.checkpoint) opt.checkpoint(result.tally, result.done, result.records);

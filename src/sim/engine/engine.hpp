@@ -28,6 +28,9 @@ struct RunOptions {
   /// widest this CPU runs), 4 (AVX2) or 8 (AVX-512).
   /// Every width gives the same bits; tests and benchmarks pick one.
   int simd_lanes = 0;
+  /// The GPU engine's blocks a launch at most (0: its default, 2048 blocks; a split run's, 64): tests take fewer to
+  /// run several launches on few particles. The result does not depend on it.
+  std::uint64_t gpu_launch_blocks = 0;
   std::uint64_t first_id = 0;  ///< particles are ids [first_id, first_id + scene.particles)
   /// When set, particle i starts from (*draws)[i] instead of the scene's draw of its id (its size
   /// must be scene.particles): how verify replays chosen trajectories through the engine.

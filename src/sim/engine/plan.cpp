@@ -49,9 +49,8 @@ Engine resolve_engine(Engine requested, const Scene& scene) {
   const bool fits = scene.tier == Tier::double_ &&
                     (!scene.collision_density ||
                      scene.collision_density->windows.size() <= static_cast<std::size_t>(simd::kMaxDensityWindows));
-  if (requested == Engine::gpu) {  // the scalar core on the device: the double tier, unsplit
+  if (requested == Engine::gpu) {  // the scalar core on the device: the double tier
     if (const std::string why = gpu::unavailable(); !why.empty()) throw std::runtime_error(why);
-    if (scene.splitting.on) throw std::runtime_error("the GPU engine does not run split runs yet (run.splitting)");
     if (!fits)
       throw std::runtime_error("the GPU engine runs the double tier (with at most " +
                                std::to_string(simd::kMaxDensityWindows) + " collision_density windows)");

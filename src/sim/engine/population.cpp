@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numbers>
 
 namespace rotleak {
@@ -146,28 +147,44 @@ class LinesRun {
     }
   }
 
+  /// Level k's members, their weights and the time they are advanced to (stop()), ready for the engine; false when
+  /// no member is left.
+  bool prepare(std::uint64_t k) {
+    if (pop_.empty()) return false;
+    stop_ = std::min(static_cast<double>(k + 1) * scene_.splitting.every, scene_.t_max);
+    weights_.resize(pop_.size());
+    for (std::size_t i = 0; i < pop_.size(); ++i) weights_[i] = std::ldexp(w0(pop_[i].line), -pop_[i].level);
+    ends_.assign(pop_.size(), ParticleEnd{});
+    return true;
+  }
+  const std::vector<Member>& members() const { return pop_; }
+  const std::vector<double>& weights() const { return weights_; }
+  std::vector<ParticleEnd>& ends() { return ends_; }
+  double stop() const { return stop_; }
+
+  /// Level k's ends (ends(), by member) booked line by line; the survivors split and thinned into level k + 1.
+  void book(std::uint64_t k) {
+    const bool last = !(stop_ < scene_.t_max);
+    next_.clear();
+    for (std::size_t a = 0; a < pop_.size();) {  // line by line (members are sorted by line, then index)
+      std::size_t b = a;
+      while (b < pop_.size() && pop_[b].line == pop_[a].line) ++b;
+      book_ends(a, b, last);
+      if (!last)
+        next_level(a, b, k, stop_);
+      else
+        books_[pop_[a].line - lo_].close(e_);
+      a = b;
+    }
+    pop_.swap(next_);
+    if (!pop_.empty()) e_.levels = std::max(e_.levels, k + 1);
+    e_.max_population = std::max<std::uint64_t>(e_.max_population, pop_.size());
+  }
+
   void run(const AdvanceMembers& advance) {
-    for (std::uint64_t k = 0; !pop_.empty(); ++k) {
-      const double stop = std::min(static_cast<double>(k + 1) * scene_.splitting.every, scene_.t_max);
-      const bool last = !(stop < scene_.t_max);
-      weights_.resize(pop_.size());
-      for (std::size_t i = 0; i < pop_.size(); ++i) weights_[i] = std::ldexp(w0(pop_[i].line), -pop_[i].level);
-      ends_.assign(pop_.size(), ParticleEnd{});
-      advance(pop_, weights_, stop, ends_);
-      next_.clear();
-      for (std::size_t a = 0; a < pop_.size();) {  // line by line (members are sorted by line, then index)
-        std::size_t b = a;
-        while (b < pop_.size() && pop_[b].line == pop_[a].line) ++b;
-        book_ends(a, b, last);
-        if (!last)
-          next_level(a, b, k, stop);
-        else
-          books_[pop_[a].line - lo_].close(e_);
-        a = b;
-      }
-      pop_.swap(next_);
-      if (!pop_.empty()) e_.levels = std::max(e_.levels, k + 1);
-      e_.max_population = std::max<std::uint64_t>(e_.max_population, pop_.size());
+    for (std::uint64_t k = 0; prepare(k); ++k) {
+      advance(pop_, weights_, stop_, ends_);
+      book(k);
     }
   }
 
@@ -320,6 +337,7 @@ class LinesRun {
   std::vector<Member> pop_, next_;
   std::vector<double> weights_;
   std::vector<ParticleEnd> ends_;
+  double stop_ = 0;  ///< the level's split time (or t_max)
   std::vector<std::size_t> order_;
   std::vector<char> drop_;  ///< the roulette's removals in one round, by member position
 };
@@ -334,6 +352,38 @@ std::unique_ptr<SplitRule> make_split_rule(const Scene& scene, const Stadium<dou
 void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t, const TableModel<double>* table) {
   LinesRun(plan, sampler, rule, lo, hi, t, table).run(advance);
+}
+
+void run_lines_together(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule,
+                        const std::vector<std::pair<std::uint64_t, std::uint64_t>>& ranges,
+                        const AdvanceMembers& advance, Tally& t, const TableModel<double>* table) {
+  std::vector<std::unique_ptr<LinesRun>> runs;
+  runs.reserve(ranges.size());
+  for (const auto& [lo, hi] : ranges) runs.push_back(std::make_unique<LinesRun>(plan, sampler, rule, lo, hi, t, table));
+  std::vector<Member> members;
+  std::vector<double> weights;
+  std::vector<ParticleEnd> ends;
+  std::vector<LinesRun*> active;
+  for (std::uint64_t k = 0;; ++k) {
+    members.clear(), weights.clear(), active.clear();
+    double stop = 0;
+    for (auto& r : runs)
+      if (r->prepare(k)) {
+        active.push_back(r.get());
+        members.insert(members.end(), r->members().begin(), r->members().end());
+        weights.insert(weights.end(), r->weights().begin(), r->weights().end());
+        stop = r->stop();  // the same for every range: level k's split time
+      }
+    if (active.empty()) return;
+    ends.assign(members.size(), ParticleEnd{});
+    advance(members, weights, stop, ends);
+    std::size_t at = 0;
+    for (LinesRun* r : active) {
+      std::copy_n(ends.begin() + static_cast<std::ptrdiff_t>(at), r->ends().size(), r->ends().begin());
+      at += r->ends().size();
+      r->book(k);
+    }
+  }
 }
 
 }  // namespace rotleak

@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/engine/plan.hpp"
@@ -64,5 +65,13 @@ using AdvanceMembers = std::function<void(const std::vector<Member>& members, co
 /// table than the stadium (its starts and the copies' turns), null for the stadium.
 void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule, std::uint64_t lo, std::uint64_t hi,
                const AdvanceMembers& advance, Tally& t, const TableModel<double>* table = nullptr);
+
+/// run_lines for each range of lines [lo, hi), level by level together: at each split time every range's members go
+/// to `advance` as one population (range after range), so that a device advances them in one launch; each range is
+/// booked as run_lines books it, into the same t (whose counts, exact sums and maxima take them in any order), so
+/// the tallies are those of run_lines called range by range.
+void run_lines_together(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule,
+                        const std::vector<std::pair<std::uint64_t, std::uint64_t>>& ranges,
+                        const AdvanceMembers& advance, Tally& t, const TableModel<double>* table = nullptr);
 
 }  // namespace rotleak

@@ -1,6 +1,6 @@
 // Where a GPU launch runs: a CUDA device (gpu_engine.cu; gpu_none.cpp in a build without nvcc) or this machine's
-// cores (gpu_host.cpp, ROTLEAK_GPU_EMULATE). Both run gpu_step.hpp's run_one for each particle; Device
-// (gpu_device.cpp) holds one and does what they share (checks, f_c's digits into exact sums).
+// cores (gpu_host.cpp, ROTLEAK_GPU_EMULATE). Both run gpu_step.hpp's run_lane on each of their threads; Device
+// (gpu_device.cpp) holds one and does what they share (checks, the words and digits drained into exact tallies).
 #pragma once
 
 #include <memory>
@@ -13,11 +13,14 @@ namespace rotleak::gpu {
 
 struct Device::Backend {
   virtual ~Backend() = default;
-  /// The batch's particles run; their ends into `ends` (host memory).
-  virtual void run(const Batch& b, End* ends) = 0;
-  /// The f_c counts (cells x bins) and, weighted, the digits (kSumDigits a count) made since the last call, into
-  /// counts and digits (sized by the caller); zeroed where they are kept.
-  virtual void take(unsigned long long* counts, unsigned long long* digits) = 0;
+  /// The batch's particles run; their ends into `ends` and `full` when set (host memory).
+  virtual void run(const Batch& b, End* ends, ParticleEnd* full) = 0;
+  /// The collisions the launches made since the last call (Layout's word 0), zeroed where it is kept.
+  virtual std::uint64_t take_collisions() = 0;
+  /// Layout's words (word 0 aside: it is zero after take_collisions) and digits (kSumDigits a sum) made since the
+  /// last call, into words and digits (sized by the caller); zeroed where they are kept.
+  virtual void take(unsigned long long* words, unsigned long long* digits) = 0;
+  virtual void set_t_max(double t_max) = 0;
   int registers = 0, blocks = 0;  ///< of the last launch's kernel (a device only)
 };
 
@@ -25,9 +28,11 @@ struct Device::Backend {
 std::string cuda_unavailable();
 /// The CUDA device's name and size, or why none is visible.
 std::string cuda_device_name();
-std::unique_ptr<Device::Backend> cuda_backend(const Model<double>& m, const DensityCells* d, bool weighted);
-std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>& m, const DensityCells* d, bool weighted);
-std::unique_ptr<Device::Backend> host_backend(const Model<double>& m, const DensityCells* d, bool weighted);
-std::unique_ptr<Device::Backend> host_backend(const TableModel<double>& m, const DensityCells* d, bool weighted);
+int cuda_device_count();
+void cuda_select_device(int index);
+std::unique_ptr<Device::Backend> cuda_backend(const Model<double>& m, const Device::Layout& l, const Shape& s);
+std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>& m, const Device::Layout& l, const Shape& s);
+std::unique_ptr<Device::Backend> host_backend(const Model<double>& m, const Device::Layout& l, const Shape& s);
+std::unique_ptr<Device::Backend> host_backend(const TableModel<double>& m, const Device::Layout& l, const Shape& s);
 
 }  // namespace rotleak::gpu

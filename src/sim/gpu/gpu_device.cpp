@@ -1,8 +1,9 @@
 // Device: a backend (a CUDA device, or the host's emulation of one) and what both share -- the checks on a batch,
-// and the weighted f_c's digits added into exact sums.
+// and the device's words and digits drained into integer counts and exact sums, then into a Tally.
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "numeric/input.hpp"
@@ -21,45 +22,107 @@ bool emulated() {
 std::string unavailable() { return emulated() ? "" : cuda_unavailable(); }
 std::string device_name() { return emulated() ? "the host's cores (ROTLEAK_GPU_EMULATE)" : cuda_device_name(); }
 
-Device::Device(const Model<double>& model, const DensityCells* density, bool weighted)
-    : impl_(emulated() ? host_backend(model, density, weighted) : cuda_backend(model, density, weighted)),
-      weighted_(weighted && density),
-      density_size_(density ? static_cast<std::size_t>(density->cells()) * static_cast<std::size_t>(density->bins)
-                            : 0) {}
-Device::Device(const TableModel<double>& model, const DensityCells* density, bool weighted)
-    : impl_(emulated() ? host_backend(model, density, weighted) : cuda_backend(model, density, weighted)),
-      weighted_(weighted && density),
-      density_size_(density ? static_cast<std::size_t>(density->cells()) * static_cast<std::size_t>(density->bins)
-                            : 0) {}
+int device_count() { return emulated() ? 0 : cuda_device_count(); }
+void select_device(int index) {
+  if (!emulated()) cuda_select_device(index);
+}
+
+Shape Shape::of(const Tally& t, double dt, const DensityCells* density) {
+  Shape s;
+  s.density = density;
+  s.weighted = t.weighted();
+  s.dt = dt;
+  if (t.get_if<LinesEstimator>()) return s;  // a split run books its members' ends on the host
+  s.bins = t.escapes_per_bin.size();
+  s.leaks = s.bins ? t.escapes_by_leak.size() / s.bins : 0;
+  return s;
+}
+
+namespace {
+
+Device::Layout layout_of(const Shape& s) {
+  Device::Layout l;
+  l.bins = s.bins;
+  l.leaks = s.leaks;
+  l.fc = s.density ? static_cast<std::size_t>(s.density->cells()) * static_cast<std::size_t>(s.density->bins) : 0;
+  l.weighted_ends = s.weighted && s.bins > 0;
+  l.weighted_fc = s.weighted && l.fc > 0;
+  return l;
+}
+
+/// Each of the device's words takes at most this many additions between drains: far below the 2^40 that a digit's
+/// 40 spare bits carry.
+constexpr std::uint64_t kDrainAt = 1ULL << 39;
+
+}  // namespace
+
+Device::Device(const Model<double>& model, const Shape& shape)
+    : impl_(emulated() ? host_backend(model, layout_of(shape), shape) : cuda_backend(model, layout_of(shape), shape)),
+      layout_(layout_of(shape)) {}
+Device::Device(const TableModel<double>& model, const Shape& shape)
+    : impl_(emulated() ? host_backend(model, layout_of(shape), shape) : cuda_backend(model, layout_of(shape), shape)),
+      layout_(layout_of(shape)) {}
 Device::~Device() = default;
 
-void Device::run(const Batch& b, End* ends) {
+void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
   if (b.count == 0) return;
   if (b.weights)
     for (std::uint64_t i = 0; i < b.count; ++i)
       if (!(b.weights[i] >= 0 && b.weights[i] < 0x1p64))
         throw std::runtime_error("GPU engine: a particle's weight " + std::to_string(b.weights[i]) +
-                                 " lies outside [0, 2^64), the weighted f_c's range on the device");
-  impl_->run(b, ends);
-  if (weighted_) {  // each digit word takes at most 2^40 additions below 2^24 (gpu_engine.hpp)
-    std::uint64_t collisions = 0;
-    for (std::uint64_t i = 0; i < b.count; ++i) collisions += ends[i].collisions;
-    if (collisions >= (1ULL << 40))
-      throw std::runtime_error("GPU engine: a launch of " + std::to_string(collisions) +
-                               " collisions overflows the weighted f_c's digits (at most 2^40)");
-  }
+                                 " lies outside [0, 2^64), the range of the device's exact sums");
+  impl_->run(b, ends, full);
+  if (words_.empty()) words_.assign(layout_.words(), 0);
+  const std::uint64_t made = impl_->take_collisions();
+  words_[0] += made;
+  // a word takes one addition a collision (f_c) and a few an end (count only the ones this launch made)
+  const std::uint64_t added = made + 4 * b.count;
+  if (added >= kDrainAt)
+    throw std::runtime_error("GPU engine: a launch of " + std::to_string(made) +
+                             " collisions overflows the device's exact sums (at most 2^39 a launch)");
+  pending_ += added;
+  if (pending_ >= kDrainAt) drain();
 }
 
-void Device::take_density(std::uint64_t* counts, FixedSum* sums) {
-  if (density_size_ == 0) return;
-  std::vector<unsigned long long> got(density_size_), digits(weighted_ ? density_size_ * kSumDigits : 0);
-  impl_->take(got.data(), weighted_ ? digits.data() : nullptr);
-  for (std::size_t k = 0; k < density_size_; ++k) counts[k] += got[k];
-  if (!weighted_ || !sums) return;
-  for (std::size_t k = 0; k < density_size_; ++k)
+void Device::drain() {
+  pending_ = 0;
+  if (words_.empty()) words_.assign(layout_.words(), 0);
+  if (sums_.empty()) sums_.assign(layout_.sums(), FixedSum{});
+  std::vector<unsigned long long> got(layout_.words()), digits(layout_.sums() * kSumDigits);
+  impl_->take(got.data(), digits.data());
+  for (std::size_t k = 1; k < got.size(); ++k) words_[k] += got[k];
+  for (std::size_t k = 0; k < sums_.size(); ++k)
     for (int j = 0; j < kSumDigits; ++j)
       if (const unsigned long long v = digits[k * kSumDigits + static_cast<std::size_t>(j)])
-        sums[k].add_bits(v, kLowestBit + static_cast<long>(kDigitBits) * j);
+        sums_[k].add_bits(v, kLowestBit + static_cast<long>(kDigitBits) * j);
+}
+
+void Device::set_t_max(double t_max) { impl_->set_t_max(t_max); }
+
+void Device::take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums) {
+  drain();
+  const Layout& l = layout_;
+  if (l.bins) {  // else the host books the ends, their collisions included (a split run's epochs)
+    t.collisions += words_[0];
+    t.escaped += words_[1], t.survived += words_[2], t.stuck += words_[3];
+    for (std::size_t b = 0; b < l.bins; ++b) t.escapes_per_bin[b] += words_[4 + b];
+    for (std::size_t k = 0; k < l.leaks * l.bins; ++k) t.escapes_by_leak[k] += words_[l.by_leak() + k];
+  }
+  if (l.weighted_ends) {
+    auto& e = t.as<WeightedEstimator>();
+    e.total_w.merge(sums_[0]);
+    e.total_w2.merge(sums_[1]);
+    for (std::size_t b = 0; b < l.bins; ++b) {
+      e.escaped_w[b].merge(sums_[2 + b]);
+      e.escaped_w2[b].merge(sums_[2 + l.bins + b]);
+    }
+  }
+  if (cell_counts)
+    for (std::size_t k = 0; k < l.fc; ++k) cell_counts[k] += words_[l.fc_word() + k];
+  if (cell_sums && l.weighted_fc)
+    for (std::size_t k = 0; k < l.fc; ++k) cell_sums[k].merge(sums_[l.fc_sum() + k]);
+  words_.assign(l.words(), 0);
+  sums_.assign(l.sums(), FixedSum{});
 }
 
 int Device::registers() const { return impl_->registers; }

@@ -1,8 +1,10 @@
-// The GPU engine's CUDA backend: one kernel, run_batch, whose thread i runs gpu_step.hpp's run_one for particle i of a
-// batch on a model copied to the device, and the host code that owns the device memory and launches it. Compiled by
+// The GPU engine's CUDA backend: one kernel, run_batch, as many threads as the device holds at once, each running
+// gpu_step.hpp's run_lane (particle after particle of the batch) on a model copied to the device; and the host code
+// that owns the device memory and launches it. Compiled by
 // nvcc with -fmad=false (no contraction: the CPU's operations in the CPU's order; src/CMakeLists.txt), no fast math.
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -21,87 +23,118 @@ void check(cudaError_t e, const char* what) {
   if (e != cudaSuccess) throw std::runtime_error(std::string("GPU engine: ") + what + ": " + cudaGetErrorString(e));
 }
 
-template <class M>
+template <class M, bool FC>
 __global__ void __launch_bounds__(kThreads) run_batch(const M* __restrict__ model, Batch b, LaunchData d) {
-  const std::uint64_t i = static_cast<std::uint64_t>(blockIdx.x) * kThreads + threadIdx.x;
-  if (i < b.count) run_one(*model, b, d, i);
+  if constexpr (FC)
+    run_lane(*model, b, d, cell_observer(model, d));
+  else
+    run_lane(*model, b, d, NoCollisionObserver<double>{});
+}
+
+template <class T>
+void upload(T*& at, std::size_t& capacity, const T* from, std::size_t n, const char* what) {
+  if (n > capacity) {
+    cudaFree(at);
+    at = nullptr, capacity = 0;
+    check(cudaMalloc(&at, n * sizeof(T)), what);
+    capacity = n;
+  }
+  if (from) check(cudaMemcpy(at, from, n * sizeof(T), cudaMemcpyHostToDevice), what);
 }
 
 template <class M>
 class CudaBackend final : public Device::Backend {
  public:
-  CudaBackend(const M& m, const DensityCells* d, bool weighted) {
+  CudaBackend(const M& m, const Device::Layout& l, const Shape& s) : model_host_(m), layout_(l), dt_(s.dt) {
     static_assert(std::is_trivially_copyable_v<M>, "the model is copied to the device byte for byte");
     const std::string why = cuda_unavailable();
     if (!why.empty()) throw std::runtime_error("--engine gpu: " + why);
     check(cudaMalloc(&model_, sizeof(M)), "cudaMalloc(model)");
     check(cudaMemcpy(model_, &m, sizeof(M), cudaMemcpyHostToDevice), "cudaMemcpy(model)");
-    if (!d) return;
-    check(cudaMalloc(&cells_, sizeof(DensityCells)), "cudaMalloc(cells)");
-    check(cudaMemcpy(cells_, d, sizeof(DensityCells), cudaMemcpyHostToDevice), "cudaMemcpy(cells)");
-    n_ = static_cast<std::size_t>(d->cells()) * static_cast<std::size_t>(d->bins);
-    check(cudaMalloc(&counts_, n_ * sizeof(unsigned long long)), "cudaMalloc(f_c)");
-    check(cudaMemset(counts_, 0, n_ * sizeof(unsigned long long)), "cudaMemset(f_c)");
-    if (!weighted) return;
-    check(cudaMalloc(&sums_, n_ * kSumDigits * sizeof(unsigned long long)), "cudaMalloc(weighted f_c)");
-    check(cudaMemset(sums_, 0, n_ * kSumDigits * sizeof(unsigned long long)), "cudaMemset(weighted f_c)");
+    check(cudaMalloc(&next_, sizeof(unsigned long long)), "cudaMalloc(next)");
+    if (l.fc && s.density) {
+      check(cudaMalloc(&cells_, sizeof(DensityCells)), "cudaMalloc(cells)");
+      check(cudaMemcpy(cells_, s.density, sizeof(DensityCells), cudaMemcpyHostToDevice), "cudaMemcpy(cells)");
+    }
+    check(cudaMalloc(&words_, l.words() * sizeof(unsigned long long)), "cudaMalloc(tallies)");
+    check(cudaMemset(words_, 0, l.words() * sizeof(unsigned long long)), "cudaMemset(tallies)");
+    if (l.sums() == 0) return;
+    const std::size_t bytes = l.sums() * kSumDigits * sizeof(unsigned long long);
+    check(cudaMalloc(&digits_, bytes), "cudaMalloc(exact sums)");
+    check(cudaMemset(digits_, 0, bytes), "cudaMemset(exact sums)");
   }
   ~CudaBackend() override {
-    cudaFree(model_), cudaFree(cells_), cudaFree(counts_), cudaFree(sums_);
-    cudaFree(draws_), cudaFree(weights_), cudaFree(ends_);
+    cudaFree(model_), cudaFree(cells_), cudaFree(words_), cudaFree(digits_), cudaFree(next_);
+    cudaFree(draws_), cudaFree(weights_), cudaFree(starts_), cudaFree(ends_), cudaFree(full_);
   }
   CudaBackend(const CudaBackend&) = delete;
   CudaBackend& operator=(const CudaBackend&) = delete;
 
-  void run(const Batch& b, End* ends) override {
-    reserve(b.count);
-    if (b.draws)
-      check(cudaMemcpy(draws_, b.draws, b.count * sizeof(InitialDraw), cudaMemcpyHostToDevice), "cudaMemcpy(draws)");
-    if (b.weights)
-      check(cudaMemcpy(weights_, b.weights, b.count * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy(weights)");
-    const LaunchData d{b.draws ? draws_ : nullptr, b.weights ? weights_ : nullptr, ends_, cells_, counts_, sums_};
-    const auto kernel = run_batch<M>;
+  void run(const Batch& b, End* ends, ParticleEnd* full) override {
+    LaunchData d = launch_data(layout_, words_, digits_, dt_, cells_);
+    if (b.draws) upload(draws_, draws_n_, b.draws, b.count, "cudaMemcpy(draws)"), d.draws = draws_;
+    if (b.weights) upload(weights_, weights_n_, b.weights, b.count, "cudaMemcpy(weights)"), d.weights = weights_;
+    if (b.starts) upload(starts_, starts_n_, b.starts, b.count, "cudaMemcpy(starts)"), d.starts = starts_;
+    if (ends) upload<End>(ends_, ends_n_, nullptr, b.count, "cudaMalloc(ends)"), d.ends = ends_;
+    if (full) upload<ParticleEnd>(full_, full_n_, nullptr, b.count, "cudaMalloc(ends)"), d.full = full_;
+    d.next = next_;
+    check(cudaMemset(next_, 0, sizeof(unsigned long long)), "cudaMemset(next)");
+    const auto kernel = d.cells ? run_batch<M, true> : run_batch<M, false>;
     cudaFuncAttributes attr{};
     check(cudaFuncGetAttributes(&attr, kernel), "cudaFuncGetAttributes");
     registers = attr.numRegs;
     check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, kThreads, 0), "occupancy");
-    const std::uint64_t grid = (b.count + kThreads - 1) / kThreads;
+    int device = 0, sms = 0;
+    check(cudaGetDevice(&device), "cudaGetDevice");
+    check(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device), "multiprocessors");
+    // every thread resident at once, each taking particles until the batch is spent
+    const std::uint64_t resident = static_cast<std::uint64_t>(blocks > 0 ? blocks : 1) * static_cast<std::uint64_t>(sms);
+    const std::uint64_t grid = std::min<std::uint64_t>(resident, (b.count + kThreads - 1) / kThreads);
     kernel<<<static_cast<unsigned>(grid), kThreads>>>(model_, b, d);
     check(cudaGetLastError(), "launch");
     check(cudaDeviceSynchronize(), "run_batch");
-    check(cudaMemcpy(ends, ends_, b.count * sizeof(End), cudaMemcpyDeviceToHost), "cudaMemcpy(ends)");
+    if (ends) check(cudaMemcpy(ends, ends_, b.count * sizeof(End), cudaMemcpyDeviceToHost), "cudaMemcpy(ends)");
+    if (full)
+      check(cudaMemcpy(full, full_, b.count * sizeof(ParticleEnd), cudaMemcpyDeviceToHost), "cudaMemcpy(ends)");
   }
 
-  void take(unsigned long long* counts, unsigned long long* digits) override {
-    if (n_ == 0) return;
-    check(cudaMemcpy(counts, counts_, n_ * sizeof(unsigned long long), cudaMemcpyDeviceToHost), "cudaMemcpy(f_c)");
-    check(cudaMemset(counts_, 0, n_ * sizeof(unsigned long long)), "cudaMemset(f_c)");
-    if (!digits || !sums_) return;
-    const std::size_t bytes = n_ * kSumDigits * sizeof(unsigned long long);
-    check(cudaMemcpy(digits, sums_, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy(weighted f_c)");
-    check(cudaMemset(sums_, 0, bytes), "cudaMemset(weighted f_c)");
+  std::uint64_t take_collisions() override {
+    unsigned long long c = 0;
+    check(cudaMemcpy(&c, words_, sizeof c, cudaMemcpyDeviceToHost), "cudaMemcpy(collisions)");
+    check(cudaMemset(words_, 0, sizeof c), "cudaMemset(collisions)");
+    return c;
+  }
+
+  void take(unsigned long long* words, unsigned long long* digits) override {
+    const std::size_t n = layout_.words() * sizeof(unsigned long long);
+    check(cudaMemcpy(words, words_, n, cudaMemcpyDeviceToHost), "cudaMemcpy(tallies)");
+    check(cudaMemset(words_, 0, n), "cudaMemset(tallies)");
+    if (!digits_) return;
+    const std::size_t bytes = layout_.sums() * kSumDigits * sizeof(unsigned long long);
+    check(cudaMemcpy(digits, digits_, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy(exact sums)");
+    check(cudaMemset(digits_, 0, bytes), "cudaMemset(exact sums)");
+  }
+
+  void set_t_max(double t_max) override {
+    model_host_.t_max = t_max;
+    check(cudaMemcpy(model_, &model_host_, sizeof(M), cudaMemcpyHostToDevice), "cudaMemcpy(model)");
   }
 
  private:
-  void reserve(std::uint64_t n) {
-    if (n <= capacity_) return;
-    cudaFree(draws_), cudaFree(weights_), cudaFree(ends_);
-    draws_ = nullptr, weights_ = nullptr, ends_ = nullptr, capacity_ = 0;
-    check(cudaMalloc(&draws_, n * sizeof(InitialDraw)), "cudaMalloc(draws)");
-    check(cudaMalloc(&weights_, n * sizeof(double)), "cudaMalloc(weights)");
-    check(cudaMalloc(&ends_, n * sizeof(End)), "cudaMalloc(ends)");
-    capacity_ = n;
-  }
-
+  M model_host_;
+  Device::Layout layout_;
+  double dt_;
   M* model_ = nullptr;
   DensityCells* cells_ = nullptr;
-  unsigned long long* counts_ = nullptr;
-  unsigned long long* sums_ = nullptr;  ///< weighted f_c: kSumDigits a (cell, bin)
-  std::size_t n_ = 0;                   ///< cells x bins
+  unsigned long long* words_ = nullptr;
+  unsigned long long* digits_ = nullptr;
+  unsigned long long* next_ = nullptr;
   InitialDraw* draws_ = nullptr;
   double* weights_ = nullptr;
+  Start* starts_ = nullptr;
   End* ends_ = nullptr;
-  std::uint64_t capacity_ = 0;
+  ParticleEnd* full_ = nullptr;
+  std::size_t draws_n_ = 0, weights_n_ = 0, starts_n_ = 0, ends_n_ = 0, full_n_ = 0;
 };
 
 }  // namespace
@@ -111,8 +144,10 @@ std::string cuda_unavailable() {
   const cudaError_t e = cudaGetDeviceCount(&n);
   if (e != cudaSuccess) return std::string("no CUDA device is visible (") + cudaGetErrorString(e) + ")";
   if (n == 0) return "no CUDA device is visible";
+  int device = 0;
   cudaDeviceProp p{};
-  if (cudaGetDeviceProperties(&p, 0) != cudaSuccess) return "the CUDA device's properties cannot be read";
+  if (cudaGetDevice(&device) != cudaSuccess || cudaGetDeviceProperties(&p, device) != cudaSuccess)
+    return "the CUDA device's properties cannot be read";
   if (p.major < 9)
     return "the CUDA device " + std::string(p.name) + " has compute capability " + std::to_string(p.major) + "." +
            std::to_string(p.minor) + "; this build carries code for 9.0 and later";
@@ -122,17 +157,26 @@ std::string cuda_unavailable() {
 std::string cuda_device_name() {
   const std::string why = cuda_unavailable();
   if (!why.empty()) return why;
+  int device = 0;
+  check(cudaGetDevice(&device), "cudaGetDevice");
   cudaDeviceProp p{};
-  check(cudaGetDeviceProperties(&p, 0), "cudaGetDeviceProperties");
-  return std::string(p.name) + ", " + std::to_string(p.multiProcessorCount) + " multiprocessors, " +
+  check(cudaGetDeviceProperties(&p, device), "cudaGetDeviceProperties");
+  return "device " + std::to_string(device) + ": " + std::string(p.name) + ", " + std::to_string(p.multiProcessorCount) + " multiprocessors, " +
          std::to_string(p.totalGlobalMem >> 30) + " GiB";
 }
 
-std::unique_ptr<Device::Backend> cuda_backend(const Model<double>& m, const DensityCells* d, bool weighted) {
-  return std::make_unique<CudaBackend<Model<double>>>(m, d, weighted);
+int cuda_device_count() {
+  int n = 0;
+  return cudaGetDeviceCount(&n) == cudaSuccess ? n : 0;
 }
-std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>& m, const DensityCells* d, bool weighted) {
-  return std::make_unique<CudaBackend<TableModel<double>>>(m, d, weighted);
+
+void cuda_select_device(int index) { check(cudaSetDevice(index), "cudaSetDevice"); }
+
+std::unique_ptr<Device::Backend> cuda_backend(const Model<double>& m, const Device::Layout& l, const Shape& s) {
+  return std::make_unique<CudaBackend<Model<double>>>(m, l, s);
+}
+std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>& m, const Device::Layout& l, const Shape& s) {
+  return std::make_unique<CudaBackend<TableModel<double>>>(m, l, s);
 }
 
 }  // namespace rotleak::gpu

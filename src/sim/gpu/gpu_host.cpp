@@ -1,10 +1,12 @@
-// The GPU engine's launches emulated on this machine's cores (ROTLEAK_GPU_EMULATE): gpu_step.hpp's run_one for each
-// particle of a batch, OpenMP over them, the f_c counts and digits added by atomics as on a device.
+// The GPU engine's launches emulated on this machine's cores (ROTLEAK_GPU_EMULATE): each OpenMP thread a device
+// thread running gpu_step.hpp's run_lane, taking the batch's particles from the same atomic counter, its ends and
+// tallies added by atomics as on a device.
 #include <omp.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "sim/gpu/gpu_backend.hpp"
@@ -17,45 +19,51 @@ namespace {
 template <class M>
 class HostBackend final : public Device::Backend {
  public:
-  HostBackend(const M& m, const DensityCells* d, bool weighted) : model_(m) {
-    if (!d) return;
-    cells_ = *d;
-    density_ = true;
-    const std::size_t n = static_cast<std::size_t>(cells_.cells()) * static_cast<std::size_t>(cells_.bins);
-    counts_.assign(n, 0);
-    if (weighted) sums_.assign(n * kSumDigits, 0);
+  HostBackend(const M& m, const Device::Layout& l, const Shape& s)
+      : model_(m), layout_(l), dt_(s.dt), words_(l.words(), 0), digits_(l.sums() * kSumDigits, 0) {
+    if (s.density) cells_ = *s.density;
   }
 
-  void run(const Batch& b, End* ends) override {
-    const LaunchData data{
-        b.draws, b.weights, ends, density_ ? &cells_ : nullptr, counts_.data(), sums_.empty() ? nullptr : sums_.data()};
-    const auto n = static_cast<std::int64_t>(b.count);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t i = 0; i < n; ++i) run_one(model_, b, data, static_cast<std::uint64_t>(i));
+  void run(const Batch& b, End* ends, ParticleEnd* full) override {
+    LaunchData d = launch_data(layout_, words_.data(), digits_.data(), dt_, &cells_);
+    d.draws = b.draws, d.weights = b.weights, d.starts = b.starts, d.ends = ends, d.full = full;
+    unsigned long long next = 0;
+    d.next = &next;
+#pragma omp parallel
+    {
+      if (d.cells)
+        run_lane(model_, b, d, cell_observer(&model_, d));
+      else
+        run_lane(model_, b, d, NoCollisionObserver<double>{});
+    }
   }
 
-  void take(unsigned long long* counts, unsigned long long* digits) override {
-    std::copy(counts_.begin(), counts_.end(), counts);
-    std::fill(counts_.begin(), counts_.end(), 0);
-    if (!digits || sums_.empty()) return;
-    std::copy(sums_.begin(), sums_.end(), digits);
-    std::fill(sums_.begin(), sums_.end(), 0);
+  std::uint64_t take_collisions() override { return std::exchange(words_[0], 0ULL); }
+
+  void take(unsigned long long* words, unsigned long long* digits) override {
+    std::copy(words_.begin(), words_.end(), words);
+    std::fill(words_.begin(), words_.end(), 0);
+    std::copy(digits_.begin(), digits_.end(), digits);
+    std::fill(digits_.begin(), digits_.end(), 0);
   }
+
+  void set_t_max(double t_max) override { model_.t_max = t_max; }
 
  private:
   M model_;
+  Device::Layout layout_;
+  double dt_;
   DensityCells cells_{};
-  bool density_ = false;
-  std::vector<unsigned long long> counts_, sums_;
+  std::vector<unsigned long long> words_, digits_;
 };
 
 }  // namespace
 
-std::unique_ptr<Device::Backend> host_backend(const Model<double>& m, const DensityCells* d, bool weighted) {
-  return std::make_unique<HostBackend<Model<double>>>(m, d, weighted);
+std::unique_ptr<Device::Backend> host_backend(const Model<double>& m, const Device::Layout& l, const Shape& s) {
+  return std::make_unique<HostBackend<Model<double>>>(m, l, s);
 }
-std::unique_ptr<Device::Backend> host_backend(const TableModel<double>& m, const DensityCells* d, bool weighted) {
-  return std::make_unique<HostBackend<TableModel<double>>>(m, d, weighted);
+std::unique_ptr<Device::Backend> host_backend(const TableModel<double>& m, const Device::Layout& l, const Shape& s) {
+  return std::make_unique<HostBackend<TableModel<double>>>(m, l, s);
 }
 
 }  // namespace rotleak::gpu

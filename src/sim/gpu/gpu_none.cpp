@@ -13,10 +13,13 @@ std::string cuda_unavailable() {
 }
 std::string cuda_device_name() { return cuda_unavailable(); }
 
-std::unique_ptr<Device::Backend> cuda_backend(const Model<double>&, const DensityCells*, bool) {
+int cuda_device_count() { return 0; }
+void cuda_select_device(int) {}
+
+std::unique_ptr<Device::Backend> cuda_backend(const Model<double>&, const Device::Layout&, const Shape&) {
   throw std::runtime_error("--engine gpu: " + cuda_unavailable());
 }
-std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>&, const DensityCells*, bool) {
+std::unique_ptr<Device::Backend> cuda_backend(const TableModel<double>&, const Device::Layout&, const Shape&) {
   throw std::runtime_error("--engine gpu: " + cuda_unavailable());
 }
 
