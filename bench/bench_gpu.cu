@@ -1,7 +1,8 @@
 // bench_gpu: the GPU engine against a plain one-thread-a-particle CUDA loop of the same scene (bench/plain.hpp, compiled
 // for the device as it is), rounds interleaved in one process, and the CPU's engine on all cores; the same particles
 // (ids 0 .. N-1, the same initial states) in each. Per scene: collisions a second of each, their ratio, the wall time
-// of the particles, and each kernel's registers and blocks resident a multiprocessor; then the card's FP64 peak and
+// of the particles, and each kernel's registers and blocks resident a multiprocessor; the engine's kernel alone in each
+// of its register caps (gpu::Device::set_min_blocks: occupancy against spills); then the card's FP64 peak and
 // the collisions a second it would allow at 100 FP64 operations a collision. Both GPU loops are compiled with
 // -fmad=false (the engine needs it for its bits; the plain loop takes it for a like-for-like count).
 //   bench_gpu [PARTICLES = 10^7] [ROUNDS = 3] [CPU_PARTICLES = PARTICLES / 10]
@@ -94,6 +95,29 @@ Rate engine_run(const Scene& s, Engine e, int threads) {
   return {static_cast<double>(res.tally.collisions) / res.wall_seconds, res.wall_seconds, res.tally.collisions};
 }
 
+/// The engine's kernel alone, capped for min_blocks blocks a multiprocessor: one launch of the scene's particles (the
+/// device's own draws, the tallies on the device, nothing back but the counts), timed from launch to its counts.
+struct KernelRate {
+  double rate = 0;
+  int registers = 0, blocks = 0;
+};
+KernelRate kernel_run(const Scene& s, int min_blocks) {
+  const Model<double> model = Model<double>::from(s);
+  const DensityCells cells = scene_density_cells(s);
+  Tally t;
+  t.resize(s);
+  gpu::Device device(model, gpu::Shape::of(t, s.survival_dt, s.collision_density ? &cells : nullptr));
+  device.set_min_blocks(min_blocks);
+  const gpu::Batch batch{0, s.particles, nullptr, nullptr, s.seed, s.creation_window, nullptr};
+  const auto t0 = std::chrono::steady_clock::now();
+  device.run(batch);
+  const double seconds = seconds_since(t0);
+  KernelRate k;
+  k.rate = static_cast<double>(device.collisions()) / seconds;
+  k.registers = device.registers(), k.blocks = device.blocks_per_multiprocessor();
+  return k;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -134,6 +158,9 @@ int main(int argc, char** argv) {
               omp_get_max_threads());
   std::string json = "{\"device\": \"" + std::string(prop.name) + "\", \"particles\": " + std::to_string(particles) +
                      ", \"rounds\": " + std::to_string(rounds) + ", \"scenes\": [";
+  std::string caps_table =
+      "\nThe engine's kernel alone (one launch of the same particles, tallies on the device), by register cap:\n\n"
+      "| scene | blocks/SM asked | collisions/s | registers | blocks/SM |\n|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < cases.size(); ++k) {
     std::vector<std::string> set = cases[k].set;
     set.push_back("ensemble.particles=" + std::to_string(particles));
@@ -148,13 +175,21 @@ int main(int argc, char** argv) {
     std::vector<std::string> cpu_set = set;
     cpu_set.back() = "ensemble.particles=" + std::to_string(cpu_particles);
     const Rate cpu = engine_run(parse_scene("", cpu_set), Engine::automatic, 0);
-    // the engine kernel's registers and occupancy, from one particle of the same model
-    const Model<double> model = Model<double>::from(s);
-    const DensityCells cells = scene_density_cells(s);
+    // the engine's kernel alone in each of its register caps, interleaved too
+    constexpr int kCaps[] = {1, 6, 8};
+    std::vector<std::vector<double>> caps(3);
+    KernelRate cap_info[3];
+    for (int r = 0; r < rounds; ++r)
+      for (int c = 0; c < 3; ++c) {
+        cap_info[c] = kernel_run(s, kCaps[c]);
+        caps[static_cast<std::size_t>(c)].push_back(cap_info[c].rate);
+      }
     gpu::Shape shape;
+    const DensityCells cells = scene_density_cells(s);
     shape.density = s.collision_density ? &cells : nullptr;
-    gpu::Device device(model, shape);
-    gpu::Batch one{0, 1, nullptr, nullptr, s.seed, s.creation_window, nullptr};
+    const Model<double> model = Model<double>::from(s);
+    gpu::Device device(model, shape);  // the default cap's registers and occupancy, from one particle
+    const gpu::Batch one{0, 1, nullptr, nullptr, s.seed, s.creation_window, nullptr};
     device.run(one);
     const double ratio = median(engine) / median(plain);
     std::printf("| %s | %.3g | %.3g | %.2f | %.2f | %.2f | %.3g | %.1f | %d, %d | %d, %d |\n", cases[k].name,
@@ -166,12 +201,24 @@ int main(int argc, char** argv) {
                   "%s{\"scene\": \"%s\", \"engine_rate\": %.6g, \"plain_rate\": %.6g, \"ratio\": %.4f, "
                   "\"engine_seconds\": %.4f, \"plain_seconds\": %.4f, \"engine_collisions\": %llu, "
                   "\"plain_collisions\": %llu, \"cpu_rate\": %.6g, \"engine_registers\": %d, \"engine_blocks\": %d, "
-                  "\"plain_registers\": %d, \"plain_blocks\": %d}",
+                  "\"plain_registers\": %d, \"plain_blocks\": %d",
                   k ? ", " : "", cases[k].name, median(engine), median(plain), ratio, median(engine_s),
                   median(plain_s), static_cast<unsigned long long>(engine_c), static_cast<unsigned long long>(plain_c),
                   cpu.rate, device.registers(), device.blocks_per_multiprocessor(), plain_attr.numRegs, plain_blocks);
     json += row;
+    json += ", \"kernel_caps\": [";
+    for (int c = 0; c < 3; ++c) {
+      const double rate = median(caps[static_cast<std::size_t>(c)]);
+      std::snprintf(row, sizeof row, "| %s | %d | %.3g | %d | %d |\n", cases[k].name, kCaps[c], rate,
+                    cap_info[c].registers, cap_info[c].blocks);
+      caps_table += row;
+      std::snprintf(row, sizeof row, "%s{\"min_blocks\": %d, \"rate\": %.6g, \"registers\": %d, \"blocks\": %d}",
+                    c ? ", " : "", kCaps[c], rate, cap_info[c].registers, cap_info[c].blocks);
+      json += row;
+    }
+    json += "]}";
   }
+  std::printf("%s", caps_table.c_str());
   // FP64: 64 FMA units a multiprocessor on Hopper, 2 operations an FMA
   const double peak = static_cast<double>(prop.multiProcessorCount) * clock_khz * 1e3 * 64 * 2;
   std::printf("\nFP64 peak: %d multiprocessors x %.2f GHz x 128 = %.3g FLOP/s; at 100 FP64 operations a collision: "

@@ -9,7 +9,7 @@
 #                                       engine: every file, and summary.json less its execution and command), and
 #                                       bench_gpu (BENCH_PARTICLES a scene, default 10^8); its log and bench_gpu's
 #                                       output under OUT (default gpu-check-out)
-# The run step takes about 3 minutes on an H200 with 16 cores.
+# The run step took about 3 minutes on an H200 with 16 cores before the split runs were added (up to 2 more).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 carry=.gpu-carry
@@ -95,6 +95,24 @@ PY
     same stadium_two_leaks data/scenes/tables/stadium_two_leaks.toml 1000000
     same sinai data/scenes/tables/sinai.toml 1000000
     same mushroom data/scenes/tables/mushroom.toml 300000
+    same omega_2_3_mupo_split data/scenes/rotating.toml 100000 leak.omega=2/3 ensemble.sampling=mupo \
+      run.splitting=true run.t_max=4000 'observe.collision_density={bins=100}'
+    same sinai_split data/scenes/tables/sinai.toml 100000 run.splitting=true run.t_max=2000
+    echo "== a deep split run on the device: 10^6 lines of omega = 2/3 to t = 2*10^4"
+    if timeout 120 "$rl" simulate data/scenes/rotating.toml --particles 1000000 --set leak.omega=2/3 \
+      --set ensemble.sampling=mupo --set run.splitting=true --set run.t_max=20000 --engine gpu --out "$out/deep" \
+      --no-progress >"$out/deep.log" 2>&1; then
+      python3 - "$out/deep" <<'PY'
+import csv, json, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1] + "/survival.csv")) if float(r["P"]) > 0]
+e = json.load(open(sys.argv[1] + "/summary.json"))["execution"]
+print(f"deep split: {e['wall_seconds']:.1f} s, {e['collisions_per_second']:.3g} collisions/s; "
+      f"smallest P {rows[-1]['P']} at t = {rows[-1]['t']}")
+PY
+    else
+      echo "deep split: failed or over 120 s: $(tail -n 2 "$out/deep.log")"
+    fi
+    rm -rf "$out/deep"
     echo "== bench_gpu ${BENCH_PARTICLES:=100000000} particles a scene, 3 rounds"
     "$carry/bin/bench_gpu" "$BENCH_PARTICLES" 3 "$((BENCH_PARTICLES / 10))" | tee "$out/bench_gpu.txt"
     ;;

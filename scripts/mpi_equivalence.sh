@@ -2,8 +2,8 @@
 # The same run as 1 process, as `mpirun -np 2` and as `mpirun -np 3 --oversubscribe` (one thread per
 # rank, and 2 threads in the single process): survival.csv, fc.csv and escapes.csv must be
 # byte-identical, and summary.json's fitted numbers equal. The scene has every tally: a rotating
-# leak, importance-sampling weights (exact sums), f_c, escape records. Then a split run, and a run on the Sinai
-# table with two leaks (leaks.csv too). Then a scan of three omegas
+# leak, importance-sampling weights (exact sums), f_c, escape records. Then a split run, the GPU engine under 2
+# ranks (emulated where no device is), and a run on the Sinai table with two leaks (leaks.csv too). Then a scan of three omegas
 # as 1 process and as `mpirun -np 2`: table.csv and every point's survival.csv byte-identical. Then
 # an audit as 1 process and as `mpirun -np 3`: audit.json identical but for its timing fields.
 # Usage: scripts/mpi_equivalence.sh ROTLEAK_BINARY [MPIRUN]      Exit 1 on the first difference.
@@ -56,6 +56,19 @@ if a["splitting"] != b["splitting"] or a["alpha"] != b["alpha"]:
     sys.exit("split run under 3 ranks: summary.json splitting or alpha differs")
 PY
 echo "split run under 3 ranks: survival.csv, fc.csv and summary.json's splitting identical to one process"
+
+# the GPU engine under 2 ranks, each rank taking its own device (emulated on the cores where none is:
+# ROTLEAK_GPU_EMULATE, 1 unless set), against the single process's CPU engine: the same files
+gpu=("$scene" --particles 30000 --set leak.omega=2/3 --set ensemble.sampling=mupo --set run.t_max=2000
+  --set 'observe.collision_density={bins=100}' --set observe.escapes=true --no-progress)
+"$bin" simulate "${gpu[@]}" --threads 2 --out gpu1 >/dev/null
+ROTLEAK_GPU_EMULATE=${ROTLEAK_GPU_EMULATE-1} "$mpirun" -np 2 "$bin" simulate "${gpu[@]}" --threads 1 --engine gpu \
+  --out gpu2 >/dev/null
+for f in survival.csv fc.csv escapes.csv; do
+  cmp -s "gpu1/$f" "gpu2/$f" || { echo "the GPU engine under 2 ranks: $f differs from the single process's"; exit 1; }
+done
+"$py" -c 'import json, sys; e = json.load(open("gpu2/summary.json"))["execution"]; sys.exit(e["engine"] != "gpu" or e["ranks"] != 2)' || { echo "the GPU engine under 2 ranks: summary.json does not say gpu, 2 ranks"; exit 1; }
+echo "the GPU engine under 2 ranks: survival.csv, fc.csv and escapes.csv identical to one process on the CPU"
 
 # any table with two leaks (one on the Sinai table's disc): the same files, leaks.csv too, under 3 ranks
 table=("$(dirname "$scene")/tables/sinai.toml" --particles 60000 --set run.t_max=2000

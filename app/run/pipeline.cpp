@@ -10,6 +10,7 @@
 #include "io/files.hpp"
 #include "io/scene_file.hpp"
 #include "io/tally_file.hpp"
+#include "sim/gpu/gpu_engine.hpp"
 #include "verify/audit.hpp"
 #include "verify/auto_tier.hpp"
 
@@ -48,7 +49,13 @@ fs::path checkpoint_path(const fs::path& out, int rank, int ranks) {
 std::string run_inputs(const Scene& whole, Engine ran) { return simulation_inputs(whole, to_string(ran)); }
 
 Engine saved_engine(const json& summary) {
-  return summary.at("execution").at("engine").get<std::string>() == "simd" ? Engine::simd : Engine::scalar;
+  const std::string name = summary.at("execution").at("engine").get<std::string>();
+  return name == "simd" ? Engine::simd : name == "gpu" ? Engine::gpu : Engine::scalar;
+}
+
+void take_device(const RunPlan& plan, const Team& team) {
+  if (plan.engine() != Engine::gpu) return;
+  if (const int n = gpu::device_count(); n > 0) gpu::select_device(team.node_rank() % n);
 }
 
 bool keeps_tally(const Scene& scene, bool shard) { return shard || scene.splitting.on; }
@@ -110,6 +117,7 @@ std::pair<std::uint64_t, std::uint64_t> rank_share(std::uint64_t blocks, int ran
 RunResult run_shared(const RunPlan& plan, RunOptions options, const Team& team) {
   if (options.blocks) throw std::logic_error("run_shared: the ranks' blocks are its own to choose");
   if (team.size() == 1) return run_ensemble(plan, options);
+  take_device(plan, team);
   const Scene& scene = plan.scene();
   const std::uint64_t n = scene.particles;
   const auto [lo, hi] = rank_share(block_count(n), team.rank(), team.size());
@@ -210,6 +218,7 @@ class DurableRun {
         write_tally_file(path_, timed(tally_file(done, t, rec)));
       };
     }
+    take_device(plan_, team_);
     RunResult result = run_ensemble(plan_, options_);
     result.wall_seconds += saved_.wall_seconds;
     const std::uint64_t n = scene_.particles;

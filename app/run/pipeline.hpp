@@ -56,6 +56,9 @@ std::filesystem::path checkpoint_path(const std::filesystem::path& out, int rank
 std::string run_inputs(const Scene& whole, Engine ran);
 /// The engine a saved run's summary.json says ran it.
 Engine saved_engine(const json& summary);
+/// The GPU engine under MPI: each rank on its own device, the ranks of a node taking its devices in turn (node rank
+/// modulo the devices this process sees). Nothing for another engine, or where no device is visible.
+void take_device(const RunPlan& plan, const Team& team);
 /// Whether a run directory keeps its exact tallies in tally.bin: a shard's, for rotleak merge, and a split
 /// run's, from which rotleak fit rebuilds its survival curve exactly (survival.csv does not carry the
 /// unsplit lines' groups that its fits' errors use).

@@ -32,6 +32,10 @@ class MpiTeam final : public Team {
     MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);  // OpenMP threads never call MPI
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    MPI_Comm node;  // the ranks that share this machine's memory (and its GPUs)
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+    MPI_Comm_rank(node, &node_rank_);
+    MPI_Comm_free(&node);
   }
   ~MpiTeam() override {
     int finalized = 0;
@@ -40,6 +44,7 @@ class MpiTeam final : public Team {
   }
   int rank() const override { return rank_; }
   int size() const override { return size_; }
+  int node_rank() const override { return node_rank_; }
   bool all(bool ok) const override {
     int in = ok ? 1 : 0, out = 0;
     MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
@@ -81,7 +86,7 @@ class MpiTeam final : public Team {
 
  private:
   static constexpr std::size_t kPiece = std::size_t{1} << 30;  // MPI counts are int: at most 1 GiB a message
-  int rank_ = 0, size_ = 1;
+  int rank_ = 0, size_ = 1, node_rank_ = 0;
 };
 #endif
 
@@ -92,6 +97,7 @@ class Joined final : public Team {
   ~Joined() override { g_current = &kSolo; }
   int rank() const override { return inner_->rank(); }
   int size() const override { return inner_->size(); }
+  int node_rank() const override { return inner_->node_rank(); }
   bool all(bool ok) const override { return inner_->all(ok); }
   std::vector<std::string> gather(const std::string& b) const override { return inner_->gather(b); }
   void broadcast(std::string& b) const override { inner_->broadcast(b); }

@@ -17,6 +17,8 @@ class Team {
   virtual ~Team() = default;
   virtual int rank() const { return 0; }
   virtual int size() const { return 1; }
+  /// This rank's place among the ranks on its own machine (0 alone): which of the machine's GPUs it takes.
+  virtual int node_rank() const { return 0; }
   /// Collective: true on every rank when `ok` is true on every rank.
   virtual bool all(bool ok) const { return ok; }
   /// Collective: on rank 0 every rank's bytes in rank order; elsewhere nothing.

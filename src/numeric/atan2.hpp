@@ -37,35 +37,38 @@ ROTLEAK_HD inline std::uint32_t low_word(double x) {
 
 /// atan x (s_atan.c), x finite.
 ROTLEAK_HD inline double atan(double x) {
-  // atan(1/2), atan(1), atan(3/2), atan(inf) = pi/2, each as hi + lo
-  constexpr double atanhi[] = {4.63647609000806093515e-01, 7.85398163397448278999e-01, 9.82793723247329054082e-01,
-                               1.57079632679489655800e+00};
-  constexpr double atanlo[] = {2.26987774529616870924e-17, 3.06161699786838301793e-17, 1.39033110312309984516e-17,
-                               6.12323399573676603587e-17};
+  // atan(1/2), atan(1), atan(3/2), atan(inf) = pi/2, each as hi + lo; taken by the branch as constants, not from a
+  // table by index (an indexed table is copied into a GPU thread's local memory at every call)
+  constexpr double hi0 = 4.63647609000806093515e-01, hi1 = 7.85398163397448278999e-01, hi2 = 9.82793723247329054082e-01,
+                   hi3 = 1.57079632679489655800e+00;
+  constexpr double lo0 = 2.26987774529616870924e-17, lo1 = 3.06161699786838301793e-17, lo2 = 1.39033110312309984516e-17,
+                   lo3 = 6.12323399573676603587e-17;
   constexpr double aT[] = {3.33333333333329318027e-01,  -1.99999999998764832476e-01, 1.42857142725034663711e-01,
                            -1.11111104054623557880e-01, 9.09088713343650656196e-02,  -7.69187620504482999495e-02,
                            6.66107313738753120669e-02,  -5.83357013379057348645e-02, 4.97687799461593236017e-02,
                            -3.65315727442169155270e-02, 1.62858201153657823623e-02};
   const std::int32_t hx = high_word(x), ix = hx & 0x7fffffff;
-  if (ix >= 0x44100000) return hx > 0 ? atanhi[3] + atanlo[3] : -atanhi[3] - atanlo[3];  // |x| >= 2^66
-  int id = -1;
+  if (ix >= 0x44100000) return hx > 0 ? hi3 + lo3 : -hi3 - lo3;  // |x| >= 2^66
+  bool reduced = true;
+  double hi = 0, lo = 0;
   if (ix < 0x3fdc0000) {            // |x| < 7/16
     if (ix < 0x3e400000) return x;  // |x| < 2^-27: atan x rounds to x
+    reduced = false;
   } else {
     x = x < 0 ? -x : x;
     if (ix < 0x3ff30000) {    // |x| < 19/16
       if (ix < 0x3fe60000) {  // 7/16 <= |x| < 11/16
-        id = 0;
+        hi = hi0, lo = lo0;
         x = (2.0 * x - 1.0) / (2.0 + x);
       } else {  // 11/16 <= |x| < 19/16
-        id = 1;
+        hi = hi1, lo = lo1;
         x = (x - 1.0) / (x + 1.0);
       }
     } else if (ix < 0x40038000) {  // 19/16 <= |x| < 39/16
-      id = 2;
+      hi = hi2, lo = lo2;
       x = (x - 1.5) / (1.0 + 1.5 * x);
     } else {  // 39/16 <= |x| < 2^66
-      id = 3;
+      hi = hi3, lo = lo3;
       x = -1.0 / x;
     }
   }
@@ -73,8 +76,8 @@ ROTLEAK_HD inline double atan(double x) {
   // the sum of aT[i] z^(i+1), i = 0 .. 10, as its odd and even halves
   const double s1 = z * (aT[0] + w * (aT[2] + w * (aT[4] + w * (aT[6] + w * (aT[8] + w * aT[10])))));
   const double s2 = w * (aT[1] + w * (aT[3] + w * (aT[5] + w * (aT[7] + w * aT[9]))));
-  if (id < 0) return x - x * (s1 + s2);
-  const double r = atanhi[id] - ((x * (s1 + s2) - atanlo[id]) - x);
+  if (!reduced) return x - x * (s1 + s2);
+  const double r = hi - ((x * (s1 + s2) - lo) - x);
   return hx < 0 ? -r : r;
 }
 
@@ -99,12 +102,9 @@ ROTLEAK_HD inline double atan2_of(double y, double x) {
   }
   if ((ix | static_cast<std::int32_t>(lx)) == 0) return hy < 0 ? -pi_o_2 : pi_o_2;  // x = 0
   if (ix == 0x7ff00000) {                                                           // x infinite
-    if (iy == 0x7ff00000) {
-      const double quarter[] = {pi_o_4, -pi_o_4, 3.0 * pi_o_4, -3.0 * pi_o_4};
-      return quarter[m];
-    }
-    const double half[] = {0.0, -0.0, pi, -pi};
-    return half[m];
+    // by m: +-pi/4 or +-3pi/4, else +-0 or +-pi (selected, not indexed: no table in a GPU thread's local memory)
+    const double a = iy == 0x7ff00000 ? (m >= 2 ? 3.0 * pi_o_4 : pi_o_4) : (m >= 2 ? pi : 0.0);
+    return (m & 1) ? -a : a;
   }
   if (iy == 0x7ff00000) return hy < 0 ? -pi_o_2 : pi_o_2;  // y infinite
   const std::int32_t k = (iy - ix) >> 20;

@@ -2,7 +2,9 @@
 
 scripts/table_engines.py must find every example table's files byte-identical between the scalar engine and the
 vectorised kernel (it exits 1 otherwise); scripts/table_rates.py must write one row per table and hole width with a
-positive small-hole rate; scripts/small_hole_limit.py one row per table and width. ROTLEAK_BINARY names the rotleak binary of the build (its folder is the scripts' BUILD).
+positive small-hole rate; scripts/small_hole_limit.py one row per table and width; scripts/gpu_lanes.py (the GPU
+threads' busy shares from a run's lives) one row per bench_gpu scene, its two measures checked on lives whose answer is
+known. ROTLEAK_BINARY names the rotleak binary of the build (its folder is the scripts' BUILD).
 """
 import csv
 import os
@@ -18,6 +20,8 @@ BUILD = os.path.dirname(os.environ["ROTLEAK_BINARY"])
 ENGINES = ["table", "lanes", "scalar_collisions_per_s", "simd_collisions_per_s", "ratio", "identical"]
 RATES = ["table", "width", "kappa0", "kappa", "kappa_err", "kappa_syst", "ratio", "ratio_err", "P_3T", "P_3T_err",
          "particles", "collisions"]
+LANES = ["scene", "particles", "mean_collisions", "max_collisions", "plain_busy", "lanes_busy", "lives_a_thread",
+         "predicted_ratio"]
 LIMIT = ["table", "width", "kappa0", "kappa", "kappa_err", "kappa_syst", "ratio", "ratio_err", "particles",
          "collisions"]
 
@@ -73,6 +77,32 @@ class TableScripts(unittest.TestCase):
             k0 = frame[frame["table"] == t].set_index("width")["kappa0"]
             self.assertAlmostEqual(k0["0.02"] / k0["0.01"], 2.0, places=12)
         self.assertEqual(printed.count("| lorentz |"), 1 + 2)  # its ratios, then its two fits
+
+
+
+
+
+class GpuLanes(unittest.TestCase):
+    def test_busy_shares_of_known_lives(self):
+        sys.path.insert(0, os.path.join(SOURCE, "scripts"))
+        import gpu_lanes
+        # a warp of equal lives is always busy; one life 32 times the others' keeps 31 threads waiting
+        self.assertEqual(gpu_lanes.plain_busy([7] * 64), 1.0)
+        self.assertEqual(gpu_lanes.plain_busy([1] * 31 + [32]), 63 / 1024)
+        # threads that take the next particle: 4 threads, lives 3, 1, 1, 1, 2 -> the second thread takes the fifth
+        # life at time 1 and ends at 3, as the first: makespan 3, busy 8 / 12
+        self.assertEqual(gpu_lanes.lanes_busy([3, 1, 1, 1, 2], 4), 8 / 12)
+
+    def test_writes_a_row_per_scene(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "lanes.csv")
+            script("gpu_lanes.py", out, "20000")
+            with open(out, newline="") as f:
+                rows = list(csv.DictReader(f))
+            frame = pandas.read_csv(out)
+        self.assertEqual(list(frame.columns), LANES)
+        self.assertEqual([r["scene"] for r in rows], ["s_L = 0", "omega = 2/3", "quick-start"])
+        self.assertTrue(((frame["plain_busy"] > 0) & (frame["plain_busy"] <= frame["lanes_busy"])).all())
 
 
 if __name__ == "__main__":

@@ -311,9 +311,13 @@ class Worker {
   std::vector<simd::Start> starts_;         ///< a split run's members, as the kernel takes them
 };
 
-/// Blocks a GPU launch takes at most: 2^23 particles, 30 or so times the threads a device holds at once (whose tail,
-/// the last particles' lives, is then a small part of a launch), their escape records 256 MB. A split run's launches
+/// Blocks a GPU launch takes at most. A launch ends when its last particles have: those taken last run their whole
+/// lives after the others are done (up to t_max), so a launch must hold many lives a device thread for that tail to
+/// be a small part of it (docs/model.md, "The GPU engine"). The device's own draws with no escape records cost no
+/// memory a particle: 2^16 blocks (2^28 particles, 10^3 lives a thread of an H100's 2.6*10^5). Draws made here, or
+/// escape records, cost about 40 bytes a particle each way: 2048 blocks (2^23 particles). A split run's launches
 /// take the members of 64 blocks' lines (2^18 lines) at a split time.
+constexpr std::uint64_t kGpuLaunchBlocks = 65536;
 constexpr std::uint64_t kGpuBatchBlocks = 2048;
 constexpr std::uint64_t kGpuSplitBlocks = 64;
 
@@ -352,10 +356,10 @@ void launch_particles(const RunSetup<double>& setup, gpu::Device& device, Worker
 }
 
 /// The GPU engine's lifecycle: the todo blocks in order, one launch for each run of consecutive blocks (at most
-/// kGpuBatchBlocks; for a split run, its lines' epochs for kGpuSplitBlocks), the tallies counted on the device and
-/// taken into one Worker's at each merge, escape records written here in id order; progress after each launch, a
-/// checkpoint every checkpoint_seconds, a stop between launches. The draws are the device's own for the uniform
-/// Birkhoff scheme, else the sampler's, made here on all threads (each by its id: no order to keep).
+/// kGpuLaunchBlocks or kGpuBatchBlocks; for a split run, its lines' epochs for kGpuSplitBlocks), the tallies counted on
+/// the device and taken into one Worker's at each merge, escape records written here in id order; progress after each
+/// launch, a checkpoint every checkpoint_seconds, a stop between launches. The draws are the device's own for the
+/// uniform Birkhoff scheme, else the sampler's, made here on all threads (each by its id: no order to keep).
 void run_gpu(const RunSetup<double>& setup, RunResult& result, const IntervalSet& todo, std::uint64_t goal) {
   const RunOptions& opt = setup.opt;
   const std::uint64_t n = setup.scene.particles, total = todo.size();
@@ -373,7 +377,11 @@ void run_gpu(const RunSetup<double>& setup, RunResult& result, const IntervalSet
   };
   result.threads = 1;
   std::uint64_t done = particles_in(result.done, n);
-  const std::uint64_t most = opt.gpu_launch_blocks ? opt.gpu_launch_blocks : split ? kGpuSplitBlocks : kGpuBatchBlocks;
+  const bool device_draws = !opt.draws && setup.sampler->uniform_birkhoff() && !setup.scene.escape_records;
+  const std::uint64_t most = opt.gpu_launch_blocks ? opt.gpu_launch_blocks
+                             : split               ? kGpuSplitBlocks
+                             : device_draws        ? kGpuLaunchBlocks
+                                                   : kGpuBatchBlocks;
   auto deadline = epoch_deadline(opt.checkpoint_seconds);
   for (std::uint64_t at = 0; at < total;) {
     std::uint64_t end = at + 1;  // todo positions [at, end): consecutive blocks

@@ -21,6 +21,8 @@ struct Device::Backend {
   /// last call, into words and digits (sized by the caller); zeroed where they are kept.
   virtual void take(unsigned long long* words, unsigned long long* digits) = 0;
   virtual void set_t_max(double t_max) = 0;
+  /// The kernel whose registers let n blocks share a multiprocessor (0: the default); a device only.
+  virtual void set_min_blocks(int /*n*/) {}
   int registers = 0, blocks = 0;  ///< of the last launch's kernel (a device only)
 };
 

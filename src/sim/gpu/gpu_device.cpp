@@ -75,9 +75,9 @@ void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
   if (words_.empty()) words_.assign(layout_.words(), 0);
   const std::uint64_t made = impl_->take_collisions();
   words_[0] += made;
-  // a word takes one addition a collision (f_c) and a few an end (count only the ones this launch made)
+  // a digit word takes one addition a collision (f_c) and a few an end; integer counts need no such bound
   const std::uint64_t added = made + 4 * b.count;
-  if (added >= kDrainAt)
+  if (layout_.sums() > 0 && added >= kDrainAt)
     throw std::runtime_error("GPU engine: a launch of " + std::to_string(made) +
                              " collisions overflows the device's exact sums (at most 2^39 a launch)");
   pending_ += added;
@@ -98,6 +98,7 @@ void Device::drain() {
 }
 
 void Device::set_t_max(double t_max) { impl_->set_t_max(t_max); }
+void Device::set_min_blocks(int n) { impl_->set_min_blocks(n); }
 
 void Device::take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums) {
   drain();

@@ -18,13 +18,17 @@ namespace rotleak::gpu {
 namespace {
 
 constexpr int kThreads = 128;  ///< a block's threads
+/// The kernel's register cap by default (blocks a multiprocessor; run_batch): not yet measured against the others.
+constexpr int kDefaultMinBlocks = 6;
 
 void check(cudaError_t e, const char* what) {
   if (e != cudaSuccess) throw std::runtime_error(std::string("GPU engine: ") + what + ": " + cudaGetErrorString(e));
 }
 
-template <class M, bool FC>
-__global__ void __launch_bounds__(kThreads) run_batch(const M* __restrict__ model, Batch b, LaunchData d) {
+/// The kernel, its registers capped so that MinBlocks blocks fit a multiprocessor (1: the compiler's choice; 6: 80
+/// registers; 8: 64, spilling the rest to local memory): occupancy against spills, which bench_gpu measures.
+template <class M, bool FC, int MinBlocks>
+__global__ void __launch_bounds__(kThreads, MinBlocks) run_batch(const M* __restrict__ model, Batch b, LaunchData d) {
   if constexpr (FC)
     run_lane(*model, b, d, cell_observer(model, d));
   else
@@ -79,7 +83,7 @@ class CudaBackend final : public Device::Backend {
     if (full) upload<ParticleEnd>(full_, full_n_, nullptr, b.count, "cudaMalloc(ends)"), d.full = full_;
     d.next = next_;
     check(cudaMemset(next_, 0, sizeof(unsigned long long)), "cudaMemset(next)");
-    const auto kernel = d.cells ? run_batch<M, true> : run_batch<M, false>;
+    const auto kernel = kernel_of(d.cells != nullptr);
     cudaFuncAttributes attr{};
     check(cudaFuncGetAttributes(&attr, kernel), "cudaFuncGetAttributes");
     registers = attr.numRegs;
@@ -115,12 +119,27 @@ class CudaBackend final : public Device::Backend {
     check(cudaMemset(digits_, 0, bytes), "cudaMemset(exact sums)");
   }
 
+  void set_min_blocks(int n) override {
+    if (n != 0 && n != 1 && n != 6 && n != 8)
+      throw std::invalid_argument("GPU engine: a kernel for " + std::to_string(n) +
+                                  " blocks a multiprocessor; this build has 1, 6 and 8");
+    min_blocks_ = n == 0 ? kDefaultMinBlocks : n;
+  }
+
   void set_t_max(double t_max) override {
     model_host_.t_max = t_max;
     check(cudaMemcpy(model_, &model_host_, sizeof(M), cudaMemcpyHostToDevice), "cudaMemcpy(model)");
   }
 
  private:
+  using Kernel = void (*)(const M*, Batch, LaunchData);
+  Kernel kernel_of(bool fc) const {
+    if (min_blocks_ == 8) return fc ? run_batch<M, true, 8> : run_batch<M, false, 8>;
+    if (min_blocks_ == 6) return fc ? run_batch<M, true, 6> : run_batch<M, false, 6>;
+    return fc ? run_batch<M, true, 1> : run_batch<M, false, 1>;
+  }
+
+  int min_blocks_ = kDefaultMinBlocks;
   M model_host_;
   Device::Layout layout_;
   double dt_;

@@ -101,6 +101,9 @@ class Device {
   void run(const Batch& batch, End* ends = nullptr, ParticleEnd* full = nullptr);
   /// The particles' t_max from now (a split run's epochs end at each split time).
   void set_t_max(double t_max);
+  /// The kernel whose registers are capped so that n blocks share a multiprocessor: 1 (the compiler's choice), 6 or
+  /// 8; 0 the default. The bits are the same in each (bench_gpu times them); no effect emulated.
+  void set_min_blocks(int n);
   /// Adds what the launches counted since the last take into t (collisions, fates, escapes by bin and leak, the
   /// weighted estimator's sums; none of it when Shape::bins is 0: the host books those ends) and f_c's counts by time
   /// cell into cell_counts (cells x bins), their weights' exact sums into cell_sums (weighted); zeroes them here.
