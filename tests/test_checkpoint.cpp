@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <tuple>
 
@@ -350,6 +351,29 @@ TEST(Pipeline, ShardsMergeIntoTheWholeRunAndBadTilingsAreRefused) {
     }
     EXPECT_FALSE(fs::exists(d.path / "refused"));
   }
+}
+
+TEST(Pipeline, GpuShardsMergeIntoTheWholeRun) {
+  // shards run on the GPU engine (emulated on the cores here) merge into the CPU's whole run: a shard's tally.bin
+  // names the engine that ran it, and merge once read "gpu" back as "scalar" and refused its own shards
+  TempDir d;
+  simulate(request(d, "whole", {}));
+  setenv("ROTLEAK_GPU_EMULATE", "1", 1);
+  for (const auto& [name, ids] : std::vector<std::pair<std::string, std::pair<std::uint64_t, std::uint64_t>>>{
+           {"g1", {0, 12288}}, {"g2", {12288, 30000}}}) {
+    SimulateRequest r = request(d, name, {});
+    r.ids = ids;
+    r.run.engine = Engine::gpu;
+    simulate(r);
+  }
+  unsetenv("ROTLEAK_GPU_EMULATE");
+  MergeRequest m;
+  m.shards = {d.path / "g1", d.path / "g2"};
+  m.out = d.path / "merged";
+  merge_shards(m);
+  EXPECT_EQ(json::parse(read_file(d.path / "merged" / "summary.json")).at("execution").at("engine"), "gpu");
+  for (const char* f : {"survival.csv", "fc.csv", "escapes.csv"})
+    EXPECT_TRUE(test::same_text(read_file(d.path / "merged" / f), read_file(d.path / "whole" / f))) << f;
 }
 
 TEST(Pipeline, IdsNearTenToTheTwelfth) {
