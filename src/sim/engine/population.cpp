@@ -1,6 +1,7 @@
 #include "sim/engine/population.hpp"
 
 #include <Random123/philox.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -357,33 +358,51 @@ void run_lines(const RunPlan& plan, const Sampler& sampler, const SplitRule& rul
 void run_lines_together(const RunPlan& plan, const Sampler& sampler, const SplitRule& rule,
                         const std::vector<std::pair<std::uint64_t, std::uint64_t>>& ranges,
                         const AdvanceMembers& advance, Tally& t, const TableModel<double>* table) {
-  std::vector<std::unique_ptr<LinesRun>> runs;
-  runs.reserve(ranges.size());
-  for (const auto& [lo, hi] : ranges) runs.push_back(std::make_unique<LinesRun>(plan, sampler, rule, lo, hi, t, table));
+  // range r is started, prepared and booked by thread r % threads into that thread's tally, merged into t at the
+  // end (exact merges: the same t for any thread count)
+  const auto n = static_cast<std::int64_t>(ranges.size());
+  const int threads = std::max(1, std::min(omp_get_max_threads(), static_cast<int>(n)));
+  std::vector<Tally> part(static_cast<std::size_t>(threads));
+  for (Tally& p : part) p.resize(plan.scene());
+  std::vector<std::unique_ptr<LinesRun>> runs(ranges.size());
+  const auto each = [&](auto&& f) {  // f(r) for every range, on the thread that owns it
+#pragma omp parallel num_threads(threads)
+    for (std::int64_t r = omp_get_thread_num(); r < n; r += threads) f(static_cast<std::size_t>(r));
+  };
+  each([&](std::size_t r) {
+    const auto& [lo, hi] = ranges[r];
+    runs[r] = std::make_unique<LinesRun>(plan, sampler, rule, lo, hi, part[r % part.size()], table);
+  });
   std::vector<Member> members;
   std::vector<double> weights;
   std::vector<ParticleEnd> ends;
-  std::vector<LinesRun*> active;
+  std::vector<char> live(ranges.size());
+  std::vector<std::size_t> at(ranges.size() + 1);
   for (std::uint64_t k = 0;; ++k) {
-    members.clear(), weights.clear(), active.clear();
+    each([&](std::size_t r) { live[r] = runs[r]->prepare(k); });
     double stop = 0;
-    for (auto& r : runs)
-      if (r->prepare(k)) {
-        active.push_back(r.get());
-        members.insert(members.end(), r->members().begin(), r->members().end());
-        weights.insert(weights.end(), r->weights().begin(), r->weights().end());
-        stop = r->stop();  // the same for every range: level k's split time
-      }
-    if (active.empty()) return;
+    for (std::size_t r = 0; r < runs.size(); ++r) {  // the ranges' members one after the other
+      at[r + 1] = at[r] + (live[r] ? runs[r]->members().size() : 0);
+      if (live[r]) stop = runs[r]->stop();  // the same for every range: level k's split time
+    }
+    if (at.back() == 0) break;
+    members.resize(at.back()), weights.resize(at.back());
+    each([&](std::size_t r) {
+      if (!live[r]) return;
+      std::copy(runs[r]->members().begin(), runs[r]->members().end(),
+                members.begin() + static_cast<std::ptrdiff_t>(at[r]));
+      std::copy(runs[r]->weights().begin(), runs[r]->weights().end(),
+                weights.begin() + static_cast<std::ptrdiff_t>(at[r]));
+    });
     ends.assign(members.size(), ParticleEnd{});
     advance(members, weights, stop, ends);
-    std::size_t at = 0;
-    for (LinesRun* r : active) {
-      std::copy_n(ends.begin() + static_cast<std::ptrdiff_t>(at), r->ends().size(), r->ends().begin());
-      at += r->ends().size();
-      r->book(k);
-    }
+    each([&](std::size_t r) {
+      if (!live[r]) return;
+      std::copy_n(ends.begin() + static_cast<std::ptrdiff_t>(at[r]), runs[r]->ends().size(), runs[r]->ends().begin());
+      runs[r]->book(k);
+    });
   }
+  for (const Tally& p : part) t.merge(p);
 }
 
 }  // namespace rotleak
