@@ -115,6 +115,7 @@ PY
     rm -rf "$out/deep"
     echo "== bench_gpu ${BENCH_PARTICLES:=100000000} particles a scene, 3 rounds"
     "$carry/bin/bench_gpu" "$BENCH_PARTICLES" 3 "$((BENCH_PARTICLES / 10))" | tee "$out/bench_gpu.txt"
+    echo "docs/performance.md's GPU table: /usr/bin/python3 scripts/gpu_report.py $out/bench_gpu.txt (where the tree is)"
     ;;
   *)
     echo "usage: scripts/gpu_check.sh pack [BUILD] | run [OUT]" >&2
