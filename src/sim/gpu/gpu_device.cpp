@@ -72,6 +72,7 @@ void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
         throw std::runtime_error("GPU engine: a particle's weight " + std::to_string(b.weights[i]) +
                                  " lies outside [0, 2^64), the range of the device's exact sums");
   impl_->run(b, ends, full);
+  particles_ += b.count;
   if (words_.empty()) words_.assign(layout_.words(), 0);
   const std::uint64_t made = impl_->take_collisions();
   words_[0] += made;
@@ -105,8 +106,10 @@ void Device::take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums) {
   const Layout& l = layout_;
   if (l.bins) {  // else the host books the ends, their collisions included (a split run's epochs)
     t.collisions += words_[0];
-    t.escaped += words_[1], t.survived += words_[2], t.stuck += words_[3];
-    for (std::size_t b = 0; b < l.bins; ++b) t.escapes_per_bin[b] += words_[4 + b];
+    std::uint64_t escaped = 0;
+    for (std::size_t b = 0; b < l.bins; ++b) t.escapes_per_bin[b] += words_[4 + b], escaped += words_[4 + b];
+    t.escaped += escaped, t.stuck += words_[3];
+    t.survived += particles_ - escaped - words_[3];
     for (std::size_t k = 0; k < l.leaks * l.bins; ++k) t.escapes_by_leak[k] += words_[l.by_leak() + k];
   }
   if (l.weighted_ends) {
@@ -124,6 +127,7 @@ void Device::take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums) {
     for (std::size_t k = 0; k < l.fc; ++k) cell_sums[k].merge(sums_[l.fc_sum() + k]);
   words_.assign(l.words(), 0);
   sums_.assign(l.sums(), FixedSum{});
+  particles_ = 0;
 }
 
 int Device::registers() const { return impl_->registers; }

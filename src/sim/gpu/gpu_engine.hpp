@@ -131,6 +131,7 @@ class Device {
   std::unique_ptr<Backend> impl_;
   Layout layout_;
   std::uint64_t pending_ = 0;         ///< additions the device's words took since they were last drained
+  std::uint64_t particles_ = 0;       ///< launched since the last take
   std::vector<std::uint64_t> words_;  ///< drained, not yet taken: Layout's words
   std::vector<FixedSum> sums_;        ///< and sums
 };

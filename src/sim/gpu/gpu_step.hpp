@@ -82,7 +82,7 @@ struct LaunchData {
   End* ends;                     ///< each particle's end (escape records), or null
   ParticleEnd* full;             ///< each member's whole end (an epoch), or null
   unsigned long long* next;      ///< the batch's next particle to take
-  unsigned long long* counts;    ///< collisions made, escaped, survived, stuck
+  unsigned long long* counts;    ///< collisions made, -, -, stuck (escaped and survived: Device::take)
   unsigned long long* by_bin;    ///< escapes by bin, or null: the ends are the host's to book (an epoch)
   unsigned long long* by_leak;   ///< escapes by leak and bin (leaks x bins), or null
   unsigned long long* end_sums;  ///< weighted: sums of w, w^2, escaped w by bin, escaped w^2 by bin; or null
@@ -117,9 +117,11 @@ struct Lane {
   double w = 1;
 };
 
-/// A thread's counts, added to the launch's once when it leaves.
+/// A thread's collisions, added to the launch's once when it leaves (an atomic add a particle to one word would
+/// queue every thread on it). The fates need no such count: the escapes are the escape bins' sum, the stuck (rare)
+/// are added where they happen, and the survivors are the rest of the particles launched (Device::take).
 struct LaneCounts {
-  unsigned long long collisions = 0, escaped = 0, survived = 0, stuck = 0;
+  unsigned long long collisions = 0;
 };
 
 /// The batch's next particle into `lane` (its start, weight, and the observer's weight); false when none is left.
@@ -153,13 +155,10 @@ ROTLEAK_HD inline void finish(const LaunchData& d, const Lane& lane, LaneCounts&
   if (e.fate == Fate::escaped) {
     b = static_cast<std::size_t>(e.t / d.dt);
     if (b > d.bins - 1) b = d.bins - 1;
-    ++c.escaped;
     add_count(d.by_bin + b, 1ULL);
     if (d.by_leak) add_count(d.by_leak + static_cast<std::size_t>(e.leak) * d.bins + b, 1ULL);
-  } else if (e.fate == Fate::survived) {
-    ++c.survived;
-  } else {
-    ++c.stuck;
+  } else if (e.fate == Fate::stuck) {
+    add_count(d.counts + 3, 1ULL);
   }
   if (!d.end_sums) return;
   constexpr std::size_t K = kSumDigits;
@@ -181,9 +180,7 @@ ROTLEAK_HD void run_lane(const M& model, const Batch& b, const LaunchData& d, Ob
     finish(d, lane, c);
     live = take_particle(model, b, d, lane, observe);
   }
-  const unsigned long long mine[4] = {c.collisions, c.escaped, c.survived, c.stuck};
-  for (int k = 0; k < 4; ++k)
-    if (mine[k] != 0) add_count(d.counts + k, mine[k]);
+  if (c.collisions != 0) add_count(d.counts, c.collisions);
 }
 
 /// f_c's observer of a launch (null cells: none).
