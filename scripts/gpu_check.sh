@@ -6,7 +6,8 @@
 #                                       ignores it)
 #   scripts/gpu_check.sh run [OUT]      there, in a copy of this tree with .gpu-carry/ beside it: the device, the GPU
 #                                       tests, byte comparisons of run directories (--engine gpu against the CPU's
-#                                       engine: every file, and summary.json less its execution and command), and
+#                                       engine: every file, summary.json less its execution and command, a split
+#                                       run's tally.bin less the engine its inputs name), a deep split run, and
 #                                       bench_gpu (BENCH_PARTICLES a scene, default 10^8); its log and bench_gpu's
 #                                       output under OUT (default gpu-check-out)
 # The run step took about 3 minutes on an H200 with 16 cores before the split runs were added (up to 2 more).
@@ -77,6 +78,19 @@ for d in (a, b):
     d.pop("execution", None), d.pop("command", None)
 sys.exit(0 if a == b else 1)
 PY
+        elif [[ $(basename "$f") == tally.bin ]]; then  # a split run's: its inputs name the engine that ran it
+          python3 - "$f" "$g" <<'PY' || verdict="DIFFER (tally.bin)"
+import json, re, sys
+def parts(path):  # "rotleak-tallies 4\n", the header's length, the header (JSON), the tallies, an FNV-1a checksum
+    b = open(path, "rb").read()
+    first = b.index(b"\n") + 1
+    second = b.index(b"\n", first) + 1
+    n = int(b[first:second])
+    head = json.loads(b[second:second + n])
+    head["inputs"] = re.sub(r"# engine = \w+\n", "", head["inputs"])
+    return b[:first], head, b[second + n:-8]  # the checksum covers the header too
+sys.exit(0 if parts(sys.argv[1]) == parts(sys.argv[2]) else 1)
+PY
         elif ! cmp -s "$f" "$g"; then
           verdict="DIFFER ($(basename "$f"))"
         fi
@@ -100,7 +114,8 @@ PY
     same sinai_split data/scenes/tables/sinai.toml 100000 run.splitting=true run.t_max=2000
     echo "== a deep split run on the device: 10^6 lines of omega = 2/3 to t = 10^4 (60 s at most)"
     if timeout 60 "$rl" simulate data/scenes/rotating.toml --particles 1000000 --set leak.omega=2/3 \
-      --set ensemble.sampling=mupo --set run.splitting=true --set run.t_max=10000 --engine gpu --out "$out/deep" \
+      --set ensemble.sampling=mupo --set run.splitting=true --set run.t_max=10000 \
+      --set 'observe.collision_density={bins=100}' --engine gpu --out "$out/deep" \
       --no-progress >"$out/deep.log" 2>&1; then
       python3 - "$out/deep" <<'PY'
 import csv, json, sys
