@@ -123,7 +123,11 @@ PY
     if timeout 45 "$rl" simulate data/scenes/quickstart.toml --particles 10000000000 --set observe.escapes=false \
       --set 'observe.collision_density={ bins = 1000, windows = [[0, 20000], [2000, 20000]] }' --engine gpu \
       --out "$out/ten_to_ten" --no-progress >"$out/ten_to_ten.log" 2>&1; then
-      python3 -c 'import json, sys; e = json.load(open(sys.argv[1]))["execution"]; print(f"10^10 particles: {e[\"wall_seconds\"]:.1f} s, {e[\"collisions_per_second\"]:.3g} collisions/s")' "$out/ten_to_ten/summary.json"
+      python3 - "$out/ten_to_ten/summary.json" <<'PY'
+import json, sys
+e = json.load(open(sys.argv[1]))["execution"]
+print(f"10^10 particles: {e['wall_seconds']:.1f} s, {e['collisions_per_second']:.3g} collisions/s")
+PY
     else
       echo "10^10 particles: not done in 45 s ($(tail -n 1 "$out/ten_to_ten.log"))"
     fi
