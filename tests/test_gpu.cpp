@@ -124,12 +124,12 @@ TEST(GpuEngine, SplitRunsAreTheScalarCoresOnTheDevice) {
 }
 
 TEST(GpuEngine, EmulatedOnTheHostEndsEveryParticleAsTheScalarCoreDoes) {
-  // the engine's host side -- launches of several blocks (two here), draws made here or there, the tallies counted
+  // the engine's host side -- launches of one block here (two a run), draws made here or there, the tallies counted
   // by the lanes into words and digits, drained into exact sums, escape records in id order -- with the kernel's code
   // run on this machine's cores
   const Emulated on;
   EXPECT_EQ(gpu::unavailable(), "");
-  expect_same_as_scalar(kScenes, 4096 * 3 + 17, 2);
+  expect_same_as_scalar(kScenes, 4096 + 17, 1);
 }
 
 TEST(GpuEngine, EmulatedSplitRunsAreTheScalarCores) {
