@@ -58,7 +58,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kScenes = {
     {"quickstart.toml", {}},
     {"rotating.toml", {"leak.omega=2/3", "ensemble.sampling=mupo"}},
     {"stationary_sL_0.25.toml", {"ensemble.init=flow"}},
-    {"tables/stadium_two_leaks.toml", {}},
+    {"tables/stadium_two_leaks.toml", {"observe.collision_density={ bins = 20, windows = [[0, 100], [50, 300]] }"}},
     {"tables/sinai.toml", {}},
     {"tables/mushroom.toml", {}},
     {"tables/lemon.toml", {"leak.omega=1/3"}},
