@@ -139,6 +139,43 @@ TEST(GpuEngine, EmulatedSplitRunsAreTheScalarCores) {
   expect_same_as_scalar(kSplitScenes, 4096 + 300, 0);
 }
 
+TEST(GpuEngine, EmulatedExactSumsTakeWeightsOfEveryScale) {
+  // the weighted estimator's sums of w and w^2 on the device are exact for any weight the digits admit -- 0, the
+  // least subnormal, 1e-300, up to 1.5 * 2^63 (whose square is near 2^127) -- as FixedSum::add makes them on the
+  // host: the device's tallies of one launch against Tally::add_end of the scalar core's ends. Error model: none.
+  const Emulated on;
+  const Scene scene = scene_of("stationary_sL_0.toml", {"ensemble.sampling=mupo", "run.t_max=200",
+                                                        "fit.kappa_window=[0, 100]", "observe.escapes=false"});
+  const Model<double> model = Model<double>::from(scene);
+  const std::vector<double> scales = {0.0, 0x1p-1074, 1e-300, 0.5, 1.0, 3.0, 0x1p40, 0x1.8p63};
+  const std::uint64_t n = 4000;
+  std::vector<InitialDraw> draws(n);
+  std::vector<double> weights(n);
+  Tally want;
+  want.resize(scene);
+  ASSERT_TRUE(want.get_if<WeightedEstimator>());
+  for (std::uint64_t i = 0; i < n; ++i) {
+    draws[i] = InitialConditions::birkhoff_draw(scene.seed, scene.creation_window, i);
+    weights[i] = scales[i % scales.size()] * (1.0 + static_cast<double>(i) * 0x1p-20);
+    NoCollisionObserver<double> none;
+    const ParticleEnd e = run_particle(model, initial_state(model, draws[i]), none);
+    want.add_end(e.fate, e.t, e.collisions, weights[i], scene.survival_dt, e.leak);
+  }
+  Tally got;
+  got.resize(scene);
+  gpu::Device device(model, gpu::Shape::of(got, scene.survival_dt, nullptr));
+  gpu::Batch batch;
+  batch.count = n, batch.draws = draws.data(), batch.weights = weights.data();
+  device.run(batch);
+  device.take(got, nullptr, nullptr);
+  EXPECT_GT(want.escaped, 0u);
+  EXPECT_EQ(got.collisions, want.collisions);
+  EXPECT_EQ(got.escaped, want.escaped);
+  EXPECT_EQ(got.survived, want.survived);
+  EXPECT_EQ(got.escapes_per_bin, want.escapes_per_bin);
+  EXPECT_TRUE(got.estimator == want.estimator) << "the weighted sums of w and w^2";
+}
+
 TEST(GpuEngine, EmulatedStopAndResumeGiveTheWholeRun) {
   // a run of three launches (4 blocks each at most) stopped at its first checkpoint and resumed from the
   // checkpoint's bytes: the tallies of one uninterrupted pass
