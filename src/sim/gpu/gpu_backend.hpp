@@ -15,9 +15,9 @@ struct Device::Backend {
   virtual ~Backend() = default;
   /// The batch's particles run; their ends into `ends` and `full` when set (host memory).
   virtual void run(const Batch& b, End* ends, ParticleEnd* full) = 0;
-  /// The collisions the launches made since the last call (Layout's word 0), zeroed where it is kept.
+  /// The collisions the launches made since the last call (Layout::kCollisions), zeroed where it is kept.
   virtual std::uint64_t take_collisions() = 0;
-  /// Layout's words (word 0 aside: it is zero after take_collisions) and digits (kSumDigits a sum) made since the
+  /// Layout's words (kCollisions' is 0 after take_collisions) and digits (kSumDigits a sum) made since the
   /// last call, into words and digits (sized by the caller); zeroed where they are kept.
   virtual void take(unsigned long long* words, unsigned long long* digits) = 0;
   virtual void set_t_max(double t_max) = 0;

@@ -57,11 +57,15 @@ constexpr std::uint64_t kDrainAt = 1ULL << 39;
 }  // namespace
 
 Device::Device(const Model<double>& model, const Shape& shape)
-    : impl_(emulated() ? host_backend(model, layout_of(shape), shape) : cuda_backend(model, layout_of(shape), shape)),
-      layout_(layout_of(shape)) {}
+    : layout_(layout_of(shape)),
+      impl_(emulated() ? host_backend(model, layout_, shape) : cuda_backend(model, layout_, shape)),
+      words_(layout_.words(), 0),
+      sums_(layout_.sums()) {}
 Device::Device(const TableModel<double>& model, const Shape& shape)
-    : impl_(emulated() ? host_backend(model, layout_of(shape), shape) : cuda_backend(model, layout_of(shape), shape)),
-      layout_(layout_of(shape)) {}
+    : layout_(layout_of(shape)),
+      impl_(emulated() ? host_backend(model, layout_, shape) : cuda_backend(model, layout_, shape)),
+      words_(layout_.words(), 0),
+      sums_(layout_.sums()) {}
 Device::~Device() = default;
 
 void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
@@ -73,9 +77,8 @@ void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
                                  " lies outside [0, 2^64), the range of the device's exact sums");
   impl_->run(b, ends, full);
   particles_ += b.count;
-  if (words_.empty()) words_.assign(layout_.words(), 0);
   const std::uint64_t made = impl_->take_collisions();
-  words_[0] += made;
+  words_[Layout::kCollisions] += made;
   // a digit word takes one addition a collision (f_c) and a few an end; integer counts need no such bound
   const std::uint64_t added = made + 4 * b.count;
   if (layout_.sums() > 0 && added >= kDrainAt)
@@ -87,11 +90,10 @@ void Device::run(const Batch& b, End* ends, ParticleEnd* full) {
 
 void Device::drain() {
   pending_ = 0;
-  if (words_.empty()) words_.assign(layout_.words(), 0);
-  if (sums_.empty()) sums_.assign(layout_.sums(), FixedSum{});
   std::vector<unsigned long long> got(layout_.words()), digits(layout_.sums() * kSumDigits);
   impl_->take(got.data(), digits.data());
-  for (std::size_t k = 1; k < got.size(); ++k) words_[k] += got[k];
+  for (std::size_t k = 0; k < got.size(); ++k)  // the collisions' word is taken after each launch: 0 here
+    words_[k] += got[k];
   for (std::size_t k = 0; k < sums_.size(); ++k)
     for (int j = 0; j < kSumDigits; ++j)
       if (const unsigned long long v = digits[k * kSumDigits + static_cast<std::size_t>(j)])
@@ -105,11 +107,13 @@ void Device::take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums) {
   drain();
   const Layout& l = layout_;
   if (l.bins) {  // else the host books the ends, their collisions included (a split run's epochs)
-    t.collisions += words_[0];
+    t.collisions += words_[Layout::kCollisions];
     std::uint64_t escaped = 0;
-    for (std::size_t b = 0; b < l.bins; ++b) t.escapes_per_bin[b] += words_[4 + b], escaped += words_[4 + b];
-    t.escaped += escaped, t.stuck += words_[3];
-    t.survived += particles_ - escaped - words_[3];
+    for (std::size_t b = 0; b < l.bins; ++b)
+      t.escapes_per_bin[b] += words_[l.by_bin() + b], escaped += words_[l.by_bin() + b];
+    const std::uint64_t stuck = words_[Layout::kStuck];
+    t.escaped += escaped, t.stuck += stuck;
+    t.survived += particles_ - escaped - stuck;
     for (std::size_t k = 0; k < l.leaks * l.bins; ++k) t.escapes_by_leak[k] += words_[l.by_leak() + k];
   }
   if (l.weighted_ends) {

@@ -104,8 +104,9 @@ class CudaBackend final : public Device::Backend {
 
   std::uint64_t take_collisions() override {
     unsigned long long c = 0;
-    check(cudaMemcpy(&c, words_, sizeof c, cudaMemcpyDeviceToHost), "cudaMemcpy(collisions)");
-    check(cudaMemset(words_, 0, sizeof c), "cudaMemset(collisions)");
+    unsigned long long* at = words_ + Device::Layout::kCollisions;
+    check(cudaMemcpy(&c, at, sizeof c, cudaMemcpyDeviceToHost), "cudaMemcpy(collisions)");
+    check(cudaMemset(at, 0, sizeof c), "cudaMemset(collisions)");
     return c;
   }
 

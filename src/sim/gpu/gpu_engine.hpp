@@ -109,18 +109,23 @@ class Device {
   /// cell into cell_counts (cells x bins), their weights' exact sums into cell_sums (weighted); zeroes them here.
   void take(Tally& t, std::uint64_t* cell_counts, FixedSum* cell_sums);
   /// Collisions the launches made since the last take.
-  std::uint64_t collisions() const { return words_.empty() ? 0 : words_[0]; }
+  std::uint64_t collisions() const { return words_[Layout::kCollisions]; }
   /// Registers a thread of the last launch's kernel used, and its blocks resident on a multiprocessor (0 emulated).
   int registers() const;
   int blocks_per_multiprocessor() const;
 
   struct Backend;
   /// Where the words and sums lie in the device's buffers (gpu_step.hpp's LaunchData).
+  /// Words: the collisions made, the stuck particles, the escapes by bin, by leak and bin, f_c's counts (the escaped
+  /// are the bins' sum, the survivors the rest of the particles launched). Sums: w and w^2 of every end, of the
+  /// escapes by bin (w, then w^2), f_c's weights.
   struct Layout {
+    static constexpr std::size_t kCollisions = 0, kStuck = 1;
     std::size_t bins = 0, leaks = 0, fc = 0;  ///< escape bins, kept leaks, f_c's cells x bins
     bool weighted_ends = false, weighted_fc = false;
-    std::size_t by_leak() const { return 4 + bins; }
-    std::size_t fc_word() const { return 4 + bins + leaks * bins; }
+    std::size_t by_bin() const { return 2; }
+    std::size_t by_leak() const { return by_bin() + bins; }
+    std::size_t fc_word() const { return by_leak() + leaks * bins; }
     std::size_t words() const { return fc_word() + fc; }
     std::size_t fc_sum() const { return weighted_ends ? 2 + 2 * bins : 0; }
     std::size_t sums() const { return fc_sum() + (weighted_fc ? fc : 0); }
@@ -128,8 +133,8 @@ class Device {
 
  private:
   void drain();
-  std::unique_ptr<Backend> impl_;
   Layout layout_;
+  std::unique_ptr<Backend> impl_;
   std::uint64_t pending_ = 0;         ///< additions the device's words took since they were last drained
   std::uint64_t particles_ = 0;       ///< launched since the last take
   std::vector<std::uint64_t> words_;  ///< drained, not yet taken: Layout's words

@@ -38,7 +38,7 @@ class HostBackend final : public Device::Backend {
     }
   }
 
-  std::uint64_t take_collisions() override { return std::exchange(words_[0], 0ULL); }
+  std::uint64_t take_collisions() override { return std::exchange(words_[Device::Layout::kCollisions], 0ULL); }
 
   void take(unsigned long long* words, unsigned long long* digits) override {
     std::copy(words_.begin(), words_.end(), words);

@@ -76,16 +76,17 @@ struct CellObserver {
 /// Where a launch's particles come from and where their ends and tallies go (device memory on a device; Device::Layout
 /// says where each part of the words and digits lies).
 struct LaunchData {
-  const InitialDraw* draws;      ///< null: the uniform Birkhoff draws of Batch's seed and creation window
-  const double* weights;         ///< null: weight 1
-  const Start* starts;           ///< an epoch's members, or null
-  End* ends;                     ///< each particle's end (escape records), or null
-  ParticleEnd* full;             ///< each member's whole end (an epoch), or null
-  unsigned long long* next;      ///< the batch's next particle to take
-  unsigned long long* counts;    ///< collisions made, -, -, stuck (escaped and survived: Device::take)
-  unsigned long long* by_bin;    ///< escapes by bin, or null: the ends are the host's to book (an epoch)
-  unsigned long long* by_leak;   ///< escapes by leak and bin (leaks x bins), or null
-  unsigned long long* end_sums;  ///< weighted: sums of w, w^2, escaped w by bin, escaped w^2 by bin; or null
+  const InitialDraw* draws;        ///< null: the uniform Birkhoff draws of Batch's seed and creation window
+  const double* weights;           ///< null: weight 1
+  const Start* starts;             ///< an epoch's members, or null
+  End* ends;                       ///< each particle's end (escape records), or null
+  ParticleEnd* full;               ///< each member's whole end (an epoch), or null
+  unsigned long long* next;        ///< the batch's next particle to take
+  unsigned long long* collisions;  ///< collisions made
+  unsigned long long* stuck;       ///< particles stuck (escaped and survived: Device::take)
+  unsigned long long* by_bin;      ///< escapes by bin, or null: the ends are the host's to book (an epoch)
+  unsigned long long* by_leak;     ///< escapes by leak and bin (leaks x bins), or null
+  unsigned long long* end_sums;    ///< weighted: sums of w, w^2, escaped w by bin, escaped w^2 by bin; or null
   std::uint64_t bins;
   double dt;
   const DensityCells* cells;      ///< null: no f_c
@@ -98,8 +99,9 @@ inline LaunchData launch_data(const Device::Layout& l, unsigned long long* words
                               const DensityCells* cells) {
   const auto sums = [&](std::size_t k) { return digits + k * static_cast<std::size_t>(kSumDigits); };
   LaunchData d{};
-  d.counts = words;
-  d.by_bin = l.bins ? words + 4 : nullptr;
+  d.collisions = words + Device::Layout::kCollisions;
+  d.stuck = words + Device::Layout::kStuck;
+  d.by_bin = l.bins ? words + l.by_bin() : nullptr;
   d.by_leak = l.bins && l.leaks ? words + l.by_leak() : nullptr;
   d.end_sums = l.weighted_ends ? sums(0) : nullptr;
   d.bins = l.bins;
@@ -158,7 +160,7 @@ ROTLEAK_HD inline void finish(const LaunchData& d, const Lane& lane, LaneCounts&
     add_count(d.by_bin + b, 1ULL);
     if (d.by_leak) add_count(d.by_leak + static_cast<std::size_t>(e.leak) * d.bins + b, 1ULL);
   } else if (e.fate == Fate::stuck) {
-    add_count(d.counts + 3, 1ULL);
+    add_count(d.stuck, 1ULL);
   }
   if (!d.end_sums) return;
   constexpr std::size_t K = kSumDigits;
@@ -180,7 +182,7 @@ ROTLEAK_HD void run_lane(const M& model, const Batch& b, const LaunchData& d, Ob
     finish(d, lane, c);
     live = take_particle(model, b, d, lane, observe);
   }
-  if (c.collisions != 0) add_count(d.counts, c.collisions);
+  if (c.collisions != 0) add_count(d.collisions, c.collisions);
 }
 
 /// f_c's observer of a launch (null cells: none).
