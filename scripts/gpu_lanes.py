@@ -23,6 +23,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from table_rates import write_csv  # noqa: E402  (a temporary name, then a rename)
+
 SCENES = [
     ("s_L = 0", ["leak.start=0", "leak.omega=0"]),
     ("omega = 2/3", ["leak.omega=2/3"]),
@@ -81,12 +84,7 @@ def main():
     for r in rows:
         print(f"| {r['scene']} | {r['mean_collisions']} | {r['max_collisions']} | {r['plain_busy']:.1%} | "
               f"{r['lanes_busy']:.1%} | {r['predicted_ratio']} |")
-    tmp = out_csv + ".tmp"
-    with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    os.replace(tmp, out_csv)
+    write_csv(out_csv, rows)
 
 
 if __name__ == "__main__":

@@ -31,18 +31,24 @@ def script(name, *args):
                           capture_output=True, text=True)
 
 
+def written(name, *args, dtype=None):
+    """The script run into a temporary CSV: its rows read back with csv, its frame with pandas, and what it printed."""
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "out.csv")
+        printed = script(name, out, *args).stdout
+        with open(out, newline="") as f:
+            rows = list(csv.DictReader(f))
+        frame = pandas.read_csv(out, dtype=dtype)
+    return rows, frame, printed
+
+
 class TableScripts(unittest.TestCase):
     def test_engines_write_identical_files_on_every_table(self):
         version = subprocess.run([os.path.join(BUILD, "rotleak"), "--version"], check=True, capture_output=True,
                                  text=True).stdout
         if "lanes" not in version:
             self.skipTest("this CPU runs no vectorised kernel: " + version.strip())
-        with tempfile.TemporaryDirectory() as d:
-            out = os.path.join(d, "engines.csv")
-            script("table_engines.py", out, "3000", "1")
-            with open(out, newline="") as f:
-                rows = list(csv.DictReader(f))
-            frame = pandas.read_csv(out)
+        rows, frame, _ = written("table_engines.py", "3000", "1")
         tables = sorted(n[:-5] for n in os.listdir(os.path.join(SOURCE, "data", "scenes", "tables")))
         self.assertEqual(list(frame.columns), ENGINES)
         self.assertEqual(sorted(set(r["table"] for r in rows)), tables)
@@ -50,24 +56,14 @@ class TableScripts(unittest.TestCase):
         self.assertTrue((frame["scalar_collisions_per_s"] > 0).all() and (frame["simd_collisions_per_s"] > 0).all())
 
     def test_rates_write_a_row_per_table_and_width(self):
-        with tempfile.TemporaryDirectory() as d:
-            out = os.path.join(d, "rates.csv")
-            script("table_rates.py", out, "3000")
-            with open(out, newline="") as f:
-                rows = list(csv.DictReader(f))
-            frame = pandas.read_csv(out, dtype={"width": str})
+        rows, frame, _ = written("table_rates.py", "3000", dtype={"width": str})
         self.assertEqual(list(frame.columns), RATES)
         self.assertEqual(len(rows), 18)  # 9 tables, 2 widths
         self.assertEqual(sorted(set(frame["width"])), ["0.01", "0.02"])
         self.assertTrue((frame["kappa0"] > 0).all() and (frame["particles"] == 3000).all())
 
     def test_small_hole_limit_writes_a_row_per_table_and_width(self):
-        with tempfile.TemporaryDirectory() as d:
-            out = os.path.join(d, "limit.csv")
-            printed = script("small_hole_limit.py", out, "3000").stdout
-            with open(out, newline="") as f:
-                rows = list(csv.DictReader(f))
-            frame = pandas.read_csv(out, dtype={"width": str})
+        rows, frame, printed = written("small_hole_limit.py", "3000", dtype={"width": str})
         self.assertEqual(list(frame.columns), LIMIT)
         self.assertEqual(sorted(set(r["table"] for r in rows)), ["lorentz", "sinai"])
         self.assertEqual(sorted(set(frame["width"])), ["0.0025", "0.005", "0.01", "0.02"])
@@ -77,9 +73,6 @@ class TableScripts(unittest.TestCase):
             k0 = frame[frame["table"] == t].set_index("width")["kappa0"]
             self.assertAlmostEqual(k0["0.02"] / k0["0.01"], 2.0, places=12)
         self.assertEqual(printed.count("| lorentz |"), 1 + 2)  # its ratios, then its two fits
-
-
-
 
 
 class GpuLanes(unittest.TestCase):
@@ -94,12 +87,7 @@ class GpuLanes(unittest.TestCase):
         self.assertEqual(gpu_lanes.lanes_busy([3, 1, 1, 1, 2], 4), 8 / 12)
 
     def test_writes_a_row_per_scene(self):
-        with tempfile.TemporaryDirectory() as d:
-            out = os.path.join(d, "lanes.csv")
-            script("gpu_lanes.py", out, "20000")
-            with open(out, newline="") as f:
-                rows = list(csv.DictReader(f))
-            frame = pandas.read_csv(out)
+        rows, frame, _ = written("gpu_lanes.py", "20000")
         self.assertEqual(list(frame.columns), LANES)
         self.assertEqual([r["scene"] for r in rows], ["s_L = 0", "omega = 2/3", "quick-start"])
         self.assertTrue(((frame["plain_busy"] > 0) & (frame["plain_busy"] <= frame["lanes_busy"])).all())
