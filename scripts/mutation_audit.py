@@ -14,6 +14,7 @@ build/mutation_audit/NAME.log. Every mutant is reverted, also on Ctrl-C or an er
 A mutant file, tests/mutants/NAME.patch: header lines, then a unified diff (`git diff` of one small change):
   # what: one line saying what the error is
   # catch: TEST_BINARY GTEST_FILTER      (one line per test binary that should catch it)
+  # catch: python/test_X.py PATTERN      (a Python test file under tests/: unittest -k PATTERN, the package built)
   # note: why it survives, where it is known to (optional, shown in the report)
 """
 import os
@@ -71,6 +72,13 @@ def missing_tests(m):
     whose suite no TEST/TEST_F/TEST_P/INSTANTIATE in that file defines."""
     out = []
     for binary, filt in m.catch:
+        if binary.endswith(".py"):
+            src = os.path.join(ROOT, "tests", binary)
+            if not os.path.isfile(src):
+                out.append(f"catch names tests/{binary}, which is not there")
+            elif not re.search(r"^\s*def " + re.escape(filt) + r"\w*\(", open(src).read(), re.M):
+                out.append(f"catch pattern {filt!r}: no test method def {filt}... in tests/{binary}")
+            continue
         src = os.path.join(ROOT, "tests", binary + ".cpp")
         if not os.path.isfile(src):
             out.append(f"catch names {binary}, but there is no tests/{binary}.cpp")
@@ -114,9 +122,35 @@ def test_binary(name):
     raise SystemExit(f"no test binary {name} in {BUILD}/tests")
 
 
+# what a Python test file needs from the build (tests/CMakeLists.txt's Python.* tests): the package copied to
+# build/python with its module, and the command
+PYTHON_TARGETS = ["rotleak_python_files", "rotleak_python", "rotleak"]
+
+
+def build_targets(m):
+    return sorted({t for b, _ in m.catch for t in (PYTHON_TARGETS if b.endswith(".py") else [b])})
+
+
+def run_python(binary, filt, log):
+    env = dict(os.environ, PYTHONPATH=os.path.join(BUILD, "python"), ROTLEAK_BINARY=os.path.join(BUILD, "rotleak"),
+               ROTLEAK_SOURCE=ROOT)
+    r = subprocess.run(["/usr/bin/python3", "-m", "unittest", "-v", "-k", filt, os.path.join("tests", binary)],
+                       cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
+    log.write(f"$ python3 -m unittest -k {filt} tests/{binary}\n{r.stdout}{r.stderr}\n")
+    names = list(dict.fromkeys(re.findall(r"^(?:FAIL|ERROR): (\w+)", r.stderr, re.M)))
+    if r.returncode != 0 and not names:
+        names = [f"{binary} (exit {r.returncode})"]
+    if re.search(r"^Ran 0 tests", r.stderr, re.M):  # a catch line that runs nothing is a broken catch, not a catch
+        raise SystemExit(f"tests/{binary}: no test matches {filt}")
+    return names
+
+
 def run_targeted(m, log):
     failed = []
     for binary, filt in m.catch:
+        if binary.endswith(".py"):
+            failed += run_python(binary, filt, log)
+            continue
         r = subprocess.run([test_binary(binary), f"--gtest_filter={filt}"], cwd=BUILD, capture_output=True,
                            text=True, timeout=1200)
         log.write(f"$ {binary} --gtest_filter={filt}\n{r.stdout}{r.stderr}\n")
@@ -169,7 +203,7 @@ def main(argv):
             t0 = time.time()
             try:
                 print(f"[mutation_audit] {m.name}: {m.what}", flush=True)
-                mine = sorted({b for b, _ in m.catch})
+                mine = build_targets(m)
                 targets.update(mine)
                 ok, out = build(None if whole else mine)
                 with open(os.path.join(LOGS, m.name + ".log"), "w") as log:

@@ -8,6 +8,8 @@
 #include "analysis/fits.hpp"
 #include "analysis/run_summary.hpp"
 #include "io/scene_file.hpp"
+#include "sim/tally/survival.hpp"
+#include "sim/tally/tally.hpp"
 
 using namespace rotleak;
 
@@ -709,4 +711,65 @@ TEST(SurvivalCurveCovariance, AWeightedErrorIsTheWeightsSpreadAboutP) {
   EXPECT_DOUBLE_EQ(c.effective(1), 4 * 0.25 / 0.625);  // (sum w)^2 / sum w^2 of the living
   // the covariance of ln P between the two times, by hand: E[w^2 (I_0 - 1)(I_1 - 0.5)] = 0 (everyone alive at 0)
   EXPECT_NEAR(c.log_cov(0, 1), 0.0, 1e-17);
+}
+
+// The same error through the tally a weighted run books (Tally::add_end, survival_curve's exact sums of w and w^2 by
+// escape bin) rather than a curve filled by hand: six particles of a mupo-sampled scene, weights chosen so that
+// the escaped particles' sum of w (2.5) differs from their sum of w^2 (3.5625), P_err computed here straight from its
+// definition, sqrt(sum_i w_i^2 (I_i - P)^2 / N) / (sqrt(N) m). A survival curve whose Q subtracted the escapes' w
+// where their w^2 belongs (mutant tests/mutants/weighted-q-from-w.patch) misses it by far more than rounding.
+TEST(SurvivalCurveCovariance, ATallysWeightedErrorIsTheWeightsSpreadAboutP) {
+  const Scene scene = parse_scene(
+      "[leak]\nwidth = \"0.01\"\n[ensemble]\nparticles = 6\nsampling = \"mupo\"\n[run]\nt_max = 10\n"
+      "[observe]\nsurvival_dt = 1\n[fit]\nkappa_window = [0, 5]\n");
+  struct End {
+    double t, w;
+    bool escaped;
+  };
+  const std::vector<End> ends = {{10, 0.5, false}, {10, 1.5, false}, {2.5, 0.25, true},
+                                 {2.5, 1.75, true}, {7.5, 0.5, true}, {10, 1.0, false}};
+  Tally tally;
+  tally.resize(scene);
+  ASSERT_TRUE(tally.get_if<WeightedEstimator>());
+  for (const End& e : ends) tally.add_end(e.escaped ? Fate::escaped : Fate::survived, e.t, 1, e.w, 1.0);
+  const SurvivalCurve c = survival_curve(scene, tally);
+  ASSERT_TRUE(c.weighted);
+  const double n = static_cast<double>(ends.size());
+  double m = 0;
+  for (const End& e : ends) m += e.w / n;
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    double alive = 0;
+    for (const End& e : ends) alive += (!e.escaped || e.t >= c.t[i]) ? e.w : 0.0;
+    const double p = alive / (n * m);
+    double spread = 0;  // sum w^2 (I - P)^2
+    for (const End& e : ends) {
+      const double d = ((!e.escaped || e.t >= c.t[i]) ? 1.0 : 0.0) - p;
+      spread += e.w * e.w * d * d;
+    }
+    EXPECT_NEAR(c.P(i), p, 1e-15) << "t = " << c.t[i];
+    EXPECT_NEAR(c.P_err(i), std::sqrt(spread / n) / (std::sqrt(n) * m), 1e-15) << "t = " << c.t[i];
+  }
+  EXPECT_GT(c.P_err(5), 0.1);  // the test has something to see: P(5) = 3.5 / 5.5, its error a fair share of it
+}
+
+// A leak's escapes over the whole run are the sum of its escapes in every bin, the last bin included (escapes at
+// t_max's bin are booked there: Tally::add_end clamps t to it). Two leaks, escapes in the first and the last bin
+// of each: a total that stopped a bin short (mutant tests/mutants/leak-total-last-bin.patch) loses one of each.
+TEST(TallyLeaks, ALeaksTotalCountsEveryBinTheLastIncluded) {
+  const Scene scene = parse_scene(
+      "[[leaks]]\nwidth = \"0.01\"\n[[leaks]]\nwidth = \"0.02\"\nstart = \"1/2\"\n[ensemble]\nparticles = 5\n"
+      "[run]\nt_max = 10\n[observe]\nsurvival_dt = 1\n[fit]\nkappa_window = [0, 5]\n");
+  Tally tally;
+  tally.resize(scene);
+  const std::size_t bins = tally.escapes_per_bin.size();
+  ASSERT_GE(bins, 2u);
+  tally.add_end(Fate::escaped, 0.5, 1, 1.0, 1.0, 0);
+  tally.add_end(Fate::escaped, 9.5, 1, 1.0, 1.0, 0);  // the last bin of [0, 10) at dt = 1
+  tally.add_end(Fate::escaped, 9.9, 1, 1.0, 1.0, 1);
+  tally.add_end(Fate::escaped, 0.1, 1, 1.0, 1.0, 1);
+  tally.add_end(Fate::escaped, 0.2, 1, 1.0, 1.0, 1);
+  EXPECT_EQ(tally.leak_escapes(0, bins - 1) + tally.leak_escapes(1, bins - 1), 2u);
+  EXPECT_EQ(tally.leak_escaped(0), 2u);
+  EXPECT_EQ(tally.leak_escaped(1), 3u);
+  EXPECT_EQ(tally.leak_escaped(0) + tally.leak_escaped(1), tally.escaped);
 }

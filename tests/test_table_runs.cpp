@@ -74,6 +74,28 @@ TEST(TableScene, EveryStandardTableReadsAndWritesBack) {
   EXPECT_EQ(scene_json(a).dump(), scene_json(b).dump());
 }
 
+// A list of one leak is the scene's [leak] only when it lies on the outer boundary (loop 0, given or by default);
+// one leak on the Sinai table's disc stays a listed leak on loop 1 (its scene written and read back keeps it there),
+// where folding it into [leak] (mutant tests/mutants/scatterer-leak-folded.patch) would move it onto the walls.
+TEST(TableScene, OneListedLeakIsTheLeakOnlyOnTheOuterBoundary) {
+  const std::string sinai = "[table]\nkind = \"sinai\"\nside = \"2\"\nradius = \"1/2\"\n";
+  for (const char* loop : {"", "loop = 0\n"}) {
+    const Scene walls = parse_scene(sinai + "[[leaks]]\n" + loop + "width = \"1/20\"\nomega = \"1/7\"\n");
+    EXPECT_TRUE(walls.leaks.empty()) << loop;
+    EXPECT_EQ(walls.width_text, "1/20");
+    EXPECT_EQ(walls.omega.as_rational(), mpq_class(1, 7));
+  }
+  const Scene disc = parse_scene(sinai + "[[leaks]]\nloop = 1\nwidth = \"1/20\"\nomega = \"1/7\"\n");
+  ASSERT_EQ(disc.leaks.size(), 1u);
+  EXPECT_EQ(disc.leaks[0].loop, 1);
+  EXPECT_EQ(disc.leaks[0].width.text, "1/20");
+  EXPECT_EQ(leak_count(disc), 1u);
+  const Scene back = parse_scene(scene_to_toml(disc));
+  ASSERT_EQ(back.leaks.size(), 1u);
+  EXPECT_EQ(back.leaks[0].loop, 1);
+  EXPECT_EQ(scene_json(back).dump(), scene_json(disc).dump());
+}
+
 TEST(TableScene, BadTablesAndLeakListsAreRefusedWithTheirKey) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[table]\nkind = \"oval\"\n", "table.kind"},

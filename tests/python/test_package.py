@@ -8,6 +8,7 @@ import csv
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -502,6 +503,20 @@ class Package(unittest.TestCase):
                     {"table": {"kind": "circle", "radius": 1}, "leaks": [{"width": "0.01", "loop": 1}]}):
             with self.assertRaises(ValueError, msg=str(bad)):
                 rotleak.Scene(**bad)
+
+    def test_a_listed_leaks_exact_keys_refuse_floats(self):
+        """leaks.N.width, .start and .omega are read exactly, as leak.width is: a float is refused by name (it would
+        pass its rounding off as the value meant); exact texts, ints and Fractions are taken; leaks.N.loop is an
+        integer, not an exact text, and a float there is the reader's to refuse."""
+        scene = rotleak.Scene(leaks=[{"width": "0.02"}, {"width": "0.01", "start": "1/2"}])
+        for key in ("leaks.1.width", "leaks.0.start", "leaks.1.omega"):
+            with self.subTest(key=key):
+                with self.assertRaisesRegex(ValueError, r"^overrides\['%s'\] = 0\.1: %s is exact" % (
+                        re.escape(key), re.escape(key))):
+                    scene.replace({key: 0.1})
+        for value in ("1/10", Fraction(1, 10)):
+            self.assertIn('width = "1/10"', scene.replace({"leaks.1.width": value}).to_toml())
+        self.assertIn("omega = \"3\"", scene.replace({"leaks.1.omega": 3}).to_toml())
 
     def test_a_table_is_drawn_from_rotleaks_own_geometry(self):
         """rotleak.plot.table's points (analysis/output/table_output.hpp): the circle's lie on it, the Sinai table has
