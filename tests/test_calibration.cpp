@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "analysis/calibration.hpp"
@@ -199,6 +200,112 @@ TEST(SeedSpread, CurveVerdictHoldsItsRateOverManyTimes) {
   EXPECT_THROW(honest_band(K, 0), std::invalid_argument);
 }
 
+// The sd / err band is chi-square's central interval with K - 1 degrees of freedom, checked against that
+// distribution's closed form for even degrees: P(chi2_{2m} <= x) = 1 - e^{-x/2} sum_{j<m} (x/2)^j / j!. At K = 5
+// and 9 (4 and 8 degrees) both ends lie outside kHonestBand, so each end's tail is the judgement's rate / 2; at
+// K = 17 the upper end is kHonestBand's for one test, not for four. A band with K degrees (mutant tests/mutants/calibration-band-dof.patch)
+// puts the low end's tail at 0.0124 for K = 9 where 0.005 belongs.
+double chi2_even_cdf(double x, int dof) {
+  double term = 1, sum = 1;
+  for (int j = 1; j < dof / 2; ++j) sum += term *= (x / 2) / j;
+  return 1 - std::exp(-x / 2) * sum;
+}
+
+TEST(HonestBand, TheSdBandIsTheChiSquareIntervalOfKMinusOneDegrees) {
+  int upper_free = 0, upper_bound = 0;
+  for (const std::size_t tests : {std::size_t{1}, std::size_t{4}})
+    for (const std::size_t K : {std::size_t{5}, std::size_t{9}, std::size_t{17}}) {
+      const HonestBand b = honest_band(K, tests);
+      const double a = kCalibrationFalseAlarm / static_cast<double>(tests), dof = static_cast<double>(K - 1);
+      EXPECT_DOUBLE_EQ(b.false_alarm_each, a);
+      ASSERT_LT(b.lo, kHonestBand[0]) << "K = " << K;
+      EXPECT_NEAR(chi2_even_cdf(dof * b.lo * b.lo, static_cast<int>(K - 1)), a / 2, 1e-9 * a) << "K = " << K;
+      if (b.hi > kHonestBand[1]) {
+        ++upper_free;
+        EXPECT_NEAR(1 - chi2_even_cdf(dof * b.hi * b.hi, static_cast<int>(K - 1)), a / 2, 1e-9 * a) << "K = " << K;
+      } else {
+        ++upper_bound;
+        EXPECT_EQ(b.hi, kHonestBand[1]);
+        EXPECT_LT(1 - chi2_even_cdf(dof * b.hi * b.hi, static_cast<int>(K - 1)), a / 2);  // the band binds
+      }
+    }
+  EXPECT_EQ(upper_bound, 1);  // K = 17 at one test: sqrt(34.27 / 16) = 1.46 lies inside kHonestBand
+  EXPECT_EQ(upper_free, 5);
+}
+
+// Each edge of the verdict decides as documented on either side of it (analysis/calibration.hpp): sd / err just
+// inside lo and hi is honest, just outside "errors too large" / "errors too small"; coverage at 2 errors at the
+// floor is honest, a hair under it "errors too small"; errors too large are "untested" only where the allowance is
+// more than half the error (0.5 itself is not); no reported error is "no errors reported".
+TEST(HonestBand, EachEdgeDecidesOnEitherSide) {
+  for (const std::size_t K : {std::size_t{5}, std::size_t{16}, std::size_t{100}}) {
+    const HonestBand b = honest_band(K);
+    SeedSpread s;
+    s.n = K;
+    s.median_err = 0.1;
+    s.coverage2 = 1;
+    const auto at = [&](double sd_over_err, double coverage2, double share = 0) {
+      SeedSpread t = s;
+      t.sd_over_err = sd_over_err, t.coverage2 = coverage2;
+      return spread_verdict(t, share);
+    };
+    const double below = -std::numeric_limits<double>::infinity(), above = -below;
+    EXPECT_EQ(at(b.lo, 1), "honest") << K;
+    EXPECT_EQ(at(std::nextafter(b.lo, below), 1), "errors too large") << K;
+    EXPECT_EQ(at(b.hi, 1), "honest") << K;
+    EXPECT_EQ(at(std::nextafter(b.hi, above), 1), "errors too small") << K;
+    EXPECT_EQ(at(1, b.coverage2_floor), "honest") << K;
+    EXPECT_EQ(at(1, std::nextafter(b.coverage2_floor, below)), "errors too small") << K;
+    EXPECT_EQ(at(std::nextafter(b.lo, below), 1, 0.5), "errors too large") << K;
+    EXPECT_EQ(at(std::nextafter(b.lo, below), 1, std::nextafter(0.5, above)),
+              "untested: mostly the allowance for lines not drawn")
+        << K;
+    EXPECT_EQ(at(std::nextafter(b.hi, above), 1, 1.0), "errors too small") << K;  // the allowance excuses no small error
+    s.median_err = 0;
+    EXPECT_EQ(at(1, 1), "no errors reported") << K;
+  }
+  // a curve: one time a hair outside the band, or a hair under the floor, and it is not honest
+  const HonestBand b = honest_band(16, 3);
+  SeedSpread s;
+  s.n = 16, s.median_err = 0.1, s.sd_over_err = 1, s.coverage2 = 1;
+  std::vector<SeedSpread> times(3, s);
+  EXPECT_TRUE(curve_verdict(times).honest());
+  times[1].sd_over_err = b.hi;
+  times[2].coverage2 = b.coverage2_floor;
+  EXPECT_TRUE(curve_verdict(times).honest());
+  times[1].sd_over_err = std::nextafter(b.hi, 2.0);
+  EXPECT_EQ(curve_verdict(times).outside, 1u);
+  EXPECT_FALSE(curve_verdict(times).honest());
+  times[1].sd_over_err = 1;
+  times[2].coverage2 = std::nextafter(b.coverage2_floor, 0.0);
+  EXPECT_EQ(curve_verdict(times).uncovered, 1u);
+  EXPECT_FALSE(curve_verdict(times).honest());
+  // too small wins over too large where both hold (coverage under its floor); seeds of one count only
+  SeedSpread both = s;
+  both.sd_over_err = std::nextafter(b.lo, 0.0), both.coverage2 = std::nextafter(b.coverage2_floor, 0.0);
+  EXPECT_EQ(spread_verdict(both, 1.0), "errors too small");
+  SeedSpread other = s;
+  other.n = 17;
+  EXPECT_THROW(curve_verdict({s, other}), std::invalid_argument);
+}
+
+// The times calibrate judges (resolved_in_seeds): every seed's P above 0 and the median seed's effective survivors at
+// least min_effective -- at it resolved, a hair above it not; one seed with no survivor, not, whatever the others.
+TEST(HonestBand, ATimeIsJudgedWhereTheMedianSeedHasItsSurvivors) {
+  const auto curve = [](std::uint64_t alive) {
+    SurvivalCurve c;
+    c.particles = 1000;
+    c.t = {0, 1};
+    c.survivors = {1000, alive};
+    return c;
+  };
+  const std::vector<SurvivalCurve> three = {curve(90), curve(100), curve(500)};
+  EXPECT_TRUE(resolved_in_seeds(three, 1, 100.0));
+  EXPECT_FALSE(resolved_in_seeds(three, 1, std::nextafter(100.0, 1e9)));
+  EXPECT_FALSE(resolved_in_seeds({curve(100), curve(0), curve(500)}, 1, 1.0));
+  EXPECT_TRUE(resolved_in_seeds({curve(100), curve(1), curve(500)}, 1, 1.0));
+}
+
 // Pooling split runs: P the mean, R = K sum R_k P_k^2 / (sum P_k)^2, N the sum: P's error of the pool is
 // that of one run of all lines.
 TEST(PoolCurves, SplitRunsPoolToOneRunOfAllLines) {
@@ -315,6 +422,60 @@ TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
   ASSERT_TRUE(c.allowance_unresolved_from.has_value());
   EXPECT_GT(*c.allowance_unresolved_from, 20);
   for (std::size_t k = 1; k < c.G.size(); ++k) EXPECT_GE(c.G[k], c.G[k - 1]);
+}
+
+// Where P becomes a bound, on either side of each edge: allowance_unresolved_from is the first time the allowance
+// exceeds kAllowanceShare = 1/2 of the lines' own variance P^2 (R - 1) / N. The fixture above with R chosen per time
+// so that the allowance is just under half the own variance up to t = 25 and just over it there: it starts at 25;
+// with 25 just under as well, at 26. p_bounded holds from that time on, for split runs only.
+TEST(UnsplitAllowance, PIsABoundFromTheFirstTimeTheAllowanceTakesHalfItsVariance) {
+  SurvivalCurve c;
+  c.weighted = c.lines = true;
+  c.particles = 1000;
+  c.first_split = 2;
+  const double n = 1000, w = 0.02;
+  SurvivalCurve::UnsplitGroup heavy;
+  heavy.classes = {unsplit_class(w)};
+  for (int k = 0; k <= 40; ++k) {
+    const std::uint64_t alive = k <= 10 ? 50 : k <= 20 ? 15 : 5;
+    c.t.push_back(k);
+    c.survivors.push_back(1000);
+    c.lines_alive.push_back(1000);
+    c.P_w.push_back(1e-2 * std::exp(-0.1 * k));
+    c.R.push_back(2);
+    c.G.push_back(1 / n);
+    heavy.lines.push_back(alive);
+    heavy.P.push_back(static_cast<double>(alive) * w / n);
+    heavy.var.push_back(static_cast<double>(alive) * w * w / (n * n));
+  }
+  c.unsplit = {heavy};
+  SurvivalCurve probe = c;
+  add_unsplit_allowance(probe);
+  std::vector<double> extra(c.t.size());  // the allowance, which R does not change
+  for (std::size_t k = 0; k < c.t.size(); ++k) extra[k] = c.P_w[k] * c.P_w[k] * (probe.R[k] - c.R[k]) / n;
+  ASSERT_EQ(extra[20], 0.0);
+  ASSERT_GT(extra[25], 0.0);
+  ASSERT_GT(extra[26], 0.0);
+  for (std::size_t edge : {std::size_t{25}, std::size_t{26}}) {
+    SurvivalCurve d = c;
+    for (std::size_t k = 0; k < d.t.size(); ++k)
+      if (extra[k] > 0)
+        d.R[k] = 1 + n * extra[k] / (kAllowanceShare * d.P_w[k] * d.P_w[k]) * (k < edge ? 1 + 1e-6 : 1 - 1e-6);
+    add_unsplit_allowance(d);
+    ASSERT_TRUE(d.allowance_unresolved_from.has_value()) << edge;
+    EXPECT_EQ(*d.allowance_unresolved_from, static_cast<double>(edge));
+    EXPECT_FALSE(p_bounded(d, edge - 1));
+    EXPECT_TRUE(p_bounded(d, edge));
+    EXPECT_TRUE(p_bounded(d, d.t.size() - 1));
+    d.lines = false;  // a run without splitting never bounds P so
+    EXPECT_FALSE(p_bounded(d, d.t.size() - 1));
+  }
+  SurvivalCurve none = c;  // the allowance under half everywhere: P is measured at every time
+  for (std::size_t k = 0; k < none.t.size(); ++k)
+    if (extra[k] > 0) none.R[k] = 1 + n * extra[k] / (kAllowanceShare * none.P_w[k] * none.P_w[k]) * (1 + 1e-6);
+  add_unsplit_allowance(none);
+  EXPECT_FALSE(none.allowance_unresolved_from.has_value());
+  EXPECT_FALSE(p_bounded(none, none.t.size() - 1));
 }
 
 // Weight classes come from the binary exponent alone: factors of 8, the heaviest from 1/4 up.

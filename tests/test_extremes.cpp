@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "analysis/output/run_output.hpp"
 #include "io/scene_file.hpp"
@@ -231,6 +232,142 @@ TEST(Extremes, SimulateWarnsWhereTheAuditWouldNotTrustItsTier) {
   ASSERT_TRUE(a.tier_choice.has_value());
   EXPECT_NE(summary_text(a).find("tier  : auto chose " + to_string(a.scene.tier)), std::string::npos)
       << summary_text(a);
+}
+
+namespace {
+
+// A report of two tiers (double, long double) filled by hand and judged (verify/audit.hpp, judge): each tier
+// reproduces `share` of its `compared` sampled escapes, and its ensemble agrees with its reference or not.
+AuditReport judged(const std::string& omega, double share, std::size_t compared, bool consistent) {
+  AuditReport rep;
+  for (const char* t : {"double", "long_double"}) {
+    TierAudit ta;
+    ta.name = t;
+    ta.escape_time_exact_fraction = share;
+    ta.escapes_compared = compared;
+    rep.tiers.push_back(ta);
+    StatisticsCheck st;
+    st.tier = t;
+    st.consistent = consistent;
+    rep.statistics.push_back(st);
+  }
+  judge(parse_scene("[leak]\nomega = \"" + omega + "\"\n"), rep);
+  return rep;
+}
+
+std::string verdict_of(const AuditReport& rep, const std::string& tier, const std::string& statistic) {
+  for (const Verdict& v : rep.verdicts)
+    if (v.tier == tier && v.statistic == statistic) return v.verdict;
+  return "(no verdict)";
+}
+
+}  // namespace
+
+// The trajectories rule on either side of its edge: 99% of the sampled escapes reproduced is trusted, and with it
+// every statistic, whatever the ensembles say; one ulp under 99% is not, and the statistics then follow the
+// ensemble ("trusted as a statistic" where it agrees, "not trusted" where it differs); nothing compared is not
+// trusted, however perfect its share.
+TEST(Trust, TrajectoriesAreTrustedFromTheirShareOfReproducedEscapes) {
+  const double under = std::nextafter(kTrustedEscapeShare, 0.0);
+  for (const char* tier : {"double", "long_double"}) {
+    EXPECT_EQ(verdict_of(judged("0", kTrustedEscapeShare, 100, false), tier, "trajectories"), "trusted") << tier;
+    EXPECT_EQ(verdict_of(judged("0", kTrustedEscapeShare, 100, false), tier, "P(t)"), "trusted") << tier;
+    EXPECT_EQ(verdict_of(judged("0", under, 100, false), tier, "trajectories"), "not trusted") << tier;
+    EXPECT_EQ(verdict_of(judged("0", under, 100, false), tier, "P(t)"), "not trusted") << tier;
+    EXPECT_EQ(verdict_of(judged("0", under, 100, true), tier, "kappa"), "trusted as a statistic") << tier;
+    EXPECT_EQ(verdict_of(judged("0", 1.0, 0, true), tier, "trajectories"), "not trusted") << tier;
+    EXPECT_EQ(verdict_of(judged("0", 1.0, 0, true), tier, "alpha"), "trusted as a statistic") << tier;
+  }
+}
+
+// A tier whose scalars fail trusts none of its statistics even where every escape is reproduced, and a comparison
+// against a reference whose scalars fail tests nothing: at omega = 1e9 (t_max = 20000) double's phase error is
+// above 1e-3 of the width and long double's below, so long double's ensemble against double's is "untested" where
+// it agrees and "not trusted" where it differs; at omega = 0 the same agreement is trusted as a statistic.
+TEST(Trust, AReferenceThatFailsItsScalarsLeavesTheComparisonUntested) {
+  const Scene fast = parse_scene("[leak]\nomega = \"1e9\"\n");
+  ASSERT_TRUE(scalar_rejection(fast, scalar_check(fast, "double")).has_value());
+  ASSERT_FALSE(scalar_rejection(fast, scalar_check(fast, "long_double")).has_value());
+  EXPECT_EQ(verdict_of(judged("1e9", 1.0, 100, true), "double", "P(t)"), "not trusted");
+  EXPECT_EQ(verdict_of(judged("1e9", 1.0, 100, true), "long_double", "P(t)"), "trusted");
+  const double under = std::nextafter(kTrustedEscapeShare, 0.0);
+  EXPECT_EQ(verdict_of(judged("1e9", under, 100, true), "long_double", "P(t)"), "untested");
+  EXPECT_EQ(verdict_of(judged("1e9", under, 100, false), "long_double", "P(t)"), "not trusted");
+  EXPECT_EQ(verdict_of(judged("0", under, 100, true), "long_double", "P(t)"), "trusted as a statistic");
+}
+
+// The ensemble rule's three tests, each on either side of 4 standard errors: the windows' largest |z| (strictly
+// below 4), kappa's difference and alpha's (at most 4 errors); alpha in one ensemble and not the other differs.
+TEST(Trust, EnsemblesAgreeWithinFourErrorsOnEachTest) {
+  StatisticsCheck c;
+  c.kappa_diff_error = 1e-4;
+  c.max_abs_z = std::nextafter(kEnsembleSigmas, 0.0);
+  c.kappa_diff = -kEnsembleSigmas * c.kappa_diff_error;
+  EXPECT_TRUE(ensemble_consistent(c, true));
+  c.max_abs_z = kEnsembleSigmas;
+  EXPECT_FALSE(ensemble_consistent(c, true));
+  c.max_abs_z = 0;
+  c.kappa_diff = std::nextafter(kEnsembleSigmas * c.kappa_diff_error, 1.0);
+  EXPECT_FALSE(ensemble_consistent(c, true));
+  c.kappa_diff = 0;
+  c.alpha_diff_error = 1e-3;
+  c.alpha_diff = kEnsembleSigmas * c.alpha_diff_error;
+  EXPECT_TRUE(ensemble_consistent(c, false));  // both have alpha: its difference decides, not their presence
+  c.alpha_diff = std::nextafter(*c.alpha_diff, 1.0);
+  EXPECT_FALSE(ensemble_consistent(c, true));
+  c.alpha_diff.reset();
+  EXPECT_TRUE(ensemble_consistent(c, true));
+  EXPECT_FALSE(ensemble_consistent(c, false));
+}
+
+// The scalar rules on either side of their edges: time steps at t_max of survival_dt / 100 pass and one ulp
+// coarser fail; a moving leak's phase error just under 1e-3 of its width passes and just over fails (omega = 5e6 is
+// held exactly, so the phase error is t's rounding alone, whatever the width).
+TEST(Trust, ScalarRulesDecideOnEitherSide) {
+  const Scene s = parse_scene("");
+  ScalarCheck c = scalar_check(s, "double");
+  ASSERT_TRUE(c.phase_resolved);
+  c.time_ulp_at_tmax = s.survival_dt / 100;
+  EXPECT_FALSE(scalar_rejection(s, c).has_value());
+  c.time_ulp_at_tmax = std::nextafter(s.survival_dt / 100, 1.0);
+  ASSERT_TRUE(scalar_rejection(s, c).has_value());
+  EXPECT_NE(scalar_rejection(s, c)->find("coarse against survival_dt"), std::string::npos) << *scalar_rejection(s, c);
+  const ScalarCheck fast = scalar_check(parse_scene("", {"leak.omega=5e6"}), "double");
+  ASSERT_EQ(fast.omega_split_drift, 0.0);
+  const auto resolved_at = [&](double f) {
+    char w[64];
+    std::snprintf(w, sizeof w, "leak.width=%.17g", 1e3 * fast.phase_error_at_tmax * f);
+    const Scene t = parse_scene("", {"leak.omega=5e6", w});
+    const ScalarCheck k = scalar_check(t, "double");
+    EXPECT_EQ(k.phase_error_at_tmax, fast.phase_error_at_tmax) << w;
+    EXPECT_EQ(scalar_rejection(t, k).has_value(), !k.phase_resolved) << w;
+    return k.phase_resolved;
+  };
+  EXPECT_TRUE(resolved_at(1 + 1e-9));
+  EXPECT_FALSE(resolved_at(1 - 1e-9));
+}
+
+// Which leak of a list the scalars are judged by: the one whose phase error is the largest share of its own width,
+// not the one with the largest error. A narrow slow leak (width 1e-4 at omega = 1e6) beside a wide fast one (0.5 at
+// 2e6): the narrow one is the least resolved, although its phase error is half the other's; with the widths
+// swapped, the fast one; two equal leaks, the first. Judging by the error alone (mutant
+// tests/mutants/audit-share-unscaled.patch) names leaks.1 in both.
+TEST(Extremes, TheLeastResolvedLeakIsJudgedAgainstItsOwnWidth) {
+  const auto list = [](const char* w0, const char* w1, const char* om1) {
+    return parse_scene(std::string("[[leaks]]\nwidth = \"") + w0 + "\"\nomega = \"1e6\"\n[[leaks]]\nwidth = \"" + w1 +
+                       "\"\nstart = \"1/2\"\nomega = \"" + om1 + "\"\n[run]\nt_max = 2000\n");
+  };
+  const ScalarCheck narrow_slow = scalar_check(list("1e-4", "0.5", "2e6"), "double");
+  EXPECT_EQ(narrow_slow.note.rfind("leaks.0 (the least resolved of 2)", 0), 0u) << narrow_slow.note;
+  EXPECT_FALSE(narrow_slow.phase_resolved) << narrow_slow.note;
+  const ScalarCheck narrow_fast = scalar_check(list("0.5", "1e-4", "2e6"), "double");
+  EXPECT_EQ(narrow_fast.note.rfind("leaks.1 (the least resolved of 2)", 0), 0u) << narrow_fast.note;
+  const ScalarCheck tie = scalar_check(list("0.01", "0.01", "1e6"), "double");
+  EXPECT_EQ(tie.note.rfind("leaks.0 (the least resolved of 2)", 0), 0u) << tie.note;
+  // the warning a run prints names it too
+  const std::optional<std::string> why = scalar_rejection(list("1e-4", "0.5", "2e6"), narrow_slow);
+  ASSERT_TRUE(why.has_value());
+  EXPECT_EQ(why->rfind("leak phase not resolved at double: leaks.0", 0), 0u) << *why;
 }
 
 // The same rule on a table with a list of leaks (docs/tables.md): the scalars are judged by the leak whose phase is

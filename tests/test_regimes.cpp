@@ -67,6 +67,24 @@ KappaFit known_fit() {
   return fit;
 }
 
+// A weighted curve exp(-kappa t) + w t0 / (t0 + t) over n particles whose effective survivors fall to 2 between
+// t = 600 and 3500 (where alpha is read) and are 2000 elsewhere: a tail seen only after its crossing.
+SurvivalCurve thin_at_the_crossing(std::uint64_t n, double w) {
+  SurvivalCurve c;
+  c.particles = n;
+  c.weighted = true;
+  c.max_weight = 2;
+  for (int k = 0; k <= 20000; ++k) {
+    const double t = k, p = std::exp(-kKappa * t) + w * 1000 / (1000 + t);
+    const double eff = t > 600 && t < 3500 ? 2 : 2000;
+    c.t.push_back(t);
+    c.survivors.push_back(static_cast<std::uint64_t>(std::max(eff, 0.2 * static_cast<double>(n) * p)));
+    c.P_w.push_back(p);
+    c.Q.push_back(static_cast<double>(n) * p * p / eff);
+  }
+  return c;
+}
+
 }  // namespace
 
 TEST(ClassifyTail, PureExponentialHasNone) {
@@ -234,21 +252,7 @@ TEST(LeakTimes, TauOneAndTwoByHand) {
 // are 2000 elsewhere.
 TEST(ClassifyTail, UnresolvedWhenTheTailIsSeenOnlyAfterItsCrossing) {
   const std::uint64_t n = 1000000;
-  const auto curve = [&](double w) {
-    SurvivalCurve c;
-    c.particles = n;
-    c.weighted = true;
-    c.max_weight = 2;
-    for (int k = 0; k <= 20000; ++k) {
-      const double t = k, p = std::exp(-kKappa * t) + w * 1000 / (1000 + t);
-      const double eff = t > 600 && t < 3500 ? 2 : 2000;
-      c.t.push_back(t);
-      c.survivors.push_back(static_cast<std::uint64_t>(std::max(eff, 0.2 * static_cast<double>(n) * p)));
-      c.P_w.push_back(p);
-      c.Q.push_back(static_cast<double>(n) * p * p / eff);
-    }
-    return c;
-  };
+  const auto curve = [&](double w) { return thin_at_the_crossing(n, w); };
   const KappaFit fit = known_fit();
   AlphaResult none_found;  // no value: no significant crossing where alpha is read
   none_found.upper_bound = 1e-6;
@@ -269,6 +273,132 @@ TEST(ClassifyTail, UnresolvedWhenTheTailIsSeenOnlyAfterItsCrossing) {
   EXPECT_EQ(classify_tail(scene("70/71"), curve(1e-6), read, &fit).tail, "persistent");
   // without the fit it is not looked for (the classification of old)
   EXPECT_EQ(classify_tail(scene("70/71"), curve(1e-6), none_found).tail, "none");
+}
+
+// The amplitude C decides the tail where alpha cannot only when C lies more than 3 of its errors (stat. and drift in
+// quadrature) above 0 (docs/output.md): the curve above, whose tail is otherwise "unresolved", is persistent with C
+// a hair above 3 errors and stays unresolved at exactly 3 and at 2.5 (mutant tests/mutants/regime-c-two-errors.patch
+// resolves 2.5); without the fit the same holds between persistent and none.
+TEST(ClassifyTail, AnAmplitudeDecidesOnlyAboveThreeOfItsErrors) {
+  const SurvivalCurve c = thin_at_the_crossing(1000000, 1e-6);
+  const KappaFit fit = known_fit();
+  AlphaResult none_found;
+  none_found.upper_bound = 1e-6;
+  const auto with_c = [&](double errors, const KappaFit* f) {
+    TailAmplitude a;
+    a.std_error = 3e-4, a.drift = 4e-4;  // 5e-4 in quadrature
+    a.value = errors * std::hypot(a.std_error, a.drift);
+    a.from = 4000, a.to = 20000;
+    return classify_tail(scene("70/71"), c, none_found, f, &a);
+  };
+  const double above = std::nextafter(3.0, 4.0);
+  const TailClass resolved = with_c(above, &fit);
+  EXPECT_EQ(resolved.tail, "persistent") << resolved.note;
+  EXPECT_NE(resolved.note.find("alpha_C reads its weight"), std::string::npos) << resolved.note;
+  EXPECT_EQ(with_c(3.0, &fit).tail, "unresolved") << with_c(3.0, &fit).note;
+  EXPECT_EQ(with_c(2.5, &fit).tail, "unresolved") << with_c(2.5, &fit).note;
+  EXPECT_EQ(with_c(above, nullptr).tail, "persistent");
+  EXPECT_EQ(with_c(3.0, nullptr).tail, "none");
+  EXPECT_EQ(with_c(2.5, nullptr).tail, "none");
+  EXPECT_EQ(with_c(-above, nullptr).tail, "none");  // C below 0 by as much is no tail
+}
+
+// The two removal rules on either side of their edges. A zero: the last resolved time (1000) has 48 survivors and
+// the next grid time (2000) none, where an algebraic continuation of exponent 3 keeps 48 (1/2)^3 = 6 exactly:
+// removed; with 47 (5.875) it is not; a zero at t_max itself is the run's end, not a removal. A steep end: P =
+// (1000 / t)^z over [2000, 3000] on split lines whose spread is 0 (z's error 0): removed for z above 6 (above
+// kNearSteep = 2 near a rational), persistent for z below.
+TEST(ClassifyTail, EachRemovalRuleDecidesOnEitherSide) {
+  const auto cut = [](std::uint64_t last) {
+    SurvivalCurve c;
+    c.particles = 1000;
+    for (int k = 0; k <= 10; ++k) {
+      c.t.push_back(100.0 * k);
+      c.survivors.push_back(k ? last : 1000);
+    }
+    c.t.push_back(2000);
+    c.survivors.push_back(0);
+    return c;
+  };
+  AlphaResult a;
+  a.value = 0.048;
+  a.crossing_time = 100;
+  a.min_survivors = 40;
+  const TailClass six = classify_tail(scene("1e-4"), cut(48), a);
+  EXPECT_EQ(six.tail, "transient") << six.note;
+  EXPECT_EQ(six.tail_end, 2000);
+  EXPECT_EQ(classify_tail(scene("1e-4"), cut(47), a).tail, "persistent");
+  Scene short_run = scene("1e-4");
+  short_run.t_max = 2000;
+  EXPECT_EQ(classify_tail(short_run, cut(48), a).tail, "persistent");
+  const auto steep = [](double z) {
+    SurvivalCurve c;
+    c.weighted = c.lines = true;
+    c.particles = 1000000;
+    for (double t = 0; t <= 3000; t += 250) {
+      c.t.push_back(t);
+      c.survivors.push_back(1000000);
+      c.lines_alive.push_back(1000000);
+      c.P_w.push_back(t < 1000 ? 1.0 : std::pow(1000 / t, z));
+      c.R.push_back(1);
+      c.G.push_back(0);
+    }
+    return c;
+  };
+  AlphaResult s;
+  s.value = 1.0;
+  s.crossing_time = 1000;
+  const TailClass over = classify_tail(scene("1e-4"), steep(6 * (1 + 1e-9)), s);
+  EXPECT_EQ(over.tail, "transient") << over.note;
+  EXPECT_EQ(over.regime, "low");
+  EXPECT_EQ(classify_tail(scene("1e-4"), steep(6 * (1 - 1e-9)), s).tail, "persistent");
+  const TailClass near_over = classify_tail(scene("1/5+2e-5"), steep(2 * (1 + 1e-9)), s);
+  EXPECT_EQ(near_over.tail, "transient") << near_over.note;
+  EXPECT_EQ(near_over.regime, "near-rational");
+  EXPECT_EQ(classify_tail(scene("1/5+2e-5"), steep(2 * (1 - 1e-9)), s).tail, "persistent");
+}
+
+// The regime of "none" on either side of fit.tail_floor: alpha's bound at the floor is undecided (a tail at the floor
+// could hide under it), one ulp below it mid; no bound at all is undecided with 100 times the particles. A
+// persistent tail is "high" where the leak's leading edge has left the lower edge (tau2) by the last survivor, at
+// tau2 itself included, and "undecided" where the last survivor comes one ulp before tau2.
+TEST(ClassifyTail, TheRegimeDecidesOnEitherSideOfTheFloorAndOfTau2) {
+  const Scene s = scene("1e-4");
+  SurvivalCurve few;
+  few.particles = 1000;
+  AlphaResult a;
+  a.upper_bound = s.tail_floor;
+  const TailClass at = classify_tail(s, few, a);
+  EXPECT_EQ(at.tail, "none");
+  EXPECT_EQ(at.regime, "undecided");
+  ASSERT_TRUE(at.resolve_particles.has_value());
+  EXPECT_EQ(*at.resolve_particles, 1000u);
+  a.upper_bound = std::nextafter(s.tail_floor, 0.0);
+  EXPECT_EQ(classify_tail(s, few, a).regime, "mid");
+  a.upper_bound.reset();
+  EXPECT_EQ(classify_tail(s, few, a).regime, "undecided");
+  EXPECT_EQ(*classify_tail(s, few, a).resolve_particles, 100000u);
+  const LeakTimes lt = leak_times(s);
+  ASSERT_TRUE(lt.tau2.has_value());
+  const auto tail_to = [](double end) {
+    SurvivalCurve c;
+    c.particles = 1000000;
+    for (int k = 0; k <= 20; ++k) {
+      const double t = k < 20 ? end * k / 20 : end;
+      c.t.push_back(t);
+      c.survivors.push_back(k ? static_cast<std::uint64_t>(5e5 * 1000 / (1000 + t)) : 1000000u);
+    }
+    return c;
+  };
+  AlphaResult p;
+  p.value = 1e-3;
+  p.crossing_time = *lt.tau2 / 4;
+  const TailClass swept = classify_tail(s, tail_to(*lt.tau2), p);
+  EXPECT_EQ(swept.tail, "persistent") << swept.note;
+  EXPECT_EQ(swept.regime, "high") << swept.note;
+  const TailClass unswept = classify_tail(s, tail_to(std::nextafter(*lt.tau2, 0.0)), p);
+  EXPECT_EQ(unswept.tail, "persistent") << unswept.note;
+  EXPECT_EQ(unswept.regime, "undecided") << unswept.note;
 }
 
 // A tail carried by few effective lines (a split run at 82/83 with 10^5 lines: 58-108 unsplit tail
@@ -304,6 +434,14 @@ TEST(ClassifyTail, ATailOnFewLinesIsUnresolvedNotNone) {
   EXPECT_EQ(*few.resolve_particles, static_cast<std::uint64_t>(std::ceil(n * 100 / 58.0)));
   const TailClass too_few = classify_tail(scene("82/83"), curve(5), none_found, &fit);
   EXPECT_EQ(too_few.tail, "none") << too_few.note;
+  // the edge, kSeeTail = 10 effective lines: seen at 10, not a hair below
+  const SurvivalCurve ten = curve(kSeeTail), under = curve(std::nextafter(kSeeTail, 0.0));
+  ASSERT_EQ(ten.effective(ten.t.size() - 1), kSeeTail);
+  ASSERT_LT(under.effective(under.t.size() - 1), kSeeTail);
+  const TailClass at_ten = classify_tail(scene("82/83"), ten, none_found, &fit);
+  EXPECT_EQ(at_ten.tail, "unresolved") << at_ten.note;
+  EXPECT_EQ(*at_ten.resolve_particles, n * 100 / 10);
+  EXPECT_EQ(classify_tail(scene("82/83"), under, none_found, &fit).tail, "none");
 }
 
 // The rational 2 r omega lies near (best approximation with q <= 30) and the drift eps, exactly; none for
@@ -324,6 +462,23 @@ TEST(NearRational, NamesTheRationalAndTheDrift) {
   EXPECT_FALSE(near_rational(scene("1/5")).has_value());
   EXPECT_FALSE(near_rational(scene("0")).has_value());
   EXPECT_EQ(near_rational(scene("1e-4"))->q, 1);
+  // the edge of kNearRationalQ = 30: 2 r omega = 1/30 + 2e-9 is near 1/30; exactly 1/30 is no near rational; exactly
+  // 1/31 lies beyond the denominators looked at, so it is near one of them, never named itself
+  const auto thirty = near_rational(scene("1/60+1e-9"));
+  ASSERT_TRUE(thirty.has_value());
+  EXPECT_EQ(thirty->q, kNearRationalQ);
+  EXPECT_EQ(thirty->rational, "1/30");
+  EXPECT_NEAR(thirty->eps, 2e-9, 1e-18);
+  EXPECT_FALSE(near_rational(scene("1/60")).has_value());
+  const auto beyond = near_rational(scene("1/62"));
+  ASSERT_TRUE(beyond.has_value());
+  EXPECT_LE(beyond->q, kNearRationalQ);
+  EXPECT_NE(beyond->rational, "1/31");
+  EXPECT_NE(beyond->eps, 0.0);
+  // a list of leaks or another table has no near rational (2 r omega is the stadium's one leak's theory)
+  EXPECT_FALSE(near_rational(parse_scene("[[leaks]]\nwidth = \"0.01\"\nomega = \"1/5+2e-5\"\n[[leaks]]\n"
+                                         "width = \"0.01\"\nstart = \"1/2\"\n"))
+                   .has_value());
 }
 
 // A tail removed gradually (P ~ t^-4 past t = 3000: a local exponent about 4 at the end, between the 2

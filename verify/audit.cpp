@@ -109,16 +109,11 @@ StatisticsCheck compare(const std::string& name, const Ensemble& tier, const Ens
   c.kappa_diff_error = std::hypot(tier.kappa.std_error, ref.kappa.std_error);
   c.alpha = tier.alpha.value;
   c.alpha_error = tier.alpha.std_error;
-  bool alpha_ok = true;
   if (tier.alpha.value && ref.alpha.value) {
     c.alpha_diff = *tier.alpha.value - *ref.alpha.value;
     c.alpha_diff_error = std::hypot(tier.alpha.std_error, ref.alpha.std_error);
-    alpha_ok = std::abs(*c.alpha_diff) <= 4 * c.alpha_diff_error;
-  } else {
-    alpha_ok = tier.alpha.value.has_value() == ref.alpha.value.has_value();
   }
-  // 4 sigma per test: with ~6 windows and 2 fits the false-alarm rate stays below 1e-3
-  c.consistent = c.max_abs_z < 4 && std::abs(c.kappa_diff) <= 4 * c.kappa_diff_error && alpha_ok;
+  c.consistent = ensemble_consistent(c, tier.alpha.value.has_value() == ref.alpha.value.has_value());
   return c;
 }
 
@@ -384,12 +379,19 @@ void engine_verdicts(AuditReport& rep) {
   }
 }
 
-/// Per tier, in the order of opt.tiers (less precise first): its scalars, and a verdict on trajectories,
-/// P(t), kappa and alpha by one rule (docs/guide/trust.md, "One verdict"). A statistic is not trusted where the
-/// tier's scalars fail (scalar_rejection: the leak phase or the time grid beyond it), whatever else agrees;
-/// trusted where every sampled escape is reproduced; else statistic_verdict. The vectorised double engine
-/// shares the double tier's verdict (engine_verdicts).
-void verdicts(const Scene& scene, AuditReport& rep) {
+}  // namespace
+
+bool trajectories_trusted(const TierAudit& t) {
+  return t.escape_time_exact_fraction >= kTrustedEscapeShare && t.escapes_compared > 0;
+}
+
+bool ensemble_consistent(const StatisticsCheck& c, bool alpha_presence_agrees) {
+  const bool alpha_ok =
+      c.alpha_diff ? std::abs(*c.alpha_diff) <= kEnsembleSigmas * c.alpha_diff_error : alpha_presence_agrees;
+  return c.max_abs_z < kEnsembleSigmas && std::abs(c.kappa_diff) <= kEnsembleSigmas * c.kappa_diff_error && alpha_ok;
+}
+
+void judge(const Scene& scene, AuditReport& rep) {
   Rejections rejection;  // per tier, in order
   for (const TierAudit& ta : rep.tiers) {
     rep.scalars.push_back(scalar_check(scene, ta.name));
@@ -398,7 +400,7 @@ void verdicts(const Scene& scene, AuditReport& rep) {
   for (std::size_t k = 0; k < rep.tiers.size(); ++k) {
     const TierAudit& ta = rep.tiers[k];
     const std::optional<std::string> own = rejection[k].second;
-    const bool trajectories = ta.escape_time_exact_fraction >= 0.99 && ta.escapes_compared > 0;
+    const bool trajectories = trajectories_trusted(ta);
     char why[300];
     std::snprintf(
         why, sizeof why, "%.1f%% of %zu sampled escape times reproduced; median horizon %.0f collisions (%.0f time)",
@@ -408,15 +410,13 @@ void verdicts(const Scene& scene, AuditReport& rep) {
       if (own)
         rep.verdicts.push_back({ta.name, stat, "not trusted", *own});
       else if (trajectories)
-        rep.verdicts.push_back({ta.name, stat, "trusted", "every sampled escape reproduced exactly"});
+        rep.verdicts.push_back({ta.name, stat, "trusted", "its trajectories are trusted: " + std::string(why)});
       else
         rep.verdicts.push_back(statistic_verdict(rep, rejection, k, stat));
     }
   }
   engine_verdicts(rep);
 }
-
-}  // namespace
 
 void check_auditable(const Scene& scene) {
   if (scene.splitting.on)
@@ -470,7 +470,7 @@ AuditReport audit(const Scene& scene, const AuditOptions& opt) {
     if (tier_bits(opt.tiers[k]) <= 113 && tier_bits(opt.tiers[k]) >= tier_bits(opt.tiers[best])) best = k;
   rep.lyapunov_divergence = divergence_lyapunov(runs, best, 10, 150);
 
-  verdicts(scene, rep);
+  judge(scene, rep);
   rep.threads = threads;
   rep.analysis_seconds = since_lap();
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -129,4 +129,23 @@ ScalarCheck scalar_check(const Scene& scene, const std::string& tier);
 /// not resolved to 1e-3 of its width at t_max, or the time grid finer than 100 ulps of t_max), or nothing.
 std::optional<std::string> scalar_rejection(const Scene& scene, const ScalarCheck& c);
 
+/// The share of a tier's sampled escape times it must reproduce exactly (and at least one compared) for its
+/// trajectories, and with them its statistics, to be trusted (docs/guide/trust.md, "One verdict").
+inline constexpr double kTrustedEscapeShare = 0.99;
+/// The ensemble comparison's threshold in standard errors: every window's |z| below it, kappa's and alpha's
+/// differences within it (about 6 windows and 2 fits: a false alarm below 1e-3).
+inline constexpr double kEnsembleSigmas = 4;
+bool trajectories_trusted(const TierAudit& t);
+/// The ensemble rule on a comparison's numbers (alpha_diff set where both ensembles have alpha);
+/// `alpha_presence_agrees`: where it is not set, whether both lack alpha (one with and one without differ).
+bool ensemble_consistent(const StatisticsCheck& c, bool alpha_presence_agrees);
+/// The verdicts of a report whose tiers and statistics are filled (audit() calls it): per tier, in order (less
+/// precise first), its scalars (scalar_check), then trajectories, P(t), kappa and alpha by one rule
+/// (docs/guide/trust.md, "One verdict"): a statistic is not trusted where the tier's scalars fail
+/// (scalar_rejection), whatever else agrees; trusted where its trajectories are (trajectories_trusted); else its
+/// ensemble against its reference decides, "untested" where the reference's own scalars fail; a tier without an
+/// ensemble leans on the most precise tier below it with one. The vectorised double engine shares the double
+/// tier's verdict.
+void judge(const Scene& scene, AuditReport& rep);
+
 }  // namespace rotleak
