@@ -7,7 +7,7 @@ fails "catches" a mutant, none failing lets it "survive".
 
 Usage: /usr/bin/python3 scripts/mutate.py [--since REV] [--count N] [--seed S] [--files GLOB ...]
            [--tests TEST ...] [--timeout S] [--jobs J] [--min-rate R] [--no-replace-stillborn]
-           [--tree DIR --build DIR] [--list | --only ID ... | --resume]
+           [--tree DIR --build DIR] [--all-tests] [--list | --only ID ... | --resume]
   --list         draw and print the mutants (and their tests where build-mutate/build is there); builds nothing
   --only ID ...  run just these (ids from --list or build-mutate/results.jsonl): survivors, after new tests
   --resume       reuse the verdicts build-mutate/results.jsonl holds for the same ids (same id: same line text)
@@ -31,7 +31,8 @@ mutated. --tree and --build name others (a tree of the user's own is mutated in 
 of a file: the test binaries whose object includes it or its header (ninja -t deps; failing that, the headers
 of its includers or beside it, or test_cli for the command's own code), for python/rotleak the ctest tests
 Python.*; --tests overrides (test_NAME: a test binary; anything else: a `ctest -R` pattern). A test binary runs
-once on the unmutated code first; what fails there is not counted as a catch.
+once on the unmutated code first; what fails there is not counted as a catch. Against a mutant the tests run the
+quickest first (their unmutated times) and stop at the first catch (--all-tests: every one, to list them all).
 
 Verdicts: caught (a test fails, crashes or runs past --timeout, 600 s), survived, equivalent (the same object code,
 the same Python AST, or a line `ID reason` in tests/mutants/equivalent.txt by a person who judged it so; its tests
@@ -104,7 +105,7 @@ def lex_cpp(text):
             continue
         if line_start and c == "#":  # a directive, with the lines a backslash continues it on
             e = text.find("\n", i)
-            while e >= 0 and text[:e].rstrip("\r").endswith("\\"):
+            while e >= 0 and text[e - 2 if text[e - 1] == "\r" else e - 1] == "\\":
                 e = text.find("\n", e + 1)
             i = n if e < 0 else e
             continue
@@ -361,8 +362,12 @@ def off_by_one(c):
         m = ints.fullmatch(t.s) if t.kind == "num" else None
         if m and not (toks[i - 1].s == "[" and toks[i + 1].s == "]" and declares(c, i - 2)):
             n = int(m.group(1).replace("'", "").replace("_", ""))
-            for v in (n + 1, n - 1) if n > 0 else (n + 1,):
-                yield "off_by_one", i, i + 1, t.start, t.end, str(v) + (m.group(2) or "")
+            # -1 is the number: -1 -> 0 or -2 (not -0 or -2); 0 -> 1 only (0u - 1 would wrap)
+            a = i - 1 if toks[i - 1].s == "-" and toks[i - 1].end == t.start and \
+                not ends_operand(c, toks[i - 2]) else i
+            n = -n if a < i else n
+            for v in (n + 1, n - 1) if n != 0 or a < i else (n + 1,):
+                yield "off_by_one", a, i + 1, toks[a].start, t.end, str(v) + (m.group(2) or "")
         elif t.kind == "op" and t.s == "[" and is_name(c, toks[i + 1]) and toks[i + 2].s == "]" and \
                 toks[i - 1].end == t.start and (is_name(c, toks[i - 1]) or toks[i - 1].s in (")", "]")) and \
                 not declares(c, i - 1) and \
@@ -501,8 +506,9 @@ def change(m, width=32):
     """The edit in a few words of its line: ('a < b', 'a >= b')."""
     s = m.col - 1
     e = s + (m.end - m.start)
-    lo, hi = max(0, s - width), min(len(m.before), e + width)
-    pre = ("..." if lo > 0 else "") + m.before[lo:s]
+    indent = len(m.before) - len(m.before.lstrip())
+    lo, hi = max(indent, s - width), min(len(m.before), e + width)
+    pre = ("..." if lo > indent else "") + m.before[lo:s]
     post = m.before[e:hi] + ("..." if hi < len(m.before) else "")
     return (pre + m.before[s:e] + post).strip(), (pre + m.new + post).strip()
 
@@ -799,8 +805,8 @@ def test_specs(m, args, deps, tree, build_dir):
 
 
 def targets_for(specs, path, deps, tree, build_dir):
-    """The targets to build for these tests (None: everything); for a C++ file also every object that includes it,
-    so that "the same object code" speaks for all of them."""
+    """The targets to build for these tests (None: everything): their own objects, which is all "the same object
+    code" speaks for (the objects the tests link)."""
     targets = set()
     for s in specs:
         if s == "ctest:" + PYTHON_TESTS:
@@ -810,20 +816,34 @@ def targets_for(specs, path, deps, tree, build_dir):
             return None
         else:
             targets |= {s, "rotleak"} if runs_command(tree, s) else {s}
-    if path and not path.endswith(".py"):
-        targets |= {o for o, d in deps.items() if path in d}
     return sorted(targets)
 
 
 def gtest_brief(binary):
-    """Whether the binary's GoogleTest takes --gtest_brief=1 (1.11 on): only the failures' output."""
-    if ("brief", binary) not in KNOWN:
-        KNOWN["brief", binary] = "gtest_brief" in execute([binary, "--help"], timeout=60)[1]
-    return KNOWN["brief", binary]
+    """Whether GoogleTest takes --gtest_brief=1 (1.11 on: only the failures' output); every binary links the same."""
+    if "brief" not in KNOWN:
+        KNOWN["brief"] = "gtest_brief" in execute([binary, "--help"], timeout=10)[1]
+    return KNOWN["brief"]
+
+
+STOP = []  # set while run_specs ends early: specs not yet started are skipped
 
 
 def run_spec(spec, build_dir, timeout, jobs):
-    """(the tests that fail, the output) of one spec."""
+    """(the tests that fail, the output) of one spec; its wall seconds in SECONDS."""
+    if STOP:
+        return [], ""
+    t0 = time.time()
+    try:
+        return run_one(spec, build_dir, timeout, jobs)
+    finally:
+        SECONDS[spec] = time.time() - t0
+
+
+SECONDS = {}
+
+
+def run_one(spec, build_dir, timeout, jobs):
     if spec.startswith("ctest:"):
         cmd = ["ctest", "-R", spec[6:], "-j", str(jobs), "--timeout", str(timeout), "--no-tests=error",
                "--output-on-failure"]
@@ -847,16 +867,31 @@ def run_spec(spec, build_dir, timeout, jobs):
     return names, f"$ {' '.join(cmd)}\n{out}\n"
 
 
-def run_specs(specs, build_dir, timeout, jobs):
-    """[(failures, output)] of the specs, `jobs` at a time."""
+def run_specs(specs, build_dir, timeout, jobs, stop=None):
+    """[(failures, output)] of the specs, `jobs` at a time. With `stop` (the failures to ignore: the unmutated
+    code's), the first spec with another failure ends the rest, killed or never started: one catch decides."""
+    results = {}
+    STOP.clear()
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futures = [pool.submit(run_spec, s, build_dir, timeout, jobs) for s in specs]
+        futures = {pool.submit(run_spec, s, build_dir, timeout, jobs): s for s in specs}
         try:
-            return [f.result() for f in futures]
+            for f in concurrent.futures.as_completed(futures):
+                results[futures[f]] = f.result()
+                if stop is not None and any(n not in stop for n in results[futures[f]][0]):
+                    STOP.append(futures[f])
+                    for g in futures:
+                        g.cancel()
+                    for p in list(LIVE):
+                        kill(p)
+                    break
         except BaseException:
+            STOP.append(None)
             for p in list(LIVE):
                 kill(p)
             raise
+    if STOP:  # what the early end killed is no result
+        return [results[STOP[0]]]
+    return [results[s] for s in specs]
 
 
 def baseline(specs, state, ctx):
@@ -873,6 +908,7 @@ def baseline(specs, state, ctx):
             for s, (names, text) in zip(need, run_specs(need, ctx["build"], ctx["timeout"], ctx["jobs"])):
                 log.write(text)
                 state["tests"][s] = names
+                state.setdefault("seconds", {})[s] = round(SECONDS.get(s, 0), 1)
                 if names:
                     print(f"[mutate] {s} fails on the unmutated code ({', '.join(names[:4])}"
                           f"{', ...' if len(names) > 4 else ''}): not counted as catches", flush=True)
@@ -894,24 +930,25 @@ def record(m, verdict, failed=(), reason="", seconds=0.0, tests=()):
 
 def run_mutant(m, specs, ctx, equivalents):
     t0 = time.time()
-    if not specs:
-        return record(m, "survived", reason="no test covers its file (ninja -t deps); --tests names some")
-    ignore = baseline(specs, ctx["state"], ctx)
+    judged = equivalents.get(m.id)
     path = os.path.join(ctx["tree"], m.file)
     with open(path, "rb") as f:
         original = f.read()
     text = original.decode("utf-8")
     mutated = apply(text, m)
-    log_path = os.path.join(LOGS, re.sub(r"[^\w.-]+", "_", m.id) + ".log")
-    with open(log_path, "w") as log:
+    if m.file.endswith(".py"):  # nothing to build: the AST says as much as object code
+        try:
+            if ast.dump(ast.parse(mutated)) == ast.dump(ast.parse(text)):
+                return record(m, "equivalent", reason="same AST")
+        except SyntaxError as e:
+            return record(m, "does not build", reason=f"does not parse: {e.msg}")
+    if not specs:
+        return record(m, "equivalent" if judged else "survived",
+                      reason=judged or "no test covers its file (ninja -t deps); --tests names some")
+    ignore = baseline(specs, ctx["state"], ctx)
+    t0 = time.time()  # the mutant's own time, not the unmutated run's
+    with open(os.path.join(LOGS, re.sub(r"[^\w.-]+", "_", m.id) + ".log"), "w") as log:
         log.write(f"{m.id}\n{m.before}\n{m.after}\ntests: {' '.join(specs)}\n\n")
-        if m.file.endswith(".py"):
-            try:
-                if ast.dump(ast.parse(mutated)) == ast.dump(ast.parse(text)):
-                    return record(m, "equivalent", reason="same AST", seconds=time.time() - t0)
-            except SyntaxError as e:
-                log.write(f"does not parse: {e}\n")
-                return record(m, "does not build", reason=f"does not parse: {e.msg}", seconds=time.time() - t0)
         scan_objects(ctx["build"], ctx["seen"])  # what the mutant's build writes, from here
         hidden = False
         try:
@@ -922,18 +959,20 @@ def run_mutant(m, specs, ctx, equivalents):
                             ctx["jobs"], log)
             if not ok:
                 error = re.search(r"^.*\berror\b.*$", out, re.M)
-                return record(m, "does not build", reason=error.group().strip()[:160] if error else "build failed",
-                              seconds=time.time() - t0, tests=specs)
+                why = error.group().strip().replace(ctx["tree"] + os.sep, "")[:160] if error else "build failed"
+                return record(m, "does not build", reason=why, seconds=time.time() - t0, tests=specs)
             if not m.file.endswith(".py"):
                 written = scan_objects(ctx["build"], ctx["seen"])
                 mine = {os.path.join(ctx["build"], o) for o, d in ctx["deps"].items() if m.file in d} & written
                 changed = [p for p in written if ctx["seen"][p][1] != ctx["base"].get(p)]
-                log.write(f"objects rebuilt: {len(written)}, including the file: {len(mine)}, changed: "
-                          f"{' '.join(os.path.relpath(p, ctx['build']) for p in changed)}\n")
+                log.write(f"objects rebuilt: {len(written)}, of them including the file: {len(mine)}; changed: "
+                          f"{' '.join(os.path.relpath(p, ctx['build']) for p in changed) or 'none'}\n")
                 if mine and not changed:
                     return record(m, "equivalent", reason="same object code", seconds=time.time() - t0, tests=specs)
             failed = []
-            for s, (names, out) in zip(specs, run_specs(specs, ctx["build"], ctx["timeout"], ctx["jobs"])):
+            quick_first = sorted(specs, key=lambda s: ctx["state"].get("seconds", {}).get(s, 1e9))
+            for names, out in run_specs(quick_first, ctx["build"], ctx["timeout"], ctx["jobs"],
+                                        None if ctx["all_tests"] else ignore):
                 log.write(out)
                 failed += [n for n in names if n not in ignore]
         finally:
@@ -944,7 +983,6 @@ def run_mutant(m, specs, ctx, equivalents):
                 hide(ctx["tree"], m.file, False)
             signal.signal(signal.SIGINT, held)
     seconds = time.time() - t0
-    judged = equivalents.get(m.id)
     if failed:
         if judged:
             print(f"[mutate] warning: tests/mutants/equivalent.txt calls {m.id} equivalent, but it is caught: "
@@ -1011,17 +1049,20 @@ def interrupted(signum, frame):
 def parse(argv):
     p = argparse.ArgumentParser(prog="scripts/mutate.py", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter, usage=argparse.SUPPRESS)
-    p.add_argument("--since", default="c6340d4")
-    p.add_argument("--count", type=int, default=40)
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--since", default="c6340d4", metavar="REV")
+    p.add_argument("--count", type=int, default=40, metavar="N")
+    p.add_argument("--seed", type=int, default=1, metavar="S")
     p.add_argument("--files", nargs="+", metavar="GLOB")
     p.add_argument("--tests", nargs="+", metavar="TEST")
-    p.add_argument("--timeout", type=int, default=600, help="seconds a test binary (a ctest test) may run")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
-    p.add_argument("--min-rate", type=float, default=0.9)
+    p.add_argument("--timeout", type=int, default=600, metavar="S", help="seconds a test binary (a ctest test) may run")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 2, metavar="J",
+                   help="build jobs, and test binaries run at a time")
+    p.add_argument("--min-rate", type=float, default=0.9, metavar="R")
+    p.add_argument("--all-tests", action="store_true",
+                   help="run every covering test against a mutant, not only until the first catches it")
     p.add_argument("--replace-stillborn", action=argparse.BooleanOptionalAction, default=True)
-    p.add_argument("--tree")
-    p.add_argument("--build")
+    p.add_argument("--tree", metavar="DIR")
+    p.add_argument("--build", metavar="DIR")
     p.add_argument("--list", action="store_true")
     p.add_argument("--only", nargs="+", metavar="ID")
     p.add_argument("--resume", action="store_true")
@@ -1035,6 +1076,8 @@ def main(argv):
     build_dir = os.path.abspath(args.build or os.path.join(OUT, "build"))
     if args.list:  # what a run would draw: HEAD's lines for the worktree, else the tree's as they are
         source = None if own_tree else tree
+        if own_tree:
+            warn_uncommitted(sorted(changed_lines(args.since, None, args.files)))
         if args.only:
             chosen, total = resolve(args.only, source), None
         else:
@@ -1082,7 +1125,8 @@ def main(argv):
         if old.get("commit") == commit:
             state = old
     ctx = {"tree": tree, "build": build_dir, "jobs": args.jobs, "timeout": args.timeout, "seen": seen,
-           "base": {p: v[1] for p, v in seen.items()}, "deps": read_deps(build_dir, tree), "state": state}
+           "base": {p: v[1] for p, v in seen.items()}, "deps": read_deps(build_dir, tree), "state": state,
+           "all_tests": args.all_tests}
 
     records, counted, stopped = [], 0, False
     try:
