@@ -203,8 +203,8 @@ TEST(SeedSpread, CurveVerdictHoldsItsRateOverManyTimes) {
 // The sd / err band is chi-square's central interval with K - 1 degrees of freedom, checked against that
 // distribution's closed form for even degrees: P(chi2_{2m} <= x) = 1 - e^{-x/2} sum_{j<m} (x/2)^j / j!. At K = 5
 // and 9 (4 and 8 degrees) both ends lie outside kHonestBand, so each end's tail is the judgement's rate / 2; at
-// K = 17 the upper end is kHonestBand's for one test, not for four. A band with K degrees (mutant tests/mutants/calibration-band-dof.patch)
-// puts the low end's tail at 0.0124 for K = 9 where 0.005 belongs.
+// K = 17 the upper end is kHonestBand's for one test, not for four. A band with K degrees (mutant
+// tests/mutants/calibration-band-dof.patch) puts the low end's tail at 0.0124 for K = 9 where 0.005 belongs.
 double chi2_even_cdf(double x, int dof) {
   double term = 1, sum = 1;
   for (int j = 1; j < dof / 2; ++j) sum += term *= (x / 2) / j;
@@ -260,7 +260,8 @@ TEST(HonestBand, EachEdgeDecidesOnEitherSide) {
     EXPECT_EQ(at(std::nextafter(b.lo, below), 1, std::nextafter(0.5, above)),
               "untested: mostly the allowance for lines not drawn")
         << K;
-    EXPECT_EQ(at(std::nextafter(b.hi, above), 1, 1.0), "errors too small") << K;  // the allowance excuses no small error
+    // the allowance excuses no small error
+    EXPECT_EQ(at(std::nextafter(b.hi, above), 1, 1.0), "errors too small") << K;
     s.median_err = 0;
     EXPECT_EQ(at(1, 1), "no errors reported") << K;
   }

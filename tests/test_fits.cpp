@@ -726,7 +726,7 @@ TEST(SurvivalCurveCovariance, ATallysWeightedErrorIsTheWeightsSpreadAboutP) {
     double t, w;
     bool escaped;
   };
-  const std::vector<End> ends = {{10, 0.5, false}, {10, 1.5, false}, {2.5, 0.25, true},
+  const std::vector<End> ends = {{10, 0.5, false},  {10, 1.5, false}, {2.5, 0.25, true},
                                  {2.5, 1.75, true}, {7.5, 0.5, true}, {10, 1.0, false}};
   Tally tally;
   tally.resize(scene);
