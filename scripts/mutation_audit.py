@@ -136,7 +136,7 @@ def run_python(binary, filt, log):
                ROTLEAK_SOURCE=ROOT)
     r = subprocess.run(["/usr/bin/python3", "-m", "unittest", "-v", "-k", filt, os.path.join("tests", binary)],
                        cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
-    log.write(f"$ python3 -m unittest -k {filt} tests/{binary}\n{r.stdout}{r.stderr}\n")
+    log.write(f"$ /usr/bin/python3 -m unittest -k {filt} tests/{binary}\n{r.stdout}{r.stderr}\n")
     names = list(dict.fromkeys(re.findall(r"^(?:FAIL|ERROR): (\w+)", r.stderr, re.M)))
     if r.returncode != 0 and not names:
         names = [f"{binary} (exit {r.returncode})"]
