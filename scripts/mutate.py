@@ -928,6 +928,19 @@ def record(m, verdict, failed=(), reason="", seconds=0.0, tests=()):
             "tests": list(tests)}
 
 
+def same_object_code(m, ctx, written, log, complete):
+    """Whether the mutant compiled to what the unmutated file did: objects that include the file were rebuilt and no
+    object written differs from the unmutated build's. Only once `complete` (every test built, or a .cpp's own
+    objects, which every test links alike); Python never (its AST is judged before)."""
+    if m.file.endswith(".py") or not complete:
+        return False
+    mine = {os.path.join(ctx["build"], o) for o, d in ctx["deps"].items() if m.file in d} & written
+    changed = [p for p in written if ctx["seen"][p][1] != ctx["base"].get(p)]
+    log.write(f"objects rebuilt: {len(written)}, of them including the file: {len(mine)}; changed: "
+              f"{' '.join(os.path.relpath(p, ctx['build']) for p in changed) or 'none'}\n")
+    return bool(mine) and not changed
+
+
 def run_mutant(m, specs, ctx, equivalents):
     t0 = time.time()
     judged = equivalents.get(m.id)
@@ -951,30 +964,32 @@ def run_mutant(m, specs, ctx, equivalents):
         log.write(f"{m.id}\n{m.before}\n{m.after}\ntests: {' '.join(specs)}\n\n")
         scan_objects(ctx["build"], ctx["seen"])  # what the mutant's build writes, from here
         hidden = False
+        failed, written = [], set()
         try:
             hidden = hide(ctx["tree"], m.file, True)
             with open(path, "wb") as f:
                 f.write(mutated.encode("utf-8"))
-            ok, out = build(ctx["build"], targets_for(specs, m.file, ctx["deps"], ctx["tree"], ctx["build"]),
-                            ctx["jobs"], log)
-            if not ok:
-                error = re.search(r"^.*\berror\b.*$", out, re.M)
-                why = error.group().strip().replace(ctx["tree"] + os.sep, "")[:160] if error else "build failed"
-                return record(m, "does not build", reason=why, seconds=time.time() - t0, tests=specs)
-            if not m.file.endswith(".py"):
-                written = scan_objects(ctx["build"], ctx["seen"])
-                mine = {os.path.join(ctx["build"], o) for o, d in ctx["deps"].items() if m.file in d} & written
-                changed = [p for p in written if ctx["seen"][p][1] != ctx["base"].get(p)]
-                log.write(f"objects rebuilt: {len(written)}, of them including the file: {len(mine)}; changed: "
-                          f"{' '.join(os.path.relpath(p, ctx['build']) for p in changed) or 'none'}\n")
-                if mine and not changed:
-                    return record(m, "equivalent", reason="same object code", seconds=time.time() - t0, tests=specs)
-            failed = []
-            quick_first = sorted(specs, key=lambda s: ctx["state"].get("seconds", {}).get(s, 1e9))
-            for names, out in run_specs(quick_first, ctx["build"], ctx["timeout"], ctx["jobs"],
-                                        None if ctx["all_tests"] else ignore):
-                log.write(out)
-                failed += [n for n in names if n not in ignore]
+            # the quickest tests first, each built just before it runs: a catch needs one test binary linked,
+            # not every one that covers the file (Python: the Python.* tests, one step)
+            order = sorted(specs, key=lambda s: ctx["state"].get("seconds", {}).get(s, 1e9))
+            steps = [order] if m.file.endswith(".py") or ctx["all_tests"] else [[s] for s in order]
+            for step in steps:
+                ok, out = build(ctx["build"], targets_for(step, m.file, ctx["deps"], ctx["tree"], ctx["build"]),
+                                ctx["jobs"], log)
+                if not ok:
+                    error = re.search(r"^.*\berror\b.*$", out, re.M)
+                    why = error.group().strip().replace(ctx["tree"] + os.sep, "")[:160] if error else "build failed"
+                    return record(m, "does not build", reason=why, seconds=time.time() - t0, tests=specs)
+                written |= scan_objects(ctx["build"], ctx["seen"])
+                if same_object_code(m, ctx, written, log, complete=step is steps[-1] or m.file.endswith(".cpp")):
+                    return record(m, "equivalent", reason="same object code", seconds=time.time() - t0,
+                                  tests=specs)
+                for names, out in run_specs(step, ctx["build"], ctx["timeout"], ctx["jobs"],
+                                            None if ctx["all_tests"] else ignore):
+                    log.write(out)
+                    failed += [n for n in names if n not in ignore]
+                if failed and not ctx["all_tests"]:
+                    break
         finally:
             held = signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C must not stop the restore
             with open(path, "wb") as f:
