@@ -14,7 +14,7 @@ build/mutation_audit/NAME.log. Every mutant is reverted, also on Ctrl-C or an er
 A mutant file, tests/mutants/NAME.patch: header lines, then a unified diff (`git diff` of one small change):
   # what: one line saying what the error is
   # catch: TEST_BINARY GTEST_FILTER      (one line per test binary that should catch it)
-  # catch: python/test_X.py PATTERN      (a Python test file under tests/: unittest -k PATTERN, the package built)
+  # catch: tests/python/test_X.py PATTERN (a Python test file: unittest -k PATTERN, the package built first)
   # note: why it survives, where it is known to (optional, shown in the report)
 """
 import os
@@ -73,11 +73,11 @@ def missing_tests(m):
     out = []
     for binary, filt in m.catch:
         if binary.endswith(".py"):
-            src = os.path.join(ROOT, "tests", binary)
+            src = os.path.join(ROOT, binary)
             if not os.path.isfile(src):
-                out.append(f"catch names tests/{binary}, which is not there")
+                out.append(f"catch names {binary}, which is not there")
             elif not re.search(r"^\s*def " + re.escape(filt) + r"\w*\(", open(src).read(), re.M):
-                out.append(f"catch pattern {filt!r}: no test method def {filt}... in tests/{binary}")
+                out.append(f"catch pattern {filt!r}: no test method def {filt}... in {binary}")
             continue
         src = os.path.join(ROOT, "tests", binary + ".cpp")
         if not os.path.isfile(src):
@@ -134,14 +134,14 @@ def build_targets(m):
 def run_python(binary, filt, log):
     env = dict(os.environ, PYTHONPATH=os.path.join(BUILD, "python"), ROTLEAK_BINARY=os.path.join(BUILD, "rotleak"),
                ROTLEAK_SOURCE=ROOT)
-    r = subprocess.run(["/usr/bin/python3", "-m", "unittest", "-v", "-k", filt, os.path.join("tests", binary)],
+    r = subprocess.run(["/usr/bin/python3", "-m", "unittest", "-v", "-k", filt, binary],
                        cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
-    log.write(f"$ /usr/bin/python3 -m unittest -k {filt} tests/{binary}\n{r.stdout}{r.stderr}\n")
+    log.write(f"$ /usr/bin/python3 -m unittest -k {filt} {binary}\n{r.stdout}{r.stderr}\n")
     names = list(dict.fromkeys(re.findall(r"^(?:FAIL|ERROR): (\w+)", r.stderr, re.M)))
     if r.returncode != 0 and not names:
         names = [f"{binary} (exit {r.returncode})"]
     if re.search(r"^Ran 0 tests", r.stderr, re.M):  # a catch line that runs nothing is a broken catch, not a catch
-        raise SystemExit(f"tests/{binary}: no test matches {filt}")
+        raise SystemExit(f"{binary}: no test matches {filt}")
     return names
 
 
