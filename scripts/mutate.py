@@ -31,8 +31,9 @@ mutated. --tree and --build name others (a tree of the user's own is mutated in 
 of a file: the test binaries whose object includes it or its header (ninja -t deps; failing that, the headers
 of its includers or beside it, or test_cli for the command's own code), for python/rotleak the ctest tests
 Python.*; --tests overrides (test_NAME: a test binary; anything else: a `ctest -R` pattern). A test binary runs
-once on the unmutated code first; what fails there is not counted as a catch. Against a mutant the tests run the
-quickest first (their unmutated times) and stop at the first catch (--all-tests: every one, to list them all).
+once on the unmutated code first; what fails there is not counted as a catch. Against a mutant the tests are built
+and run one at a time, those named for a part of its path first, then the quickest, and stop at the first catch
+(--all-tests: every one, to list them all).
 
 Verdicts: caught (a test fails, crashes or runs past --timeout, 600 s), survived, equivalent (the same object code,
 the same Python AST, or a line `ID reason` in tests/mutants/equivalent.txt by a person who judged it so; its tests
@@ -928,6 +929,14 @@ def record(m, verdict, failed=(), reason="", seconds=0.0, tests=()):
             "tests": list(tests)}
 
 
+def test_order(spec, path, ctx):
+    """Which test to build and run first: one named for a part of the file's path (test_table for
+    src/geometry/table.hpp, test_geometry too), then the quickest (their unmutated times)."""
+    words = set(re.split(r"[/_.]", path)) - {"src", "hpp", "cpp", "ipp", "py"}
+    named = any(w in words for w in spec.removeprefix("test_").split("_"))
+    return (0 if named else 1, ctx["state"].get("seconds", {}).get(spec, 1e9))
+
+
 def same_object_code(m, ctx, written, log, complete):
     """Whether the mutant compiled to what the unmutated file did: objects that include the file were rebuilt and no
     object written differs from the unmutated build's. Only once `complete` (every test built, or a .cpp's own
@@ -969,9 +978,9 @@ def run_mutant(m, specs, ctx, equivalents):
             hidden = hide(ctx["tree"], m.file, True)
             with open(path, "wb") as f:
                 f.write(mutated.encode("utf-8"))
-            # the quickest tests first, each built just before it runs: a catch needs one test binary linked,
+            # the likeliest tests first, each built just before it runs: a catch needs one test binary built,
             # not every one that covers the file (Python: the Python.* tests, one step)
-            order = sorted(specs, key=lambda s: ctx["state"].get("seconds", {}).get(s, 1e9))
+            order = sorted(specs, key=lambda s: test_order(s, m.file, ctx))
             steps = [order] if m.file.endswith(".py") or ctx["all_tests"] else [[s] for s in order]
             for step in steps:
                 ok, out = build(ctx["build"], targets_for(step, m.file, ctx["deps"], ctx["tree"], ctx["build"]),
