@@ -1141,7 +1141,9 @@ def main(argv):
         raise SystemExit(f"[mutate] the unmutated tree does not build ({LOGS}/build.log):\n" + out[-2000:])
     seen = {}
     scan_objects(build_dir, seen)
-    commit = git("rev-parse", "HEAD", cwd=tree).strip() if own_tree else None
+    # the unmutated runs hold while the code and the tests do: a commit of docs or scripts keeps them
+    commit = " ".join(git("rev-parse", *(f"HEAD:{d}" for d in (*SOURCES, "tests", "CMakeLists.txt")),
+                          cwd=tree).split()) if own_tree else None
     state = {"commit": commit, "tests": {}}
     if commit and os.path.isfile(BASELINE):
         with open(BASELINE) as f:
