@@ -375,16 +375,19 @@ TEST(Calibrate, WritesItsFilesAndResumes) {
 // w P_g(t_r) max(exp(-gamma (t - t_r)), P(t) / P(t_r)) / N less what the 5 lines alive still give. P decays
 // at 0.1 until t = 30 (slower than gamma: mixing sets the allowance) and at 0.5 after (the group's own
 // rate does). A second group of 500 light lines (weight 1e-6) stays populated and adds nothing.
-TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
+namespace {
+
+// A split run of N = 1000 lines on t = 0..40 (R = 2) with one unsplit group of weight w = 0.02 whose 50 lines fall to
+// 15 after t = 10 and to 5 after t = 20, P(t) given: the UnsplitAllowance tests' curve.
+template <class Pt>
+SurvivalCurve one_heavy_group(Pt P, double w) {
   SurvivalCurve c;
   c.weighted = c.lines = true;
   c.particles = 1000;
   c.first_split = 2;
-  const double n = 1000, w = 0.02, light = 1e-6;
-  const auto P = [](double t) { return 1e-2 * std::exp(t <= 30 ? -0.1 * t : -3 - 0.5 * (t - 30)); };
-  SurvivalCurve::UnsplitGroup heavy, many;
+  const double n = 1000;
+  SurvivalCurve::UnsplitGroup heavy;
   heavy.classes = {unsplit_class(w)};
-  many.classes = {unsplit_class(light)};
   for (int k = 0; k <= 40; ++k) {
     const std::uint64_t alive = k <= 10 ? 50 : k <= 20 ? 15 : 5;
     c.t.push_back(k);
@@ -396,11 +399,25 @@ TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
     heavy.lines.push_back(alive);
     heavy.P.push_back(static_cast<double>(alive) * w / n);
     heavy.var.push_back(static_cast<double>(alive) * w * w / (n * n));
+  }
+  c.unsplit = {heavy};
+  return c;
+}
+
+}  // namespace
+
+TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
+  const double n = 1000, w = 0.02, light = 1e-6;
+  const auto P = [](double t) { return 1e-2 * std::exp(t <= 30 ? -0.1 * t : -3 - 0.5 * (t - 30)); };
+  SurvivalCurve c = one_heavy_group(P, w);
+  SurvivalCurve::UnsplitGroup many;  // and 500 light lines that never decay: no allowance of their own
+  many.classes = {unsplit_class(light)};
+  for (int k = 0; k <= 40; ++k) {
     many.lines.push_back(500);
     many.P.push_back(500 * light / n);
     many.var.push_back(500 * light * light / (n * n));
   }
-  c.unsplit = {heavy, many};
+  c.unsplit.push_back(many);
   const SurvivalCurve before = c;
   add_unsplit_allowance(c);
   const SurvivalCurve::UnsplitGroup& h = c.unsplit[0];
@@ -430,26 +447,8 @@ TEST(UnsplitAllowance, ExtendsAGroupsDecayPastItsLastReliableTime) {
 // so that the allowance is just under half the own variance up to t = 25 and just over it there: it starts at 25;
 // with 25 just under as well, at 26. p_bounded holds from that time on, for split runs only.
 TEST(UnsplitAllowance, PIsABoundFromTheFirstTimeTheAllowanceTakesHalfItsVariance) {
-  SurvivalCurve c;
-  c.weighted = c.lines = true;
-  c.particles = 1000;
-  c.first_split = 2;
-  const double n = 1000, w = 0.02;
-  SurvivalCurve::UnsplitGroup heavy;
-  heavy.classes = {unsplit_class(w)};
-  for (int k = 0; k <= 40; ++k) {
-    const std::uint64_t alive = k <= 10 ? 50 : k <= 20 ? 15 : 5;
-    c.t.push_back(k);
-    c.survivors.push_back(1000);
-    c.lines_alive.push_back(1000);
-    c.P_w.push_back(1e-2 * std::exp(-0.1 * k));
-    c.R.push_back(2);
-    c.G.push_back(1 / n);
-    heavy.lines.push_back(alive);
-    heavy.P.push_back(static_cast<double>(alive) * w / n);
-    heavy.var.push_back(static_cast<double>(alive) * w * w / (n * n));
-  }
-  c.unsplit = {heavy};
+  const double n = 1000;
+  const SurvivalCurve c = one_heavy_group([](double t) { return 1e-2 * std::exp(-0.1 * t); }, 0.02);
   SurvivalCurve probe = c;
   add_unsplit_allowance(probe);
   std::vector<double> extra(c.t.size());  // the allowance, which R does not change
