@@ -331,6 +331,34 @@ TYPED_TEST(TableStadium, ALeakOnTheStadiumAsATableDecidesAsTheStadiumsLeak) {
 /// On every table, a stationary leak's windows decide as its s does (the moving leak's test, at omega = 0):
 /// the two paths agree except within rounding of a leak's end. Leaks on the outer boundary and on scatterers,
 /// across pieces, across the origin, and one of more than a half turn of a circle.
+// The whole boundary's coordinate (the starts drawn on it, leak lists) lays the loops end to end: loop l starts after
+// the lengths before it -- the Sinai table's disc after the square's 8, the annulus's inner circle after the outer
+// 2 pi -- and loop_s inverts boundary_share on every loop of every table. A loop's offset stored one place early
+// (mutant tests/mutants/table-loop-offset-early.patch, drawn by scripts/mutate.py) put every start of the Sinai
+// table's square on its disc and was caught only by a test that then never ended.
+TEST(Table, TheBoundaryCoordinateLaysTheLoopsEndToEnd) {
+  const std::vector<std::pair<std::string, double>> second = {{"sinai", 8.0}, {"annulus", 2 * M_PI}};
+  int two_loops = 0;
+  for (const Standard& st : standard_tables()) {
+    SCOPED_TRACE(st.name);
+    const Table<double> t(st.make());
+    EXPECT_EQ(t.loop_offset(0), 0.0);
+    for (const auto& [name, offset] : second)
+      if (name == st.name) {
+        ASSERT_EQ(t.loops(), 2);
+        EXPECT_NEAR(t.loop_offset(1), offset, 1e-14 * offset);
+        ++two_loops;
+      }
+    for (int l = 0; l < t.loops(); ++l)
+      for (const double s : {0.0, 0.1, 0.5, 0.9, 0.999}) {
+        const auto [loop, back] = t.loop_s(t.boundary_share(l, s));
+        EXPECT_EQ(loop, l) << "s = " << s;
+        EXPECT_NEAR(back, s, 1e-12) << "loop " << l;
+      }
+  }
+  EXPECT_EQ(two_loops, 2);
+}
+
 TEST(Table, EveryTablesLeakWindowsDecideAsItsBoundaryCoordinate) {
   for (const Standard& st : standard_tables()) {
     SCOPED_TRACE(st.name);
