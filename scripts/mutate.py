@@ -7,10 +7,12 @@ fails "catches" a mutant, none failing lets it "survive".
 
 Usage: /usr/bin/python3 scripts/mutate.py [--since REV] [--count N] [--seed S] [--files GLOB ...]
            [--tests TEST ...] [--timeout S] [--jobs J] [--min-rate R] [--no-replace-stillborn]
-           [--tree DIR --build DIR] [--all-tests] [--list | --only ID ... | --resume]
+           [--tree DIR --build DIR] [--all-tests] [--list | --only ID ... | --resume | --report]
   --list         draw and print the mutants (and their tests where build-mutate/build is there); builds nothing
   --only ID ...  run just these (ids from --list or build-mutate/results.jsonl): survivors, after new tests
   --resume       reuse the verdicts build-mutate/results.jsonl holds for the same ids (same id: same line text)
+  --report       the report of those verdicts for the mutants drawn, with tests/mutants/equivalent.txt's judgements
+                 of survivors applied; builds and runs nothing
 
 The lines: those `git diff -U0 REV` (default c6340d4) adds or changes in src analysis verify app python/rotleak
 (.cpp .hpp .ipp .py; not src/sim/gpu/*.cu, which needs nvcc), less what holds no code to mutate: comments,
@@ -1090,7 +1092,39 @@ def parse(argv):
     p.add_argument("--list", action="store_true")
     p.add_argument("--only", nargs="+", metavar="ID")
     p.add_argument("--resume", action="store_true")
+    p.add_argument("--report", action="store_true",
+                   help="print the report of results.jsonl's verdicts for the mutants drawn; runs nothing")
     return p.parse_args(argv)
+
+
+def judged_survivor(r, equivalents):
+    """A survivor of an earlier run that tests/mutants/equivalent.txt now calls equivalent (its tests ran, none
+    caught it): equivalent, with the person's reason."""
+    if r["verdict"] == "survived" and r["id"] in equivalents:
+        return dict(r, verdict="equivalent", reason=equivalents[r["id"]])
+    return r
+
+
+def write_report(args, own_tree, tree):
+    """--report: the report of results.jsonl's verdicts for the mutants a run draws (or --only names), in order,
+    up to --count that build; it stops at the first drawn mutant with no verdict yet."""
+    equivalents = read_equivalents()
+    source = None if own_tree else tree
+    chosen = resolve(args.only, source) if args.only else draws(mutant_pool(args.since, source, args.files), args.seed)
+    goal = len(args.only) if args.only else args.count
+    previous, records, counted = load_results(), [], 0
+    for m in chosen:
+        if counted >= goal or m.id not in previous:
+            break
+        records.append(judged_survivor(previous[m.id], equivalents))
+        counted += records[-1]["verdict"] != "does not build"
+    if counted < goal:
+        print(f"[mutate] results.jsonl has verdicts for {counted} of the {goal} mutants", file=sys.stderr)
+    title = (f"Mutation test: {len(records)} mutants of the lines changed since {args.since}, seed {args.seed}"
+             if not args.only else f"Mutation test: {len(records)} mutants named")
+    text, rate = report(records, title)
+    print(text)
+    return 0 if rate is None or rate >= args.min_rate else 1
 
 
 def main(argv):
@@ -1119,6 +1153,9 @@ def main(argv):
             if deps is not None:
                 print(f"     tests: {' '.join(test_specs(m, args, deps, tree, build_dir)) or '(none)'}")
         return 0
+
+    if args.report:  # what results.jsonl holds for the mutants drawn (or named), in order, without running any
+        return write_report(args, own_tree, tree)
 
     signal.signal(signal.SIGTERM, interrupted)
     os.makedirs(LOGS, exist_ok=True)
@@ -1167,6 +1204,7 @@ def main(argv):
                           file=sys.stderr)
             r = previous.get(m.id)
             if r:
+                r = judged_survivor(r, equivalents)
                 print(f"  (from results.jsonl) {verdict_text(r)}", flush=True)
             else:
                 specs = test_specs(m, args, ctx["deps"], tree, build_dir)

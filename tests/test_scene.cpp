@@ -1,6 +1,9 @@
 // Scene validation: every bad input is an InputError naming its key; overrides; round trip.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
+#include "geometry/stadium.hpp"
 #include "io/scene_file.hpp"
 #include "leak/leak.hpp"
 #include "names.hpp"
@@ -131,6 +134,21 @@ TEST(Scene, TooManyCollisionsBlameTheKeyGiven) {
   // t_max written in the scene file (as quickstart.toml writes it) is not what made the run too long
   const std::string file = "[run]\nt_max = 20000\n";
   EXPECT_EQ(error_of(file, {"stadium.r=1e-300"}).rfind("stadium.r = ", 0), 0u) << error_of(file, {"stadium.r=1e-300"});
+  // the edges: the default stadium (mean free path 2.18) takes t_max up to 1e9 mean free paths and refuses more,
+  // naming run.t_max; a smaller stadium refused at a t_max the default one would take names the stadium. Blaming
+  // t_max above 1e9 time units instead of 1e9 default mean free paths (mutant
+  // tests/mutants/blame-t-max-not-paths.patch, drawn by scripts/mutate.py) names run.t_max there.
+  const double mfp = Stadium<double>(ExactReal::parse("2"), ExactReal::parse("1")).mean_free_path();
+  char under[64], over[64];
+  std::snprintf(under, sizeof under, "run.t_max=%.17g", 1e9 * mfp * (1 - 1e-9));
+  std::snprintf(over, sizeof over, "run.t_max=%.17g", 1e9 * mfp * (1 + 1e-9));
+  const std::string grid = "observe.survival_dt=1000";  // t_max / survival_dt bins at most 1e8
+  EXPECT_EQ(error_of("", {under, grid}), "");
+  EXPECT_EQ(error_of("", {over, grid}).rfind("run.t_max = ", 0), 0u) << error_of("", {over, grid});
+  EXPECT_EQ(error_of("", {under, grid, "stadium.r=1/10"}).rfind("stadium.r = ", 0), 0u)
+      << error_of("", {under, grid, "stadium.r=1/10"});
+  EXPECT_EQ(error_of("", {over, grid, "stadium.r=1/10"}).rfind("run.t_max = ", 0), 0u)
+      << error_of("", {over, grid, "stadium.r=1/10"});
 }
 
 // Counts through --set are read exactly, as --particles reads them (split_cap = 1e6 was refused as "must be
