@@ -151,6 +151,40 @@ TEST(Table, BadTablesAreRefusedNamingWhatIsWrong) {
       "scatterer 1 must run anticlockwise");
 }
 
+// A table holds kMaxTableLoops = 8 loops, the outer boundary and 7 scatterers: a square of side 8 with 7 discs is built
+// and runs its boundary coordinate over all of them; an 8th disc is refused, naming the limit. A limit of 7 (mutant
+// tests/mutants/table-loops-seven.patch, drawn by scripts/mutate.py) refused the table at its last disc.
+TEST(Table, EightLoopsAreATableAndANinthIsRefused) {
+  const auto square_with = [](int discs) {
+    TableSpec t;
+    t.begin_loop(q("4"));
+    t.segment(q("-4"), q("4"), q("4"), q("4"));
+    t.segment(q("4"), q("4"), q("4"), q("-4"));
+    t.segment(q("4"), q("-4"), q("-4"), q("-4"));
+    t.segment(q("-4"), q("-4"), q("-4"), q("4"));
+    for (int k = 0; k < discs; ++k) {
+      t.begin_loop();
+      t.circle(ExactReal::parse(std::to_string(k - 3)), q("0"), q("1/10"), false);
+    }
+    t.finish();
+    return t;
+  };
+  const Table<double> eight(square_with(kMaxTableLoops - 1));
+  ASSERT_EQ(eight.loops(), kMaxTableLoops);
+  EXPECT_NEAR(eight.loop_offset(kMaxTableLoops - 1), 32 + 6 * (2 * M_PI / 10), 1e-12);
+  const auto [loop, s] = eight.loop_s(eight.boundary_share(kMaxTableLoops - 1, 0.5));
+  EXPECT_EQ(loop, kMaxTableLoops - 1);
+  EXPECT_NEAR(s, 0.5, 1e-12);
+  try {
+    square_with(kMaxTableLoops);
+    ADD_FAILURE() << "a table of " << kMaxTableLoops + 1 << " loops was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 8 loops (the outer boundary and 7 scatterers at most)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Table, AcosIsExactWhereItCanBeAndParsesBack) {
   EXPECT_TRUE(ExactReal::acos(q("1")).is_rational());
   EXPECT_EQ(ExactReal::acos(q("-1")).text(), "pi");

@@ -797,6 +797,12 @@ class Package(unittest.TestCase):
             self.assertTrue(disjoint(labels(ax.texts, r)), [t.get_text() for t in ax.texts])
 
             look(self.run_dir)
+            fig = seen["survival.png"]  # t_max = 20000: five-digit times, whose labels run together if many
+            r = fig.canvas.get_renderer()
+            for ax in fig.axes:
+                lo, hi = ax.get_xlim()
+                shown = [t for t in ax.get_xticklabels() if lo <= t.get_position()[0] <= hi]
+                self.assertTrue(disjoint(labels(shown, r)), [t.get_text() for t in shown])
             fig = seen["fc.png"]
             r = fig.canvas.get_renderer()
             ax = fig.axes[0]
