@@ -749,6 +749,27 @@ class Package(unittest.TestCase):
         kappa = [float(x) for x in fig.axes[0].lines[0].get_xdata()]
         self.assertEqual(kappa, sorted(want), "the kappa line joins the points in omega order")
 
+    def test_labels_of_points_close_together_step_apart(self):
+        """rotleak.plot.label_points: a label that would overlap one placed before steps down a line, so labels of
+        points at one place never sit on each other (each once did when a placed label was kept without its
+        height: mutant tests/mutants/plot-label-box-flat.patch, drawn by scripts/mutate.py)."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from rotleak import plot
+        fig, ax = plt.subplots(figsize=(plot.ONE_COLUMN, 2.5))
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, 1)
+        plot.label_points(ax, [(0.3, 0.5, "omega = 1/3"), (0.3, 0.5, "omega = 2/3"), (0.31, 0.5, "omega = 1")])
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        boxes = [t.get_window_extent(r) for t in ax.texts]
+        self.assertEqual(len(boxes), 3)
+        for i, a in enumerate(boxes):
+            for b in boxes[i + 1:]:
+                self.assertFalse(a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1, (a, b))
+        plt.close(fig)
+
     def test_pictures_keep_labels_clear_of_the_data_and_of_each_other(self):
         # each once failed as a user saw it: the regimes' legend covered scan_<key>'s x label, f_L's labels sat
         # on the data, fc's legend covered a spike, tick labels overlapped (0 beside 1e-4; minor log labels),
