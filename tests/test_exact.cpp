@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <string>
+#include <string_view>
+
 #include "numeric/exact.hpp"
 #include "numeric/mpfr_fixed.hpp"
 
@@ -17,6 +20,19 @@ TEST(ExactParse, DecimalsAreExactRationals) {
   EXPECT_NE(ExactReal::parse("0.1").as_rational(), mpq_class(0.1));
   EXPECT_EQ(ExactReal::parse("sqrt(9/4)").as_rational(), mpq_class(3, 2));
   EXPECT_EQ(ExactReal::parse("ln(1)").as_rational(), mpq_class(0));
+}
+
+// A decimal's exponent is its digits and nothing after them: "1e5" is 10^5 and "1e5x", "2e1.5", "1e+" are refused,
+// as is anything past the end of the text a view names (the rest of a longer buffer is not the number's). Reading
+// the exponent while i < size() OR a digit follows (mutant tests/mutants/decimal-exponent-or.patch, drawn by
+// scripts/mutate.py) took "1e5x" as 10^122 and read past a view's end.
+TEST(ExactParse, ADecimalsExponentIsItsDigitsOnly) {
+  EXPECT_EQ(rotleak::parse_decimal("1e5"), mpq_class(100000));
+  EXPECT_EQ(rotleak::parse_decimal("3E-2"), mpq_class(3, 100));
+  for (const char* bad : {"1e5x", "2e1.5", "1e+", "1e-2e3", "4e 1"})
+    EXPECT_THROW(rotleak::parse_decimal(bad), ExactParseError) << "input: '" << bad << "'";
+  const std::string buffer = "1e57";
+  EXPECT_EQ(rotleak::parse_decimal(std::string_view(buffer).substr(0, 3)), mpq_class(100000));
 }
 
 TEST(ExactParse, RejectsWhatIsNotAValue) {
