@@ -829,21 +829,16 @@ def gtest_brief(binary):
     return KNOWN["brief"]
 
 
-STOP = []  # set while run_specs ends early: specs not yet started are skipped
+SECONDS = {}  # each spec's wall seconds, as its last run took
 
 
 def run_spec(spec, build_dir, timeout, jobs):
     """(the tests that fail, the output) of one spec; its wall seconds in SECONDS."""
-    if STOP:
-        return [], ""
     t0 = time.time()
     try:
         return run_one(spec, build_dir, timeout, jobs)
     finally:
         SECONDS[spec] = time.time() - t0
-
-
-SECONDS = {}
 
 
 def run_one(spec, build_dir, timeout, jobs):
@@ -870,31 +865,17 @@ def run_one(spec, build_dir, timeout, jobs):
     return names, f"$ {' '.join(cmd)}\n{out}\n"
 
 
-def run_specs(specs, build_dir, timeout, jobs, stop=None):
-    """[(failures, output)] of the specs, `jobs` at a time. With `stop` (the failures to ignore: the unmutated
-    code's), the first spec with another failure ends the rest, killed or never started: one catch decides."""
-    results = {}
-    STOP.clear()
+def run_specs(specs, build_dir, timeout, jobs):
+    """[(failures, output)] of the specs, `jobs` at a time (a mutant's tests run one step at a time and stop at the
+    first catch: run_mutant)."""
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futures = {pool.submit(run_spec, s, build_dir, timeout, jobs): s for s in specs}
+        futures = [pool.submit(run_spec, s, build_dir, timeout, jobs) for s in specs]
         try:
-            for f in concurrent.futures.as_completed(futures):
-                results[futures[f]] = f.result()
-                if stop is not None and any(n not in stop for n in results[futures[f]][0]):
-                    STOP.append(futures[f])
-                    for g in futures:
-                        g.cancel()
-                    for p in list(LIVE):
-                        kill(p)
-                    break
+            return [f.result() for f in futures]
         except BaseException:
-            STOP.append(None)
             for p in list(LIVE):
                 kill(p)
             raise
-    if STOP:  # what the early end killed is no result
-        return [results[STOP[0]]]
-    return [results[s] for s in specs]
 
 
 def baseline(specs, state, ctx):
@@ -995,8 +976,7 @@ def run_mutant(m, specs, ctx, equivalents):
                 if same_object_code(m, ctx, written, log, complete=step is steps[-1] or m.file.endswith(".cpp")):
                     return record(m, "equivalent", reason="same object code", seconds=time.time() - t0,
                                   tests=specs)
-                for names, out in run_specs(step, ctx["build"], ctx["timeout"], ctx["jobs"],
-                                            None if ctx["all_tests"] else ignore):
+                for names, out in run_specs(step, ctx["build"], ctx["timeout"], ctx["jobs"]):
                     log.write(out)
                     failed += [n for n in names if n not in ignore]
                 if failed and not ctx["all_tests"]:
