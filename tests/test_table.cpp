@@ -393,6 +393,32 @@ TEST(Table, TheBoundaryCoordinateLaysTheLoopsEndToEnd) {
   EXPECT_EQ(two_loops, 2);
 }
 
+// A split copy's turn asks which piece a member sits on and how far it is (Table::piece_nearest,
+// sim/engine/population.cpp): a boundary point is within the table's slack of its own piece, and a point a hair
+// inside is that hair away, not within the slack, on every kind of piece. The ellipse's distance with its Y^2 term
+// dropped (drawn by scripts/mutate.py) put every point of an ellipse far from it, and no run had shown it.
+TEST(Table, APointOnTheBoundaryIsWithinTheSlackOfItsPieceAndAHairInsideIsNot) {
+  for (const Standard& st : standard_tables()) {
+    SCOPED_TRACE(st.name);
+    const Table<double> t(st.make());
+    const double hair = 1e-6 * t.scale();
+    std::mt19937_64 gen(7);
+    std::uniform_real_distribution<double> u(0.001, 0.999);
+    for (int i = 0; i < 200; ++i) {
+      const int loop = static_cast<int>(u(gen) * t.loops());
+      const TableFrame<double> f = t.at(loop, u(gen));
+      const double d = t.piece_nearest(f.q).second;
+      EXPECT_LE(d, t.slack()) << "point " << i << " on piece " << f.piece;
+      for (const double side : {1.0, -1.0}) {  // inside and outside the loop, a hair off
+        const Vec2<double> q{f.q.x + side * hair * f.normal.x, f.q.y + side * hair * f.normal.y};
+        const double d2 = t.piece_nearest(q).second;
+        EXPECT_GT(d2, t.slack()) << "point " << i << " side " << side;
+        EXPECT_NEAR(d2, hair, 1e-3 * hair) << "point " << i << " side " << side << " piece " << f.piece;
+      }
+    }
+  }
+}
+
 TEST(Table, EveryTablesLeakWindowsDecideAsItsBoundaryCoordinate) {
   for (const Standard& st : standard_tables()) {
     SCOPED_TRACE(st.name);
