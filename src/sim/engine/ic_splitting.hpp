@@ -1,0 +1,143 @@
+// Splitting over initial conditions: generalized splitting (Botev & Kroese, Statistics and Computing 22 (2012)
+// 1-16) on the escape time T(x0) of a start x0 = (s, p, tau), for the tails that splitting in time cannot reach
+// (orbits whose clones never separate: docs/model.md, "Splitting over initial conditions").
+//
+// A stage is a population of starts, each conditioned on T > its level. Stage 0 is `starts` independent draws
+// of the stratum's uniform law; stage j + 1 is, for every start of stage j that outlives level j + 1, a
+// Metropolis chain of `factor` states whose kernel leaves the law of x0 given T(x0) > level j + 1 invariant. For
+// any kernel with that property, however slowly it mixes, the states of stage j that outlive t, over
+// starts x factor^j, estimate P(T > t | stratum) without bias; replicates are independent, so their spread is
+// the error. Everything is a function of (seed, replicate): the same bits for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rotleak {
+
+struct Scene;
+
+/// A start: the Birkhoff point (s a share of the whole boundary, p the sine of the angle to the normal) and the
+/// creation time tau.
+struct IcPoint {
+  double s = 0, p = 0, tau = 0;
+};
+
+/// The starts the sampler draws: s in a union of intervals of [0, 1], p in a union of intervals of [-1, 1], tau in
+/// [tau_lo, tau_hi] (tau_lo == tau_hi: every start at that time); its law the billiard map's invariant measure,
+/// uniform in (s, p), restricted to it, and tau uniform. Intervals are [lo, hi), disjoint and increasing.
+struct IcStratum {
+  std::vector<std::pair<double, double>> s, p;
+  double tau_lo = 0, tau_hi = 0;
+
+  bool contains(const IcPoint& x) const;
+  /// Its share of the billiard map's measure ds dp / 2 (1 for the whole boundary and every p).
+  double share() const;
+  /// The uniform draw from three uniform doubles in [0, 1).
+  IcPoint at(double us, double up, double ut) const;
+};
+
+/// The scene's stratum: s over the whole boundary (or, with `edges`, the stadium's two straight edges), |p| in
+/// [p_lo, p_hi] of both signs (p_lo = 0: the whole of (-p_hi, p_hi)), tau over the scene's creation window.
+IcStratum ic_stratum(const Scene& scene, double p_lo, double p_hi, bool edges);
+
+struct IcSplitSpec {
+  std::uint64_t starts = 10000;  ///< stage 0's draws (and the pilot's), per replicate
+  int factor = 10;               ///< the pilot's levels: each outlived by a share 1 / factor of the stage before
+  int replicates = 20;           ///< independent runs: their spread is P's error
+  /// Proposal scales: a stage's extent in each coordinate (the spread of the starts that seed its chains) times
+  /// 2^-j, j uniform in 0 .. scale_halvings (12: 3.6 decades below it), drawn independently of the state, so the
+  /// proposal stays symmetric.
+  int scale_halvings = 12;
+  int moves = 3;  ///< Metropolis moves between two states a chain keeps
+  int max_levels = 200;  ///< the pilot stops adding levels here
+};
+
+/// A start's end: its escape time (infinity for a survivor of t_max) and its collisions.
+struct IcEnd {
+  double t = std::numeric_limits<double>::infinity();
+  std::uint64_t collisions = 0;
+  bool stuck = false;  ///< ended stuck (counted as escaped then: it is not known to live on)
+};
+using EscapeClock = std::function<IcEnd(const IcPoint&)>;
+
+/// The escape clock of a scene: its table and leaks in double, its fast-forward, to its t_max (thread-safe).
+EscapeClock scene_clock(const Scene& scene);
+
+/// A stage's proposal scales: the extent of the starts that seed its chains in each coordinate (s and p laid end to
+/// end over the stratum's intervals), and the halvings below it. A kernel may depend on the stages before (the
+/// estimator stays unbiased), not on the state it moves.
+struct IcScales {
+  double s = 1, p = 2, tau = 0;
+  int halvings = 12;
+};
+
+/// A proposal kernel: the next proposal from state x and four uniform doubles u[0..3] in [0, 1). Its default is the
+/// symmetric one described at IcSplitSpec; a test passes another.
+using IcPropose = std::function<IcPoint(const IcStratum&, const IcScales&, const IcPoint& x, const double* u)>;
+IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, const IcPoint& x, const double* u);
+
+/// One replicate on the grid t: at grid time t[i], stage[i] is the latest stage whose level is at most t[i], and
+/// alive[i] its states that outlive t[i]; P(t[i]) = alive[i] / (starts f_1 ... f_stage[i]), f_j level j's factor.
+struct IcReplicate {
+  std::vector<int> stage;
+  std::vector<std::uint64_t> alive;
+  std::vector<std::uint64_t> population;  ///< each stage's states
+  std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
+};
+
+/// A stage beyond this many times the starts is refused (std::runtime_error naming the level): levels closer than
+/// the pilot saw them, which a replicate pays for in time and memory without end.
+inline constexpr std::uint64_t kIcPopulationCap = 64;
+
+struct IcSplitRun {
+  IcSplitSpec spec;
+  std::vector<double> levels;  ///< frozen from the pilot: level j + 1 of stage j + 1, increasing, below t_max
+  /// Level j + 1's splitting factor: each start that outlives it seeds a chain of that many states on average (one
+  /// over the share outliving it in a second pilot on the frozen levels, so that a stage holds about `starts`).
+  std::vector<double> factors;
+  std::vector<double> t;       ///< the grid
+  std::vector<IcReplicate> replicates;
+  std::uint64_t pilot_collisions = 0;
+
+  /// Replicate r's P(T > t[i] | stratum).
+  double P(std::size_t r, std::size_t i) const;
+  /// The replicates' mean and its standard error (their standard deviation over sqrt(R); 0 for one replicate).
+  double mean(std::size_t i) const;
+  double error(std::size_t i) const;
+  /// Replicates whose P(t[i]) is not 0.
+  int nonzero(std::size_t i) const;
+  std::uint64_t collisions() const;
+};
+
+/// Levels from a pilot of fixed effort (replicate index -1 of the seed's streams: every stage `starts` states, the
+/// chains spread evenly over the starts that outlive the level): each the T that a share 1 / factor of the stage
+/// before outlives, until that share outlives t_max, the stage dies out or max_levels.
+std::vector<double> ic_pilot_levels(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
+                                    double t_max, std::uint64_t seed, std::uint64_t* collisions = nullptr,
+                                    const IcPropose& propose = symmetric_proposal);
+
+/// The splitting factors of frozen levels: one over each level's share outliving it in a second fixed-effort pilot
+/// (replicate index -2); as many as the levels that pilot reached.
+std::vector<double> ic_level_factors(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
+                                     const std::vector<double>& levels, std::uint64_t seed,
+                                     std::uint64_t* collisions = nullptr,
+                                     const IcPropose& propose = symmetric_proposal);
+
+/// Replicate r with the frozen levels and factors, on grid t: generalized splitting proper, each start outliving
+/// level j seeding floor(f_j) or floor(f_j) + 1 chain states (the latter with probability frac(f_j)).
+IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
+                         const std::vector<double>& levels, const std::vector<double>& factors,
+                         const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
+                         const IcPropose& propose = symmetric_proposal);
+
+/// Pilot, then every replicate; `progress` (may be empty) after each replicate: done, of.
+IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
+                    const std::vector<double>& t, double t_max, std::uint64_t seed,
+                    const std::function<void(int, int)>& progress = {}, const IcPropose& propose = symmetric_proposal);
+
+}  // namespace rotleak
