@@ -437,6 +437,68 @@ class Package(unittest.TestCase):
         with self.assertRaises(rotleak.RotleakError):
             rotleak.read_certification(self.scan_dir)  # a scan is not a certified sample
 
+    def test_a_tables_density_figure_names_no_stadium_pieces(self):
+        """f_c on a table other than the stadium: its figure is drawn, with no top axis naming the stadium's
+        edges and arcs (a table has no such pieces; naming them on a table raised a matplotlib error)."""
+        scene = os.path.join(self.tmp, "circle_fc.toml")
+        with open(scene, "w") as f:
+            f.write('[table]\nkind = "circle"\nradius = "1"\n\n[run]\nt_max = 200.0\n\n'
+                    '[observe]\ncollision_density = { bins = 20, windows = [[0, 200]] }\n')
+        out = os.path.join(self.tmp, "circle_fc")
+        cli("simulate", scene, "--particles", "2000", "--out", out)
+        from rotleak import plot
+        drawings = {d.name: d for d in plot.figures(out)}
+        self.assertIn("fc", drawings)
+        def named(fig):  # the tick labels of every axis, the secondary ones (child axes) too
+            axes = [a for ax in fig.axes for a in [ax, *ax.child_axes]]
+            return [t.get_text() for a in axes for t in a.get_xticklabels()]
+        self.assertNotIn("right arc", named(drawings["fc"].figure))
+        def legend(fig):
+            return [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        self.assertIn("t in [0:200]", legend(drawings["fc"].figure))
+        self.assertNotIn("arcs", legend(drawings["fc"].figure))  # nothing shaded, nothing in the legend
+        # the converse: the stadium's f_c names its pieces along the top and shades its arcs
+        stadium = {d.name: d for d in plot.figures(self.run_dir)}
+        self.assertIn("right arc", named(stadium["fc"].figure))
+        self.assertIn("arcs", legend(stadium["fc"].figure))
+
+    def test_a_start_splitting_run_reads_back_with_csv_json_and_pandas(self):
+        """Splitting over initial conditions (docs/model.md): survival.csv's four columns and summary.json's
+        start_splitting (docs/output.md) with the standard readers; P from the replicates' mean, its error their
+        spread, the replicates' scene read back as it ran."""
+        import csv
+        out = os.path.join(self.tmp, "starts")
+        cli("simulate", os.path.join(SRC, "data", "scenes", "stationary_sL_0.toml"), "--set", "run.t_max=600",
+            "--set", "observe.survival_dt=10", "--set", "start_splitting.on=true", "--set",
+            "start_splitting.replicates=4", "--set", "start_splitting.moves=2", "--particles", "500", "--out", out)
+        with open(os.path.join(out, "summary.json")) as f:
+            doc = json.load(f)
+        g = doc["start_splitting"]
+        self.assertEqual((g["replicates"], g["starts"], g["factor"]), (4, 500, 10))
+        self.assertEqual(g["stratum"], {"p": [0.0, 1.0], "edges": False, "share": 1.0})
+        self.assertGreaterEqual(len(g["levels"]), 1)
+        self.assertEqual(len(g["factors"]), len(g["levels"]))
+        self.assertEqual(g["levels"], sorted(g["levels"]))
+        self.assertLessEqual(g["accepted"], g["proposals"])
+        with open(os.path.join(out, "survival.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0]), ["t", "survivors", "P", "P_err"])
+        self.assertEqual(len(rows), 61)
+        table = pd.read_csv(os.path.join(out, "survival.csv"), float_precision="round_trip")
+        self.assertEqual(table["P"].iloc[0], 1.0)
+        self.assertTrue((table["P_err"].iloc[1:] > 0).all())  # four replicates: a spread at every later time
+        self.assertTrue(pd.api.types.is_integer_dtype(table["survivors"]))
+        for point in g["at"]:
+            row = table[table["t"] == point["t"]].iloc[0]
+            self.assertEqual((row["P"], row["P_err"]), (point["P"], point["P_err"]))
+        run = rotleak.read_run(out)
+        self.assertEqual(run.survival["P"].tolist(), table["P"].tolist())
+        # the scene as run, read back: the same run again gives the same bytes
+        again = os.path.join(self.tmp, "starts_again")
+        cli("simulate", os.path.join(out, "scene.toml"), "--out", again)
+        with open(os.path.join(out, "survival.csv")) as a, open(os.path.join(again, "survival.csv")) as b:
+            self.assertEqual(a.read(), b.read())
+
     def test_a_two_leak_table_run_reads_back_with_csv_json_and_pandas(self):
         """A circle with two leaks (docs/tables.md): leaks.csv and summary.json's table and leaks (docs/output.md)
         with the standard readers and the package's Run, each leak's escapes adding up to the run's."""

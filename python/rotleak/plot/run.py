@@ -177,7 +177,8 @@ def density_figure(run: Run) -> Optional[Drawing]:
         top.set_xticks([(a + b) / 2 for a, b, _ in parts[1:4]] + [0.0, 1.0],
                        ["right arc", "bottom edge", "left arc", "top edge", "top edge"])
         top.tick_params(length=0)
-    ax.plot([], [], color="0.85", lw=6, label="arcs")
+    if parts:  # the shading's legend entry only where there are arcs to shade
+        ax.plot([], [], color="0.85", lw=6, label="arcs")
     columns = [c for c in fc.columns if c.startswith("fc")]  # fc[from,to]; count[from,to] beside each
     for k, column in enumerate(columns):
         ax.plot(s, fc[column].astype(float).tolist(), lw=0.8, color="C%d" % ((k + 4) % 10) if k else "C0",
