@@ -208,7 +208,7 @@ void add_alpha_systematic(AlphaResult& a, const SurvivalCurve& c, const KappaFit
 }
 
 void add_uniform_reach(AlphaResult& a, const SurvivalCurve& c) {
-  if (!c.weighted || c.lines) return;
+  if (!c.weighted || c.lines || c.replicated) return;  // only the mupo mixture has a uniform share
   const double reach =
       a.factor * static_cast<double>(a.min_survivors) * c.max_weight / static_cast<double>(c.particles);
   a.uniform_reach = reach;

@@ -15,6 +15,17 @@ RunSummary summarise(const Scene& scene, RunResult result) {
   return s;
 }
 
+RunSummary summarise(const Scene& scene, IcSplitRun run, RunResult result) {
+  RunSummary s;
+  s.scene = scene;
+  s.curve = ic_curve(run);
+  s.result = std::move(result);
+  s.result.tally.collisions = run.collisions();
+  s.start_splitting = std::move(run);
+  fit_curve(s);
+  return s;
+}
+
 void fit_curve(RunSummary& s) {
   const Scene& scene = s.scene;
   s.kappa = fit_kappa(s.curve, scene.kappa_window.from, scene.kappa_window.to);
@@ -26,7 +37,10 @@ void fit_curve(RunSummary& s) {
   s.amplitude = fit_amplitude(s.curve, s.kappa, scene.min_survivors);
   s.alpha_c = alpha_from_amplitude(s.kappa, s.amplitude, scene.alpha_factor);
   s.tail_class = classify_tail(scene, s.curve, s.alpha, &s.kappa, &s.amplitude);
-  if (scene.on_table()) {  // the leak times and the tail model are the stadium's theory (docs/tables.md)
+  // a stratum's P is not the whole boundary's, which the tail model predicts
+  const StartSplitSpec& g = scene.start_splitting;
+  const bool part = g.on && (g.p_lo > 0 || g.p_hi < 1 || g.edges);
+  if (scene.on_table() || part) {  // the leak times and the tail model are the stadium's theory (docs/tables.md)
     s.rate_jumps = decay_rate_jumps(s.curve, 100);
     return;
   }

@@ -10,6 +10,7 @@
 #include "analysis/regimes.hpp"
 #include "analysis/tail_model.hpp"
 #include "sim/engine/engine.hpp"
+#include "sim/engine/ic_splitting.hpp"
 #include "sim/model/scene.hpp"
 #include "sim/tally/survival.hpp"
 
@@ -32,6 +33,8 @@ struct RunSummary {
   /// Why the audit's rule (verify/audit.hpp, scalar_rejection) does not trust this tier's statistics on this
   /// scene (the leak phase or the time grid beyond it); none where it does. Set by the run layer.
   std::optional<std::string> precision_warning;
+  /// Splitting over initial conditions (scene.start_splitting): its levels, factors and replicates.
+  std::optional<IcSplitRun> start_splitting;
 
   double collisions_per_second() const {
     return result.wall_seconds > 0 ? static_cast<double>(result.tally.collisions) / result.wall_seconds : 0.0;
@@ -40,6 +43,9 @@ struct RunSummary {
 
 /// The curve and the three fits (kappa on the scene's window, alpha, the tail exponent).
 RunSummary summarise(const Scene& scene, RunResult result);
+/// A run of splitting over initial conditions: its curve (ic_curve) and fits; result holds its collisions, wall time
+/// and threads.
+RunSummary summarise(const Scene& scene, IcSplitRun run, RunResult result);
 /// The fits, the tail class, the predictions and the rate jumps of s.curve under s.scene's fit keys
 /// (summarise calls it; `rotleak fit` calls it on a curve read back from survival.csv).
 void fit_curve(RunSummary& s);

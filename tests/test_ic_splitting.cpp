@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "io/scene_file.hpp"
 #include "sim/engine/engine.hpp"
 #include "sim/engine/ic_splitting.hpp"
 #include "sim/tally/survival.hpp"
-#include "io/scene_file.hpp"
 #include "tests/paths.hpp"
 
 namespace rotleak {

@@ -8,6 +8,7 @@
 #include "leak/leak.hpp"
 #include "names.hpp"
 #include "scene_error.hpp"
+#include "tests/paths.hpp"
 
 using namespace rotleak;
 
@@ -114,6 +115,52 @@ TEST(Scene, DefaultThatFailsItsCheckIsNamedNotDereferenced) {
     sets.insert(sets.end(), {width, "run.t_max=1e6"});
     EXPECT_EQ(error_of("", sets).rfind("run.split_every = ", 0), 0u) << error_of("", sets);
   }
+}
+
+// [start_splitting]: each key refused with one line naming it, its value and what is allowed, at its edges; its
+// parameters only with on = true; what it cannot run beside it named; and the scene as run read back the same.
+TEST(Scene, StartSplittingKeysAreCheckedAtTheirEdges) {
+  const std::string on = "start_splitting.on=true";
+  const auto starts = [&](const std::vector<std::string>& more) {
+    std::vector<std::string> sets = {on};
+    sets.insert(sets.end(), more.begin(), more.end());
+    return error_of("", sets);
+  };
+  EXPECT_EQ(starts({}), "");
+  EXPECT_EQ(starts({"start_splitting.replicates=2", "start_splitting.factor=2", "start_splitting.moves=1",
+                    "start_splitting.halvings=0", "start_splitting.p=[0, 1]", "start_splitting.edges=true"}),
+            "");
+  for (const char* bad :
+       {"start_splitting.replicates=1", "start_splitting.replicates=100001", "start_splitting.factor=1",
+        "start_splitting.moves=0", "start_splitting.halvings=61", "start_splitting.p=[0.5, 0.5]",
+        "start_splitting.p=[-0.1, 0.5]", "start_splitting.p=[0, 1.5]", "start_splitting.edges=1"}) {
+    const std::string key = std::string(bad).substr(0, std::string(bad).find('='));
+    const std::string msg = starts({bad});
+    EXPECT_EQ(msg.rfind(key + " = ", 0), 0u) << bad << ": " << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  EXPECT_EQ(error_of("", {"start_splitting.replicates=5"}).rfind("start_splitting.replicates = 5", 0), 0u);
+  EXPECT_NE(error_of("", {"start_splitting.replicates=5"}).find("start_splitting.on = true only"), std::string::npos);
+  for (const char* beside : {"run.splitting=true", "ensemble.sampling=mupo", "ensemble.init=flow", "run.tier=float",
+                             "observe.escapes=true"}) {
+    const std::string msg = starts({beside});
+    EXPECT_EQ(msg.rfind("start_splitting.on = true", 0), 0u) << beside << ": " << msg;
+  }
+  EXPECT_EQ(error_of("[table]\nkind = \"circle\"\nradius = \"1\"\n", {on, "start_splitting.edges=true"})
+                .rfind("start_splitting.edges = true", 0),
+            0u);
+  const Scene s = load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/stationary_sL_0.toml",
+                             {on, "start_splitting.p=[1e-3, 1.06e-3]", "start_splitting.edges=true"});
+  const Scene back = parse_scene(scene_to_toml(s), {}, "back");
+  EXPECT_TRUE(back.start_splitting.on);
+  EXPECT_EQ(back.start_splitting.p_lo, 1e-3);
+  EXPECT_EQ(back.start_splitting.p_hi, 1.06e-3);
+  EXPECT_TRUE(back.start_splitting.edges);
+  EXPECT_EQ(back.start_splitting.replicates, 20);
+  EXPECT_FALSE(parse_scene(scene_to_toml(load_scene(std::string(rotleak::test::source_dir()) +
+                                                    "/data/scenes/stationary_sL_0.toml")),
+                           {}, "back")
+                   .start_splitting.on);
 }
 
 // The riding bands are a Birkhoff draw: with flow starts sampling_ride was accepted and ignored.

@@ -17,7 +17,7 @@ namespace rotleak {
 
 std::string survival_csv(const SurvivalCurve& curve) {
   // an importance-sampled run (not split) keeps the survivors' weight sums its P and P_err are made from
-  const bool sums = curve.weighted && !curve.lines;
+  const bool sums = curve.weighted && !curve.lines && !curve.replicated;
   std::string out = sums ? "t,survivors,P,P_err,W,W2\n" : "t,survivors,P,P_err\n";
   out.reserve(curve.survivors.size() * (sums ? 96 : 48));
   for (std::size_t k = 0; k < curve.survivors.size(); ++k) {
@@ -87,10 +87,12 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
   SurvivalCurve c;
   c.particles = scene.particles;
   c.lines = scene.splitting.on;
-  c.weighted = scene.sampling.weighted() || c.lines;
+  c.replicated = scene.start_splitting.on;
+  c.replicates = scene.start_splitting.replicates;
+  c.weighted = scene.sampling.weighted() || c.lines || c.replicated;
   c.max_weight = scene.sampling.max_weight();
   const double n = static_cast<double>(scene.particles);
-  const bool sums = c.weighted && !c.lines;  // the survivors' weight sums W, W2 beside P
+  const bool sums = c.weighted && !c.lines && !c.replicated;  // the survivors' weight sums W, W2 beside P
   const std::string columns = sums ? "t,survivors,P,P_err,W,W2" : "t,survivors,P,P_err";
   const std::string header = columns + "\n";
   if (text.compare(0, header.size(), header) != 0)
@@ -112,7 +114,11 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
     const double t = field_value(field[0]), P = field_value(field[2]), err = field_value(field[3]);
     c.t.push_back(t);
     c.survivors.push_back(k);
-    if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
+    if (c.replicated) {  // P and its error from the replicates' spread; G their running relative variance
+      c.P_w.push_back(P);
+      c.E.push_back(err);
+      c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));
+    } else if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
       c.P_w.push_back(P);
       c.R.push_back(P > 0 ? 1 + n * (err / P) * (err / P) : 0.0);
       c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));

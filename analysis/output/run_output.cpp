@@ -57,6 +57,34 @@ json sampling_json(const Scene& scene, const SurvivalCurve& curve) {
   return j;
 }
 
+json start_splitting_json(const Scene& scene, const IcSplitRun& run, const SurvivalCurve& curve) {
+  const StartSplitSpec& g = scene.start_splitting;
+  std::uint64_t proposals = 0, accepted = 0, stuck = 0;
+  for (const IcReplicate& r : run.replicates) proposals += r.proposals, accepted += r.accepted, stuck += r.stuck;
+  const IcStratum st = ic_stratum(scene, g.p_lo, g.p_hi, g.edges);
+  json j = {{"replicates", g.replicates},
+            {"starts", scene.particles},
+            {"factor", g.factor},
+            {"moves", g.moves},
+            {"halvings", g.halvings},
+            {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", st.share()}}},
+            {"levels", run.levels},
+            {"factors", run.factors},
+            {"pilot_collisions", run.pilot_collisions},
+            {"proposals", proposals},
+            {"accepted", accepted},
+            {"stuck", stuck}};
+  json at = json::array();
+  for (std::size_t i : report_points(curve))
+    at.push_back({{"t", curve.t[i]},
+                  {"P", curve.P(i)},
+                  {"P_err", curve.P_err(i)},
+                  {"replicates_nonzero", curve.replicates_nonzero[i]},
+                  {"states_alive", curve.survivors[i]}});
+  j["at"] = at;
+  return j;
+}
+
 json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve& curve) {
   const auto& t = tally.as<LinesEstimator>();
   json j = {{"rule", "chaotic"},
@@ -260,6 +288,7 @@ json summary_json(const RunSummary& r, const std::vector<std::string>& files) {
   s["sampling"] = sampling_json(scene, r.curve);
   if (scene.on_table()) put_table(s, r);
   if (r.curve.lines) s["splitting"] = splitting_json(scene, r.result.tally, r.curve);
+  if (r.start_splitting) s["start_splitting"] = start_splitting_json(scene, *r.start_splitting, r.curve);
   put_fits(s, r);
   s["files"] = files;
   return s;
@@ -298,6 +327,16 @@ void population_lines(std::string& out, const RunSummary& r) {
               r.curve.P(last) + 3 * r.curve.P_err(last), *r.curve.allowance_unresolved_from, r.curve.P(last));
     else
       appendf(out, "P(t_max) = %.3g +- %.2g\n", r.curve.P(last), r.curve.P_err(last));
+  } else if (r.curve.replicated) {
+    const std::size_t last = r.curve.t.size() - 1;
+    const StartSplitSpec& g = r.scene.start_splitting;
+    appendf(out,
+            "start splitting: %d replicates of %llu starts with |p| in [%g, %g]%s (a share %.3g of the map's "
+            "measure), %zu levels; P(t_max | those starts) = %.3g +- %.2g (%d of %d replicates nonzero)\n",
+            g.replicates, static_cast<unsigned long long>(r.scene.particles), g.p_lo, g.p_hi,
+            g.edges ? " on the straight edges" : "", ic_stratum(r.scene, g.p_lo, g.p_hi, g.edges).share(),
+            r.start_splitting ? r.start_splitting->levels.size() : std::size_t(0), r.curve.P(last), r.curve.P_err(last),
+            r.curve.replicates_nonzero.empty() ? 0 : r.curve.replicates_nonzero[last], r.curve.replicates);
   } else if (r.curve.weighted)
     appendf(
         out,

@@ -59,6 +59,8 @@ void put_table(json& s, const RunSummary& r);
 json sampling_json(const Scene& scene, const SurvivalCurve& curve);
 /// summary.json's "splitting" of a split run: its parameters, levels, population, lines alive (docs/output.md).
 json splitting_json(const Scene& scene, const Tally& tally, const SurvivalCurve& curve);
+/// summary.json's "start_splitting": the stratum, levels, factors, acceptance and P at a few times.
+json start_splitting_json(const Scene& scene, const IcSplitRun& run, const SurvivalCurve& curve);
 json summary_json(const RunSummary& s, const std::vector<std::string>& files);
 /// The few lines a person reads after a run (kappa, alpha, z, warnings).
 std::string summary_text(const RunSummary& s);

@@ -1,5 +1,6 @@
 #include "run/pipeline.hpp"
 
+#include <omp.h>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -290,10 +291,45 @@ class DurableRun {
 
 }  // namespace
 
+namespace {
+
+/// Splitting over initial conditions: one process runs the replicates one after the other (each on every thread),
+/// no checkpoints; progress after each replicate.
+RunSummary run_start_splitting_scene(const RunPlan& plan, const RunOptions& options, const Durability* durable) {
+  const Scene& scene = plan.scene();
+  const Team& team = durable && durable->team ? *durable->team : current_team();
+  if (team.size() > 1)
+    throw InputError("start_splitting.on", "true",
+                     "runs in one process so far: its replicates are not yet shared "
+                     "among MPI ranks (run it without mpirun)");
+  if (durable && durable->ids) throw InputError("--ids", "", "does not apply to start_splitting.on = true");
+  if (plan.engine() == Engine::gpu)
+    throw InputError("--engine", "gpu", "start_splitting.on = true runs the scalar core on the CPU");
+  const int threads_before = omp_get_max_threads();
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+  IcSplitRun run = run_start_splitting(scene, [&](int done, int of) {
+    if (options.progress) options.progress(static_cast<std::uint64_t>(done), static_cast<std::uint64_t>(of), 0, false);
+  });
+  RunResult result;
+  result.tally.resize(scene);
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.threads = omp_get_max_threads();
+  result.engine = Engine::scalar;
+  result.done = IntervalSet::range(0, block_count(scene.particles));
+  omp_set_num_threads(threads_before);
+  if (options.progress) options.progress(scene.particles, scene.particles, run.collisions(), true);
+  return summarise(scene, std::move(run), std::move(result));
+}
+
+}  // namespace
+
 RunSummary run_scene(RunPlan plan, RunOptions options, const Note& note, const Durability* durable) {
   std::optional<std::string> choice = choose_auto_tier(plan, note);
   RunSummary s;
-  if (durable) {
+  if (plan.scene().start_splitting.on) {
+    s = run_start_splitting_scene(plan, options, durable);
+  } else if (durable) {
     s = DurableRun(plan, std::move(options), note, *durable).run();
   } else {
     const Scene& scene = plan.scene();

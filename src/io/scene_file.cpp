@@ -43,6 +43,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
       "enter_through"}},
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
+    {"start_splitting", {"on", "replicates", "factor", "moves", "halvings", "p", "edges"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors", "tail_floor"}},
 };
@@ -421,6 +422,57 @@ void read_fit(const Reader& in, Scene& s) {
       "must be in (0, 1): the weakest tail weight a regime claims to exclude");
 }
 
+/// [start_splitting]: its parameters only with on = true.
+void read_start_splitting(const Reader& in, Scene& s) {
+  StartSplitSpec& g = s.start_splitting;
+  const auto flag = [&](const char* key, bool& to) {
+    if (const toml::node* n = in.find("start_splitting", key)) {
+      auto b = n->as_boolean();
+      if (!b) throw InputError(std::string("start_splitting.") + key, shown(*n), "must be true or false");
+      to = b->get();
+    }
+  };
+  flag("on", g.on);
+  for (const char* key : {"replicates", "factor", "moves", "halvings", "p", "edges"})
+    if (const toml::node* n = in.find("start_splitting", key); n && !g.on)
+      throw InputError(std::string("start_splitting.") + key, shown(*n), "applies to start_splitting.on = true only");
+  if (!g.on) return;
+  const auto whole = [&](const char* key, int fallback, std::uint64_t lo, std::uint64_t hi, const std::string& what) {
+    const std::uint64_t v = in.count("start_splitting", key, static_cast<std::uint64_t>(fallback), lo, what);
+    if (v > hi) throw InputError(std::string("start_splitting.") + key, std::to_string(v), what);
+    return static_cast<int>(v);
+  };
+  g.replicates = whole("replicates", g.replicates, 2, 100000,
+                       "must be an integer in [2, 10^5] (independent replicates: their spread is P's error)");
+  g.factor = whole("factor", g.factor, 2, 1000, "must be an integer in [2, 1000] (a level keeps 1 / factor)");
+  g.moves = whole("moves", g.moves, 1, 1000, "must be an integer in [1, 1000] (Metropolis moves a kept state)");
+  g.halvings = whole("halvings", g.halvings, 0, 60, "must be an integer in [0, 60] (proposal scales 2^-j)");
+  if (const toml::node* n = in.find("start_splitting", "p")) {
+    const auto a = n->as_array();
+    const std::string allowed = "must be [lo, hi] with 0 <= lo < hi <= 1 (the starts' |p|)";
+    if (!a || a->size() != 2) throw InputError("start_splitting.p", shown(*n), allowed);
+    g.p_lo = Reader::as_number("start_splitting.p", *a->get(0));
+    g.p_hi = Reader::as_number("start_splitting.p", *a->get(1));
+    if (!(g.p_lo >= 0 && g.p_lo < g.p_hi && g.p_hi <= 1)) throw InputError("start_splitting.p", shown(*n), allowed);
+  }
+  flag("edges", g.edges);
+  if (g.edges && s.on_table())
+    throw InputError("start_splitting.edges", "true",
+                     "applies to the stadium of [stadium] with one leak (its straight edges), not to a table");
+  const auto refuse = [](const std::string& why) { throw InputError("start_splitting.on", "true", why); };
+  if (s.splitting.on) refuse("and run.splitting = true are two samplers: choose one");
+  if (s.sampling.kind != SamplingKind::uniform)
+    refuse("draws its starts uniformly on its stratum: leave ensemble.sampling = \"uniform\"");
+  if (s.init != InitKind::birkhoff) refuse("moves Birkhoff starts: ensemble.init = \"birkhoff\" only");
+  if (s.enter_through >= 0)
+    refuse("draws its starts on the boundary, not through a leak: unset ensemble.enter_through");
+  if (s.tier != Tier::double_) refuse("runs the double tier only (run.tier = \"" + to_string(s.tier) + "\" asked for)");
+  if (s.escape_records || s.collision_density)
+    refuse(
+        "keeps no escape records and no collision density (a start is run many times): drop observe.escapes "
+        "and observe.collision_density");
+}
+
 /// What splitting needs of the rest of the scene: the double tier, mupo draws on the stadium (any other table: its
 /// uniform draws, scene_table.cpp), no escape records.
 void check_splitting_needs(const Scene& s) {
@@ -452,6 +504,7 @@ Scene build(const toml::table& root, const std::string& source) {
   read_observe(in, s);
   read_fit(in, s);
   check_table_needs(s);
+  read_start_splitting(in, s);  // first: beside run.splitting it is the one to name
   check_splitting_needs(s);
   return s;
 }

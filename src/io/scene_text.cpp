@@ -6,6 +6,17 @@
 
 namespace rotleak {
 
+namespace {
+
+/// [start_splitting]'s keys, written only when on (as run.splitting's are).
+json start_splitting_inputs(const StartSplitSpec& g) {
+  return {{"on", true},       {"replicates", g.replicates}, {"factor", g.factor},
+          {"moves", g.moves}, {"halvings", g.halvings},     {"p", {g.p_lo, g.p_hi}},
+          {"edges", g.edges}};
+}
+
+}  // namespace
+
 json scene_json(const Scene& s) {
   json j;
   j["source"] = s.source;
@@ -44,6 +55,7 @@ json scene_json(const Scene& s) {
               {"tier", to_string(s.tier)},
               {"fast_forward", s.fast_forward},
               {"checkpoint_seconds", s.checkpoint_seconds}};
+  if (s.start_splitting.on) j["start_splitting"] = start_splitting_inputs(s.start_splitting);  // only when on
   if (s.splitting.on) {  // written only when on: the inputs of every other run stay as they were
     j["run"]["splitting"] = true;
     j["run"]["split_every"] = s.splitting.every;

@@ -26,8 +26,7 @@ constexpr std::uint64_t kPilot = ~std::uint64_t(0);
 double unit(std::uint64_t bits) { return InitialConditions::unit(bits); }
 
 /// Four uniform doubles for draw `k` of chain `chain` of stage `stage` of replicate r.
-void words(std::uint64_t seed, std::uint64_t r, std::uint64_t stage, std::uint64_t chain, std::uint64_t k,
-           double* u) {
+void words(std::uint64_t seed, std::uint64_t r, std::uint64_t stage, std::uint64_t chain, std::uint64_t k, double* u) {
   r123::Philox4x64 gen;
   const r123::Philox4x64::key_type key = {{seed, kStreamIcSplit}};
   const r123::Philox4x64::ctr_type ctr = {{r, stage, chain, k}};
@@ -208,8 +207,7 @@ double quantile_level(const Stage& st, int factor, double t_max) {
 }  // namespace
 
 bool IcStratum::contains(const IcPoint& x) const {
-  return inside(s, x.s) && inside(p, x.p) &&
-         (tau_lo == tau_hi ? x.tau == tau_lo : (x.tau >= tau_lo && x.tau < tau_hi));
+  return inside(s, x.s) && inside(p, x.p) && (tau_lo == tau_hi ? x.tau == tau_lo : (x.tau >= tau_lo && x.tau < tau_hi));
 }
 
 double IcStratum::share() const { return total(s) * total(p) / 2; }
@@ -219,8 +217,7 @@ IcPoint IcStratum::at(double us, double up, double ut) const {
 }
 
 IcStratum ic_stratum(const Scene& scene, double p_lo, double p_hi, bool edges) {
-  if (!(p_lo >= 0 && p_lo < p_hi && p_hi <= 1))
-    throw std::invalid_argument("ic_stratum: needs 0 <= p_lo < p_hi <= 1");
+  if (!(p_lo >= 0 && p_lo < p_hi && p_hi <= 1)) throw std::invalid_argument("ic_stratum: needs 0 <= p_lo < p_hi <= 1");
   IcStratum st;
   if (edges) {
     if (scene.on_table()) throw std::invalid_argument("ic_stratum: the straight edges are the stadium's");
@@ -370,11 +367,14 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
     // the grid times this stage answers: from its level to the next
     const double from = j == 0 ? -std::numeric_limits<double>::infinity() : levels[j - 1];
     const double to = j < levels.size() ? levels[j] : std::numeric_limits<double>::infinity();
+    std::vector<double> T;  // sorted, so that each grid time's count is one search
+    T.reserve(st.states.size());
+    for (const State& s : st.states) T.push_back(s.T);
+    std::sort(T.begin(), T.end());
     for (std::size_t i = 0; i < t.size(); ++i) {
       if (t[i] < from || t[i] >= to) continue;
-      std::uint64_t n = 0;
-      for (const State& s : st.states) n += s.T > t[i] ? 1 : 0;
-      out.stage[i] = static_cast<int>(j), out.alive[i] = n;
+      out.stage[i] = static_cast<int>(j);
+      out.alive[i] = static_cast<std::uint64_t>(T.end() - std::upper_bound(T.begin(), T.end(), t[i]));
     }
     if (j == levels.size()) break;
     const std::vector<std::size_t> e = outliving(st, levels[j]);
@@ -383,10 +383,29 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
         if (t[i] >= to) out.stage[i] = static_cast<int>(j + 1), out.alive[i] = 0;
       break;
     }
-    st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j],
-                    j + 1, seed, r, propose);
+    st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j], j + 1,
+                    seed, r, propose);
   }
   return out;
+}
+
+SurvivalCurve ic_curve(const IcSplitRun& run) {
+  SurvivalCurve c;
+  c.t = run.t;
+  c.weighted = c.replicated = true;
+  c.particles = run.spec.starts;
+  c.replicates = static_cast<int>(run.replicates.size());
+  for (std::size_t i = 0; i < run.t.size(); ++i) {
+    std::uint64_t alive = 0;
+    for (const IcReplicate& r : run.replicates) alive += r.alive[i];
+    c.survivors.push_back(alive);
+    c.P_w.push_back(run.mean(i));
+    c.E.push_back(run.error(i));
+    c.replicates_nonzero.push_back(run.nonzero(i));
+    const double rel = c.P_w[i] > 0 ? (c.E[i] / c.P_w[i]) * (c.E[i] / c.P_w[i]) : 0.0;
+    c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), rel));
+  }
+  return c;
 }
 
 IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
@@ -403,11 +422,20 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
   run.pilot_collisions += c;
   run.levels.resize(run.factors.size());
   for (int r = 0; r < spec.replicates; ++r) {
-    run.replicates.push_back(ic_replicate(clock, stratum, spec, run.levels, run.factors, t, seed,
-                                          static_cast<std::uint64_t>(r), propose));
+    run.replicates.push_back(
+        ic_replicate(clock, stratum, spec, run.levels, run.factors, t, seed, static_cast<std::uint64_t>(r), propose));
     if (progress) progress(r + 1, spec.replicates);
   }
   return run;
+}
+
+IcSplitRun run_start_splitting(const Scene& scene, const std::function<void(int, int)>& progress) {
+  const StartSplitSpec& g = scene.start_splitting;
+  IcSplitSpec spec;
+  spec.starts = scene.particles, spec.replicates = g.replicates, spec.factor = g.factor, spec.moves = g.moves;
+  spec.scale_halvings = g.halvings;
+  return ic_split(scene_clock(scene), ic_stratum(scene, g.p_lo, g.p_hi, g.edges), spec, survival_times(scene),
+                  scene.t_max, scene.seed, progress);
 }
 
 }  // namespace rotleak

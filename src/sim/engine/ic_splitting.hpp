@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "sim/tally/survival.hpp"
+
 namespace rotleak {
 
 struct Scene;
@@ -53,7 +55,7 @@ struct IcSplitSpec {
   /// 2^-j, j uniform in 0 .. scale_halvings (12: 3.6 decades below it), drawn independently of the state, so the
   /// proposal stays symmetric.
   int scale_halvings = 12;
-  int moves = 3;  ///< Metropolis moves between two states a chain keeps
+  int moves = 3;         ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
 };
 
@@ -100,7 +102,7 @@ struct IcSplitRun {
   /// Level j + 1's splitting factor: each start that outlives it seeds a chain of that many states on average (one
   /// over the share outliving it in a second pilot on the frozen levels, so that a stage holds about `starts`).
   std::vector<double> factors;
-  std::vector<double> t;       ///< the grid
+  std::vector<double> t;  ///< the grid
   std::vector<IcReplicate> replicates;
   std::uint64_t pilot_collisions = 0;
 
@@ -135,9 +137,17 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
                          const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
                          const IcPropose& propose = symmetric_proposal);
 
+/// The run's survival curve (SurvivalCurve::replicated) on its grid: the replicates' mean and error, their states
+/// alive, G.
+SurvivalCurve ic_curve(const IcSplitRun& run);
+
 /// Pilot, then every replicate; `progress` (may be empty) after each replicate: done, of.
 IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
                     const std::vector<double>& t, double t_max, std::uint64_t seed,
                     const std::function<void(int, int)>& progress = {}, const IcPropose& propose = symmetric_proposal);
+
+/// A scene's run (scene.start_splitting on): its stratum, ensemble.particles starts a replicate, its seed, the
+/// survival grid to its t_max; `progress` after each replicate.
+IcSplitRun run_start_splitting(const Scene& scene, const std::function<void(int, int)>& progress = {});
 
 }  // namespace rotleak

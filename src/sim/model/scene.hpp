@@ -57,6 +57,20 @@ struct SplitSpec {
   std::uint64_t cap = 64;
 };
 
+/// Splitting over initial conditions (sim/engine/ic_splitting.hpp, docs/model.md "Splitting over initial
+/// conditions"): generalized splitting on the escape time of a start, for tails that splitting in time cannot draw.
+/// P is that of the stratum drawn: starts with |p| in [p_lo, p_hi] (on the stadium's straight edges only, with edges),
+/// uniform there as the billiard map's invariant measure, created uniformly over the creation window.
+struct StartSplitSpec {
+  bool on = false;
+  int replicates = 20;  ///< independent replicates of ensemble.particles starts each: their spread is P's error
+  int factor = 10;      ///< levels outlived by a share 1 / factor of the stage before
+  int moves = 10;       ///< Metropolis moves between two kept states of a chain
+  int halvings = 20;    ///< proposal scales 2^-j of the seeding starts' spread, j in 0 .. halvings
+  double p_lo = 0, p_hi = 1;
+  bool edges = false;
+};
+
 struct CollisionDensitySpec {
   int bins = 1000;
   std::vector<TimeWindow> windows;
@@ -103,6 +117,7 @@ struct Scene {
   Tier tier = Tier::double_;  ///< an ensemble tier, or auto (chosen per scene by the audit before running)
   bool fast_forward = false;  ///< closed-form bouncing-ball phases (sim/model/particle.hpp fast_forward)
   SplitSpec splitting;
+  StartSplitSpec start_splitting;
   double checkpoint_seconds =
       300;  ///< a checkpoint of the merged tallies this often (0: none); not an input of the numbers
 

@@ -272,6 +272,7 @@ void self_normalise(SurvivalCurve& c) {
 double SurvivalCurve::P_err(std::size_t i) const {
   const double n = static_cast<double>(particles), p = P(i);
   if (!weighted) return std::sqrt(p * (1 - p) / n);
+  if (replicated) return E[i];
   if (lines) return p * std::sqrt(std::max(0.0, R[i] - 1) / n);
   // P = S(t) / S(0) linearised: (1 / (N m)) sum (w I - P w), whose variance per particle is Q (1 - 2P) + P^2 B
   const double m = weight_sum(0), B = Q[0];
@@ -280,6 +281,10 @@ double SurvivalCurve::P_err(std::size_t i) const {
 
 double SurvivalCurve::effective(std::size_t i) const {
   if (!weighted) return static_cast<double>(survivors[i]);
+  if (replicated) {  // the count whose binomial error would be as large: (P / E)^2
+    const double p = P_w[i];
+    return p > 0 && E[i] > 0 ? (p / E[i]) * (p / E[i]) : static_cast<double>(survivors[i]);
+  }
   if (lines) return R[i] > 0 ? static_cast<double>(particles) / R[i] : 0.0;
   const double w = weight_sum(i);
   return Q[i] > 0 ? static_cast<double>(particles) * w * w / Q[i] : 0.0;
@@ -289,7 +294,7 @@ double SurvivalCurve::log_cov(std::size_t i, std::size_t j) const {
   const std::size_t a = std::min(i, j), b = std::max(i, j);
   const double n = static_cast<double>(particles);
   if (!weighted) return (1 - P(a)) / (n * P(a));
-  if (lines) return G[a];
+  if (lines || replicated) return G[a];
   // E[w^2 (I_a - P_a)(I_b - P_b)] with I_a I_b = I_b (alive at b is alive at a), over N m^2, relative
   const double m = weight_sum(0), B = Q[0], pa = P_w[a], pb = P_w[b];
   return (Q[b] - pb * Q[a] - pa * Q[b] + pa * pb * B) / (n * m * m * pa * pb);

@@ -73,6 +73,15 @@ struct SurvivalCurve {
   std::vector<UnsplitGroup> unsplit_classes;
   std::vector<double> R_lines;
   std::size_t first_split = 0;  ///< grid index of the first split time (before it every line is unsplit)
+  /// Splitting over initial conditions (sim/engine/ic_splitting.hpp; weighted too): P_w[i] the replicates' mean of
+  /// P(T > t_i | stratum), E[i] its standard error from their spread, survivors[i] the states alive at t_i over all
+  /// replicates (a raw count), particles the starts of one replicate; Var(ln P) by G as for split runs (the running
+  /// maximum of (E / P)^2).
+  bool replicated = false;
+  std::vector<double> E;
+  std::vector<int> replicates_nonzero;  ///< replicates whose P(t_i) is not 0
+  int replicates = 0;
+
   /// The first grid time at which the allowances exceed kAllowanceShare times the lines' own variance
   /// (none: never): from there on a third of P's variance or more is the model's, and P is not claimed
   /// resolved.
