@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -33,21 +34,23 @@ IcEnd box_clock(const IcPoint& x, double t_max) {
 }
 double box_P(double t) { return 0.7 * std::exp(-4 * t / kC); }
 
+/// The box clock's run to t_max = 5000 (30 replicates of 1000 starts, seed 11) on the grid of every 500, with a
+/// given kernel.
+IcSplitRun box_run(const IcPropose& propose, double t_max = 5000, std::uint64_t starts = 1000, int replicates = 30,
+                   std::uint64_t seed = 11) {
+  const auto clock = [t_max](const IcPoint& x) { return box_clock(x, t_max); };
+  IcSplitSpec spec;
+  spec.starts = starts, spec.replicates = replicates;
+  IcStratum whole;
+  whole.s = {{0.0, 1.0}};
+  whole.p = {{-1.0, 1.0}};
+  std::vector<double> t;
+  for (double x = 0; x <= t_max; x += 500) t.push_back(x);
+  return ic_split(clock, whole, spec, t, t_max, seed, {}, propose);
+}
+
 Scene scene_of(const std::string& file) {
   return load_scene(std::string(rotleak::test::source_dir()) + "/data/scenes/" + file);
-}
-
-IcStratum whole() {
-  IcStratum st;
-  st.s = {{0.0, 1.0}};
-  st.p = {{-1.0, 1.0}};
-  return st;
-}
-
-std::vector<double> grid(double t_max, double dt) {
-  std::vector<double> t;
-  for (double x = 0; x <= t_max; x += dt) t.push_back(x);
-  return t;
 }
 
 /// An asymmetric kernel: the symmetric proposal pulled a further half-scale toward (1/2, 3/10), where the long
@@ -65,12 +68,8 @@ IcPoint pulled(const IcStratum& st, const IcScales& sc, const IcPoint& x, const 
 // Error model: the replicates are independent, so (mean - P) / error is Student's t with R - 1 degrees of freedom;
 // at 5 errors, a false failure in about 1 in 40000 per time for R = 30, 11 times checked.
 TEST(IcSplitting, ReadsAClosedFormLawDownTo1e22WithinItsErrors) {
-  const double t_max = 5000;
-  const auto clock = [t_max](const IcPoint& x) { return box_clock(x, t_max); };
-  IcSplitSpec spec;
-  spec.starts = 1000, spec.replicates = 30;
-  const std::vector<double> t = grid(t_max, 500);
-  const IcSplitRun run = ic_split(clock, whole(), spec, t, t_max, 11);
+  const IcSplitRun run = box_run(symmetric_proposal);
+  const std::vector<double>& t = run.t;
   ASSERT_GE(run.levels.size(), 20u);  // ln(0.7 e^-50) / ln(1/10): 22 levels to t_max
   for (std::size_t i = 0; i < t.size(); ++i) {
     SCOPED_TRACE("t = " + std::to_string(t[i]));
@@ -84,17 +83,36 @@ TEST(IcSplitting, ReadsAClosedFormLawDownTo1e22WithinItsErrors) {
 
 // The converse: the same run with the pulled kernel reads the deep tail high by many of its errors.
 TEST(IcSplitting, AKernelThatIsNotInvariantIsCaught) {
-  const double t_max = 5000;
-  const auto clock = [t_max](const IcPoint& x) { return box_clock(x, t_max); };
-  IcSplitSpec spec;
-  spec.starts = 1000, spec.replicates = 30;
-  const std::vector<double> t = grid(t_max, 500);
-  const IcSplitRun run = ic_split(clock, whole(), spec, t, t_max, 11, {}, pulled);
+  const IcSplitRun run = box_run(pulled);
+  const std::vector<double>& t = run.t;
   int off = 0;
   for (std::size_t i = 0; i < t.size(); ++i)
     if (std::abs(run.mean(i) - box_P(t[i])) > 5 * run.error(i)) ++off;
   EXPECT_GE(off, 5) << "the pulled kernel's P agrees with the law at all but " << off << " of " << t.size();
   EXPECT_GT(run.mean(t.size() - 1), 10 * box_P(t.back()));
+}
+
+// The error is calibrated against independent seeds: 20 runs of 10 replicates of 300 starts (t_max 3000, P down to
+// 6.5e-14), their means' spread about the exact P over the root mean square of their errors. Error model: with
+// honest errors the ratio is sqrt(chi^2_20 / 20) give or take the errors' own scatter; 99.9% of chi^2_20 / 20 lies in
+// [0.29, 2.3], so the ratio in [0.5, 1.6] (the scatter of the errors widens it a little) at each of three times.
+TEST(IcSplitting, ItsErrorIsTheSpreadOfIndependentSeeds) {
+  constexpr int kSeeds = 20;
+  std::vector<double> ss(7, 0), ee(7, 0);
+  for (int k = 0; k < kSeeds; ++k) {
+    const IcSplitRun run = box_run(symmetric_proposal, 3000, 300, 10, 100 + static_cast<std::uint64_t>(k));
+    for (std::size_t i = 0; i < run.t.size(); ++i) {
+      const double d = run.mean(i) - box_P(run.t[i]);
+      ss[i] += d * d, ee[i] += run.error(i) * run.error(i);
+    }
+  }
+  for (const std::size_t i : {2u, 4u, 6u}) {  // t = 1000, 2000, 3000
+    const double ratio = std::sqrt(ss[i] / ee[i]);
+    std::printf("t = %g: spread of %d seeds' means / their error = %.3f\n", 500.0 * static_cast<double>(i), kSeeds,
+                ratio);
+    EXPECT_GT(ratio, 0.5) << "t index " << i;
+    EXPECT_LT(ratio, 1.6) << "t index " << i;
+  }
 }
 
 // The stadium with its stationary leak, t_max 1000: splitting over the whole boundary against plain Monte Carlo on

@@ -437,15 +437,20 @@ class Package(unittest.TestCase):
         with self.assertRaises(rotleak.RotleakError):
             rotleak.read_certification(self.scan_dir)  # a scan is not a certified sample
 
+    def table_run(self, name, toml, particles):
+        """The run directory of scene text `toml` (written to NAME.toml) with `particles`, under self.tmp."""
+        scene = os.path.join(self.tmp, name + ".toml")
+        with open(scene, "w") as f:
+            f.write(toml)
+        out = os.path.join(self.tmp, name)
+        cli("simulate", scene, "--particles", str(particles), "--out", out)
+        return out
+
     def test_a_tables_density_figure_names_no_stadium_pieces(self):
         """f_c on a table other than the stadium: its figure is drawn, with no top axis naming the stadium's
         edges and arcs (a table has no such pieces; naming them on a table raised a matplotlib error)."""
-        scene = os.path.join(self.tmp, "circle_fc.toml")
-        with open(scene, "w") as f:
-            f.write('[table]\nkind = "circle"\nradius = "1"\n\n[run]\nt_max = 200.0\n\n'
-                    '[observe]\ncollision_density = { bins = 20, windows = [[0, 200]] }\n')
-        out = os.path.join(self.tmp, "circle_fc")
-        cli("simulate", scene, "--particles", "2000", "--out", out)
+        out = self.table_run("circle_fc", '[table]\nkind = "circle"\nradius = "1"\n\n[run]\nt_max = 200.0\n\n'
+                             '[observe]\ncollision_density = { bins = 20, windows = [[0, 200]] }\n', 2000)
         from rotleak import plot
         drawings = {d.name: d for d in plot.figures(out)}
         self.assertIn("fc", drawings)
@@ -503,12 +508,9 @@ class Package(unittest.TestCase):
         """A circle with two leaks (docs/tables.md): leaks.csv and summary.json's table and leaks (docs/output.md)
         with the standard readers and the package's Run, each leak's escapes adding up to the run's."""
         import csv
-        scene = os.path.join(self.tmp, "circle.toml")
-        with open(scene, "w") as f:
-            f.write('[table]\nkind = "circle"\nradius = "1"\n\n[[leaks]]\nwidth = "0.02"\n\n'
-                    '[[leaks]]\nwidth = "0.01"\nstart = "1/4"\nomega = "1/3"\n\n[run]\nt_max = 2000.0\n')
-        out = os.path.join(self.tmp, "circle")
-        cli("simulate", scene, "--particles", "5000", "--out", out)
+        out = self.table_run("circle", '[table]\nkind = "circle"\nradius = "1"\n\n[[leaks]]\nwidth = "0.02"\n\n'
+                             '[[leaks]]\nwidth = "0.01"\nstart = "1/4"\nomega = "1/3"\n\n[run]\nt_max = 2000.0\n',
+                             5000)
         with open(os.path.join(out, "summary.json")) as f:
             doc = json.load(f)
         self.assertEqual(doc["table"]["kind"], "circle")

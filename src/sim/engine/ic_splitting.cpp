@@ -234,21 +234,11 @@ IcStratum ic_stratum(const Scene& scene, double p_lo, double p_hi, bool edges) {
   return st;
 }
 
-EscapeClock scene_clock(const Scene& scene) {
-  if (scene.on_table()) {
-    auto m = std::make_shared<const TableModel<double>>(table_spec(scene), leak_specs(scene), scene.t_max);
-    return [m](const IcPoint& x) {
-      InitialDraw d;
-      d.s = x.s, d.p = x.p, d.tau = x.tau;
-      NoCollisionObserver<double> none;
-      const ParticleEnd e = run_particle(*m, initial_state(*m, d), none);
-      IcEnd out;
-      out.collisions = e.collisions;
-      if (e.fate != Fate::survived) out.t = e.t, out.stuck = e.fate == Fate::stuck;
-      return out;
-    };
-  }
-  auto m = std::make_shared<const Model<double>>(Model<double>::from(scene));
+namespace {
+
+/// The clock of one model (the stadium's Model or any table's TableModel), shared by every thread that calls it.
+template <class M>
+EscapeClock model_clock(std::shared_ptr<const M> m) {
   return [m](const IcPoint& x) {
     InitialDraw d;
     d.s = x.s, d.p = x.p, d.tau = x.tau;
@@ -259,6 +249,14 @@ EscapeClock scene_clock(const Scene& scene) {
     if (e.fate != Fate::survived) out.t = e.t, out.stuck = e.fate == Fate::stuck;
     return out;
   };
+}
+
+}  // namespace
+
+EscapeClock scene_clock(const Scene& scene) {
+  if (scene.on_table())
+    return model_clock(std::make_shared<const TableModel<double>>(table_spec(scene), leak_specs(scene), scene.t_max));
+  return model_clock(std::make_shared<const Model<double>>(Model<double>::from(scene)));
 }
 
 IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, const IcPoint& x, const double* u) {
