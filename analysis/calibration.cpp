@@ -142,6 +142,40 @@ bool pool_structure(const std::vector<SurvivalCurve>& curves, const Scene& scene
 
 }  // namespace
 
+namespace {
+
+/// Runs of splitting over starts pooled as one run of all their replicates: P the mean of theirs (each run has as
+/// many), its error from every replicate's spread (each run's within, (R - 1) R e^2, and between, R (m - M)^2).
+SurvivalCurve pool_replicates(const std::vector<SurvivalCurve>& curves, SurvivalCurve p) {
+  const SurvivalCurve& first = curves.front();
+  for (const SurvivalCurve& c : curves)
+    if (!c.replicated || c.replicates != first.replicates)
+      throw std::invalid_argument("pool_curves: the runs differ in their replicates");
+  const double R = first.replicates, K = static_cast<double>(curves.size());
+  p.replicated = true;
+  p.replicates = first.replicates * static_cast<int>(curves.size());
+  p.particles = first.particles;  // a replicate's starts, as in each run
+  for (std::size_t i = 0; i < p.t.size(); ++i) {
+    double m = 0;
+    int nonzero = 0;
+    for (const SurvivalCurve& c : curves) {
+      m += c.P_w[i];
+      nonzero += c.replicates_nonzero.empty() ? 0 : c.replicates_nonzero[i];  // a curve read back has none
+    }
+    m /= K;
+    double ss = 0;
+    for (const SurvivalCurve& c : curves) ss += (R - 1) * R * c.E[i] * c.E[i] + R * (c.P_w[i] - m) * (c.P_w[i] - m);
+    const double n = R * K, e = n > 1 ? std::sqrt(ss / (n - 1) / n) : 0.0;
+    p.P_w.push_back(m);
+    p.E.push_back(e);
+    if (!first.replicates_nonzero.empty()) p.replicates_nonzero.push_back(nonzero);
+    p.G.push_back(std::max(p.G.empty() ? 0.0 : p.G.back(), m > 0 ? (e / m) * (e / m) : 0.0));
+  }
+  return p;
+}
+
+}  // namespace
+
 SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene* scene) {
   if (curves.empty()) throw std::invalid_argument("pool_curves: no curves");
   const SurvivalCurve& first = curves.front();
@@ -160,6 +194,7 @@ SurvivalCurve pool_curves(const std::vector<SurvivalCurve>& curves, const Scene*
   for (const SurvivalCurve& c : curves)
     for (std::size_t i = 0; i < points; ++i) p.survivors[i] += c.survivors[i];
   if (!p.weighted) return p;
+  if (first.replicated) return pool_replicates(curves, p);
   for (std::size_t i = 0; i < points; ++i) {
     double sp = 0, sq = 0;  // seed order: the pooled curve does not depend on how the seeds were run
     for (const SurvivalCurve& c : curves) {

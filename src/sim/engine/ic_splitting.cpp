@@ -67,6 +67,7 @@ bool inside(const std::vector<std::pair<double, double>>& v, double x) {
 struct State {
   IcPoint x;
   double T = 0;
+  int thin = 0;  ///< roulette halvings on its way: it stands for 2^thin states
 };
 
 struct Stage {
@@ -159,7 +160,7 @@ Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
         ++mine.proposals;
         if (stratum.contains(y)) {
           const double T = timed(clock, y, mine).t;
-          if (T > level) at = {y, T}, ++mine.accepted;
+          if (T > level) at.x = y, at.T = T, ++mine.accepted;
         }
       }
       out.states[at_k[k] + j] = at;
@@ -189,6 +190,22 @@ std::vector<std::uint64_t> random_lengths(std::size_t elites, double f, std::uin
     if (u[0] < frac) ++l[k];
   }
   return l;
+}
+
+/// Elites past a stage's budget (kIcThinAbove starts after splitting) thinned by roulette: each kept with probability
+/// 1/2 and then standing for twice as many, pass after pass (counter word 3 = ~1 - pass), until within it. Each
+/// elite's expected weight is kept, so the estimator stays unbiased; its states count 2^-thin each.
+void thin_elites(std::vector<std::size_t>& e, Stage& st, double factor, std::uint64_t budget, std::uint64_t seed,
+                 std::uint64_t r, std::uint64_t stage) {
+  for (std::uint64_t pass = 0; static_cast<double>(e.size()) * factor > static_cast<double>(budget); ++pass) {
+    std::vector<std::size_t> kept;
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      double u[4];
+      words(seed, r, stage, e[k], ~std::uint64_t(1) - pass, u);
+      if (u[0] < 0.5) kept.push_back(e[k]), ++st.states[e[k]].thin;
+    }
+    e.swap(kept);
+  }
 }
 
 /// The T that a share 1 / factor of the states outlive (the largest such T among them), or t_max when at least
@@ -280,7 +297,7 @@ double IcSplitRun::P(std::size_t r, std::size_t i) const {
   const IcReplicate& rep = replicates[r];
   double d = static_cast<double>(spec.starts);
   for (int j = 0; j < rep.stage[i]; ++j) d *= factors[static_cast<std::size_t>(j)];
-  return static_cast<double>(rep.alive[i]) / d;
+  return rep.alive_w[i] / d;
 }
 
 double IcSplitRun::mean(std::size_t i) const {
@@ -341,7 +358,9 @@ std::vector<double> ic_level_factors(const EscapeClock& clock, const IcStratum& 
   for (std::size_t j = 0; j < levels.size(); ++j) {
     const std::vector<std::size_t> e = outliving(st, levels[j]);
     if (e.empty()) break;  // the levels past here are never reached: the replicates' later stages die out
-    f.push_back(static_cast<double>(st.states.size()) / static_cast<double>(e.size()));
+    // at most 4 factor: the level sits at the first pilot's 1 / factor quantile, so a share below a quarter of that is
+    // the second pilot's noise, whose inverse would grow a replicate's stages without end where the share is larger
+    f.push_back(std::min(4.0 * spec.factor, static_cast<double>(st.states.size()) / static_cast<double>(e.size())));
     st = next_stage(clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), levels[j], j + 1, seed, r,
                     propose);
     c += st.collisions;
@@ -357,6 +376,7 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
   IcReplicate out;
   out.stage.assign(t.size(), 0);
   out.alive.assign(t.size(), 0);
+  out.alive_w.assign(t.size(), 0.0);
   Stage st = first_stage(clock, stratum, spec.starts, seed, r);
   for (std::size_t j = 0;; ++j) {
     out.population.push_back(st.states.size());
@@ -365,20 +385,29 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
     // the grid times this stage answers: from its level to the next
     const double from = j == 0 ? -std::numeric_limits<double>::infinity() : levels[j - 1];
     const double to = j < levels.size() ? levels[j] : std::numeric_limits<double>::infinity();
-    std::vector<double> T;  // sorted, so that each grid time's count is one search
-    T.reserve(st.states.size());
-    for (const State& s : st.states) T.push_back(s.T);
-    std::sort(T.begin(), T.end());
+    // by roulette class, each sorted, so that each grid time's count is one search a class; the weighted count
+    // sum_k n_k 2^-k added from the thinnest class up (a fixed order)
+    int classes = 0;
+    for (const State& s : st.states) classes = std::max(classes, s.thin + 1);
+    std::vector<std::vector<double>> T(static_cast<std::size_t>(classes));
+    for (const State& s : st.states) T[static_cast<std::size_t>(s.thin)].push_back(s.T);
+    for (auto& c : T) std::sort(c.begin(), c.end());
     for (std::size_t i = 0; i < t.size(); ++i) {
       if (t[i] < from || t[i] >= to) continue;
       out.stage[i] = static_cast<int>(j);
-      out.alive[i] = static_cast<std::uint64_t>(T.end() - std::upper_bound(T.begin(), T.end(), t[i]));
+      out.alive[i] = 0, out.alive_w[i] = 0;
+      for (int k = classes - 1; k >= 0; --k) {
+        const auto& c = T[static_cast<std::size_t>(k)];
+        const auto n = static_cast<std::uint64_t>(c.end() - std::upper_bound(c.begin(), c.end(), t[i]));
+        out.alive[i] += n, out.alive_w[i] += std::ldexp(static_cast<double>(n), k);
+      }
     }
     if (j == levels.size()) break;
-    const std::vector<std::size_t> e = outliving(st, levels[j]);
+    std::vector<std::size_t> e = outliving(st, levels[j]);
+    thin_elites(e, st, factors[j], kIcThinAbove * spec.starts, seed, r, j + 1);
     if (e.empty()) {  // died out: every later time reads 0 at the next stage
       for (std::size_t i = 0; i < t.size(); ++i)
-        if (t[i] >= to) out.stage[i] = static_cast<int>(j + 1), out.alive[i] = 0;
+        if (t[i] >= to) out.stage[i] = static_cast<int>(j + 1), out.alive[i] = 0, out.alive_w[i] = 0;
       break;
     }
     st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j], j + 1,

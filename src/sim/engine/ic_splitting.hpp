@@ -84,16 +84,20 @@ using IcPropose = std::function<IcPoint(const IcStratum&, const IcScales&, const
 IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, const IcPoint& x, const double* u);
 
 /// One replicate on the grid t: at grid time t[i], stage[i] is the latest stage whose level is at most t[i], and
-/// alive[i] its states that outlive t[i]; P(t[i]) = alive[i] / (starts f_1 ... f_stage[i]), f_j level j's factor.
+/// alive[i] its states that outlive t[i], alive_w[i] the same weighted by 2^(roulette halvings) (alive[i] itself
+/// until a stage outgrows its budget); P(t[i]) = alive_w[i] / (starts f_1 ... f_stage[i]), f_j level j's factor.
 struct IcReplicate {
   std::vector<int> stage;
   std::vector<std::uint64_t> alive;
+  std::vector<double> alive_w;
   std::vector<std::uint64_t> population;  ///< each stage's states
   std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
 };
 
-/// A stage beyond this many times the starts is refused (std::runtime_error naming the level): levels closer than
-/// the pilot saw them, which a replicate pays for in time and memory without end.
+/// A replicate's stage budget, in starts: where the starts outliving a level would seed more states than this many
+/// times ensemble.particles, they are thinned by roulette first (levels closer than the pilots saw them, or a family
+/// whose starts all live on, would grow the stages without end). A stage beyond kIcPopulationCap starts is refused.
+inline constexpr std::uint64_t kIcThinAbove = 4;
 inline constexpr std::uint64_t kIcPopulationCap = 64;
 
 struct IcSplitRun {
