@@ -335,6 +335,38 @@ TEST(PoolCurves, SplitRunsPoolToOneRunOfAllLines) {
   EXPECT_THROW(pool_curves({a, other}), std::invalid_argument);
 }
 
+// Runs of splitting over starts pool as one run of all their replicates: two runs of two replicates, P(1) from
+// {0.4, 0.6} and {0.25, 0.35}, pool to the four's mean and standard error, computed here from the four values; a run
+// of another replicate count is refused. (Pooling them read a split run's fields they lack: calibrate crashed.)
+TEST(PoolCurves, RunsOfReplicatesPoolAsAllTheirReplicates) {
+  const auto run = [](double lo, double hi) {
+    SurvivalCurve c;
+    c.weighted = c.replicated = true;
+    c.replicates = 2, c.particles = 500;
+    c.t = {0, 1};
+    c.survivors = {1000, 400};
+    c.P_w = {1, (lo + hi) / 2};
+    c.E = {0, std::abs(hi - lo) / 2};  // two values: their sd / sqrt 2 is half their difference
+    c.replicates_nonzero = {2, 2};
+    return c;
+  };
+  const SurvivalCurve p = pool_curves({run(0.4, 0.6), run(0.25, 0.35)});
+  const double v[] = {0.4, 0.6, 0.25, 0.35};
+  double m = 0, ss = 0;
+  for (const double x : v) m += x / 4;
+  for (const double x : v) ss += (x - m) * (x - m);
+  EXPECT_TRUE(p.replicated);
+  EXPECT_EQ(p.replicates, 4);
+  EXPECT_DOUBLE_EQ(p.P(1), m);
+  EXPECT_NEAR(p.P_err(1), std::sqrt(ss / 3 / 4), 1e-15);
+  EXPECT_EQ(p.P_err(0), 0.0);
+  EXPECT_EQ(p.replicates_nonzero[1], 4);
+  EXPECT_EQ(p.survivors[1], 800u);
+  SurvivalCurve three = run(0.4, 0.6);
+  three.replicates = 3;
+  EXPECT_THROW(pool_curves({run(0.4, 0.6), three}), std::invalid_argument);
+}
+
 // calibrate on a tiny uniform scene: calibration.csv has a row per grid time, calibration.json the
 // statistics, both written under the directory, the points are ordinary runs; a second call skips them.
 TEST(Calibrate, WritesItsFilesAndResumes) {
