@@ -52,10 +52,10 @@ struct IcSplitSpec {
   int factor = 10;               ///< the pilot's levels: each outlived by a share 1 / factor of the stage before
   int replicates = 20;           ///< independent runs: their spread is P's error
   /// Proposal scales: a stage's extent in each coordinate (the spread of the starts that seed its chains) times
-  /// 2^-j, j uniform in 0 .. scale_halvings (12: 3.6 decades below it), drawn independently of the state, so the
+  /// 2^-j, j uniform in 0 .. scale_halvings (20: six decades below it), drawn independently of the state, so the
   /// proposal stays symmetric.
-  int scale_halvings = 12;
-  int moves = 3;         ///< Metropolis moves between two states a chain keeps
+  int scale_halvings = 20;
+  int moves = 10;        ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
 };
 
@@ -75,7 +75,7 @@ EscapeClock scene_clock(const Scene& scene);
 /// estimator stays unbiased), not on the state it moves.
 struct IcScales {
   double s = 1, p = 2, tau = 0;
-  int halvings = 12;
+  int halvings = 20;
 };
 
 /// A proposal kernel: the next proposal from state x and four uniform doubles u[0..3] in [0, 1). Its default is the
