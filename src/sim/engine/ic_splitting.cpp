@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -108,14 +109,14 @@ IcScales spread(const IcStratum& stratum, const Stage& st, const std::vector<std
   sc.halvings = spec.scale_halvings;
   sc.s = total(stratum.s), sc.p = total(stratum.p), sc.tau = stratum.tau_hi - stratum.tau_lo;
   if (elites.size() < 2) return sc;
-  double lo[3], hi[3];
-  for (std::size_t k = 0; k < elites.size(); ++k) {
+  const auto coords = [&](std::size_t k) {
     const IcPoint& x = st.states[elites[k]].x;
-    const double c[3] = {packed(stratum.s, x.s), packed(stratum.p, x.p), x.tau};
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = k == 0 ? c[i] : std::min(lo[i], c[i]);
-      hi[i] = k == 0 ? c[i] : std::max(hi[i], c[i]);
-    }
+    return std::array<double, 3>{packed(stratum.s, x.s), packed(stratum.p, x.p), x.tau};
+  };
+  std::array<double, 3> lo = coords(0), hi = lo;
+  for (std::size_t k = 1; k < elites.size(); ++k) {
+    const std::array<double, 3> c = coords(k);
+    for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], c[i]), hi[i] = std::max(hi[i], c[i]);
   }
   if (hi[0] > lo[0]) sc.s = hi[0] - lo[0];
   if (hi[1] > lo[1]) sc.p = hi[1] - lo[1];
