@@ -79,7 +79,7 @@ Sections = Union[Mapping[str, Value], Sequence[Mapping[str, Value]]]
 Progress = Callable[[int, int, int, bool], None]
 
 # the scene's sections (docs/scenes.md): an override's key is "section.key"
-_SECTIONS = ("stadium", "table", "leak", "ensemble", "run", "observe", "fit")
+_SECTIONS = ("stadium", "table", "leak", "ensemble", "run", "start_splitting", "observe", "fit")
 # the keys read exactly (docs/scenes.md): a float would pass its rounding off as the value meant
 _EXACT_KEYS = ("stadium.d", "stadium.r", "leak.width", "leak.start", "leak.omega")
 # a listed leak's keys (leaks.N.KEY), and those of them read exactly

@@ -498,6 +498,13 @@ class Package(unittest.TestCase):
             self.assertEqual((row["P"], row["P_err"]), (point["P"], point["P_err"]))
         run = rotleak.read_run(out)
         self.assertEqual(run.survival["P"].tolist(), table["P"].tolist())
+        # the same from Python: a Scene with the section, run in-process, gives the command's bytes
+        scene = rotleak.Scene.read(os.path.join(SRC, "data", "scenes", "stationary_sL_0.toml")).replace(
+            {"run.t_max": 600, "observe.survival_dt": 10, "start_splitting.on": True,
+             "start_splitting.replicates": 4, "start_splitting.moves": 2})
+        r = rotleak.simulate(scene, particles=500)
+        self.assertEqual(r.text("survival.csv"), rotleak.read_run(out).text("survival.csv"))
+        self.assertEqual(r.summary["start_splitting"]["levels"], g["levels"])
         # the scene as run, read back: the same run again gives the same bytes
         again = os.path.join(self.tmp, "starts_again")
         cli("simulate", os.path.join(out, "scene.toml"), "--out", again)
