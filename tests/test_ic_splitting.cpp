@@ -2,7 +2,6 @@
 // known in closed form, caught when its kernel is not invariant, the same bits for any thread count, and the
 // stadium's P where plain Monte Carlo measures it.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -128,12 +127,10 @@ TEST(IcSplitting, TheStadiumsPIsPlainMonteCarlosAndTheBitsDoNotDependOnThreads) 
   const EscapeClock clock = scene_clock(sc);
   const IcStratum st = ic_stratum(sc, 0, 1, false);
   EXPECT_DOUBLE_EQ(st.share(), 1.0);
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
+  spec.threads = 1;
   const IcSplitRun one = ic_split(clock, st, spec, c.t, sc.t_max, 5);
-  omp_set_num_threads(2);
+  spec.threads = 2;
   const IcSplitRun two = ic_split(clock, st, spec, c.t, sc.t_max, 5);
-  omp_set_num_threads(threads);
   ASSERT_EQ(one.levels, two.levels);
   for (std::size_t r = 0; r < one.replicates.size(); ++r) {
     EXPECT_EQ(one.replicates[r].alive, two.replicates[r].alive);

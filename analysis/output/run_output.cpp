@@ -61,13 +61,12 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
   const StartSplitSpec& g = scene.start_splitting;
   std::uint64_t proposals = 0, accepted = 0, stuck = 0;
   for (const IcReplicate& r : run.replicates) proposals += r.proposals, accepted += r.accepted, stuck += r.stuck;
-  const IcStratum st = ic_stratum(scene, g.p_lo, g.p_hi, g.edges);
   json j = {{"replicates", g.replicates},
             {"starts", scene.particles},
             {"factor", g.factor},
             {"moves", g.moves},
             {"halvings", g.halvings},
-            {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", st.share()}}},
+            {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", run.stratum.share()}}},
             {"levels", run.levels},
             {"factors", run.factors},
             {"pilot_collisions", run.pilot_collisions},
@@ -334,7 +333,7 @@ void population_lines(std::string& out, const RunSummary& r) {
             "start splitting: %d replicates of %llu starts with |p| in [%g, %g]%s (a share %.3g of the map's "
             "measure), %zu levels; P(t_max | those starts) = %.3g +- %.2g (%d of %d replicates nonzero)\n",
             g.replicates, static_cast<unsigned long long>(r.scene.particles), g.p_lo, g.p_hi,
-            g.edges ? " on the straight edges" : "", ic_stratum(r.scene, g.p_lo, g.p_hi, g.edges).share(),
+            g.edges ? " on the straight edges" : "", r.start_splitting ? r.start_splitting->stratum.share() : 0.0,
             r.start_splitting ? r.start_splitting->levels.size() : std::size_t(0), r.curve.P(last), r.curve.P_err(last),
             r.curve.replicates_nonzero.empty() ? 0 : r.curve.replicates_nonzero[last], r.curve.replicates);
   } else if (r.curve.weighted)

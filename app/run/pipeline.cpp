@@ -305,19 +305,17 @@ RunSummary run_start_splitting_scene(const RunPlan& plan, const RunOptions& opti
   if (durable && durable->ids) throw InputError("--ids", "", "does not apply to start_splitting.on = true");
   if (plan.engine() == Engine::gpu)
     throw InputError("--engine", "gpu", "start_splitting.on = true runs the scalar core on the CPU");
-  const int threads_before = omp_get_max_threads();
-  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const int threads = plan.threads() > 0 ? plan.threads() : omp_get_max_threads();
   const auto start = std::chrono::steady_clock::now();
-  IcSplitRun run = run_start_splitting(scene, [&](int done, int of) {
+  IcSplitRun run = run_start_splitting(scene, threads, [&](int done, int of) {
     if (options.progress) options.progress(static_cast<std::uint64_t>(done), static_cast<std::uint64_t>(of), 0, false);
   });
   RunResult result;
   result.tally.resize(scene);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.threads = omp_get_max_threads();
+  result.threads = threads;
   result.engine = Engine::scalar;
   result.done = IntervalSet::range(0, block_count(scene.particles));
-  omp_set_num_threads(threads_before);
   if (options.progress) options.progress(scene.particles, scene.particles, run.collisions(), true);
   return summarise(scene, std::move(run), std::move(result));
 }

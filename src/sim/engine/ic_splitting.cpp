@@ -83,13 +83,18 @@ IcEnd timed(const EscapeClock& clock, const IcPoint& x, Stage& st) {
   return e;
 }
 
-/// Stage 0: `n` independent draws.
-Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, std::uint64_t n, std::uint64_t seed,
+/// The threads a stage runs on: spec.threads, or OpenMP's default.
+int stage_threads(const IcSplitSpec& spec) { return spec.threads > 0 ? spec.threads : omp_get_max_threads(); }
+
+/// Stage 0: `spec.starts` independent draws.
+Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, std::uint64_t seed,
                   std::uint64_t r) {
+  const std::uint64_t n = spec.starts;
+  const int threads = stage_threads(spec);
   Stage out;
   out.states.resize(n);
-  std::vector<Stage> by_thread(static_cast<std::size_t>(omp_get_max_threads()));
-#pragma omp parallel for schedule(dynamic, 16)
+  std::vector<Stage> by_thread(static_cast<std::size_t>(threads));
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
   for (std::uint64_t i = 0; i < n; ++i) {
     Stage& mine = by_thread[static_cast<std::size_t>(omp_get_thread_num())];
     double u[4];
@@ -146,10 +151,11 @@ Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
                              std::to_string(kIcPopulationCap) + " times the " + std::to_string(spec.starts) +
                              " of stage 0: the levels are closer than the pilot saw them (more starts)");
   const IcScales scales = spread(stratum, before, elites, spec);
+  const int threads = stage_threads(spec);
   Stage out;
   out.states.resize(at_k.back());
-  std::vector<Stage> by_thread(static_cast<std::size_t>(omp_get_max_threads()));
-#pragma omp parallel for schedule(dynamic, 1)
+  std::vector<Stage> by_thread(static_cast<std::size_t>(threads));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t k = 0; k < elites.size(); ++k) {
     Stage& mine = by_thread[static_cast<std::size_t>(omp_get_thread_num())];
     State at = before.states[elites[k]];
@@ -198,7 +204,10 @@ std::vector<std::uint64_t> random_lengths(std::size_t elites, double f, std::uin
 /// elite's expected weight is kept, so the estimator stays unbiased; its states count 2^-thin each.
 void thin_elites(std::vector<std::size_t>& e, Stage& st, double factor, std::uint64_t budget, std::uint64_t seed,
                  std::uint64_t r, std::uint64_t stage) {
-  for (std::uint64_t pass = 0; static_cast<double>(e.size()) * factor > static_cast<double>(budget); ++pass) {
+  // never past one elite: a pass forced on a lone elite until it is gone would kill it with probability 1 (a budget
+  // below one elite's chain, starts < factor), where roulette must keep its expected weight
+  for (std::uint64_t pass = 0; e.size() > 1 && static_cast<double>(e.size()) * factor > static_cast<double>(budget);
+       ++pass) {
     std::vector<std::size_t> kept;
     for (std::size_t k = 0; k < e.size(); ++k) {
       double u[4];
@@ -333,7 +342,7 @@ std::vector<double> ic_pilot_levels(const EscapeClock& clock, const IcStratum& s
                                     const IcPropose& propose) {
   // fixed effort: every stage `starts` states, its level the T a share 1 / factor of them outlive
   std::vector<double> levels;
-  Stage st = first_stage(clock, stratum, spec.starts, seed, kPilot);
+  Stage st = first_stage(clock, stratum, spec, seed, kPilot);
   std::uint64_t c = st.collisions;
   while (static_cast<int>(levels.size()) < spec.max_levels && !st.states.empty()) {
     const double level = quantile_level(st, spec.factor, t_max);
@@ -354,7 +363,7 @@ std::vector<double> ic_level_factors(const EscapeClock& clock, const IcStratum& 
   // fixed effort again, on the frozen levels, in a stream of its own (kPilot - 1): each level's share outliving it
   const std::uint64_t r = kPilot - 1;
   std::vector<double> f;
-  Stage st = first_stage(clock, stratum, spec.starts, seed, r);
+  Stage st = first_stage(clock, stratum, spec, seed, r);
   std::uint64_t c = st.collisions;
   for (std::size_t j = 0; j < levels.size(); ++j) {
     const std::vector<std::size_t> e = outliving(st, levels[j]);
@@ -378,7 +387,7 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
   out.stage.assign(t.size(), 0);
   out.alive.assign(t.size(), 0);
   out.alive_w.assign(t.size(), 0.0);
-  Stage st = first_stage(clock, stratum, spec.starts, seed, r);
+  Stage st = first_stage(clock, stratum, spec, seed, r);
   for (std::size_t j = 0;; ++j) {
     out.population.push_back(st.states.size());
     out.collisions += st.collisions, out.stuck += st.stuck;
@@ -443,6 +452,7 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
     throw std::invalid_argument("ic_split: needs starts > 0, factor >= 2 and replicates >= 1");
   IcSplitRun run;
   run.spec = spec;
+  run.stratum = stratum;
   run.t = t;
   run.levels = ic_pilot_levels(clock, stratum, spec, t_max, seed, &run.pilot_collisions, propose);
   std::uint64_t c = 0;
@@ -457,11 +467,11 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
   return run;
 }
 
-IcSplitRun run_start_splitting(const Scene& scene, const std::function<void(int, int)>& progress) {
+IcSplitRun run_start_splitting(const Scene& scene, int threads, const std::function<void(int, int)>& progress) {
   const StartSplitSpec& g = scene.start_splitting;
   IcSplitSpec spec;
   spec.starts = scene.particles, spec.replicates = g.replicates, spec.factor = g.factor, spec.moves = g.moves;
-  spec.scale_halvings = g.halvings;
+  spec.scale_halvings = g.halvings, spec.threads = threads;
   return ic_split(scene_clock(scene), ic_stratum(scene, g.p_lo, g.p_hi, g.edges), spec, survival_times(scene),
                   scene.t_max, scene.seed, progress);
 }

@@ -57,6 +57,7 @@ struct IcSplitSpec {
   int scale_halvings = 20;
   int moves = 10;        ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
+  int threads = 0;       ///< OpenMP threads of each stage (0: OpenMP's default)
 };
 
 /// A start's end: its escape time (infinity for a survivor of t_max) and its collisions.
@@ -102,6 +103,7 @@ inline constexpr std::uint64_t kIcPopulationCap = 64;
 
 struct IcSplitRun {
   IcSplitSpec spec;
+  IcStratum stratum;           ///< the starts drawn
   std::vector<double> levels;  ///< frozen from the pilot: level j + 1 of stage j + 1, increasing, below t_max
   /// Level j + 1's splitting factor: each start that outlives it seeds a chain of that many states on average (one
   /// over the share outliving it in a second pilot on the frozen levels, so that a stage holds about `starts`).
@@ -151,7 +153,7 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
                     const std::function<void(int, int)>& progress = {}, const IcPropose& propose = symmetric_proposal);
 
 /// A scene's run (scene.start_splitting on): its stratum, ensemble.particles starts a replicate, its seed, the
-/// survival grid to its t_max; `progress` after each replicate.
-IcSplitRun run_start_splitting(const Scene& scene, const std::function<void(int, int)>& progress = {});
+/// survival grid to its t_max, on `threads` (0: OpenMP's default); `progress` after each replicate.
+IcSplitRun run_start_splitting(const Scene& scene, int threads = 0, const std::function<void(int, int)>& progress = {});
 
 }  // namespace rotleak
