@@ -169,8 +169,8 @@ SurvivalCurve pool_replicates(const std::vector<SurvivalCurve>& curves, Survival
     p.P_w.push_back(m);
     p.E.push_back(e);
     if (!first.replicates_nonzero.empty()) p.replicates_nonzero.push_back(nonzero);
-    p.G.push_back(std::max(p.G.empty() ? 0.0 : p.G.back(), m > 0 ? (e / m) * (e / m) : 0.0));
   }
+  running_replicate_variance(p);
   return p;
 }
 

@@ -114,10 +114,9 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
     const double t = field_value(field[0]), P = field_value(field[2]), err = field_value(field[3]);
     c.t.push_back(t);
     c.survivors.push_back(k);
-    if (c.replicated) {  // P and its error from the replicates' spread; G their running relative variance
+    if (c.replicated) {  // P and its error from the replicates' spread (G from them below)
       c.P_w.push_back(P);
       c.E.push_back(err);
-      c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), P > 0 ? (err / P) * (err / P) : 0.0));
     } else if (c.lines) {  // P_err = P sqrt((R - 1) / N); lines alive are not in the file
       c.P_w.push_back(P);
       c.R.push_back(P > 0 ? 1 + n * (err / P) * (err / P) : 0.0);
@@ -131,6 +130,7 @@ SurvivalCurve read_survival_csv(const std::string& text, const Scene& scene) {
     }
   }
   if (sums) self_normalise(c);
+  if (c.replicated) running_replicate_variance(c);
   const std::size_t grid = scene.survival_bins() + 1;
   if (c.t.size() != grid)
     throw std::runtime_error("survival.csv: " + std::to_string(c.t.size()) +

@@ -439,9 +439,8 @@ SurvivalCurve ic_curve(const IcSplitRun& run) {
     c.P_w.push_back(run.mean(i));
     c.E.push_back(run.error(i));
     c.replicates_nonzero.push_back(run.nonzero(i));
-    const double rel = c.P_w[i] > 0 ? (c.E[i] / c.P_w[i]) * (c.E[i] / c.P_w[i]) : 0.0;
-    c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), rel));
   }
+  running_replicate_variance(c);
   return c;
 }
 

@@ -264,6 +264,14 @@ SurvivalCurve survival_curve(const Scene& scene, const Tally& tally) {
   return c;
 }
 
+void running_replicate_variance(SurvivalCurve& c) {
+  c.G.clear();
+  for (std::size_t i = 0; i < c.P_w.size(); ++i) {
+    const double rel = c.P_w[i] > 0 ? (c.E[i] / c.P_w[i]) * (c.E[i] / c.P_w[i]) : 0.0;
+    c.G.push_back(std::max(c.G.empty() ? 0.0 : c.G.back(), rel));
+  }
+}
+
 void self_normalise(SurvivalCurve& c) {
   c.P_w.clear();
   for (double w : c.W) c.P_w.push_back(c.W[0] > 0 ? w / c.W[0] : 0.0);

@@ -109,6 +109,9 @@ void add_unsplit_allowance(SurvivalCurve& c);
 /// leaves it as it was): a run's G, a pooled curve's, one read back with its lines.csv. (A split curve read from
 /// survival.csv alone builds its G from P_err row by row, read_survival_csv.)
 void running_lines_variance(SurvivalCurve& c);
+/// Runs of splitting over starts: G from P_w and E, the running maximum over the grid of (E / P)^2 (P = 0 leaves it as
+/// it was): a run's curve, a pooled one's, one read back from survival.csv.
+void running_replicate_variance(SurvivalCurve& c);
 /// A split curve from its parts (SurvivalCurve::unsplit_classes: c.t, P_w, R holding R before the allowance,
 /// lines_alive, unsplit_lines, unsplit_P, unsplit_classes set): R_lines, G, the groups (each class whose decay
 /// can be measured after the first split time on its own, the others pooled in class order) and the
