@@ -58,7 +58,7 @@ Scene scene_of(const std::string& file) {
 IcPoint pulled(const IcStratum& st, const IcScales& sc, const IcPoint& x, const double* u) {
   IcPoint y = symmetric_proposal(st, sc, x, u);
   if (!st.contains(y)) return y;
-  const int j = std::min(sc.halvings, static_cast<int>(u[0] * (sc.halvings + 1)));
+  const int j = sc.halving(u[0]);
   y.s -= std::ldexp(sc.s / 2, -j) * (x.s > 0.5 ? 1 : -1);
   y.p -= std::ldexp(sc.p / 2, -j) * (x.p > 0.3 ? 1 : -1);
   return y;

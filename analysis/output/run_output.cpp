@@ -66,6 +66,7 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
             {"factor", g.factor},
             {"moves", g.moves},
             {"halvings", g.halvings},
+            {"window", g.window},
             {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", run.stratum.share()}}},
             {"levels", run.levels},
             {"factors", run.factors},
@@ -73,6 +74,14 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
             {"proposals", proposals},
             {"accepted", accepted},
             {"stuck", stuck}};
+  // each level's halvings and whether double resolves its moves; past the first that it does not, P is the double
+  // clock's (null: every level resolved)
+  json windows = json::array();
+  for (const IcScales& sc : run.scales)
+    windows.push_back({{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum)}});
+  j["windows"] = windows;
+  const double from = run.unresolved_from();
+  j["unresolved_from"] = std::isfinite(from) ? json(from) : json(nullptr);
   json at = json::array();
   for (std::size_t i : report_points(curve))
     at.push_back({{"t", curve.t[i]},
@@ -336,6 +345,11 @@ void population_lines(std::string& out, const RunSummary& r) {
             g.edges ? " on the straight edges" : "", r.start_splitting ? r.start_splitting->stratum.share() : 0.0,
             r.start_splitting ? r.start_splitting->levels.size() : std::size_t(0), r.curve.P(last), r.curve.P_err(last),
             r.curve.replicates_nonzero.empty() ? 0 : r.curve.replicates_nonzero[last], r.curve.replicates);
+    if (r.start_splitting && std::isfinite(r.start_splitting->unresolved_from()))
+      appendf(out,
+              "start splitting: past t = %.0f the moves are below 2^8 ulps of a double start: P there is the double "
+              "clock's, whose trajectories' stretch times the unit roundoff is near 1 (docs/model.md)\n",
+              r.start_splitting->unresolved_from());
   } else if (r.curve.weighted)
     appendf(
         out,

@@ -43,7 +43,7 @@ const std::map<std::string, std::set<std::string>> kSchema = {
       "enter_through"}},
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
-    {"start_splitting", {"on", "replicates", "factor", "moves", "halvings", "p", "edges"}},
+    {"start_splitting", {"on", "replicates", "factor", "moves", "halvings", "window", "p", "edges"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors", "tail_floor"}},
 };
@@ -433,7 +433,7 @@ void read_start_splitting(const Reader& in, Scene& s) {
     }
   };
   flag("on", g.on);
-  for (const char* key : {"replicates", "factor", "moves", "halvings", "p", "edges"})
+  for (const char* key : {"replicates", "factor", "moves", "halvings", "window", "p", "edges"})
     if (const toml::node* n = in.find("start_splitting", key); n && !g.on)
       throw InputError(std::string("start_splitting.") + key, shown(*n), "applies to start_splitting.on = true only");
   if (!g.on) return;
@@ -447,6 +447,8 @@ void read_start_splitting(const Reader& in, Scene& s) {
   g.factor = whole("factor", g.factor, 2, 1000, "must be an integer in [2, 1000] (a level keeps 1 / factor)");
   g.moves = whole("moves", g.moves, 1, 1000, "must be an integer in [1, 1000] (Metropolis moves a kept state)");
   g.halvings = whole("halvings", g.halvings, 0, 60, "must be an integer in [0, 60] (proposal scales 2^-j)");
+  g.window = whole("window", g.window, 0, 60,
+                   "must be an integer in [0, 60] (a level's halvings: 2 window + 1 about its best)");
   if (const toml::node* n = in.find("start_splitting", "p")) {
     const auto a = n->as_array();
     const std::string allowed = "must be [lo, hi] with 0 <= lo < hi <= 1 (the starts' |p|)";

@@ -74,7 +74,13 @@ struct State {
 struct Stage {
   std::vector<State> states;
   std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
+  /// By halving j: the accepted moves that changed T by more than kMoved (what a window is centred on)
+  std::vector<std::uint64_t> moved;
 };
+
+/// A move "moved" where it changed T by more than this (one time unit: another escape, not the same one shifted by
+/// the step in tau).
+constexpr double kMoved = 1;
 
 IcEnd timed(const EscapeClock& clock, const IcPoint& x, Stage& st) {
   const IcEnd e = clock(x);
@@ -106,12 +112,10 @@ Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSp
   return out;
 }
 
-/// The proposal scales of the chains seeded by `elites`: their extent in each coordinate (the stratum's where they
-/// all sit at one value).
-IcScales spread(const IcStratum& stratum, const Stage& st, const std::vector<std::size_t>& elites,
-                const IcSplitSpec& spec) {
+/// The extents of the starts `elites` of `st` in each coordinate (the stratum's where they all sit at one value): a
+/// level's scales in the pilot.
+IcScales extents(const IcStratum& stratum, const Stage& st, const std::vector<std::size_t>& elites) {
   IcScales sc;
-  sc.halvings = spec.scale_halvings;
   sc.s = total(stratum.s), sc.p = total(stratum.p), sc.tau = stratum.tau_hi - stratum.tau_lo;
   if (elites.size() < 2) return sc;
   const auto coords = [&](std::size_t k) {
@@ -142,7 +146,8 @@ std::vector<std::size_t> outliving(const Stage& st, double level) {
 /// uniform law on {T > level} with a symmetric proposal).
 Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, const Stage& before,
                  const std::vector<std::size_t>& elites, const std::vector<std::uint64_t>& length, double level,
-                 std::uint64_t stage, std::uint64_t seed, std::uint64_t r, const IcPropose& propose) {
+                 const IcScales& scales, std::uint64_t stage, std::uint64_t seed, std::uint64_t r,
+                 const IcPropose& propose) {
   std::vector<std::uint64_t> at_k(elites.size() + 1, 0);
   for (std::size_t k = 0; k < elites.size(); ++k) at_k[k + 1] = at_k[k] + length[k];
   if (at_k.back() > kIcPopulationCap * spec.starts)
@@ -150,11 +155,13 @@ Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
                              " starts past level " + std::to_string(level) + ", more than " +
                              std::to_string(kIcPopulationCap) + " times the " + std::to_string(spec.starts) +
                              " of stage 0: the levels are closer than the pilot saw them (more starts)");
-  const IcScales scales = spread(stratum, before, elites, spec);
   const int threads = stage_threads(spec);
+  const auto halvings = static_cast<std::size_t>(std::max(0, scales.halvings)) + 1;
   Stage out;
   out.states.resize(at_k.back());
+  out.moved.assign(halvings, 0);
   std::vector<Stage> by_thread(static_cast<std::size_t>(threads));
+  for (Stage& s : by_thread) s.moved.assign(halvings, 0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t k = 0; k < elites.size(); ++k) {
     Stage& mine = by_thread[static_cast<std::size_t>(omp_get_thread_num())];
@@ -167,14 +174,19 @@ Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
         ++mine.proposals;
         if (stratum.contains(y)) {
           const double T = timed(clock, y, mine).t;
-          if (T > level) at.x = y, at.T = T, ++mine.accepted;
+          if (T > level) {
+            if (std::abs(T - at.T) > kMoved) ++mine.moved[static_cast<std::size_t>(std::max(0, scales.halving(u[0])))];
+            at.x = y, at.T = T, ++mine.accepted;
+          }
         }
       }
       out.states[at_k[k] + j] = at;
     }
   }
-  for (const Stage& s : by_thread)
+  for (const Stage& s : by_thread) {
     out.collisions += s.collisions, out.stuck += s.stuck, out.proposals += s.proposals, out.accepted += s.accepted;
+    for (std::size_t j = 0; j < halvings; ++j) out.moved[j] += s.moved[j];
+  }
   return out;
 }
 
@@ -290,7 +302,7 @@ IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, con
   // One halving j for the three coordinates, the step uniform in [-extent 2^-j, extent 2^-j), taken in the
   // coordinates that lay the stratum's intervals end to end (a translation on each: the uniform law's density
   // stays 1, so a symmetric step there is symmetric for it); s wraps round, p and tau do not.
-  const int j = std::min(scales.halvings, static_cast<int>(u[0] * (scales.halvings + 1)));
+  const int j = scales.halving(u[0]);
   const auto step = [j](double extent, double v) { return std::ldexp(extent, -j) * (2 * v - 1); };
   const double ls = total(stratum.s), lp = total(stratum.p);
   double a = packed(stratum.s, x.s) + step(scales.s, u[1]);
@@ -301,6 +313,25 @@ IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, con
   y.p = b < 0 || b >= lp ? 2.0 : unpacked(stratum.p, b);  // 2: outside every stratum, refused
   if (stratum.tau_hi > stratum.tau_lo) y.tau = x.tau + step(scales.tau, u[3]);
   return y;
+}
+
+int IcScales::halving(double u0) const {
+  return lo + std::min(halvings - lo, static_cast<int>(u0 * (halvings - lo + 1)));
+}
+
+double IcScales::step(double extent) const { return std::ldexp(extent, -(lo + halvings) / 2); }
+
+bool IcScales::resolved(const IcStratum& st) const {
+  // 2^8 ulps of the largest magnitude in each coordinate
+  const auto ulps = [](double extent, double big) { return extent == 0 || extent >= std::ldexp(big - std::nextafter(big, 0.0), 8); };
+  const double s_big = st.s.back().second, p_big = std::max(std::abs(st.p.front().first), std::abs(st.p.back().second));
+  return ulps(step(s), s_big) && ulps(step(p), p_big) && ulps(st.tau_hi > st.tau_lo ? step(tau) : 0, st.tau_hi);
+}
+
+double IcSplitRun::unresolved_from() const {
+  for (std::size_t j = 0; j < scales.size() && j < levels.size(); ++j)
+    if (!scales[j].resolved(stratum)) return levels[j];
+  return std::numeric_limits<double>::infinity();
 }
 
 double IcSplitRun::P(std::size_t r, std::size_t i) const {
@@ -337,52 +368,104 @@ std::uint64_t IcSplitRun::collisions() const {
   return c;
 }
 
-std::vector<double> ic_pilot_levels(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                                    double t_max, std::uint64_t seed, std::uint64_t* collisions,
-                                    const IcPropose& propose) {
-  // fixed effort: every stage `starts` states, its level the T a share 1 / factor of them outlive
-  std::vector<double> levels;
-  Stage st = first_stage(clock, stratum, spec, seed, kPilot);
-  std::uint64_t c = st.collisions;
-  while (static_cast<int>(levels.size()) < spec.max_levels && !st.states.empty()) {
-    const double level = quantile_level(st, spec.factor, t_max);
-    if (level >= t_max || (!levels.empty() && level <= levels.back())) break;
-    levels.push_back(level);
-    const std::vector<std::size_t> e = outliving(st, level);
-    st = next_stage(clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), level, levels.size(), seed,
-                    kPilot, propose);
-    c += st.collisions;
-  }
-  if (collisions) *collisions = c;
-  return levels;
-}
+namespace {
 
-std::vector<double> ic_level_factors(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                                     const std::vector<double>& levels, std::uint64_t seed, std::uint64_t* collisions,
-                                     const IcPropose& propose) {
-  // fixed effort again, on the frozen levels, in a stream of its own (kPilot - 1): each level's share outliving it
-  const std::uint64_t r = kPilot - 1;
-  std::vector<double> f;
+/// A fixed-effort run (every stage `starts` states, the chains spread evenly over the starts outliving the level) in
+/// replicate stream r: `level_of(j, stage)` names level j + 1 (NaN: stop) and `scales_of(j, stage, elites)` its
+/// chains' scales; `after(j, chains)` sees the stage its chains made. Returns the collisions.
+template <class LevelOf, class ScalesOf, class After>
+std::uint64_t fixed_effort(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
+                           std::uint64_t seed, std::uint64_t r, const IcPropose& propose, LevelOf level_of,
+                           ScalesOf scales_of, After after) {
   Stage st = first_stage(clock, stratum, spec, seed, r);
   std::uint64_t c = st.collisions;
-  for (std::size_t j = 0; j < levels.size(); ++j) {
-    const std::vector<std::size_t> e = outliving(st, levels[j]);
-    if (e.empty()) break;  // the levels past here are never reached: the replicates' later stages die out
-    // at most 4 factor: the level sits at the first pilot's 1 / factor quantile, so a share below a quarter of that is
-    // the second pilot's noise, whose inverse would grow a replicate's stages without end where the share is larger
-    f.push_back(std::min(4.0 * spec.factor, static_cast<double>(st.states.size()) / static_cast<double>(e.size())));
-    st = next_stage(clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), levels[j], j + 1, seed, r,
+  for (std::size_t j = 0; !st.states.empty(); ++j) {
+    const double level = level_of(j, st);
+    if (std::isnan(level)) break;
+    const std::vector<std::size_t> e = outliving(st, level);
+    if (e.empty()) break;
+    const IcScales sc = scales_of(j, st, e);
+    st = next_stage(clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), level, sc, j + 1, seed, r,
                     propose);
     c += st.collisions;
+    after(j, st);
   }
-  if (collisions) *collisions = c;
-  return f;
+  return c;
+}
+
+/// The window of 2 w + 1 halvings centred at c, within 0 .. top.
+void centre(IcScales& sc, int c, int w, int top) {
+  sc.halvings = top;
+  sc.lo = std::max(0, c - w);
+  const int hi = std::min(top, c + w);
+  sc.lo = std::min(sc.lo, hi);
+  sc.halvings = hi;
+}
+
+}  // namespace
+
+IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
+                 std::uint64_t seed, const IcPropose& propose) {
+  const int top = std::max(0, spec.scale_halvings), w = std::max(0, spec.window);
+  IcPilot out;
+  // first: levels at the 1 / factor quantile, each level's extents from the starts outliving it, its window moved to
+  // where its chains moved most (the next level's chains start from there)
+  int at = -1;  // the centre the next level's chains try; -1: every halving
+  out.collisions = fixed_effort(
+      clock, stratum, spec, seed, kPilot, propose,
+      [&](std::size_t, const Stage& st) {
+        if (static_cast<int>(out.levels.size()) >= spec.max_levels) return std::nan("");
+        const double level = quantile_level(st, spec.factor, t_max);
+        if (level >= t_max || (!out.levels.empty() && level <= out.levels.back())) return std::nan("");
+        out.levels.push_back(level);
+        return level;
+      },
+      [&](std::size_t, const Stage& st, const std::vector<std::size_t>& e) {
+        IcScales sc = extents(stratum, st, e);
+        if (at < 0)
+          sc.lo = 0, sc.halvings = top;
+        else
+          centre(sc, at, w, top);
+        out.scales.push_back(sc);
+        return sc;
+      },
+      [&](std::size_t j, const Stage& chains) {
+        // the halving that moved most (the shallowest of equals); none moved: the window stays
+        const auto best = std::max_element(chains.moved.begin(), chains.moved.end());
+        if (best == chains.moved.end() || *best == 0) return;
+        at = static_cast<int>(best - chains.moved.begin());
+        centre(out.scales[j], at, w, top);
+      });
+  out.scales.resize(out.levels.size());
+  // second, on the frozen levels and scales, in a stream of its own (kPilot - 1): each level's share outliving it
+  std::uint64_t c = fixed_effort(
+      clock, stratum, spec, seed, kPilot - 1, propose,
+      [&](std::size_t j, const Stage& st) {
+        if (j >= out.levels.size()) return std::nan("");
+        const std::size_t e = outliving(st, out.levels[j]).size();
+        if (e == 0) return std::nan("");  // the levels past here are never reached: the replicates' stages die out
+        // at most 4 factor: the level sits at the first pilot's 1 / factor quantile, so a share below a quarter of
+        // that is the second pilot's noise, whose inverse would grow a replicate's stages without end where the
+        // share is larger
+        out.factors.push_back(
+            std::min(4.0 * spec.factor, static_cast<double>(st.states.size()) / static_cast<double>(e)));
+        return out.levels[j];
+      },
+      [&](std::size_t j, const Stage&, const std::vector<std::size_t>&) { return out.scales[j]; },
+      [](std::size_t, const Stage&) {});
+  out.collisions += c;
+  out.levels.resize(out.factors.size());
+  out.scales.resize(out.factors.size());
+  return out;
 }
 
 IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                         const std::vector<double>& levels, const std::vector<double>& factors,
-                         const std::vector<double>& t, std::uint64_t seed, std::uint64_t r, const IcPropose& propose) {
-  if (factors.size() < levels.size()) throw std::invalid_argument("ic_replicate: a factor for every level");
+                         const IcPilot& pilot, const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
+                         const IcPropose& propose) {
+  const std::vector<double>& levels = pilot.levels;
+  const std::vector<double>& factors = pilot.factors;
+  if (factors.size() < levels.size() || pilot.scales.size() < levels.size())
+    throw std::invalid_argument("ic_replicate: a factor and scales for every level");
   IcReplicate out;
   out.stage.assign(t.size(), 0);
   out.alive.assign(t.size(), 0);
@@ -420,8 +503,8 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
         if (t[i] >= to) out.stage[i] = static_cast<int>(j + 1), out.alive[i] = 0, out.alive_w[i] = 0;
       break;
     }
-    st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j], j + 1,
-                    seed, r, propose);
+    st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j],
+                    pilot.scales[j], j + 1, seed, r, propose);
   }
   return out;
 }
@@ -453,14 +536,11 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
   run.spec = spec;
   run.stratum = stratum;
   run.t = t;
-  run.levels = ic_pilot_levels(clock, stratum, spec, t_max, seed, &run.pilot_collisions, propose);
-  std::uint64_t c = 0;
-  run.factors = ic_level_factors(clock, stratum, spec, run.levels, seed, &c, propose);
-  run.pilot_collisions += c;
-  run.levels.resize(run.factors.size());
+  const IcPilot pilot = ic_pilot(clock, stratum, spec, t_max, seed, propose);
+  run.levels = pilot.levels, run.factors = pilot.factors, run.scales = pilot.scales;
+  run.pilot_collisions = pilot.collisions;
   for (int r = 0; r < spec.replicates; ++r) {
-    run.replicates.push_back(
-        ic_replicate(clock, stratum, spec, run.levels, run.factors, t, seed, static_cast<std::uint64_t>(r), propose));
+    run.replicates.push_back(ic_replicate(clock, stratum, spec, pilot, t, seed, static_cast<std::uint64_t>(r), propose));
     if (progress) progress(r + 1, spec.replicates);
   }
   return run;
@@ -470,7 +550,7 @@ IcSplitRun run_start_splitting(const Scene& scene, int threads, const std::funct
   const StartSplitSpec& g = scene.start_splitting;
   IcSplitSpec spec;
   spec.starts = scene.particles, spec.replicates = g.replicates, spec.factor = g.factor, spec.moves = g.moves;
-  spec.scale_halvings = g.halvings, spec.threads = threads;
+  spec.scale_halvings = g.halvings, spec.window = g.window, spec.threads = threads;
   return ic_split(scene_clock(scene), ic_stratum(scene, g.p_lo, g.p_hi, g.edges), spec, survival_times(scene),
                   scene.t_max, scene.seed, progress);
 }

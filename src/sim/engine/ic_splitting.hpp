@@ -51,10 +51,12 @@ struct IcSplitSpec {
   std::uint64_t starts = 10000;  ///< stage 0's draws (and the pilot's), per replicate
   int factor = 10;               ///< the pilot's levels: each outlived by a share 1 / factor of the stage before
   int replicates = 20;           ///< independent runs: their spread is P's error
-  /// Proposal scales: a stage's extent in each coordinate (the spread of the starts that seed its chains) times
-  /// 2^-j, j uniform in 0 .. scale_halvings (20: six decades below it), drawn independently of the state, so the
-  /// proposal stays symmetric.
-  int scale_halvings = 20;
+  /// Proposal scales: a level's extent in each coordinate (the spread of the pilot's starts that outlive it) times
+  /// 2^-j, j uniform over a window of 2 window + 1 halvings within 0 .. scale_halvings (60: eighteen decades), centred
+  /// where the pilot's chains at that level moved most (an accepted move that changed T by more than 1); drawn
+  /// independently of the state, and frozen from the pilot, so the proposal stays symmetric.
+  int scale_halvings = 60;
+  int window = 5;
   int moves = 10;        ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
   int threads = 0;       ///< OpenMP threads of each stage (0: OpenMP's default)
@@ -71,12 +73,20 @@ using EscapeClock = std::function<IcEnd(const IcPoint&)>;
 /// The escape clock of a scene: its table and leaks in double, its fast-forward, to its t_max (thread-safe).
 EscapeClock scene_clock(const Scene& scene);
 
-/// A stage's proposal scales: the extent of the starts that seed its chains in each coordinate (s and p laid end to
-/// end over the stratum's intervals), and the halvings below it. A kernel may depend on the stages before (the
-/// estimator stays unbiased), not on the state it moves.
+/// A level's proposal scales: an extent in each coordinate (s and p laid end to end over the stratum's intervals) and
+/// the halvings j in lo .. halvings below it. The replicates' are frozen from the pilot: a kernel that depends on the
+/// pilot only, never on the state it moves nor on the population it is part of, keeps the estimator unbiased.
 struct IcScales {
   double s = 1, p = 2, tau = 0;
-  int halvings = 20;
+  int lo = 0, halvings = 20;
+  /// The halving a proposal takes from its first uniform draw u0: uniform over lo .. halvings.
+  int halving(double u0) const;
+  /// The step 2^-j of an extent, at the window's centre.
+  double step(double extent) const;
+  /// Whether the centre's steps are resolved by double starts: at least 2^8 ulps of the stratum's largest s, |p| and
+  /// tau in each coordinate. Below that the chains' moves are rounding, and T(x0) in double is no longer a function
+  /// of x0 alone (the trajectory's stretch times the unit roundoff is near 1: docs/model.md).
+  bool resolved(const IcStratum& stratum) const;
 };
 
 /// A proposal kernel: the next proposal from state x and four uniform doubles u[0..3] in [0, 1). Its default is the
@@ -108,7 +118,8 @@ struct IcSplitRun {
   /// Level j + 1's splitting factor: each start that outlives it seeds a chain of that many states on average (one
   /// over the share outliving it in a second pilot on the frozen levels, so that a stage holds about `starts`).
   std::vector<double> factors;
-  std::vector<double> t;  ///< the grid
+  std::vector<IcScales> scales;  ///< level j + 1's chains' proposal scales, frozen from the pilot
+  std::vector<double> t;         ///< the grid
   std::vector<IcReplicate> replicates;
   std::uint64_t pilot_collisions = 0;
 
@@ -119,28 +130,33 @@ struct IcSplitRun {
   double error(std::size_t i) const;
   /// Replicates whose P(t[i]) is not 0.
   int nonzero(std::size_t i) const;
+  /// The first level whose moves double cannot resolve (IcScales::resolved), or infinity: P past it is the double
+  /// clock's, whose digits for a given start are not the trajectory's.
+  double unresolved_from() const;
   std::uint64_t collisions() const;
 };
 
-/// Levels from a pilot of fixed effort (replicate index -1 of the seed's streams: every stage `starts` states, the
-/// chains spread evenly over the starts that outlive the level): each the T that a share 1 / factor of the stage
-/// before outlives, until that share outlives t_max, the stage dies out or max_levels.
-std::vector<double> ic_pilot_levels(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                                    double t_max, std::uint64_t seed, std::uint64_t* collisions = nullptr,
-                                    const IcPropose& propose = symmetric_proposal);
+/// What the pilots freeze: levels, each level's proposal scales and splitting factor.
+struct IcPilot {
+  std::vector<double> levels, factors;
+  std::vector<IcScales> scales;
+  std::uint64_t collisions = 0;
+};
 
-/// The splitting factors of frozen levels: one over each level's share outliving it in a second fixed-effort pilot
-/// (replicate index -2); as many as the levels that pilot reached.
-std::vector<double> ic_level_factors(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                                     const std::vector<double>& levels, std::uint64_t seed,
-                                     std::uint64_t* collisions = nullptr,
-                                     const IcPropose& propose = symmetric_proposal);
+/// Levels and scales from a pilot of fixed effort (replicate index -1 of the seed's streams: every stage `starts`
+/// states, the chains spread evenly over the starts that outlive the level): each level the T that a share 1 / factor
+/// of the stage before outlives, until that share outlives t_max, the stage dies out or max_levels; each level's
+/// extents the spread of the starts outliving it, its window centred where its chains moved most (the first level's
+/// chains try every halving, each later level's start from the window of the level before). Then the factors: one
+/// over each level's share outliving it in a second fixed-effort pilot on the frozen levels and scales (replicate
+/// index -2); the levels it did not reach are dropped.
+IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
+                 std::uint64_t seed, const IcPropose& propose = symmetric_proposal);
 
-/// Replicate r with the frozen levels and factors, on grid t: generalized splitting proper, each start outliving
-/// level j seeding floor(f_j) or floor(f_j) + 1 chain states (the latter with probability frac(f_j)).
+/// Replicate r with the pilot's frozen levels, scales and factors, on grid t: generalized splitting proper, each start
+/// outliving level j seeding floor(f_j) or floor(f_j) + 1 chain states (the latter with probability frac(f_j)).
 IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                         const std::vector<double>& levels, const std::vector<double>& factors,
-                         const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
+                         const IcPilot& pilot, const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
                          const IcPropose& propose = symmetric_proposal);
 
 /// The run's survival curve (SurvivalCurve::replicated) on its grid: the replicates' mean and error, their states

@@ -66,7 +66,8 @@ struct StartSplitSpec {
   int replicates = 20;  ///< independent replicates of ensemble.particles starts each: their spread is P's error
   int factor = 10;      ///< levels outlived by a share 1 / factor of the stage before
   int moves = 10;       ///< Metropolis moves between two kept states of a chain
-  int halvings = 20;    ///< proposal scales 2^-j of the seeding starts' spread, j in 0 .. halvings
+  int halvings = 60;    ///< proposal scales 2^-j of a level's extent, j in 0 .. halvings
+  int window = 5;       ///< j over 2 window + 1 halvings, centred where the pilot's chains moved most
   double p_lo = 0, p_hi = 1;
   bool edges = false;
 };
