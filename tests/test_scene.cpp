@@ -132,11 +132,10 @@ TEST(Scene, StartSplittingKeysAreCheckedAtTheirEdges) {
                     "start_splitting.edges=true"}),
             "");
   EXPECT_EQ(starts({"start_splitting.halvings=60", "start_splitting.window=60"}), "");
-  for (const char* bad :
-       {"start_splitting.replicates=1", "start_splitting.replicates=100001", "start_splitting.factor=1",
-        "start_splitting.moves=0", "start_splitting.halvings=61", "start_splitting.window=61",
-        "start_splitting.window=-1", "start_splitting.p=[0.5, 0.5]",
-        "start_splitting.p=[-0.1, 0.5]", "start_splitting.p=[0, 1.5]", "start_splitting.edges=1"}) {
+  for (const char* bad : {"start_splitting.replicates=1", "start_splitting.replicates=100001",
+                          "start_splitting.factor=1", "start_splitting.moves=0", "start_splitting.halvings=61",
+                          "start_splitting.window=61", "start_splitting.window=-1", "start_splitting.p=[0.5, 0.5]",
+                          "start_splitting.p=[-0.1, 0.5]", "start_splitting.p=[0, 1.5]", "start_splitting.edges=1"}) {
     const std::string key = std::string(bad).substr(0, std::string(bad).find('='));
     const std::string msg = starts({bad});
     EXPECT_EQ(msg.rfind(key + " = ", 0), 0u) << bad << ": " << msg;

@@ -10,9 +10,14 @@ namespace {
 
 /// [start_splitting]'s keys, written only when on (as run.splitting's are).
 json start_splitting_inputs(const StartSplitSpec& g) {
-  return {{"on", true},       {"replicates", g.replicates}, {"factor", g.factor},
-          {"moves", g.moves}, {"halvings", g.halvings},     {"window", g.window},
-          {"p", {g.p_lo, g.p_hi}},   {"edges", g.edges}};
+  return {{"on", true},
+          {"replicates", g.replicates},
+          {"factor", g.factor},
+          {"moves", g.moves},
+          {"halvings", g.halvings},
+          {"window", g.window},
+          {"p", {g.p_lo, g.p_hi}},
+          {"edges", g.edges}};
 }
 
 }  // namespace

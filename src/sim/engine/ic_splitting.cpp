@@ -323,7 +323,9 @@ double IcScales::step(double extent) const { return std::ldexp(extent, -(lo + ha
 
 bool IcScales::resolved(const IcStratum& st) const {
   // 2^8 ulps of the largest magnitude in each coordinate
-  const auto ulps = [](double extent, double big) { return extent == 0 || extent >= std::ldexp(big - std::nextafter(big, 0.0), 8); };
+  const auto ulps = [](double extent, double big) {
+    return extent == 0 || extent >= std::ldexp(big - std::nextafter(big, 0.0), 8);
+  };
   const double s_big = st.s.back().second, p_big = std::max(std::abs(st.p.front().first), std::abs(st.p.back().second));
   return ulps(step(s), s_big) && ulps(step(p), p_big) && ulps(st.tau_hi > st.tau_lo ? step(tau) : 0, st.tau_hi);
 }
@@ -540,7 +542,8 @@ IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const Ic
   run.levels = pilot.levels, run.factors = pilot.factors, run.scales = pilot.scales;
   run.pilot_collisions = pilot.collisions;
   for (int r = 0; r < spec.replicates; ++r) {
-    run.replicates.push_back(ic_replicate(clock, stratum, spec, pilot, t, seed, static_cast<std::uint64_t>(r), propose));
+    run.replicates.push_back(
+        ic_replicate(clock, stratum, spec, pilot, t, seed, static_cast<std::uint64_t>(r), propose));
     if (progress) progress(r + 1, spec.replicates);
   }
   return run;
