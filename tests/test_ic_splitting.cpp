@@ -91,6 +91,54 @@ TEST(IcSplitting, AKernelThatIsNotInvariantIsCaught) {
   EXPECT_GT(run.mean(t.size() - 1), 10 * box_P(t.back()));
 }
 
+/// The box clock of the whole start hi + lo: its offsets from the centre in double-double (each hi - centre exact,
+/// the centre being a double), so that it tells apart starts closer than a double's ulp, as a dd clock does.
+IcEnd box_clock_dd(const IcPoint& x, double t_max) {
+  const double ds = std::abs((x.s - 0.5) + x.s_lo), dp = std::abs((x.p - 0.3) + x.p_lo);
+  const double m = std::max(2 * ds, dp / 0.7);
+  IcEnd e;
+  const double T = m == 0 ? t_max : -(kC / 2) * std::log(m);
+  if (T < t_max) e.t = T;
+  e.collisions = 1;
+  return e;
+}
+
+// Below a double's ulp: to t_max = 8000 the box shrinks to 4e-18, below the ulp of s = 1/2 (1.1e-16), where a double
+// clock cannot tell its starts apart. With the deep clock handed over where the moves fall below 2^20 double ulps,
+// the sampler reads P = 0.7 e^-80 = 1.3e-35 within 5 errors at every 500 (the error model of the test above); the
+// double clock alone says where its moves stop being resolved, before t_max.
+TEST(IcSplitting, BelowADoublesUlpTheDeepClockReadsTheLaw) {
+  constexpr double kTmax = 8000;
+  IcSplitSpec spec;
+  spec.starts = 1000, spec.replicates = 30, spec.deep_tier = TierKind::dd;
+  IcStratum whole;
+  whole.s = {{0.0, 1.0}};
+  whole.p = {{-1.0, 1.0}};
+  std::vector<double> t;
+  for (double x = 0; x <= kTmax; x += 500) t.push_back(x);
+  const EscapeClock clock = [](const IcPoint& x) { return box_clock(x, kTmax); };
+  const EscapeClock deep = [](const IcPoint& x) { return box_clock_dd(x, kTmax); };
+  const IcSplitRun run = ic_split(clock, whole, spec, t, kTmax, 11, {}, symmetric_proposal, deep);
+  ASSERT_LT(run.handover, run.levels.size());
+  EXPECT_GT(run.levels[run.handover], 3000);  // steps of 2^20 ulps of 1: the box at 2.3e-10, t ~ 4400
+  EXPECT_TRUE(std::isinf(run.unresolved_from()));
+  std::uint64_t handed = 0;
+  for (const IcReplicate& r : run.replicates) handed += r.handed_over;
+  EXPECT_GT(handed, 0u);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    SCOPED_TRACE("t = " + std::to_string(t[i]));
+    const double P = box_P(t[i]), m = run.mean(i), e = run.error(i);
+    ASSERT_GT(e, 0);
+    EXPECT_LT(std::abs(m - P), 5 * e) << "mean " << m << " exact " << P << " error " << e;
+    EXPECT_LT(e / P, 0.25);
+  }
+  EXPECT_LT(box_P(kTmax), 2e-35);
+  // the converse: double alone, the same seed
+  const IcSplitRun plain = ic_split(clock, whole, spec, t, kTmax, 11);
+  EXPECT_EQ(plain.handover, plain.levels.size());
+  EXPECT_LT(plain.unresolved_from(), kTmax);
+}
+
 // The error is calibrated against independent seeds: 20 runs of 10 replicates of 300 starts (t_max 3000, P down to
 // 6.5e-14), their means' spread about the exact P over the root mean square of their errors. Error model: with
 // honest errors the ratio is sqrt(chi^2_20 / 20) give or take the errors' own scatter; 99.9% of chi^2_20 / 20 lies in

@@ -128,14 +128,18 @@ TEST(Scene, StartSplittingKeysAreCheckedAtTheirEdges) {
   };
   EXPECT_EQ(starts({}), "");
   EXPECT_EQ(starts({"start_splitting.replicates=2", "start_splitting.factor=2", "start_splitting.moves=1",
-                    "start_splitting.halvings=0", "start_splitting.window=0", "start_splitting.p=[0, 1]",
-                    "start_splitting.edges=true"}),
+                    "start_splitting.halvings=0", "start_splitting.window=0", "start_splitting.handover_bits=1",
+                    "start_splitting.p=[0, 1]", "start_splitting.edges=true"}),
             "");
-  EXPECT_EQ(starts({"start_splitting.halvings=60", "start_splitting.window=60"}), "");
-  for (const char* bad : {"start_splitting.replicates=1", "start_splitting.replicates=100001",
-                          "start_splitting.factor=1", "start_splitting.moves=0", "start_splitting.halvings=61",
-                          "start_splitting.window=61", "start_splitting.window=-1", "start_splitting.p=[0.5, 0.5]",
-                          "start_splitting.p=[-0.1, 0.5]", "start_splitting.p=[0, 1.5]", "start_splitting.edges=1"}) {
+  EXPECT_EQ(starts({"start_splitting.halvings=100", "start_splitting.window=60", "start_splitting.handover_bits=52",
+                    "start_splitting.deep_tier=\"float128\""}),
+            "");
+  for (const char* bad :
+       {"start_splitting.replicates=1", "start_splitting.replicates=100001", "start_splitting.factor=1",
+        "start_splitting.moves=0", "start_splitting.halvings=101", "start_splitting.window=61",
+        "start_splitting.window=-1", "start_splitting.handover_bits=0", "start_splitting.handover_bits=53",
+        "start_splitting.deep_tier=\"mpfr:100\"", "start_splitting.p=[0.5, 0.5]", "start_splitting.p=[-0.1, 0.5]",
+        "start_splitting.p=[0, 1.5]", "start_splitting.edges=1"}) {
     const std::string key = std::string(bad).substr(0, std::string(bad).find('='));
     const std::string msg = starts({bad});
     EXPECT_EQ(msg.rfind(key + " = ", 0), 0u) << bad << ": " << msg;

@@ -67,6 +67,8 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
             {"moves", g.moves},
             {"halvings", g.halvings},
             {"window", g.window},
+            {"deep_tier", Tier{g.deep_tier, 0}.name()},
+            {"handover_bits", g.handover_bits},
             {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", run.stratum.share()}}},
             {"levels", run.levels},
             {"factors", run.factors},
@@ -77,9 +79,18 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
   // each level's halvings and whether double resolves its moves; past the first that it does not, P is the double
   // clock's (null: every level resolved)
   json windows = json::array();
-  for (const IcScales& sc : run.scales)
-    windows.push_back({{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum)}});
+  for (std::size_t k = 0; k < run.scales.size(); ++k) {
+    const IcScales& sc = run.scales[k];
+    const int bits = k >= run.handover ? ic_tier_bits(run.spec.deep_tier) : 53;
+    windows.push_back({{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum, bits)}});
+  }
   j["windows"] = windows;
+  // the hand-over to the deep clock: its level (null: none), the starts it timed again there and those it dropped
+  std::uint64_t handed = 0, disagreed = 0;
+  for (const IcReplicate& r : run.replicates) handed += r.handed_over, disagreed += r.handover_disagreed;
+  j["handover"] = {{"level", run.handover < run.levels.size() ? json(run.levels[run.handover]) : json(nullptr)},
+                   {"timed_again", handed},
+                   {"disagreed", disagreed}};
   const double from = run.unresolved_from();
   j["unresolved_from"] = std::isfinite(from) ? json(from) : json(nullptr);
   json at = json::array();
@@ -345,11 +356,23 @@ void population_lines(std::string& out, const RunSummary& r) {
             g.edges ? " on the straight edges" : "", r.start_splitting ? r.start_splitting->stratum.share() : 0.0,
             r.start_splitting ? r.start_splitting->levels.size() : std::size_t(0), r.curve.P(last), r.curve.P_err(last),
             r.curve.replicates_nonzero.empty() ? 0 : r.curve.replicates_nonzero[last], r.curve.replicates);
-    if (r.start_splitting && std::isfinite(r.start_splitting->unresolved_from()))
-      appendf(out,
-              "start splitting: past t = %.0f the moves are below 2^8 ulps of a double start: P there is the double "
-              "clock's, whose trajectories' stretch times the unit roundoff is near 1 (docs/model.md)\n",
-              r.start_splitting->unresolved_from());
+    if (const IcSplitRun* run = r.start_splitting ? &*r.start_splitting : nullptr) {
+      if (run->handover < run->levels.size()) {
+        std::uint64_t handed = 0, disagreed = 0;
+        for (const IcReplicate& x : run->replicates) handed += x.handed_over, disagreed += x.handover_disagreed;
+        appendf(out,
+                "start splitting: from t = %.0f the starts are timed in %s (double's moves fell below 2^%d ulps); of "
+                "the %llu outliving it in double, %llu did not in %s\n",
+                run->levels[run->handover], Tier{run->spec.deep_tier, 0}.name().c_str(), run->spec.handover_bits,
+                static_cast<unsigned long long>(handed), static_cast<unsigned long long>(disagreed),
+                Tier{run->spec.deep_tier, 0}.name().c_str());
+      }
+      if (std::isfinite(run->unresolved_from()))
+        appendf(out,
+                "start splitting: past t = %.0f the moves are below 2^8 ulps of the clock's tier: P there is that "
+                "clock's, whose trajectories' stretch times the unit roundoff is near 1 (docs/model.md)\n",
+                run->unresolved_from());
+    }
   } else if (r.curve.weighted)
     appendf(
         out,

@@ -43,7 +43,8 @@ const std::map<std::string, std::set<std::string>> kSchema = {
       "enter_through"}},
     {"run",
      {"t_max", "tier", "fast_forward", "checkpoint_seconds", "splitting", "split_every", "split_delta", "split_cap"}},
-    {"start_splitting", {"on", "replicates", "factor", "moves", "halvings", "window", "p", "edges"}},
+    {"start_splitting",
+     {"on", "replicates", "factor", "moves", "halvings", "window", "deep_tier", "handover_bits", "p", "edges"}},
     {"observe", {"survival_dt", "collision_density", "escapes"}},
     {"fit", {"kappa_window", "alpha_factor", "alpha_sigma", "min_survivors", "tail_floor"}},
 };
@@ -422,6 +423,19 @@ void read_fit(const Reader& in, Scene& s) {
       "must be in (0, 1): the weakest tail weight a regime claims to exclude");
 }
 
+/// start_splitting.deep_tier: the clock where double stops resolving the moves.
+TierKind read_deep_tier(const Reader& in, TierKind fallback) {
+  const toml::node* n = in.find("start_splitting", "deep_tier");
+  if (!n) return fallback;
+  const auto name = n->as_string();
+  const auto tier = name ? Tier::parse(name->get()) : std::nullopt;
+  if (!tier || !(tier->kind == TierKind::double_ || tier->kind == TierKind::dd || tier->kind == TierKind::float128))
+    throw InputError("start_splitting.deep_tier", shown(*n),
+                     "must be \"dd\", \"float128\" or \"double\" (the clock where double stops resolving the "
+                     "moves; double: none)");
+  return tier->kind;
+}
+
 /// [start_splitting]: its parameters only with on = true.
 void read_start_splitting(const Reader& in, Scene& s) {
   StartSplitSpec& g = s.start_splitting;
@@ -433,7 +447,8 @@ void read_start_splitting(const Reader& in, Scene& s) {
     }
   };
   flag("on", g.on);
-  for (const char* key : {"replicates", "factor", "moves", "halvings", "window", "p", "edges"})
+  for (const char* key :
+       {"replicates", "factor", "moves", "halvings", "window", "deep_tier", "handover_bits", "p", "edges"})
     if (const toml::node* n = in.find("start_splitting", key); n && !g.on)
       throw InputError(std::string("start_splitting.") + key, shown(*n), "applies to start_splitting.on = true only");
   if (!g.on) return;
@@ -446,9 +461,12 @@ void read_start_splitting(const Reader& in, Scene& s) {
                        "must be an integer in [2, 10^5] (independent replicates: their spread is P's error)");
   g.factor = whole("factor", g.factor, 2, 1000, "must be an integer in [2, 1000] (a level keeps 1 / factor)");
   g.moves = whole("moves", g.moves, 1, 1000, "must be an integer in [1, 1000] (Metropolis moves a kept state)");
-  g.halvings = whole("halvings", g.halvings, 0, 60, "must be an integer in [0, 60] (proposal scales 2^-j)");
+  g.halvings = whole("halvings", g.halvings, 0, 100, "must be an integer in [0, 100] (proposal scales 2^-j)");
   g.window = whole("window", g.window, 0, 60,
                    "must be an integer in [0, 60] (a level's halvings: 2 window + 1 about its best)");
+  g.deep_tier = read_deep_tier(in, g.deep_tier);
+  g.handover_bits = whole("handover_bits", g.handover_bits, 1, 52,
+                          "must be an integer in [1, 52] (hand over where a level's moves fall below 2^bits ulps)");
   if (const toml::node* n = in.find("start_splitting", "p")) {
     const auto a = n->as_array();
     const std::string allowed = "must be [lo, hi] with 0 <= lo < hi <= 1 (the starts' |p|)";

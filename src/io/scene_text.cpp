@@ -16,6 +16,8 @@ json start_splitting_inputs(const StartSplitSpec& g) {
           {"moves", g.moves},
           {"halvings", g.halvings},
           {"window", g.window},
+          {"deep_tier", Tier{g.deep_tier, 0}.name()},
+          {"handover_bits", g.handover_bits},
           {"p", {g.p_lo, g.p_hi}},
           {"edges", g.edges}};
 }

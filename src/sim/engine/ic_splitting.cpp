@@ -11,6 +11,7 @@
 #include <string>
 
 #include "geometry/stadium.hpp"
+#include "numeric/tiers.hpp"
 #include "sim/model/initial.hpp"
 #include "sim/model/particle.hpp"
 #include "sim/model/scene.hpp"
@@ -33,35 +34,6 @@ void words(std::uint64_t seed, std::uint64_t r, std::uint64_t stage, std::uint64
   const r123::Philox4x64::ctr_type ctr = {{r, stage, chain, k}};
   const auto w = gen(ctr, key);
   for (int i = 0; i < 4; ++i) u[i] = unit(w[i]);
-}
-
-double total(const std::vector<std::pair<double, double>>& v) {
-  double sum = 0;
-  for (const auto& [lo, hi] : v) sum += hi - lo;
-  return sum;
-}
-
-/// A point's place in a union of intervals laid end to end, and back.
-double packed(const std::vector<std::pair<double, double>>& v, double x) {
-  double before = 0;
-  for (const auto& [lo, hi] : v) {
-    if (x < hi) return before + (x - lo);
-    before += hi - lo;
-  }
-  return before;
-}
-double unpacked(const std::vector<std::pair<double, double>>& v, double a) {
-  for (const auto& [lo, hi] : v) {
-    if (a < hi - lo) return lo + a;
-    a -= hi - lo;
-  }
-  return v.back().second;  // past the end (rounding): outside, refused
-}
-
-bool inside(const std::vector<std::pair<double, double>>& v, double x) {
-  for (const auto& [lo, hi] : v)
-    if (x >= lo && x < hi) return true;
-  return false;
 }
 
 /// A start whose escape time is known: what a stage holds.
@@ -116,11 +88,11 @@ Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSp
 /// level's scales in the pilot.
 IcScales extents(const IcStratum& stratum, const Stage& st, const std::vector<std::size_t>& elites) {
   IcScales sc;
-  sc.s = total(stratum.s), sc.p = total(stratum.p), sc.tau = stratum.tau_hi - stratum.tau_lo;
+  sc.s = stratum.s_length(), sc.p = stratum.p_length(), sc.tau = stratum.tau_hi - stratum.tau_lo;
   if (elites.size() < 2) return sc;
   const auto coords = [&](std::size_t k) {
     const IcPoint& x = st.states[elites[k]].x;
-    return std::array<double, 3>{packed(stratum.s, x.s), packed(stratum.p, x.p), x.tau};
+    return std::array<double, 3>{stratum.s_packed(x.s), stratum.p_packed(x.p), x.tau};
   };
   std::array<double, 3> lo = coords(0), hi = lo;
   for (std::size_t k = 1; k < elites.size(); ++k) {
@@ -245,94 +217,9 @@ double quantile_level(const Stage& st, int factor, double t_max) {
 
 }  // namespace
 
-bool IcStratum::contains(const IcPoint& x) const {
-  return inside(s, x.s) && inside(p, x.p) && (tau_lo == tau_hi ? x.tau == tau_lo : (x.tau >= tau_lo && x.tau < tau_hi));
-}
-
-double IcStratum::share() const { return total(s) * total(p) / 2; }
-
-IcPoint IcStratum::at(double us, double up, double ut) const {
-  return {unpacked(s, us * total(s)), unpacked(p, up * total(p)), tau_lo + (tau_hi - tau_lo) * ut};
-}
-
-IcStratum ic_stratum(const Scene& scene, double p_lo, double p_hi, bool edges) {
-  if (!(p_lo >= 0 && p_lo < p_hi && p_hi <= 1)) throw std::invalid_argument("ic_stratum: needs 0 <= p_lo < p_hi <= 1");
-  IcStratum st;
-  if (edges) {
-    if (scene.on_table()) throw std::invalid_argument("ic_stratum: the straight edges are the stadium's");
-    const Stadium<double> sd(scene.d, scene.r);
-    st.s = {{0.0, sd.junction(0)}, {sd.junction(1), sd.junction(2)}, {sd.junction(3), 1.0}};
-  } else {
-    st.s = {{0.0, 1.0}};
-  }
-  if (p_lo == 0)
-    st.p = {{-p_hi, p_hi}};
-  else
-    st.p = {{-p_hi, -p_lo}, {p_lo, p_hi}};
-  st.tau_lo = 0, st.tau_hi = scene.creation_window;
-  return st;
-}
-
-namespace {
-
-/// The clock of one model (the stadium's Model or any table's TableModel), shared by every thread that calls it.
-template <class M>
-EscapeClock model_clock(std::shared_ptr<const M> m) {
-  return [m](const IcPoint& x) {
-    InitialDraw d;
-    d.s = x.s, d.p = x.p, d.tau = x.tau;
-    NoCollisionObserver<double> none;
-    const ParticleEnd e = run_particle(*m, initial_state(*m, d), none);
-    IcEnd out;
-    out.collisions = e.collisions;
-    if (e.fate != Fate::survived) out.t = e.t, out.stuck = e.fate == Fate::stuck;
-    return out;
-  };
-}
-
-}  // namespace
-
-EscapeClock scene_clock(const Scene& scene) {
-  if (scene.on_table())
-    return model_clock(std::make_shared<const TableModel<double>>(table_spec(scene), leak_specs(scene), scene.t_max));
-  return model_clock(std::make_shared<const Model<double>>(Model<double>::from(scene)));
-}
-
-IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, const IcPoint& x, const double* u) {
-  // One halving j for the three coordinates, the step uniform in [-extent 2^-j, extent 2^-j), taken in the
-  // coordinates that lay the stratum's intervals end to end (a translation on each: the uniform law's density
-  // stays 1, so a symmetric step there is symmetric for it); s wraps round, p and tau do not.
-  const int j = scales.halving(u[0]);
-  const auto step = [j](double extent, double v) { return std::ldexp(extent, -j) * (2 * v - 1); };
-  const double ls = total(stratum.s), lp = total(stratum.p);
-  double a = packed(stratum.s, x.s) + step(scales.s, u[1]);
-  a = a - ls * std::floor(a / ls);
-  const double b = packed(stratum.p, x.p) + step(scales.p, u[2]);
-  IcPoint y = x;
-  y.s = a < ls ? unpacked(stratum.s, a) : stratum.s.front().first;
-  y.p = b < 0 || b >= lp ? 2.0 : unpacked(stratum.p, b);  // 2: outside every stratum, refused
-  if (stratum.tau_hi > stratum.tau_lo) y.tau = x.tau + step(scales.tau, u[3]);
-  return y;
-}
-
-int IcScales::halving(double u0) const {
-  return lo + std::min(halvings - lo, static_cast<int>(u0 * (halvings - lo + 1)));
-}
-
-double IcScales::step(double extent) const { return std::ldexp(extent, -(lo + halvings) / 2); }
-
-bool IcScales::resolved(const IcStratum& st) const {
-  // 2^8 ulps of the largest magnitude in each coordinate
-  const auto ulps = [](double extent, double big) {
-    return extent == 0 || extent >= std::ldexp(big - std::nextafter(big, 0.0), 8);
-  };
-  const double s_big = st.s.back().second, p_big = std::max(std::abs(st.p.front().first), std::abs(st.p.back().second));
-  return ulps(step(s), s_big) && ulps(step(p), p_big) && ulps(st.tau_hi > st.tau_lo ? step(tau) : 0, st.tau_hi);
-}
-
 double IcSplitRun::unresolved_from() const {
   for (std::size_t j = 0; j < scales.size() && j < levels.size(); ++j)
-    if (!scales[j].resolved(stratum)) return levels[j];
+    if (!scales[j].resolved(stratum, j >= handover ? ic_tier_bits(spec.deep_tier) : 53)) return levels[j];
   return std::numeric_limits<double>::infinity();
 }
 
@@ -372,23 +259,55 @@ std::uint64_t IcSplitRun::collisions() const {
 
 namespace {
 
+/// The hand-over to the deep clock at `level`: the starts `e` of `st` outliving it in double timed again by `deep`,
+/// those it finds not to outlive it dropped. Returns the collisions; counts the starts and the disagreements.
+std::uint64_t hand_over(const EscapeClock& deep, const IcSplitSpec& spec, Stage& st, std::vector<std::size_t>& e,
+                        double level, std::uint64_t& handed, std::uint64_t& disagreed) {
+  const int threads = stage_threads(spec);
+  std::vector<Stage> by_thread(static_cast<std::size_t>(threads));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < e.size(); ++k) {
+    Stage& mine = by_thread[static_cast<std::size_t>(omp_get_thread_num())];
+    State& x = st.states[e[k]];
+    x.T = timed(deep, x.x, mine).t;
+  }
+  std::uint64_t c = 0;
+  for (const Stage& b : by_thread) c += b.collisions, st.stuck += b.stuck;
+  handed += e.size();
+  std::vector<std::size_t> kept;
+  for (std::size_t k : e)
+    if (st.states[k].T > level) kept.push_back(k);
+  disagreed += e.size() - kept.size();
+  e.swap(kept);
+  return c;
+}
+
 /// A fixed-effort run (every stage `starts` states, the chains spread evenly over the starts outliving the level) in
 /// replicate stream r: `level_of(j, stage)` names level j + 1 (NaN: stop) and `scales_of(j, stage, elites)` its
-/// chains' scales; `after(j, chains)` sees the stage its chains made. Returns the collisions.
-template <class LevelOf, class ScalesOf, class After>
-std::uint64_t fixed_effort(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
-                           std::uint64_t seed, std::uint64_t r, const IcPropose& propose, LevelOf level_of,
-                           ScalesOf scales_of, After after) {
+/// chains' scales; from the first j that `go_deep(j, scales)` says (with a deep clock) the deep clock times them, its
+/// elites handed over first; `elites(j, stage, e)` sees the starts outliving the level and `after(j, chains)` the
+/// stage its chains made. Returns the collisions.
+template <class LevelOf, class ScalesOf, class GoDeep, class Elites, class After>
+std::uint64_t fixed_effort(const EscapeClock& clock, const EscapeClock& deep, const IcStratum& stratum,
+                           const IcSplitSpec& spec, std::uint64_t seed, std::uint64_t r, const IcPropose& propose,
+                           LevelOf level_of, ScalesOf scales_of, GoDeep go_deep, Elites elites, After after) {
   Stage st = first_stage(clock, stratum, spec, seed, r);
-  std::uint64_t c = st.collisions;
+  std::uint64_t c = st.collisions, handed = 0, disagreed = 0;
+  bool deep_on = false;
   for (std::size_t j = 0; !st.states.empty(); ++j) {
     const double level = level_of(j, st);
     if (std::isnan(level)) break;
-    const std::vector<std::size_t> e = outliving(st, level);
+    std::vector<std::size_t> e = outliving(st, level);
     if (e.empty()) break;
     const IcScales sc = scales_of(j, st, e);
-    st = next_stage(clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), level, sc, j + 1, seed, r,
-                    propose);
+    if (!deep_on && deep && go_deep(j, sc)) {
+      deep_on = true;
+      c += hand_over(deep, spec, st, e, level, handed, disagreed);
+      if (e.empty()) break;
+    }
+    elites(j, st, e);
+    st = next_stage(deep_on ? deep : clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), level, sc, j + 1,
+                    seed, r, propose);
     c += st.collisions;
     after(j, st);
   }
@@ -406,15 +325,20 @@ void centre(IcScales& sc, int c, int w, int top) {
 
 }  // namespace
 
-IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
-                 std::uint64_t seed, const IcPropose& propose) {
+namespace {
+
+/// The first pilot: levels at the 1 / factor quantile, each level's extents from the starts outliving it, its window
+/// moved to where its chains moved most (the next level's chains start from there); the hand-over frozen at the first
+/// level it timed with the deep clock, or whose frozen window falls below 2^handover_bits double ulps.
+IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
+                    std::uint64_t seed, const IcPropose& propose, const EscapeClock& deep) {
   const int top = std::max(0, spec.scale_halvings), w = std::max(0, spec.window);
   IcPilot out;
-  // first: levels at the 1 / factor quantile, each level's extents from the starts outliving it, its window moved to
-  // where its chains moved most (the next level's chains start from there)
+  std::size_t first_deep = std::numeric_limits<std::size_t>::max();
+  const auto falls = [&](const IcScales& sc) { return !sc.holds(stratum, 53, spec.handover_bits); };
   int at = -1;  // the centre the next level's chains try; -1: every halving
   out.collisions = fixed_effort(
-      clock, stratum, spec, seed, kPilot, propose,
+      clock, deep, stratum, spec, seed, kPilot, propose,
       [&](std::size_t, const Stage& st) {
         if (static_cast<int>(out.levels.size()) >= spec.max_levels) return std::nan("");
         const double level = quantile_level(st, spec.factor, t_max);
@@ -431,6 +355,12 @@ IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
         out.scales.push_back(sc);
         return sc;
       },
+      [&](std::size_t j, const IcScales& sc) {
+        if (!falls(sc)) return false;
+        first_deep = std::min(first_deep, j);
+        return true;
+      },
+      [](std::size_t, const Stage&, const std::vector<std::size_t>&) {},
       [&](std::size_t j, const Stage& chains) {
         // the halving that moved most (the shallowest of equals); none moved: the window stays
         const auto best = std::max_element(chains.moved.begin(), chains.moved.end());
@@ -439,31 +369,46 @@ IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
         centre(out.scales[j], at, w, top);
       });
   out.scales.resize(out.levels.size());
-  // second, on the frozen levels and scales, in a stream of its own (kPilot - 1): each level's share outliving it
+  out.handover = out.levels.size();
+  if (deep)
+    for (std::size_t j = 0; j < out.levels.size(); ++j)
+      if (j >= first_deep || falls(out.scales[j])) {
+        out.handover = j;
+        break;
+      }
+  return out;
+}
+
+}  // namespace
+
+IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
+                 std::uint64_t seed, const IcPropose& propose, const EscapeClock& deep) {
+  IcPilot out = first_pilot(clock, stratum, spec, t_max, seed, propose, deep);
+  // second, on the frozen levels, scales and hand-over, in a stream of its own (kPilot - 1): each level's share
+  // outliving it (the levels past the last it reaches are never reached: the replicates' stages die out there)
   std::uint64_t c = fixed_effort(
-      clock, stratum, spec, seed, kPilot - 1, propose,
-      [&](std::size_t j, const Stage& st) {
-        if (j >= out.levels.size()) return std::nan("");
-        const std::size_t e = outliving(st, out.levels[j]).size();
-        if (e == 0) return std::nan("");  // the levels past here are never reached: the replicates' stages die out
+      clock, deep, stratum, spec, seed, kPilot - 1, propose,
+      [&](std::size_t j, const Stage&) { return j < out.levels.size() ? out.levels[j] : std::nan(""); },
+      [&](std::size_t j, const Stage&, const std::vector<std::size_t>&) { return out.scales[j]; },
+      [&](std::size_t j, const IcScales&) { return j >= out.handover; },
+      [&](std::size_t, const Stage& st, const std::vector<std::size_t>& e) {
         // at most 4 factor: the level sits at the first pilot's 1 / factor quantile, so a share below a quarter of
         // that is the second pilot's noise, whose inverse would grow a replicate's stages without end where the
         // share is larger
         out.factors.push_back(
-            std::min(4.0 * spec.factor, static_cast<double>(st.states.size()) / static_cast<double>(e)));
-        return out.levels[j];
+            std::min(4.0 * spec.factor, static_cast<double>(st.states.size()) / static_cast<double>(e.size())));
       },
-      [&](std::size_t j, const Stage&, const std::vector<std::size_t>&) { return out.scales[j]; },
       [](std::size_t, const Stage&) {});
   out.collisions += c;
   out.levels.resize(out.factors.size());
   out.scales.resize(out.factors.size());
+  out.handover = std::min(out.handover, out.levels.size());
   return out;
 }
 
 IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
                          const IcPilot& pilot, const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
-                         const IcPropose& propose) {
+                         const IcPropose& propose, const EscapeClock& deep) {
   const std::vector<double>& levels = pilot.levels;
   const std::vector<double>& factors = pilot.factors;
   if (factors.size() < levels.size() || pilot.scales.size() < levels.size())
@@ -499,14 +444,17 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
     }
     if (j == levels.size()) break;
     std::vector<std::size_t> e = outliving(st, levels[j]);
+    if (deep && j == pilot.handover)
+      out.collisions += hand_over(deep, spec, st, e, levels[j], out.handed_over, out.handover_disagreed);
     thin_elites(e, st, factors[j], kIcThinAbove * spec.starts, seed, r, j + 1);
     if (e.empty()) {  // died out: every later time reads 0 at the next stage
       for (std::size_t i = 0; i < t.size(); ++i)
         if (t[i] >= to) out.stage[i] = static_cast<int>(j + 1), out.alive[i] = 0, out.alive_w[i] = 0;
       break;
     }
-    st = next_stage(clock, stratum, spec, st, e, random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j],
-                    pilot.scales[j], j + 1, seed, r, propose);
+    st = next_stage(deep && j >= pilot.handover ? deep : clock, stratum, spec, st, e,
+                    random_lengths(e.size(), factors[j], seed, r, j + 1), levels[j], pilot.scales[j], j + 1, seed, r,
+                    propose);
   }
   return out;
 }
@@ -531,19 +479,19 @@ SurvivalCurve ic_curve(const IcSplitRun& run) {
 
 IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
                     const std::vector<double>& t, double t_max, std::uint64_t seed,
-                    const std::function<void(int, int)>& progress, const IcPropose& propose) {
+                    const std::function<void(int, int)>& progress, const IcPropose& propose, const EscapeClock& deep) {
   if (spec.starts == 0 || spec.factor < 2 || spec.replicates < 1)
     throw std::invalid_argument("ic_split: needs starts > 0, factor >= 2 and replicates >= 1");
   IcSplitRun run;
   run.spec = spec;
   run.stratum = stratum;
   run.t = t;
-  const IcPilot pilot = ic_pilot(clock, stratum, spec, t_max, seed, propose);
-  run.levels = pilot.levels, run.factors = pilot.factors, run.scales = pilot.scales;
+  const IcPilot pilot = ic_pilot(clock, stratum, spec, t_max, seed, propose, deep);
+  run.levels = pilot.levels, run.factors = pilot.factors, run.scales = pilot.scales, run.handover = pilot.handover;
   run.pilot_collisions = pilot.collisions;
   for (int r = 0; r < spec.replicates; ++r) {
     run.replicates.push_back(
-        ic_replicate(clock, stratum, spec, pilot, t, seed, static_cast<std::uint64_t>(r), propose));
+        ic_replicate(clock, stratum, spec, pilot, t, seed, static_cast<std::uint64_t>(r), propose, deep));
     if (progress) progress(r + 1, spec.replicates);
   }
   return run;
@@ -554,8 +502,10 @@ IcSplitRun run_start_splitting(const Scene& scene, int threads, const std::funct
   IcSplitSpec spec;
   spec.starts = scene.particles, spec.replicates = g.replicates, spec.factor = g.factor, spec.moves = g.moves;
   spec.scale_halvings = g.halvings, spec.window = g.window, spec.threads = threads;
+  spec.deep_tier = g.deep_tier, spec.handover_bits = g.handover_bits;
+  const EscapeClock deep = g.deep_tier == TierKind::double_ ? EscapeClock{} : scene_clock(scene, g.deep_tier);
   return ic_split(scene_clock(scene), ic_stratum(scene, g.p_lo, g.p_hi, g.edges), spec, survival_times(scene),
-                  scene.t_max, scene.seed, progress);
+                  scene.t_max, scene.seed, progress, symmetric_proposal, deep);
 }
 
 }  // namespace rotleak

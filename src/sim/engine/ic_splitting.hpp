@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "numeric/tier.hpp"
 #include "sim/tally/survival.hpp"
 
 namespace rotleak {
@@ -24,9 +25,11 @@ namespace rotleak {
 struct Scene;
 
 /// A start: the Birkhoff point (s a share of the whole boundary, p the sine of the angle to the normal) and the
-/// creation time tau.
+/// creation time tau, each a double-double hi + lo (|lo| at most half an ulp of hi): the chains move starts below a
+/// double's ulp, where only a clock in a wider tier tells them apart (a double clock runs hi).
 struct IcPoint {
   double s = 0, p = 0, tau = 0;
+  double s_lo = 0, p_lo = 0, tau_lo = 0;
 };
 
 /// The starts the sampler draws: s in a union of intervals of [0, 1], p in a union of intervals of [-1, 1], tau in
@@ -41,6 +44,11 @@ struct IcStratum {
   double share() const;
   /// The uniform draw from three uniform doubles in [0, 1).
   IcPoint at(double us, double up, double ut) const;
+  /// The lengths of s's and of p's intervals laid end to end, and a point's place there.
+  double s_length() const;
+  double p_length() const;
+  double s_packed(double x) const;
+  double p_packed(double x) const;
 };
 
 /// The scene's stratum: s over the whole boundary (or, with `edges`, the stadium's two straight edges), |p| in
@@ -60,6 +68,10 @@ struct IcSplitSpec {
   int moves = 10;        ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
   int threads = 0;       ///< OpenMP threads of each stage (0: OpenMP's default)
+  /// The tier of the deep clock (ic_split's `deep`; its bits decide where the moves are resolved), double: none.
+  TierKind deep_tier = TierKind::double_;
+  /// The hand-over: from the first level whose window's central steps fall below 2^handover_bits double ulps.
+  int handover_bits = 20;
 };
 
 /// A start's end: its escape time (infinity for a survivor of t_max) and its collisions.
@@ -70,8 +82,11 @@ struct IcEnd {
 };
 using EscapeClock = std::function<IcEnd(const IcPoint&)>;
 
-/// The escape clock of a scene: its table and leaks in double, its fast-forward, to its t_max (thread-safe).
-EscapeClock scene_clock(const Scene& scene);
+/// The escape clock of a scene: its table and leaks in `tier` (double, dd or float128), its fast-forward, to its t_max
+/// (thread-safe).
+EscapeClock scene_clock(const Scene& scene, TierKind tier = TierKind::double_);
+/// A tier's significand bits: 53, 106 (dd) or 113 (float128).
+int ic_tier_bits(TierKind tier);
 
 /// A level's proposal scales: an extent in each coordinate (s and p laid end to end over the stratum's intervals) and
 /// the halvings j in lo .. halvings below it. The replicates' are frozen from the pilot: a kernel that depends on the
@@ -83,10 +98,13 @@ struct IcScales {
   int halving(double u0) const;
   /// The step 2^-j of an extent, at the window's centre.
   double step(double extent) const;
-  /// Whether the centre's steps are resolved by double starts: at least 2^8 ulps of the stratum's largest s, |p| and
-  /// tau in each coordinate. Below that the chains' moves are rounding, and T(x0) in double is no longer a function
-  /// of x0 alone (the trajectory's stretch times the unit roundoff is near 1: docs/model.md).
-  bool resolved(const IcStratum& stratum) const;
+  /// Whether the centre's steps are at least 2^margin ulps, in a tier of `bits` significand bits, of the stratum's
+  /// largest s, |p| and tau in each coordinate. The chains find their moves where a move just changes the trajectory
+  /// by the level, so a step of 2^margin ulps says the trajectory's stretch to the level times the tier's unit
+  /// roundoff is about 2^-margin: margin 8, resolved (below it T(x0) in that tier is no longer a function of x0 alone,
+  /// docs/model.md); IcSplitSpec::handover_bits, where a double clock hands over to a wider one.
+  bool holds(const IcStratum& stratum, int bits, int margin) const;
+  bool resolved(const IcStratum& stratum, int bits = 53) const { return holds(stratum, bits, 8); }
 };
 
 /// A proposal kernel: the next proposal from state x and four uniform doubles u[0..3] in [0, 1). Its default is the
@@ -103,6 +121,9 @@ struct IcReplicate {
   std::vector<double> alive_w;
   std::vector<std::uint64_t> population;  ///< each stage's states
   std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
+  /// At the hand-over to the deep clock: the starts outliving the level in double that the deep clock timed again,
+  /// and those of them it found not to (dropped: past the hand-over T is the deep clock's).
+  std::uint64_t handed_over = 0, handover_disagreed = 0;
 };
 
 /// A replicate's stage budget, in starts: where the starts outliving a level would seed more states than this many
@@ -119,7 +140,9 @@ struct IcSplitRun {
   /// over the share outliving it in a second pilot on the frozen levels, so that a stage holds about `starts`).
   std::vector<double> factors;
   std::vector<IcScales> scales;  ///< level j + 1's chains' proposal scales, frozen from the pilot
-  std::vector<double> t;         ///< the grid
+  /// The first level timed by the deep clock (levels.size(): none): from there on every start's T is the deep tier's.
+  std::size_t handover = 0;
+  std::vector<double> t;  ///< the grid
   std::vector<IcReplicate> replicates;
   std::uint64_t pilot_collisions = 0;
 
@@ -136,10 +159,12 @@ struct IcSplitRun {
   std::uint64_t collisions() const;
 };
 
-/// What the pilots freeze: levels, each level's proposal scales and splitting factor.
+/// What the pilots freeze: levels, each level's proposal scales and splitting factor, and the level from which the
+/// deep clock times the starts (levels.size(): none).
 struct IcPilot {
   std::vector<double> levels, factors;
   std::vector<IcScales> scales;
+  std::size_t handover = 0;
   std::uint64_t collisions = 0;
 };
 
@@ -150,14 +175,18 @@ struct IcPilot {
 /// chains try every halving, each later level's start from the window of the level before). Then the factors: one
 /// over each level's share outliving it in a second fixed-effort pilot on the frozen levels and scales (replicate
 /// index -2); the levels it did not reach are dropped.
+/// With a `deep` clock the starts are timed by it from the first level whose window's steps fall below
+/// 2^handover_bits double ulps (IcScales::holds): in the first pilot from the level after the one that fell below, in
+/// the second pilot and the replicates from that level itself, the starts outliving it in double timed again by the
+/// deep clock.
 IcPilot ic_pilot(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, double t_max,
-                 std::uint64_t seed, const IcPropose& propose = symmetric_proposal);
+                 std::uint64_t seed, const IcPropose& propose = symmetric_proposal, const EscapeClock& deep = {});
 
 /// Replicate r with the pilot's frozen levels, scales and factors, on grid t: generalized splitting proper, each start
 /// outliving level j seeding floor(f_j) or floor(f_j) + 1 chain states (the latter with probability frac(f_j)).
 IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
                          const IcPilot& pilot, const std::vector<double>& t, std::uint64_t seed, std::uint64_t r,
-                         const IcPropose& propose = symmetric_proposal);
+                         const IcPropose& propose = symmetric_proposal, const EscapeClock& deep = {});
 
 /// The run's survival curve (SurvivalCurve::replicated) on its grid: the replicates' mean and error, their states
 /// alive, G.
@@ -166,7 +195,8 @@ SurvivalCurve ic_curve(const IcSplitRun& run);
 /// Pilot, then every replicate; `progress` (may be empty) after each replicate: done, of.
 IcSplitRun ic_split(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec,
                     const std::vector<double>& t, double t_max, std::uint64_t seed,
-                    const std::function<void(int, int)>& progress = {}, const IcPropose& propose = symmetric_proposal);
+                    const std::function<void(int, int)>& progress = {}, const IcPropose& propose = symmetric_proposal,
+                    const EscapeClock& deep = {});
 
 /// A scene's run (scene.start_splitting on): its stratum, ensemble.particles starts a replicate, its seed, the
 /// survival grid to its t_max, on `threads` (0: OpenMP's default); `progress` after each replicate.

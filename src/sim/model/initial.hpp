@@ -21,6 +21,10 @@ struct InitialDraw {
   double x = 0, y = 0, u = 0;  ///< flow start: position and direction angle 2*pi*u (init = flow)
   double tau = 0;              ///< creation time
   bool flow = false;
+  /// Low parts of a double-double Birkhoff start (s + s_lo, p + p_lo, tau + tau_lo), for a tier wider than double
+  /// (splitting over initial conditions moves starts below a double's ulp); 0 for every double start. Last, so that
+  /// the draws written field by field stay as they were.
+  double s_lo = 0, p_lo = 0, tau_lo = 0;
 };
 
 class InitialConditions {
@@ -111,15 +115,23 @@ struct ParticleState {
 
 /// The same on any table: a Birkhoff start's s is a share of the whole boundary (Table::loop_s), its p taken about
 /// that point's inward normal; a flow start's direction is the angle 2 pi u.
+/// A start coordinate in tier R: hi, plus its low part where it has one (a double start's bits unchanged).
+template <class R>
+ROTLEAK_HD R start_coordinate(double hi, double lo) {
+  R x = R(hi);
+  if (lo != 0) x += R(lo);
+  return x;
+}
+
 template <class R>
 ROTLEAK_HD ParticleState<R> initial_state(const Table<R>& table, const InitialDraw& dr) {
   ParticleState<R> ps;
-  ps.t = R(dr.tau);
+  ps.t = start_coordinate<R>(dr.tau, dr.tau_lo);
   if (!dr.flow) {
-    const auto [loop, s] = table.loop_s(R(dr.s));
+    const auto [loop, s] = table.loop_s(start_coordinate<R>(dr.s, dr.s_lo));
     const TableFrame<R> f = table.at(loop, s);
     ps.q = f.q;
-    ps.v = table.velocity(f, R(dr.p));
+    ps.v = table.velocity(f, start_coordinate<R>(dr.p, dr.p_lo));
   } else {
     const auto sc = formula::tier_sin_cos(formula::flow_angle(table.pi(), R(dr.u)));
     ps.q = {R(dr.x), R(dr.y)};
@@ -131,11 +143,11 @@ ROTLEAK_HD ParticleState<R> initial_state(const Table<R>& table, const InitialDr
 template <class R>
 ROTLEAK_HD ParticleState<R> initial_state(const Stadium<R>& st, const InitialDraw& dr) {
   ParticleState<R> ps;
-  ps.t = R(dr.tau);
+  ps.t = start_coordinate<R>(dr.tau, dr.tau_lo);
   if (!dr.flow) {
-    const BoundaryPoint<R> b = st.at(R(dr.s));
+    const BoundaryPoint<R> b = st.at(start_coordinate<R>(dr.s, dr.s_lo));
     ps.q = b.q;
-    ps.v = st.velocity(b, R(dr.p));
+    ps.v = st.velocity(b, start_coordinate<R>(dr.p, dr.p_lo));
   } else {
     const auto sc = Stadium<R>::sin_cos(formula::flow_angle(st.pi(), R(dr.u)));
     ps.q = {R(dr.x), R(dr.y)};

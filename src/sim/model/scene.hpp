@@ -68,6 +68,9 @@ struct StartSplitSpec {
   int moves = 10;       ///< Metropolis moves between two kept states of a chain
   int halvings = 60;    ///< proposal scales 2^-j of a level's extent, j in 0 .. halvings
   int window = 5;       ///< j over 2 window + 1 halvings, centred where the pilot's chains moved most
+  /// The clock past the level where double stops resolving the moves: dd, float128, or double (none).
+  TierKind deep_tier = TierKind::dd;
+  int handover_bits = 20;  ///< hand over where a level's moves fall below 2^handover_bits double ulps
   double p_lo = 0, p_hi = 1;
   bool edges = false;
 };
