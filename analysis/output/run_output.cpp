@@ -61,21 +61,17 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
   const StartSplitSpec& g = scene.start_splitting;
   std::uint64_t proposals = 0, accepted = 0, stuck = 0;
   for (const IcReplicate& r : run.replicates) proposals += r.proposals, accepted += r.accepted, stuck += r.stuck;
-  json j = {{"replicates", g.replicates},
-            {"starts", scene.particles},
-            {"factor", g.factor},
-            {"moves", g.moves},
-            {"halvings", g.halvings},
-            {"window", g.window},
-            {"deep_tier", Tier{g.deep_tier, 0}.name()},
-            {"handover_bits", g.handover_bits},
-            {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", run.stratum.share()}}},
-            {"levels", run.levels},
-            {"factors", run.factors},
-            {"pilot_collisions", run.pilot_collisions},
-            {"proposals", proposals},
-            {"accepted", accepted},
-            {"stuck", stuck}};
+  // the scene's keys as the scene writes them (but on, and p and edges, which the stratum names)
+  json j = scene_json(scene).at("start_splitting");
+  for (const char* k : {"on", "p", "edges"}) j.erase(k);
+  j.update(json{{"starts", scene.particles},
+                {"stratum", {{"p", {g.p_lo, g.p_hi}}, {"edges", g.edges}, {"share", run.stratum.share()}}},
+                {"levels", run.levels},
+                {"factors", run.factors},
+                {"pilot_collisions", run.pilot_collisions},
+                {"proposals", proposals},
+                {"accepted", accepted},
+                {"stuck", stuck}});
   // each level's halvings and whether double resolves its moves; past the first that it does not, P is the double
   // clock's (null: every level resolved)
   json windows = json::array();
