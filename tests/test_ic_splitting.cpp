@@ -78,6 +78,17 @@ TEST(IcSplitting, ReadsAClosedFormLawDownTo1e22WithinItsErrors) {
     EXPECT_LT(e / P, 0.25);  // resolved: a quarter of P at most, 1.4e-22 at t_max
   }
   EXPECT_LT(box_P(t.back()), 2e-22);
+  // the genealogy: stage 0's every start its own ancestor, a chain's states its seed's, so the count never grows
+  for (const IcReplicate& r : run.replicates) {
+    ASSERT_EQ(r.ancestors.size(), r.population.size());
+    EXPECT_EQ(r.ancestors[0], 1000u);
+    for (std::size_t j = 1; j < r.ancestors.size(); ++j) {
+      EXPECT_LE(r.ancestors[j], r.ancestors[j - 1]);
+      EXPECT_GE(r.ancestors[j], 1u);
+      EXPECT_LE(r.stage_accepted[j], r.stage_proposals[j]);
+    }
+    EXPECT_LT(r.ancestors.back(), r.ancestors[1]);  // 22 levels of a shrinking box: fewer lines behind the last
+  }
 }
 
 // The converse: the same run with the pulled kernel reads the deep tail high by many of its errors.
@@ -183,6 +194,7 @@ TEST(IcSplitting, TheStadiumsPIsPlainMonteCarlosAndTheBitsDoNotDependOnThreads) 
   for (std::size_t r = 0; r < one.replicates.size(); ++r) {
     EXPECT_EQ(one.replicates[r].alive, two.replicates[r].alive);
     EXPECT_EQ(one.replicates[r].collisions, two.replicates[r].collisions);
+    EXPECT_EQ(one.replicates[r].ancestors, two.replicates[r].ancestors);
   }
   ASSERT_GE(one.levels.size(), 1u);
   for (std::size_t i = 1; i < c.t.size(); ++i) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string_view>
@@ -78,7 +79,19 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
   for (std::size_t k = 0; k < run.scales.size(); ++k) {
     const IcScales& sc = run.scales[k];
     const int bits = k >= run.handover ? ic_tier_bits(run.spec.deep_tier) : 53;
-    windows.push_back({{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum, bits)}});
+    json w = {{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum, bits)}};
+    // its chains (stage k + 1 of the replicates that reached it): the share of proposals accepted, and the fewest and
+    // mean distinct stage-0 starts behind the stage
+    std::uint64_t prop = 0, acc = 0, fewest = std::numeric_limits<std::uint64_t>::max(), sum = 0, reached = 0;
+    for (const IcReplicate& r : run.replicates)
+      if (k + 1 < r.ancestors.size()) {
+        prop += r.stage_proposals[k + 1], acc += r.stage_accepted[k + 1];
+        fewest = std::min(fewest, r.ancestors[k + 1]), sum += r.ancestors[k + 1], ++reached;
+      }
+    w["acceptance"] = prop ? json(static_cast<double>(acc) / static_cast<double>(prop)) : json(nullptr);
+    w["ancestors"] = reached ? json{{"fewest", fewest}, {"mean", static_cast<double>(sum) / static_cast<double>(reached)}}
+                             : json(nullptr);
+    windows.push_back(w);
   }
   j["windows"] = windows;
   // the hand-over to the deep clock: its level (null: none), the starts it timed again there and those it dropped
@@ -363,6 +376,17 @@ void population_lines(std::string& out, const RunSummary& r) {
                 static_cast<unsigned long long>(handed), static_cast<unsigned long long>(disagreed),
                 Tier{run->spec.deep_tier, 0}.name().c_str());
       }
+      // the genealogy: the level whose stage rests on the fewest stage-0 starts in some replicate
+      std::size_t worst = 0;
+      std::uint64_t fewest = std::numeric_limits<std::uint64_t>::max();
+      for (const IcReplicate& x : run->replicates)
+        for (std::size_t k = 1; k < x.ancestors.size(); ++k)
+          if (x.ancestors[k] < fewest) fewest = x.ancestors[k], worst = k;
+      if (fewest < 10)
+        appendf(out,
+                "start splitting: past t = %.0f a replicate's states descend from %llu stage-0 start%s: its P there "
+                "rests on few independent draws (more starts or moves; the spread of the replicates stays honest)\n",
+                run->levels[worst - 1], static_cast<unsigned long long>(fewest), fewest == 1 ? "" : "s");
       if (std::isfinite(run->unresolved_from()))
         appendf(out,
                 "start splitting: past t = %.0f the moves are below 2^8 ulps of the clock's tier: P there is that "

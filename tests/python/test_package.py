@@ -485,6 +485,13 @@ class Package(unittest.TestCase):
         self.assertEqual(len(g["factors"]), len(g["levels"]))
         self.assertEqual(g["levels"], sorted(g["levels"]))
         self.assertLessEqual(g["accepted"], g["proposals"])
+        # each level's window and its chains' genealogy: acceptance a share, ancestors at most a stage's starts
+        self.assertEqual(len(g["windows"]), len(g["levels"]))
+        for w in g["windows"]:
+            if w["ancestors"] is None:
+                continue
+            self.assertTrue(0 <= w["acceptance"] <= 1)
+            self.assertTrue(1 <= w["ancestors"]["fewest"] <= w["ancestors"]["mean"] <= 500)
         with open(os.path.join(out, "survival.csv"), newline="") as f:
             rows = list(csv.DictReader(f))
         self.assertEqual(list(rows[0]), ["t", "survivors", "P", "P_err"])

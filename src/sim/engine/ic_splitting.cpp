@@ -41,6 +41,7 @@ struct State {
   IcPoint x;
   double T = 0;
   int thin = 0;  ///< roulette halvings on its way: it stands for 2^thin states
+  std::uint64_t origin = 0;  ///< the stage-0 start its chain descends from (the genealogy's diagnostic)
 };
 
 struct Stage {
@@ -78,7 +79,7 @@ Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSp
     double u[4];
     words(seed, r, 0, i, 0, u);
     const IcPoint x = stratum.at(u[0], u[1], u[2]);
-    out.states[i] = {x, timed(clock, x, mine).t};
+    out.states[i] = {x, timed(clock, x, mine).t, 0, i};
   }
   for (const Stage& s : by_thread) out.collisions += s.collisions, out.stuck += s.stuck;
   return out;
@@ -200,6 +201,15 @@ void thin_elites(std::vector<std::size_t>& e, Stage& st, double factor, std::uin
     }
     e.swap(kept);
   }
+}
+
+/// The distinct stage-0 starts a stage's states descend from.
+std::uint64_t ancestors(const Stage& st) {
+  std::vector<std::uint64_t> o;
+  o.reserve(st.states.size());
+  for (const State& s : st.states) o.push_back(s.origin);
+  std::sort(o.begin(), o.end());
+  return static_cast<std::uint64_t>(std::unique(o.begin(), o.end()) - o.begin());
 }
 
 /// The T that a share 1 / factor of the states outlive (the largest such T among them), or t_max when at least
@@ -420,6 +430,8 @@ IcReplicate ic_replicate(const EscapeClock& clock, const IcStratum& stratum, con
   Stage st = first_stage(clock, stratum, spec, seed, r);
   for (std::size_t j = 0;; ++j) {
     out.population.push_back(st.states.size());
+    out.stage_proposals.push_back(st.proposals), out.stage_accepted.push_back(st.accepted);
+    out.ancestors.push_back(ancestors(st));
     out.collisions += st.collisions, out.stuck += st.stuck;
     out.proposals += st.proposals, out.accepted += st.accepted;
     // the grid times this stage answers: from its level to the next

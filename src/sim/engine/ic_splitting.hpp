@@ -120,6 +120,10 @@ struct IcReplicate {
   std::vector<std::uint64_t> alive;
   std::vector<double> alive_w;
   std::vector<std::uint64_t> population;  ///< each stage's states
+  /// Each stage's chains' proposals and accepted moves (0 for stage 0), and the distinct stage-0 starts its states
+  /// descend from: where that falls to a few, the stages' P rests on a few independent draws (the genealogy
+  /// collapses) and the replicates' spread, still honest, grows.
+  std::vector<std::uint64_t> stage_proposals, stage_accepted, ancestors;
   std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
   /// At the hand-over to the deep clock: the starts outliving the level in double that the deep clock timed again,
   /// and those of them it found not to (dropped: past the hand-over T is the deep clock's).
