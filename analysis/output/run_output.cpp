@@ -89,8 +89,9 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
         fewest = std::min(fewest, r.ancestors[k + 1]), sum += r.ancestors[k + 1], ++reached;
       }
     w["acceptance"] = prop ? json(static_cast<double>(acc) / static_cast<double>(prop)) : json(nullptr);
-    w["ancestors"] = reached ? json{{"fewest", fewest}, {"mean", static_cast<double>(sum) / static_cast<double>(reached)}}
-                             : json(nullptr);
+    w["ancestors"] = reached
+                         ? json{{"fewest", fewest}, {"mean", static_cast<double>(sum) / static_cast<double>(reached)}}
+                         : json(nullptr);
     windows.push_back(w);
   }
   j["windows"] = windows;

@@ -40,7 +40,7 @@ void words(std::uint64_t seed, std::uint64_t r, std::uint64_t stage, std::uint64
 struct State {
   IcPoint x;
   double T = 0;
-  int thin = 0;  ///< roulette halvings on its way: it stands for 2^thin states
+  int thin = 0;              ///< roulette halvings on its way: it stands for 2^thin states
   std::uint64_t origin = 0;  ///< the stage-0 start its chain descends from (the genealogy's diagnostic)
 };
 
