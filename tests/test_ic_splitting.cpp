@@ -69,7 +69,7 @@ IcPoint pulled(const IcStratum& st, const IcScales& sc, const IcPoint& x, const 
 TEST(IcSplitting, ReadsAClosedFormLawDownTo1e22WithinItsErrors) {
   const IcSplitRun run = box_run(symmetric_proposal);
   const std::vector<double>& t = run.t;
-  ASSERT_GE(run.levels.size(), 20u);  // ln(0.7 e^-50) / ln(1/10): 22 levels to t_max
+  ASSERT_GE(run.levels.size(), 30u);  // ln(0.7 e^-50) / ln(1/4): 36 levels to t_max
   for (std::size_t i = 0; i < t.size(); ++i) {
     SCOPED_TRACE("t = " + std::to_string(t[i]));
     const double P = box_P(t[i]), m = run.mean(i), e = run.error(i);
@@ -87,8 +87,12 @@ TEST(IcSplitting, ReadsAClosedFormLawDownTo1e22WithinItsErrors) {
       EXPECT_GE(r.ancestors[j], 1u);
       EXPECT_LE(r.stage_accepted[j], r.stage_proposals[j]);
     }
-    EXPECT_LT(r.ancestors.back(), r.ancestors[1]);  // 22 levels of a shrinking box: fewer lines behind the last
+    EXPECT_LT(r.ancestors.back(), r.ancestors[1]);  // 36 levels of a shrinking box: fewer lines behind the last
   }
+  const auto [fewest, from] = run.fewest_ancestors();
+  EXPECT_GE(fewest, 1u);
+  EXPECT_LE(fewest, run.replicates[0].ancestors.back());
+  EXPECT_GE(from, run.levels.front());
 }
 
 // The converse: the same run with the pulled kernel reads the deep tail high by many of its errors.

@@ -377,17 +377,11 @@ void population_lines(std::string& out, const RunSummary& r) {
                 static_cast<unsigned long long>(handed), static_cast<unsigned long long>(disagreed),
                 Tier{run->spec.deep_tier, 0}.name().c_str());
       }
-      // the genealogy: the level whose stage rests on the fewest stage-0 starts in some replicate
-      std::size_t worst = 0;
-      std::uint64_t fewest = std::numeric_limits<std::uint64_t>::max();
-      for (const IcReplicate& x : run->replicates)
-        for (std::size_t k = 1; k < x.ancestors.size(); ++k)
-          if (x.ancestors[k] < fewest) fewest = x.ancestors[k], worst = k;
-      if (fewest < 10)
+      if (const auto [fewest, from] = run->fewest_ancestors(); fewest > 0 && fewest < 10)
         appendf(out,
                 "start splitting: past t = %.0f a replicate's states descend from %llu stage-0 start%s: its P there "
-                "rests on few independent draws (more starts or moves; the spread of the replicates stays honest)\n",
-                run->levels[worst - 1], static_cast<unsigned long long>(fewest), fewest == 1 ? "" : "s");
+                "rests on few independent draws (more starts; the spread of the replicates stays honest)\n",
+                from, static_cast<unsigned long long>(fewest), fewest == 1 ? "" : "s");
       if (std::isfinite(run->unresolved_from()))
         appendf(out,
                 "start splitting: past t = %.0f the moves are below 2^8 ulps of the clock's tier: P there is that "

@@ -479,7 +479,7 @@ class Package(unittest.TestCase):
         with open(os.path.join(out, "summary.json")) as f:
             doc = json.load(f)
         g = doc["start_splitting"]
-        self.assertEqual((g["replicates"], g["starts"], g["factor"]), (4, 500, 10))
+        self.assertEqual((g["replicates"], g["starts"], g["factor"]), (4, 500, 4))  # factor: the default
         self.assertEqual(g["stratum"], {"p": [0.0, 1.0], "edges": False, "share": 1.0})
         self.assertGreaterEqual(len(g["levels"]), 1)
         self.assertEqual(len(g["factors"]), len(g["levels"]))

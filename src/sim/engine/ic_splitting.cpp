@@ -261,6 +261,14 @@ int IcSplitRun::nonzero(std::size_t i) const {
   return k;
 }
 
+std::pair<std::uint64_t, double> IcSplitRun::fewest_ancestors() const {
+  std::pair<std::uint64_t, double> out{0, 0};
+  for (const IcReplicate& x : replicates)
+    for (std::size_t k = 1; k < x.ancestors.size() && k <= levels.size(); ++k)
+      if (out.first == 0 || x.ancestors[k] < out.first) out = {x.ancestors[k], levels[k - 1]};
+  return out;
+}
+
 std::uint64_t IcSplitRun::collisions() const {
   std::uint64_t c = pilot_collisions;
   for (const IcReplicate& rep : replicates) c += rep.collisions;
@@ -346,7 +354,8 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
   IcPilot out;
   std::size_t first_deep = std::numeric_limits<std::size_t>::max();
   const auto falls = [&](const IcScales& sc) { return !sc.holds(stratum, 53, spec.handover_bits); };
-  int at = -1;  // the centre the next level's chains try; -1: every halving
+  int at = -1;                // the centre the next level's chains try; -1: every halving
+  std::vector<bool> centred;  // by level: its window centred where its chains moved
   out.collisions = fixed_effort(
       clock, deep, stratum, spec, seed, kPilot, propose,
       [&](std::size_t, const Stage& st) {
@@ -363,10 +372,12 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
         else
           centre(sc, at, w, top);
         out.scales.push_back(sc);
+        centred.push_back(at >= 0);
         return sc;
       },
       [&](std::size_t j, const IcScales& sc) {
-        if (!falls(sc)) return false;
+        // a window over every halving is no step's: only a centred one says where the moves lie
+        if (at < 0 || !falls(sc)) return false;
         first_deep = std::min(first_deep, j);
         return true;
       },
@@ -377,12 +388,13 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
         if (best == chains.moved.end() || *best == 0) return;
         at = static_cast<int>(best - chains.moved.begin());
         centre(out.scales[j], at, w, top);
+        centred[j] = true;
       });
   out.scales.resize(out.levels.size());
   out.handover = out.levels.size();
   if (deep)
     for (std::size_t j = 0; j < out.levels.size(); ++j)
-      if (j >= first_deep || falls(out.scales[j])) {
+      if (j >= first_deep || (j < centred.size() && centred[j] && falls(out.scales[j]))) {
         out.handover = j;
         break;
       }

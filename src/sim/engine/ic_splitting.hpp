@@ -57,15 +57,15 @@ IcStratum ic_stratum(const Scene& scene, double p_lo, double p_hi, bool edges);
 
 struct IcSplitSpec {
   std::uint64_t starts = 10000;  ///< stage 0's draws (and the pilot's), per replicate
-  int factor = 10;               ///< the pilot's levels: each outlived by a share 1 / factor of the stage before
+  int factor = 4;                ///< the pilot's levels: each outlived by a share 1 / factor of the stage before
   int replicates = 20;           ///< independent runs: their spread is P's error
   /// Proposal scales: a level's extent in each coordinate (the spread of the pilot's starts that outlive it) times
-  /// 2^-j, j uniform over a window of 2 window + 1 halvings within 0 .. scale_halvings (60: eighteen decades), centred
+  /// 2^-j, j uniform over a window of 2 window + 1 halvings within 0 .. scale_halvings (100: thirty decades), centred
   /// where the pilot's chains at that level moved most (an accepted move that changed T by more than 1); drawn
   /// independently of the state, and frozen from the pilot, so the proposal stays symmetric.
-  int scale_halvings = 60;
+  int scale_halvings = 100;
   int window = 5;
-  int moves = 10;        ///< Metropolis moves between two states a chain keeps
+  int moves = 2;         ///< Metropolis moves between two states a chain keeps
   int max_levels = 200;  ///< the pilot stops adding levels here
   int threads = 0;       ///< OpenMP threads of each stage (0: OpenMP's default)
   /// The tier of the deep clock (ic_split's `deep`; its bits decide where the moves are resolved), double: none.
@@ -161,6 +161,9 @@ struct IcSplitRun {
   /// clock's, whose digits for a given start are not the trajectory's.
   double unresolved_from() const;
   std::uint64_t collisions() const;
+  /// The fewest distinct stage-0 starts behind a stage past stage 0 in any replicate, and the level that stage
+  /// begins at ({0, 0}: no replicate passed its first level).
+  std::pair<std::uint64_t, double> fewest_ancestors() const;
 };
 
 /// What the pilots freeze: levels, each level's proposal scales and splitting factor, and the level from which the

@@ -64,9 +64,9 @@ struct SplitSpec {
 struct StartSplitSpec {
   bool on = false;
   int replicates = 20;  ///< independent replicates of ensemble.particles starts each: their spread is P's error
-  int factor = 10;      ///< levels outlived by a share 1 / factor of the stage before
-  int moves = 10;       ///< Metropolis moves between two kept states of a chain
-  int halvings = 60;    ///< proposal scales 2^-j of a level's extent, j in 0 .. halvings
+  int factor = 4;       ///< levels outlived by a share 1 / factor of the stage before
+  int moves = 2;        ///< Metropolis moves between two kept states of a chain
+  int halvings = 100;   ///< proposal scales 2^-j of a level's extent, j in 0 .. halvings
   int window = 5;       ///< j over 2 window + 1 halvings, centred where the pilot's chains moved most
   /// The clock past the level where double stops resolving the moves: dd, float128, or double (none).
   TierKind deep_tier = TierKind::dd;
