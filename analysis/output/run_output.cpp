@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string_view>
@@ -82,16 +81,10 @@ json start_splitting_json(const Scene& scene, const IcSplitRun& run, const Survi
     json w = {{"halvings", {sc.lo, sc.halvings}}, {"resolved", sc.resolved(run.stratum, bits)}};
     // its chains (stage k + 1 of the replicates that reached it): the share of proposals accepted, and the fewest and
     // mean distinct stage-0 starts behind the stage
-    std::uint64_t prop = 0, acc = 0, fewest = std::numeric_limits<std::uint64_t>::max(), sum = 0, reached = 0;
-    for (const IcReplicate& r : run.replicates)
-      if (k + 1 < r.ancestors.size()) {
-        prop += r.stage_proposals[k + 1], acc += r.stage_accepted[k + 1];
-        fewest = std::min(fewest, r.ancestors[k + 1]), sum += r.ancestors[k + 1], ++reached;
-      }
-    w["acceptance"] = prop ? json(static_cast<double>(acc) / static_cast<double>(prop)) : json(nullptr);
-    w["ancestors"] = reached
-                         ? json{{"fewest", fewest}, {"mean", static_cast<double>(sum) / static_cast<double>(reached)}}
-                         : json(nullptr);
+    const IcSplitRun::LevelChains c = run.chains(k);
+    w["acceptance"] =
+        c.proposals ? json(static_cast<double>(c.accepted) / static_cast<double>(c.proposals)) : json(nullptr);
+    w["ancestors"] = c.reached ? json{{"fewest", c.fewest}, {"mean", c.mean_ancestors}} : json(nullptr);
     windows.push_back(w);
   }
   j["windows"] = windows;

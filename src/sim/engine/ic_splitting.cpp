@@ -261,6 +261,19 @@ int IcSplitRun::nonzero(std::size_t i) const {
   return k;
 }
 
+IcSplitRun::LevelChains IcSplitRun::chains(std::size_t k) const {
+  LevelChains c;
+  std::uint64_t sum = 0;
+  for (const IcReplicate& r : replicates)
+    if (k + 1 < r.ancestors.size()) {
+      c.proposals += r.stage_proposals[k + 1], c.accepted += r.stage_accepted[k + 1];
+      c.fewest = c.reached ? std::min(c.fewest, r.ancestors[k + 1]) : r.ancestors[k + 1];
+      sum += r.ancestors[k + 1], ++c.reached;
+    }
+  if (c.reached) c.mean_ancestors = static_cast<double>(sum) / static_cast<double>(c.reached);
+  return c;
+}
+
 std::pair<std::uint64_t, double> IcSplitRun::fewest_ancestors() const {
   std::pair<std::uint64_t, double> out{0, 0};
   for (const IcReplicate& x : replicates)
@@ -354,8 +367,10 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
   IcPilot out;
   std::size_t first_deep = std::numeric_limits<std::size_t>::max();
   const auto falls = [&](const IcScales& sc) { return !sc.holds(stratum, 53, spec.handover_bits); };
-  int at = -1;                // the centre the next level's chains try; -1: every halving
-  std::vector<bool> centred;  // by level: its window centred where its chains moved
+  int at = -1;  // the centre the next level's chains try; -1: every halving
+  // the first level whose window is centred where chains moved (every later one is): a window over every halving is
+  // no step's, so only centred ones decide the hand-over
+  std::size_t first_centred = std::numeric_limits<std::size_t>::max();
   out.collisions = fixed_effort(
       clock, deep, stratum, spec, seed, kPilot, propose,
       [&](std::size_t, const Stage& st) {
@@ -371,13 +386,12 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
           sc.lo = 0, sc.halvings = top;
         else
           centre(sc, at, w, top);
+        if (at >= 0) first_centred = std::min(first_centred, out.scales.size());
         out.scales.push_back(sc);
-        centred.push_back(at >= 0);
         return sc;
       },
       [&](std::size_t j, const IcScales& sc) {
-        // a window over every halving is no step's: only a centred one says where the moves lie
-        if (at < 0 || !falls(sc)) return false;
+        if (j < first_centred || !falls(sc)) return false;
         first_deep = std::min(first_deep, j);
         return true;
       },
@@ -388,13 +402,13 @@ IcPilot first_pilot(const EscapeClock& clock, const IcStratum& stratum, const Ic
         if (best == chains.moved.end() || *best == 0) return;
         at = static_cast<int>(best - chains.moved.begin());
         centre(out.scales[j], at, w, top);
-        centred[j] = true;
+        first_centred = std::min(first_centred, j);
       });
   out.scales.resize(out.levels.size());
   out.handover = out.levels.size();
   if (deep)
     for (std::size_t j = 0; j < out.levels.size(); ++j)
-      if (j >= first_deep || (j < centred.size() && centred[j] && falls(out.scales[j]))) {
+      if (j >= first_deep || (j >= first_centred && falls(out.scales[j]))) {
         out.handover = j;
         break;
       }

@@ -161,6 +161,13 @@ struct IcSplitRun {
   /// clock's, whose digits for a given start are not the trajectory's.
   double unresolved_from() const;
   std::uint64_t collisions() const;
+  /// Level k's chains (stage k + 1) over the replicates that reached it: their proposals and accepted moves, and the
+  /// fewest and mean distinct stage-0 starts behind the stage (reached 0: none did).
+  struct LevelChains {
+    std::uint64_t proposals = 0, accepted = 0, fewest = 0, reached = 0;
+    double mean_ancestors = 0;
+  };
+  LevelChains chains(std::size_t k) const;
   /// The fewest distinct stage-0 starts behind a stage past stage 0 in any replicate, and the level that stage
   /// begins at ({0, 0}: no replicate passed its first level).
   std::pair<std::uint64_t, double> fewest_ancestors() const;
