@@ -47,12 +47,13 @@ struct State {
 struct Stage {
   std::vector<State> states;
   std::uint64_t collisions = 0, stuck = 0, proposals = 0, accepted = 0;
-  /// By halving j: the accepted moves that changed T by more than kMoved (what a window is centred on)
+  /// By halving j: the accepted moves that changed T by more than `moved_by` (what a window is centred on)
   std::vector<std::uint64_t> moved;
 };
 
 /// A move "moved" where it changed T by more than this (one time unit: another escape, not the same one shifted by
-/// the step in tau).
+/// the step in tau), or by more than the last gap between two levels where that is less (near a supremum of T,
+/// where the levels close in and every move changes T by less than a time unit).
 constexpr double kMoved = 1;
 
 IcEnd timed(const EscapeClock& clock, const IcPoint& x, Stage& st) {
@@ -85,6 +86,24 @@ Stage first_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSp
   return out;
 }
 
+/// The range of s - drift tau (packed, mod the s length) over the elites: the length of the circle less its largest
+/// gap between two of them (the s length where they are all at one value, or drift is 0).
+double circular_range(const IcStratum& stratum, const Stage& st, const std::vector<std::size_t>& elites) {
+  const double L = stratum.s_length();
+  if (stratum.drift == 0 || elites.size() < 2) return L;
+  std::vector<double> v;
+  v.reserve(elites.size());
+  for (std::size_t k : elites) {
+    const IcPoint& x = st.states[k].x;
+    const double a = stratum.s_packed(x.s) - stratum.drift * x.tau;
+    v.push_back(a - L * std::floor(a / L));
+  }
+  std::sort(v.begin(), v.end());
+  double gap = L - v.back() + v.front();
+  for (std::size_t i = 1; i < v.size(); ++i) gap = std::max(gap, v[i] - v[i - 1]);
+  return L - gap > 0 ? L - gap : L;
+}
+
 /// The extents of the starts `elites` of `st` in each coordinate (the stratum's where they all sit at one value): a
 /// level's scales in the pilot.
 IcScales extents(const IcStratum& stratum, const Stage& st, const std::vector<std::size_t>& elites) {
@@ -103,6 +122,7 @@ IcScales extents(const IcStratum& stratum, const Stage& st, const std::vector<st
   if (hi[0] > lo[0]) sc.s = hi[0] - lo[0];
   if (hi[1] > lo[1]) sc.p = hi[1] - lo[1];
   if (hi[2] > lo[2]) sc.tau = hi[2] - lo[2];
+  sc.u = circular_range(stratum, st, elites);
   return sc;
 }
 
@@ -120,7 +140,7 @@ std::vector<std::size_t> outliving(const Stage& st, double level) {
 Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSplitSpec& spec, const Stage& before,
                  const std::vector<std::size_t>& elites, const std::vector<std::uint64_t>& length, double level,
                  const IcScales& scales, std::uint64_t stage, std::uint64_t seed, std::uint64_t r,
-                 const IcPropose& propose) {
+                 const IcPropose& propose, double moved_by = kMoved) {
   std::vector<std::uint64_t> at_k(elites.size() + 1, 0);
   for (std::size_t k = 0; k < elites.size(); ++k) at_k[k + 1] = at_k[k] + length[k];
   if (at_k.back() > kIcPopulationCap * spec.starts)
@@ -148,7 +168,8 @@ Stage next_stage(const EscapeClock& clock, const IcStratum& stratum, const IcSpl
         if (stratum.contains(y)) {
           const double T = timed(clock, y, mine).t;
           if (T > level) {
-            if (std::abs(T - at.T) > kMoved) ++mine.moved[static_cast<std::size_t>(std::max(0, scales.halving(u[0])))];
+            if (std::abs(T - at.T) > moved_by)
+              ++mine.moved[static_cast<std::size_t>(std::max(0, ic_move(stratum, scales, u[0]).halving))];
             at.x = y, at.T = T, ++mine.accepted;
           }
         }
@@ -325,9 +346,12 @@ std::uint64_t fixed_effort(const EscapeClock& clock, const EscapeClock& deep, co
   Stage st = first_stage(clock, stratum, spec, seed, r);
   std::uint64_t c = st.collisions, handed = 0, disagreed = 0;
   bool deep_on = false;
+  double before = -std::numeric_limits<double>::infinity();
   for (std::size_t j = 0; !st.states.empty(); ++j) {
     const double level = level_of(j, st);
     if (std::isnan(level)) break;
+    const double moved_by = std::min(kMoved, level - before);
+    before = level;
     std::vector<std::size_t> e = outliving(st, level);
     if (e.empty()) break;
     const IcScales sc = scales_of(j, st, e);
@@ -338,7 +362,7 @@ std::uint64_t fixed_effort(const EscapeClock& clock, const EscapeClock& deep, co
     }
     elites(j, st, e);
     st = next_stage(deep_on ? deep : clock, stratum, spec, st, e, even_lengths(e.size(), spec.starts), level, sc, j + 1,
-                    seed, r, propose);
+                    seed, r, propose, moved_by);
     c += st.collisions;
     after(j, st);
   }

@@ -38,6 +38,11 @@ struct IcPoint {
 struct IcStratum {
   std::vector<std::pair<double, double>> s, p;
   double tau_lo = 0, tau_hi = 0;
+  /// The leak's turning rate, in turns of s per unit time (0: none). Where it is not 0 and tau spreads, two in three
+  /// proposals move along the leak, s stepping `drift` times tau's step more (or less) beside its own step: on the
+  /// circle a rotation and a delay are a symmetry, so the starts that outlive a level are slabs along (drift, 1) in
+  /// (s, tau), thin across. ic_stratum sets it on the circle with one leak only (elsewhere those moves are wasted).
+  double drift = 0;
 
   bool contains(const IcPoint& x) const;
   /// Its share of the billiard map's measure ds dp / 2 (1 for the whole boundary and every p).
@@ -93,6 +98,7 @@ int ic_tier_bits(TierKind tier);
 /// pilot only, never on the state it moves nor on the population it is part of, keeps the estimator unbiased.
 struct IcScales {
   double s = 1, p = 2, tau = 0;
+  double u = 1;  ///< the extent of s - drift tau (mod the s length), the moves along the leak's own step in s
   int lo = 0, halvings = 20;
   /// The halving a proposal takes from its first uniform draw u0: uniform over lo .. halvings.
   int halving(double u0) const;
@@ -111,6 +117,14 @@ struct IcScales {
 /// symmetric one described at IcSplitSpec; a test passes another.
 using IcPropose = std::function<IcPoint(const IcStratum&, const IcScales&, const IcPoint& x, const double* u)>;
 IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, const IcPoint& x, const double* u);
+/// The move a proposal makes from its first uniform draw u0: its kind (0: each coordinate its own step; 1 and 2:
+/// along the leak, s's step drift times tau's more, or less; always 0 where the stratum's drift is 0 or tau is
+/// fixed) and its halving (IcScales::halving of what u0 leaves once the kind is drawn). A mixture of symmetric
+/// proposals drawn independently of the state is symmetric.
+struct IcMove {
+  int kind = 0, halving = 0;
+};
+IcMove ic_move(const IcStratum& stratum, const IcScales& scales, double u0);
 
 /// One replicate on the grid t: at grid time t[i], stage[i] is the latest stage whose level is at most t[i], and
 /// alive[i] its states that outlive t[i], alive_w[i] the same weighted by 2^(roulette halvings) (alive[i] itself
