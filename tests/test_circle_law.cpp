@@ -146,8 +146,7 @@ TEST(CircleLaw, SplittingOverInitialConditionsReadsItBelow1e20) {
   const IcSplitRun run = circle_run(symmetric_proposal, t);
   for (std::size_t i = 0; i < t.size(); ++i) {
     const double P = law.survival(t[i]), m = run.mean(i), e = run.error(i);
-    std::printf("t = %.12f  P = %.4e  sampler %.4e +- %.1f%%  (%+.2f errors)\n", t[i], P, m, 100 * e / m,
-                (m - P) / e);
+    std::printf("t = %.12f  P = %.4e  sampler %.4e +- %.1f%%  (%+.2f errors)\n", t[i], P, m, 100 * e / m, (m - P) / e);
     SCOPED_TRACE("t = " + std::to_string(t[i]));
     ASSERT_GT(e, 0);
     EXPECT_LT(std::abs(m - P), 5 * e) << "mean " << m << " exact " << P << " error " << e;
