@@ -106,15 +106,11 @@ CircleLeakLaw::CircleLeakLaw(double rho, double lambda, double omega, double s_l
   if (abs(e_hi) >= Q(lambda)) refuse("needs |eps| < lambda on the band (a collision could jump the leak)");
 }
 
-double CircleLeakLaw::step(double p) const { return static_cast<double>(at(rho_, omega_, Q(p)).eps); }
-double CircleLeakLaw::chord(double p) const { return static_cast<double>(at(rho_, omega_, Q(p)).l); }
-
 CircleLeakLaw::End CircleLeakLaw::escape(double s, double p, double tau) const {
   const At a = at(rho_, omega_, Q(p));
   const Q g = 1 - Q(lambda_);
   // the first collision's place in the leak's frame, from the leak's upper end: in the leak iff v >= g (or v = 0)
-  const Q u1 = frac(Q(s) + a.advance - Q(s_leak_) - Q(omega_) * (Q(tau) + a.l) + Q(0.5)) - Q(0.5);
-  const Q v = frac(u1 - Q(lambda_) / 2);
+  const Q v = frac(Q(s) + a.advance - Q(s_leak_) - Q(omega_) * (Q(tau) + a.l) - Q(lambda_) / 2);
   std::uint64_t k = 1;
   if (v > 0 && v < g) {
     const Q m = a.eps < 0 ? ceil(v / abs(a.eps)) : ceil((g - v) / a.eps);
@@ -151,6 +147,8 @@ double CircleLeakLaw::survival(double t_d) const {
   const Q p0 = p_lo_, p1 = p_hi_;
   std::vector<Q> cuts{p0, p1};
   const Q l_min = at(rho_, omega_, p1).l;
+  const auto e = [&](const Q& p) { return abs(at(rho_, omega_, p).eps); };
+  const Q e0 = e(p0), e1 = e(p1);
   const auto k_top = static_cast<std::int64_t>(floor((t - lo) / l_min)) + 1;
   for (std::int64_t k = 1; k <= k_top; ++k) {
     for (const Q& tau : {lo, hi}) {
@@ -158,9 +156,8 @@ double CircleLeakLaw::survival(double t_d) const {
       if (c > 0 && c < 1) cuts.push_back(sqrt(1 - c * c));
     }
     if (k >= 2) {
-      const auto e = [&](const Q& p) { return abs(at(rho_, omega_, p).eps); };
       const Q y = g / Q(k - 1);
-      if (e(p0) < y && e(p1) > y) cuts.push_back(crossing(e, p0, p1, y));
+      if (e0 < y && e1 > y) cuts.push_back(crossing(e, p0, p1, y));
     }
   }
   std::sort(cuts.begin(), cuts.end());

@@ -32,9 +32,6 @@ class CircleLeakLaw {
   double survival(double t) const;
   /// The supremum of T over the band: P(T > t) > 0 exactly below it.
   double sup_time() const;
-  /// eps and the chord length at p.
-  double step(double p) const;
-  double chord(double p) const;
 
  private:
   double rho_, lambda_, omega_, s_leak_, p_lo_, p_hi_, tau_lo_, tau_hi_;

@@ -14,6 +14,7 @@
 #include "analysis/circle_law.hpp"
 #include "io/scene_file.hpp"
 #include "sim/engine/ic_splitting.hpp"
+#include "sim/model/initial.hpp"
 #include "sim/model/scene.hpp"
 
 namespace rotleak {
@@ -43,7 +44,7 @@ IcStratum band() {
 IcPoint start(std::uint64_t i) {
   r123::Philox4x64 gen;
   const auto w = gen({{i, 0, 0, 0}}, {{7, 0x51}});
-  const auto unit = [](std::uint64_t b) { return static_cast<double>(b >> 11) * 0x1p-53; };
+  const auto unit = InitialConditions::unit;
   return band().at(unit(w[0]), unit(w[1]), unit(w[2]));
 }
 

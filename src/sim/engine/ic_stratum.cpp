@@ -211,8 +211,15 @@ IcPoint symmetric_proposal(const IcStratum& stratum, const IcScales& scales, con
   return y;
 }
 
+namespace {
+
+/// Whether the stratum's proposals move along the leak: it turns, and tau spreads.
+bool moves_along(const IcStratum& st) { return st.drift != 0 && st.tau_hi > st.tau_lo; }
+
+}  // namespace
+
 IcMove ic_move(const IcStratum& stratum, const IcScales& scales, double u0) {
-  if (stratum.drift == 0 || !(stratum.tau_hi > stratum.tau_lo)) return {0, scales.halving(u0)};
+  if (!moves_along(stratum)) return {0, scales.halving(u0)};
   const int kind = std::min(2, static_cast<int>(3 * u0));
   return {kind, scales.halving(3 * u0 - kind)};
 }
@@ -229,9 +236,8 @@ bool IcScales::holds(const IcStratum& st, int bits, int margin) const {
     return extent == 0 || big == 0 || extent >= std::ldexp(1.0, std::ilogb(big) - bits + 1 + margin);
   };
   const double s_big = st.s.back().second, p_big = std::max(std::abs(st.p.front().first), std::abs(st.p.back().second));
-  const bool along = st.drift != 0 && st.tau_hi > st.tau_lo;
   return ulps(step(s), s_big) && ulps(step(p), p_big) && ulps(st.tau_hi > st.tau_lo ? step(tau) : 0, st.tau_hi) &&
-         (!along || ulps(step(u), s_big));
+         (!moves_along(st) || ulps(step(u), s_big));
 }
 
 }  // namespace rotleak
